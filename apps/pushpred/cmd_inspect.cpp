@@ -1,0 +1,41 @@
+// `pushpred inspect FILE... [--json]`: what each recording holds and what the reader had to repair.
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "pushpred/reports/inspection.hpp"
+
+namespace pushpred::app {
+namespace {
+
+struct InspectArgs {
+  std::vector<std::string> files;
+  bool json = false;
+  std::string shape;
+  double rate_hz = 250.0;
+};
+
+int run_inspect(const InspectArgs& a) {
+  InspectionOptions options;
+  options.shape_override = a.shape;
+  options.preprocess.rate_hz = a.rate_hz;
+  const InspectionBatch batch = inspect_files(a.files, options);
+  std::cout << (a.json ? inspection_json(batch).dump(2) + "\n" : inspection_table(batch));
+  for (const auto& f : batch.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
+  if (!batch.failures.empty())
+    std::cerr << batch.failures.size() << " of " << a.files.size() << " files failed\n";
+  return batch.failures.empty() ? 0 : 1;
+}
+
+const CommandRegistration reg([](CLI::App& app, Runner& run) {
+  auto args = std::make_shared<InspectArgs>();
+  auto* sub = app.add_subcommand("inspect", "Summarise recordings: rates, contact, repairs, flags, travel");
+  sub->add_option("files", args->files, "Recordings (.h5 or .json), or folders of them")->required();
+  sub->add_flag("--json", args->json, "Print JSON instead of a table");
+  sub->add_option("--shape", args->shape, "Object shape, for files whose name does not carry it");
+  sub->add_option("--rate", args->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->callback([args, &run] { run = [args] { return run_inspect(*args); }; });
+});
+
+}  // namespace
+}  // namespace pushpred::app

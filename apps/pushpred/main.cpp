@@ -1,0 +1,29 @@
+// pushpred: the command-line front end. Each subcommand lives in its own file and only parses arguments and
+// calls the library; see `pushpred --help`.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "commands.hpp"
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"pushpred: predict where a pushed object goes, and explain why predictions miss"};
+  app.set_version_flag("--version", std::string("pushpred ") + pushpred::kVersion);
+  app.require_subcommand(1);
+  for (const auto& add : pushpred::app::all_commands()) add(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    return pushpred::app::run_selected(app);
+  } catch (const pushpred::InputError& e) {
+    std::cerr << "pushpred: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "pushpred: error: " << e.what() << "\n";
+    return 1;
+  }
+}

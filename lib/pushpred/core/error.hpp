@@ -1,0 +1,26 @@
+#pragma once
+// Errors pushpred throws. Messages are one line and name the input and the problem, so that an app can print
+// them as they are ("FILE: array 'tip_pose' holds NaN at row 12") and a batch can list them at the end.
+#include <stdexcept>
+#include <string>
+
+namespace pushpred {
+
+/// Something a user gave is wrong: a missing or malformed file, a NaN, an unknown shape, a bad option.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A numerical solver (CVODE, Ceres) failed; the message carries the solver's own flag and where it happened.
+class SolverError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Prefixes an error message with the input it is about: "source: what".
+inline std::string about(const std::string& source, const std::string& what) {
+  return source.empty() ? what : source + ": " + what;
+}
+
+}  // namespace pushpred

@@ -1,0 +1,111 @@
+#include "pushpred/reading/recording.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+namespace {
+
+std::string format_ms(double seconds) {
+  std::ostringstream s;
+  s.precision(3);
+  s << seconds * 1e3 << " ms";
+  return s.str();
+}
+
+}  // namespace
+
+TimedStream condition_stream(const std::string& source, const std::string& name, const Eigen::MatrixXd& rows,
+                             const ReadOptions& options, std::vector<StreamRepair>& repairs) {
+  const std::string where = "array '" + name + "'";
+  if (rows.cols() != 4)
+    throw InputError(about(source, where + " has " + std::to_string(rows.cols()) + " columns, expected 4 [t, a, b, c]"));
+  if (rows.rows() == 0) throw InputError(about(source, where + " is empty"));
+  if (rows.rows() < 2) throw InputError(about(source, where + " has one sample; need at least two"));
+  for (Eigen::Index i = 0; i < rows.rows(); ++i)
+    for (Eigen::Index j = 0; j < 4; ++j)
+      if (!std::isfinite(rows(i, j)))
+        throw InputError(about(source, where + " holds " + (std::isnan(rows(i, j)) ? "NaN" : "Inf") + " at row " +
+                                           std::to_string(i) + ", column " + std::to_string(j)));
+
+  const Eigen::Index n = rows.rows();
+  // Median of the positive steps: the nominal sample period, robust to the disorder being checked.
+  std::vector<double> steps;
+  steps.reserve(n);
+  for (Eigen::Index i = 1; i < n; ++i)
+    if (rows(i, 0) > rows(i - 1, 0)) steps.push_back(rows(i, 0) - rows(i - 1, 0));
+  if (steps.empty()) throw InputError(about(source, where + ": time does not advance"));
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double period = steps[steps.size() / 2];
+
+  double running_max = rows(0, 0);
+  int out_of_order = 0;
+  double worst_backstep = 0;
+  for (Eigen::Index i = 1; i < n; ++i) {
+    const double back = running_max - rows(i, 0);
+    if (back > options.max_backstep_periods * period) {
+      throw InputError(about(source, where + ": time goes backwards by " + format_ms(back) + " at row " +
+                                         std::to_string(i) + " (more than " +
+                                         std::to_string(static_cast<int>(options.max_backstep_periods)) +
+                                         " sample periods)"));
+    }
+    if (back > 0) {
+      ++out_of_order;
+      worst_backstep = std::max(worst_backstep, back);
+    }
+    running_max = std::max(running_max, rows(i, 0));
+  }
+
+  std::vector<Eigen::Index> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return rows(a, 0) < rows(b, 0); });
+  if (out_of_order > 0)
+    repairs.push_back({name, "sorted " + std::to_string(out_of_order) + " out-of-order time stamps (max " +
+                                 format_ms(worst_backstep) + ")"});
+
+  TimedStream s;
+  s.t_s.resize(n);
+  s.values.resize(n, 3);
+  Eigen::Index kept = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index i = order[k];
+    if (kept > 0 && rows(i, 0) == s.t_s(kept - 1)) continue;  // a repeated stamp: keep the first sample
+    s.t_s(kept) = rows(i, 0);
+    s.values.row(kept) = rows.row(i).tail<3>();
+    ++kept;
+  }
+  if (kept < n) {
+    repairs.push_back({name, "dropped " + std::to_string(n - kept) + " samples with repeated time stamps"});
+    s.t_s.conservativeResize(kept);
+    s.values.conservativeResize(kept, 3);
+  }
+  if (kept < 2) throw InputError(about(source, where + " has fewer than two distinct time stamps"));
+  return s;
+}
+
+Recording read_recording(const std::filesystem::path& path, const ReadOptions& options) {
+  if (!std::filesystem::exists(path)) throw InputError(about(path.string(), "file does not exist"));
+  if (std::filesystem::is_directory(path)) throw InputError(about(path.string(), "is a folder, not a recording"));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(about(path.string(), "cannot open file"));
+  char head[8] = {};
+  in.read(head, 8);
+  const std::streamsize got = in.gcount();
+  static const char kHdf5Signature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  if (got == 8 && std::equal(head, head + 8, kHdf5Signature)) return read_recording_hdf5(path, options);
+  for (std::streamsize i = 0; i < got; ++i) {
+    const char c = head[i];
+    if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
+    if (c == '{') return read_recording_json(path, options);
+    break;
+  }
+  if (got == 0) throw InputError(about(path.string(), "file is empty"));
+  throw InputError(about(path.string(), "neither an HDF5 nor a JSON recording"));
+}
+
+}  // namespace pushpred

@@ -1,0 +1,97 @@
+#include "pushpred/reports/inspection.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace pushpred {
+
+Inspection inspect(const SynchronisedPush& p) {
+  Inspection s;
+  s.source = p.source;
+  s.surface = p.push.surface;
+  s.shape = p.shape.name;
+  s.duration_s = p.duration_s();
+  s.object_rate_hz = p.stream_rate_hz[0];
+  s.force_rate_hz = p.stream_rate_hz[1];
+  s.tip_rate_hz = p.stream_rate_hz[2];
+  s.has_contact = p.has_contact;
+  s.contact_start_s = p.contact_start_s;
+  s.contact_end_s = p.contact_end_s;
+  s.glitches_removed = p.object_glitches + p.tip_glitches;
+  for (const auto& r : p.repairs) s.repairs.push_back(r.stream + ": " + r.what);
+  s.flags = p.flags.names();
+  const Eigen::Index n = p.size();
+  s.travel_mm = 1e3 * (p.pose.row(n - 1).head<2>() - p.pose.row(0).head<2>()).norm();
+  s.rotation_deg = (p.pose(n - 1, 2) - p.pose(0, 2)) * 180.0 / M_PI;
+  double sum = 0;
+  int count = 0;
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (p.in_contact[k]) {
+      sum += p.force_N.row(k).norm();
+      ++count;
+    }
+  s.mean_contact_force_N = count ? sum / count : 0.0;
+  s.max_tip_yaw_deg = p.tip_yaw_rad.cwiseAbs().maxCoeff() * 180.0 / M_PI;
+  return s;
+}
+
+InspectionBatch inspect_files(const std::vector<std::string>& inputs, const InspectionOptions& options) {
+  return run_batch(expand_inputs(inputs), [&](const std::filesystem::path& path) {
+    return inspect(load_push(path, options.shape_override, options.preprocess));
+  });
+}
+
+std::string inspection_table(const InspectionBatch& batch) {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof line, "%-40s %-7s %-6s %6s %17s %13s %4s %4s %7s %7s %6s  %s\n", "file", "surface", "shape",
+                "dur_s", "rate_obj/ft/tip", "contact_s", "glit", "rep", "trav_mm", "rot_deg", "f_N", "flags");
+  out += line;
+  for (const auto& s : batch.results) {
+    std::string name = std::filesystem::path(s.source).filename().string();
+    // The surface and shape have their own columns; keep the push parameters a=.._v=.._i=.._s=.._t=..
+    if (const auto pos = name.find("_a="); pos != std::string::npos) name = name.substr(pos + 1);
+    if (const auto dot = name.rfind('.'); dot != std::string::npos) name = name.substr(0, dot);
+    if (name.size() > 40) name = name.substr(0, 37) + "...";
+    std::string flags;
+    for (const auto& f : s.flags) flags += (flags.empty() ? "" : ",") + f;
+    char contact[32];
+    if (s.has_contact) std::snprintf(contact, sizeof contact, "%.2f-%.2f", s.contact_start_s, s.contact_end_s);
+    else std::snprintf(contact, sizeof contact, "none");
+    std::snprintf(line, sizeof line, "%-40s %-7s %-6s %6.2f %5.0f/%5.0f/%5.0f %13s %4d %4zu %7.1f %7.1f %6.2f  %s\n",
+                  name.c_str(), s.surface.c_str(), s.shape.c_str(), s.duration_s, s.object_rate_hz, s.force_rate_hz,
+                  s.tip_rate_hz, contact, s.glitches_removed, s.repairs.size(), s.travel_mm, s.rotation_deg,
+                  s.mean_contact_force_N, flags.empty() ? "-" : flags.c_str());
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "%zu files read, %zu failed\n", batch.results.size(), batch.failures.size());
+  out += line;
+  return out;
+}
+
+nlohmann::json inspection_json(const InspectionBatch& batch) {
+  nlohmann::json files = nlohmann::json::array();
+  for (const auto& s : batch.results) {
+    files.push_back({{"source", s.source},
+                     {"surface", s.surface},
+                     {"shape", s.shape},
+                     {"duration_s", s.duration_s},
+                     {"rate_hz", {{"object_pose", s.object_rate_hz}, {"ft_wrench", s.force_rate_hz},
+                                  {"tip_pose", s.tip_rate_hz}}},
+                     {"contact", s.has_contact ? nlohmann::json{{"start_s", s.contact_start_s}, {"end_s", s.contact_end_s}}
+                                               : nlohmann::json(nullptr)},
+                     {"glitches_removed", s.glitches_removed},
+                     {"repairs", s.repairs},
+                     {"flags", s.flags},
+                     {"travel_mm", s.travel_mm},
+                     {"rotation_deg", s.rotation_deg},
+                     {"mean_contact_force_N", s.mean_contact_force_N},
+                     {"max_tip_yaw_deg", s.max_tip_yaw_deg}});
+  }
+  nlohmann::json failures = nlohmann::json::array();
+  for (const auto& f : batch.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
+  return {{"files", files}, {"failures", failures}};
+}
+
+}  // namespace pushpred

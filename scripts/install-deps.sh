@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages pushpred needs, and nothing when they are already there.
+# Run as root (or through sudo). A second run only asks dpkg and returns.
+set -euo pipefail
+packages=(
+  cmake g++ make pkg-config
+  libsundials-dev libceres-dev libeigen3-dev libboost-test-dev libhdf5-dev
+  nlohmann-json3-dev libcli11-dev libbenchmark-dev gnuplot-nox
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
