@@ -1,0 +1,40 @@
+#pragma once
+// The common interface of disturbance estimators: a synchronised push in, the unknown force and torque
+// d_hat(t) per channel out. Channels, here and everywhere in the library: 0 = x force [N], 1 = y force [N],
+// 2 = rotation, torque about the object centre [N m]; frames and signs as in synchronised_push.hpp.
+// Apps choose an estimator by name through make_disturbance_estimator().
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pushpred/preprocessing/synchronised_push.hpp"
+
+namespace pushpred {
+
+struct DisturbanceEstimate {
+  std::string estimator;      ///< name of the estimator that made it
+  Eigen::VectorXd t_s;        ///< times (a slice of the push's grid)
+  Eigen::MatrixX3d u;         ///< applied input per channel: f_Cx, f_Cy [N], T_C + r_m x f_C [N m]
+  Eigen::MatrixX3d d_hat;     ///< estimated unknown force [N] / torque [N m] per channel
+  Eigen::MatrixX3d velocity;  ///< estimated object velocity x', y' [m/s], theta' [rad/s]
+};
+
+class DisturbanceEstimator {
+ public:
+  virtual ~DisturbanceEstimator() = default;
+  virtual std::string name() const = 0;
+  /// Estimates over the grid samples of `push` with t in [t_start_s, t_end_s], its states initialised from the
+  /// data at t_start_s (no start-up transient). Throws InputError for an empty span.
+  virtual DisturbanceEstimate estimate(const SynchronisedPush& push, double t_start_s, double t_end_s) const = 0;
+  DisturbanceEstimate estimate(const SynchronisedPush& push) const {
+    return estimate(push, 0.0, push.duration_s());
+  }
+};
+
+/// Names accepted by make_disturbance_estimator ("dob", "pid").
+std::vector<std::string> disturbance_estimator_names();
+/// The estimator called `name` with its default options; throws InputError naming the known ones otherwise.
+std::unique_ptr<DisturbanceEstimator> make_disturbance_estimator(const std::string& name);
+
+}  // namespace pushpred
