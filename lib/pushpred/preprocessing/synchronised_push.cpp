@@ -87,7 +87,13 @@ bool force_stream_frozen(const TimedStream& ft) {
 }
 
 const ShapeInfo& shape_for(const Recording& r, const std::string& shape_override, const ShapeTable& table) {
-  if (!shape_override.empty()) return table.find(shape_override);
+  if (!shape_override.empty()) {
+    try {
+      return table.find(shape_override);
+    } catch (const InputError& e) {
+      throw InputError(about(r.source, e.what()));
+    }
+  }
   if (!r.push)
     throw InputError(about(r.source, "file name does not parse as motion_surface=S_shape=O_a=A_v=V_i=I_s=P_t=T; "
                                      "give the shape with --shape"));
