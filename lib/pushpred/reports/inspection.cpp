@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 namespace pushpred {
 
@@ -65,6 +66,18 @@ std::string inspection_table(const InspectionBatch& batch) {
                   s.mean_contact_force_N, flags.empty() ? "-" : flags.c_str());
     out += line;
   }
+  std::map<std::string, int> flag_counts;
+  int repaired = 0, glitched = 0;
+  for (const auto& s : batch.results) {
+    for (const auto& f : s.flags) ++flag_counts[f];
+    repaired += !s.repairs.empty();
+    glitched += s.glitches_removed > 0;
+  }
+  std::string flags;
+  for (const auto& [name, count] : flag_counts) flags += " " + name + "=" + std::to_string(count);
+  std::snprintf(line, sizeof line, "files with repairs: %d; with glitches removed: %d; flags:%s\n", repaired, glitched,
+                flags.empty() ? " none" : flags.c_str());
+  out += line;
   std::snprintf(line, sizeof line, "%zu files read, %zu failed\n", batch.results.size(), batch.failures.size());
   out += line;
   return out;
