@@ -18,6 +18,13 @@ struct DisturbanceEstimate {
   Eigen::MatrixX3d u;         ///< applied input per channel: f_Cx, f_Cy [N], T_C + r_m x f_C [N m]
   Eigen::MatrixX3d d_hat;     ///< estimated unknown force [N] / torque [N m] per channel
   Eigen::MatrixX3d velocity;  ///< estimated object velocity x', y' [m/s], theta' [rad/s]
+  /// The estimated total force [N] / torque [N m] M r'' per channel, as this estimator sees it. For the PID
+  /// reconstruction it is f_hat = u + d_hat. For the observer, whose d_hat is Q-filtered, it is Q u + d_hat =
+  /// M (Q y)'': u + d_hat would mix a filtered and an unfiltered force and, integrated twice, drift by about
+  /// (2 zeta / wn) / M times the integral of d (resimulation.hpp).
+  Eigen::MatrixX3d total;
+  /// Nominal mass [kg] (x and y) and moment of inertia [kg m^2] (rotation) the estimator used.
+  Eigen::Vector3d nominal_inertia = Eigen::Vector3d::Zero();
 };
 
 class DisturbanceEstimator {

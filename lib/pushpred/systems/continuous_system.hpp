@@ -28,6 +28,13 @@ class ContinuousSystem {
 
   /// Times strictly inside (t0, t1) where an input jumps (zero-order-hold samples, a new planned force).
   virtual std::vector<double> discontinuities(double /*t0*/, double /*t1*/) const { return {}; }
+
+  /// Called by the integrator before it integrates across [t0, t1], an interval free of declared jumps. A
+  /// system with zero-order-held inputs evaluates them as seen from inside this interval (see
+  /// SampledSignal::evaluate_within), so that derivative() at t1 uses the value held on the interval and not
+  /// the one that starts at t1. The system may keep the interval in a mutable member; systems without held
+  /// inputs ignore it.
+  virtual void enter_interval(double /*t0*/, double /*t1*/) const {}
 };
 
 }  // namespace pushpred

@@ -1,0 +1,134 @@
+#include "pushpred/observers/q_filter_observer.hpp"
+
+#include <cstdio>
+#include <string>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/observers/estimation_span.hpp"
+#include "pushpred/systems/exact_discretisation.hpp"
+#include "pushpred/systems/linear_system.hpp"
+
+namespace pushpred {
+namespace {
+
+void require_positive(double v, const char* what) {
+  if (!(v > 0) || !std::isfinite(v)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "disturbance observer: %s must be positive and finite (got %g)", what, v);
+    throw InputError(buf);
+  }
+}
+
+// What both paths need: the span, the input signal [y - y0, u] and the initial state.
+struct Prepared {
+  EstimationSpan span;
+  QFilterObserverModel model;
+  SampledSignal input;
+  Eigen::VectorXd x0;
+};
+
+Prepared prepare(const QFilterObserver& observer, const SynchronisedPush& push, double t0, double t1) {
+  const QFilterObserverOptions& o = observer.options();
+  Prepared p;
+  p.span = estimation_span(push, t0, t1, "disturbance observer");
+  p.model = observer.model(observer.nominal_inertia(push.shape));
+  const Eigen::Index n = p.span.size();
+  Eigen::MatrixXd values(n, 6);
+  values.leftCols(3) = push.pose.middleRows(p.span.first, n).rowwise() - push.pose.row(p.span.first);
+  values.rightCols(3) = push.applied_input().middleRows(p.span.first, n);
+  p.input = SampledSignal(push.t_s.segment(p.span.first, n), std::move(values), o.hold);
+
+  Eigen::RowVector3d v0 = Eigen::RowVector3d::Zero();
+  if (o.start == QFilterObserverOptions::Start::Steady) v0 = initial_velocity(push, p.span, o.velocity_window_s);
+  p.x0 = Eigen::VectorXd::Zero(12);
+  for (int c = 0; c < 3; ++c) {
+    p.x0(4 * c + 0) = -2 * o.zeta * v0(c) / o.wn_rad_s;
+    p.x0(4 * c + 1) = v0(c);
+    p.x0(4 * c + 2) = p.input.values()(0, 3 + c);
+    p.x0(4 * c + 3) = 0;
+  }
+  return p;
+}
+
+DisturbanceEstimate outputs(const Prepared& p, const Eigen::MatrixXd& states) {
+  DisturbanceEstimate e;
+  e.estimator = "dob";
+  e.t_s = p.input.times();
+  e.u = p.input.values().rightCols(3);
+  // Outputs at the grid samples, where the held input equals the samples whatever the hold.
+  e.d_hat = states * p.model.C.transpose() + p.input.values() * p.model.D.transpose();
+  e.velocity = states * p.model.C_velocity.transpose();
+  e.total = e.d_hat + states * p.model.C_filtered_input.transpose();
+  e.nominal_inertia = p.model.inertia;
+  return e;
+}
+
+}  // namespace
+
+void QFilterObserverOptions::validate() const {
+  require_positive(zeta, "zeta");
+  require_positive(wn_rad_s, "wn [rad/s]");
+  if (!(mass_kg >= 0) || !std::isfinite(mass_kg))
+    throw InputError("disturbance observer: nominal mass must be positive (or 0 for the shape's), got " +
+                     std::to_string(mass_kg) + " kg");
+  if (!(inertia_kgm2 >= 0) || !std::isfinite(inertia_kgm2))
+    throw InputError("disturbance observer: nominal moment of inertia must be positive (or 0 for the shape's), got " +
+                     std::to_string(inertia_kgm2) + " kg m^2");
+  require_positive(velocity_window_s, "initial-velocity window [s]");
+  integrator.validate();
+}
+
+QFilterObserver::QFilterObserver(QFilterObserverOptions options) : options_(std::move(options)) { options_.validate(); }
+
+Eigen::Vector3d QFilterObserver::nominal_inertia(const ShapeInfo& shape) const {
+  const double m = options_.mass_kg > 0 ? options_.mass_kg : shape.mass_kg;
+  const double I = options_.inertia_kgm2 > 0 ? options_.inertia_kgm2 : shape.inertia_kgm2;
+  require_positive(m, ("mass of shape '" + shape.name + "' [kg]").c_str());
+  require_positive(I, ("moment of inertia of shape '" + shape.name + "' [kg m^2]").c_str());
+  return {m, m, I};
+}
+
+QFilterObserverModel QFilterObserver::model(const Eigen::Vector3d& inertia) const {
+  for (int c = 0; c < 3; ++c) require_positive(inertia(c), "nominal mass or inertia");
+  const double wn2 = options_.wn_rad_s * options_.wn_rad_s, two_zeta_wn = 2 * options_.zeta * options_.wn_rad_s;
+  QFilterObserverModel m;
+  m.inertia = inertia;
+  m.A = Eigen::MatrixXd::Zero(12, 12);
+  m.B = Eigen::MatrixXd::Zero(12, 6);
+  m.C = Eigen::MatrixXd::Zero(3, 12);
+  m.D = Eigen::MatrixXd::Zero(3, 6);
+  m.C_velocity = Eigen::MatrixXd::Zero(3, 12);
+  m.C_filtered_input = Eigen::MatrixXd::Zero(3, 12);
+  for (int c = 0; c < 3; ++c) {
+    const int q = 4 * c, p = 4 * c + 2;
+    for (int f : {q, p}) {  // the same second-order Q for y and for u
+      m.A(f, f + 1) = 1;
+      m.A(f + 1, f) = -wn2;
+      m.A(f + 1, f + 1) = -two_zeta_wn;
+    }
+    m.B(q + 1, c) = wn2;      // y drives the first filter
+    m.B(p + 1, 3 + c) = wn2;  // u drives the second
+    m.C(c, q) = -inertia(c) * wn2;
+    m.C(c, q + 1) = -inertia(c) * two_zeta_wn;
+    m.C(c, p) = -1;
+    m.D(c, c) = inertia(c) * wn2;
+    m.C_velocity(c, q + 1) = 1;
+    m.C_filtered_input(c, p) = 1;
+  }
+  return m;
+}
+
+DisturbanceEstimate QFilterObserver::estimate(const SynchronisedPush& push, double t0, double t1) const {
+  const Prepared p = prepare(*this, push, t0, t1);
+  const LinearSystem system(p.model.A, p.model.B, p.input);
+  CvodeIntegrator integrator(system, options_.integrator);
+  const Eigen::MatrixXd states = integrator.solve(p.input.times()(0), p.x0, p.input.times());
+  return outputs(p, states);
+}
+
+DisturbanceEstimate QFilterObserver::estimate_exactly(const SynchronisedPush& push, double t0, double t1) const {
+  const Prepared p = prepare(*this, push, t0, t1);
+  return outputs(p, propagate_exactly(p.model.A, p.model.B, p.x0, p.input));
+}
+
+}  // namespace pushpred

@@ -1,0 +1,75 @@
+#pragma once
+// The Q-filter disturbance observer of the paper's section III-A, one per channel (x, y, rotation):
+//
+//   d_hat = -Q u + Q P_n^-1 y,   P_n = 1/(M s^2),   Q = wn^2 / (s^2 + 2 zeta wn s + wn^2),
+//
+// M the nominal mass (x, y) or moment of inertia (rotation), y the measured pose, u the applied force f_C or
+// torque T_C + r_m x f_C (channels and signs: disturbance_estimator.hpp). d_hat is the unknown force/torque
+// (friction and every model error), filtered by Q.
+//
+// State-space realisation, per channel, four states: (q1, q2) realise z = Q y with q1 = z, q2 = z', and (p1, p2)
+// realise Q u likewise:
+//   q1' = q2,  q2' = wn^2 (y - q1) - 2 zeta wn q2,   p1' = p2,  p2' = wn^2 (u - p1) - 2 zeta wn p2.
+// Since Q P_n^-1 y = M s^2 Q y = M z'' = M q2', the output is d_hat = M (wn^2 (y - q1) - 2 zeta wn q2) - p1:
+// the biproper part appears as the direct term M wn^2 y. q2 = Q s y is the filtered velocity. Positions enter
+// relative to the pose at the span's first sample (d_hat does not see a constant offset; the states stay small).
+//
+// Initialisation (the paper's "Implementation" paragraph): at the span's first sample t0 the filters start in
+// the steady state they would have reached had the object been moving at constant velocity v0 under constant
+// input u0: q1 = y0 - 2 zeta v0 / wn, q2 = v0, p1 = u0, p2 = 0, so d_hat(t0) = -u0 and there is no start-up
+// impulse. v0 is the slope of a line through the span's first `velocity_window_s` of pose samples
+// (estimation_span.hpp); a start at rest (q2 = 0) would give an impulse of about 2 zeta wn M v0 instead.
+#include <Eigen/Core>
+#include <cmath>
+
+#include "pushpred/observers/disturbance_estimator.hpp"
+#include "pushpred/systems/cvode_integrator.hpp"
+#include "pushpred/systems/sampled_signal.hpp"
+
+namespace pushpred {
+
+struct QFilterObserverOptions {
+  double zeta = 1.0 / std::sqrt(2.0);  ///< damping of Q
+  double wn_rad_s = 300.0;             ///< natural frequency of Q [rad/s]
+  double mass_kg = 0;                  ///< nominal mass; 0: from the push's shape
+  double inertia_kgm2 = 0;             ///< nominal moment of inertia; 0: from the push's shape
+  Hold hold = Hold::First;             ///< how y and u are held between grid samples
+  enum class Start { Steady, AtRest };
+  Start start = Start::Steady;         ///< AtRest (q2 = 0) exists to show the impulse Steady avoids
+  double velocity_window_s = 0.04;     ///< forward window for the initial velocity (see above)
+  IntegratorOptions integrator;
+  /// Throws InputError naming the first bad value (negative mass, zeta <= 0, wn <= 0, bad tolerance, ...).
+  void validate() const;
+};
+
+/// The observer of all three channels as one linear system: x' = A x + B [y; u], d_hat = C x + D [y; u],
+/// velocity = C_velocity x, Q u = C_filtered_input x. 12 states (channel c owns states 4c..4c+3 = q1, q2, p1, p2), 6 inputs
+/// (y_x, y_y, theta, u_x, u_y, u_theta).
+struct QFilterObserverModel {
+  Eigen::MatrixXd A, B, C, D, C_velocity, C_filtered_input;
+  Eigen::Vector3d inertia;  ///< M per channel
+};
+
+class QFilterObserver final : public DisturbanceEstimator {
+ public:
+  explicit QFilterObserver(QFilterObserverOptions options = {});
+
+  std::string name() const override { return "dob"; }
+  using DisturbanceEstimator::estimate;
+  /// Integrates the observer with CVODE over the span.
+  DisturbanceEstimate estimate(const SynchronisedPush& push, double t_start_s, double t_end_s) const override;
+  /// The same estimate from the exact discretisation (matrix exponential for the chosen hold): the reference
+  /// the tests hold the CVODE path to.
+  DisturbanceEstimate estimate_exactly(const SynchronisedPush& push, double t_start_s, double t_end_s) const;
+
+  /// The state-space model for nominal inertias (m, m, I).
+  QFilterObserverModel model(const Eigen::Vector3d& inertia) const;
+  /// The nominal inertias for `shape`, from the options where they are set.
+  Eigen::Vector3d nominal_inertia(const ShapeInfo& shape) const;
+  const QFilterObserverOptions& options() const { return options_; }
+
+ private:
+  QFilterObserverOptions options_;
+};
+
+}  // namespace pushpred

@@ -1,0 +1,31 @@
+#include "pushpred/prediction/planned_force.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+
+PlannedForce plan_from_measurement(const SynchronisedPush& push, double t0, double t1, double rate_hz) {
+  if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw InputError("planned-force rate must be positive");
+  if (!(t1 > t0)) throw InputError(about(push.source, "planned force needs t1 > t0"));
+  if (t0 < -1e-9 || t1 > push.duration_s() + 1e-9)
+    throw InputError(about(push.source, "planned-force span lies outside the push"));
+  const Eigen::MatrixX3d u = push.applied_input();
+  std::vector<double> times;
+  for (long k = 0;; ++k) {
+    const double t = t0 + k / rate_hz;
+    if (t >= t1 - 1e-12) break;
+    times.push_back(t);
+  }
+  Eigen::VectorXd t_s(static_cast<Eigen::Index>(times.size()));
+  Eigen::MatrixXd values(t_s.size(), 3);
+  for (Eigen::Index k = 0; k < t_s.size(); ++k) {
+    t_s(k) = times[static_cast<size_t>(k)];
+    values.row(k) = u.row(push.index_at(t_s(k)));
+  }
+  return {SampledSignal(t_s, values, Hold::Zero), t0, t1, rate_hz};
+}
+
+}  // namespace pushpred

@@ -1,0 +1,114 @@
+#include "pushpred/prediction/prediction_study.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+
+double surface_friction_coefficient(const std::string& surface) {
+  if (surface == "abs") return 0.14;
+  throw InputError("no friction coefficient known for surface '" + surface + "' (give --mu)");
+}
+
+const std::vector<std::string>& prediction_method_names() {
+  static const std::vector<std::string> names{"dob", "dob_velinit", "simple", "hold", "const_velocity"};
+  return names;
+}
+
+PredictionErrors prediction_errors(const Eigen::MatrixX3d& predicted, const Eigen::MatrixX3d& measured) {
+  const Eigen::MatrixX3d e = (predicted - measured).cwiseAbs();
+  const Eigen::Index n = e.rows();
+  auto mean = [&](int c) { return e.col(c).mean(); };
+  auto stdev = [&](int c) {
+    const double m = e.col(c).mean();
+    return std::sqrt((e.col(c).array() - m).square().sum() / static_cast<double>(n));
+  };
+  constexpr double mm = 1e3, deg = 180.0 / M_PI;
+  PredictionErrors r;
+  r.x_mm_mean = mm * mean(0);
+  r.x_mm_std = mm * stdev(0);
+  r.y_mm_mean = mm * mean(1);
+  r.y_mm_std = mm * stdev(1);
+  r.theta_deg_mean = deg * mean(2);
+  r.theta_deg_std = deg * stdev(2);
+  r.final_pos_mm = mm * e.row(n - 1).head<2>().norm();
+  r.final_theta_deg = deg * e(n - 1, 2);
+  return r;
+}
+
+PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions& o) {
+  if (push.flags.frozen_force_sensor)
+    throw InputError(about(push.source, "force sensor frozen: its force cannot be trusted for prediction"));
+  const double mu = o.friction_coefficient >= 0 ? o.friction_coefficient : surface_friction_coefficient(push.push.surface);
+  const auto observer = make_disturbance_estimator(o.observer);
+  const auto estimator = make_relation_estimator(o.estimator);
+
+  PushStudy study;
+  study.source = push.source;
+  study.span = schedule_span_name(o.schedule.span);
+  study.intervals = split_into_intervals(push, o.schedule);
+
+  for (size_t k = 1; k < study.intervals.size(); ++k) {
+    const TimeInterval& previous = study.intervals[k - 1];
+    const TimeInterval& phase = study.intervals[k];
+    // Identification: the observer, initialised from the data at the interval's start, over the interval just
+    // measured; its output joins the estimator.
+    study.identification.push_back(observer->estimate(push, previous.t0_s, previous.t1_s));
+    const DisturbanceEstimate& id = study.identification.back();
+    const auto fit_start = std::chrono::steady_clock::now();
+    estimator->add_interval(id);
+    const bool ready = estimator->ready();
+    RelationParameters relation;
+    if (ready) relation = estimator->parameters();
+    study.estimator_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+
+    PhaseResult r;
+    r.phase = static_cast<int>(k);
+    r.interval = phase;
+    const Eigen::Index i0 = push.index_at(phase.t0_s);
+    Eigen::Index i1 = push.index_at(phase.t1_s);
+    if (push.t_s(i1) > phase.t1_s + 1e-9) --i1;
+    // The initial pose is the last measurement of the previous interval, at the phase's start time.
+    const Eigen::Index first = i0 + (push.t_s(i0) <= phase.t0_s + 1e-9 ? 1 : 0);
+    if (first > i1) throw InputError(about(push.source, "a prediction phase holds no grid samples"));
+    r.t_s = push.t_s.segment(first, i1 - first + 1);
+    r.measured = push.pose.middleRows(first, i1 - first + 1);
+    const Eigen::Vector3d pose0 = push.pose.row(push.index_at(phase.t0_s)).transpose();
+    r.initial_velocity = id.velocity.row(id.velocity.rows() - 1).transpose();
+
+    const PlannedForce plan = plan_from_measurement(push, phase.t0_s, phase.t1_s, o.plan_rate_hz);
+    PredictionModel model;
+    model.mass_kg = push.shape.mass_kg;
+    model.inertia_kgm2 = push.shape.inertia_kgm2;
+    if (ready) {
+      r.relation = relation;
+      model.beta = r.relation.beta;
+      model.eps = r.relation.eps;
+    } else {
+      r.note = "relation not identifiable yet (" + estimator->not_ready_reason() + "); dob predicts with beta = eps = 0";
+    }
+    r.predicted["dob"] = predict_poses(model, plan, pose0, Eigen::Vector3d::Zero(), r.t_s, o.integrator);
+    r.predicted["dob_velinit"] = predict_poses(model, plan, pose0, r.initial_velocity, r.t_s, o.integrator);
+
+    PredictionModel simple;
+    simple.mass_kg = push.shape.mass_kg;
+    simple.inertia_kgm2 = push.shape.inertia_kgm2;
+    simple.coulomb_force_N = mu * push.shape.mass_kg * kGravity_m_s2;
+    r.predicted["simple"] = predict_poses(simple, plan, pose0, Eigen::Vector3d::Zero(), r.t_s, o.integrator);
+
+    Eigen::MatrixX3d hold(r.t_s.size(), 3), constant(r.t_s.size(), 3);
+    for (Eigen::Index j = 0; j < r.t_s.size(); ++j) {
+      hold.row(j) = pose0.transpose();
+      constant.row(j) = (pose0 + (r.t_s(j) - phase.t0_s) * r.initial_velocity).transpose();
+    }
+    r.predicted["hold"] = hold;
+    r.predicted["const_velocity"] = constant;
+    for (const auto& [method, poses] : r.predicted) r.errors[method] = prediction_errors(poses, r.measured);
+    study.phases.push_back(std::move(r));
+  }
+  return study;
+}
+
+}  // namespace pushpred

@@ -1,0 +1,72 @@
+#pragma once
+// The paper's prediction study on one push: the schedule of identification and prediction phases, the
+// disturbance observer and relation estimator feeding the `dob` prediction, the paper's `simple` friction
+// baseline, and two naive references a reviewer asks for. Methods, each predicting the pose over a phase from
+// the last measured pose of the previous interval:
+// - `dob`: m r'' = u + beta u + eps with the fitted relation, initial velocity zero (as in the paper);
+// - `dob_velinit`: the same, initial velocity from the observer's estimate at the phase start;
+// - `simple`: m r'' = u - mu m g v/|v| (Coulomb friction opposing the velocity, regularised near rest; starting
+//   at rest, the object moves only where the plan pushes it), I theta'' = T, initial velocity zero;
+// - `hold`: the object stays where it was;
+// - `const_velocity`: it keeps the observer's velocity estimate at the phase start.
+// Errors are reported in mm and degrees.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pushpred/estimators/relation_estimator.hpp"
+#include "pushpred/prediction/prediction_system.hpp"
+#include "pushpred/prediction/schedule.hpp"
+
+namespace pushpred {
+
+/// Coulomb friction coefficient of a support surface for the `simple` baseline: abs 0.14 (the paper's
+/// average of 0.13-0.15). Throws InputError for a surface without a value (give --mu).
+double surface_friction_coefficient(const std::string& surface);
+
+inline constexpr double kGravity_m_s2 = 9.81;
+
+/// Names of the prediction methods, in report order.
+const std::vector<std::string>& prediction_method_names();
+
+struct StudyOptions {
+  ScheduleOptions schedule;
+  double plan_rate_hz = 10.0;
+  std::string observer = "dob";   ///< a disturbance estimator name
+  std::string estimator = "rls";  ///< a relation estimator name
+  double friction_coefficient = -1;  ///< for `simple`; < 0: from the surface
+  IntegratorOptions integrator;
+};
+
+/// Prediction errors of one method over one phase: means and standard deviations of |error| over the phase's
+/// grid samples, and the errors at its end.
+struct PredictionErrors {
+  double x_mm_mean = 0, x_mm_std = 0, y_mm_mean = 0, y_mm_std = 0, theta_deg_mean = 0, theta_deg_std = 0;
+  double final_pos_mm = 0, final_theta_deg = 0;
+};
+PredictionErrors prediction_errors(const Eigen::MatrixX3d& predicted, const Eigen::MatrixX3d& measured);
+
+struct PhaseResult {
+  int phase = 0;               ///< 1-based prediction phase
+  TimeInterval interval;       ///< the predicted interval
+  RelationParameters relation; ///< used by `dob` (identified on the intervals before this one)
+  std::string note;            ///< e.g. why the relation could not be identified
+  Eigen::VectorXd t_s;         ///< grid times of the phase
+  Eigen::MatrixX3d measured;   ///< measured pose at t_s
+  std::map<std::string, Eigen::MatrixX3d> predicted;  ///< per method, pose at t_s
+  std::map<std::string, PredictionErrors> errors;     ///< per method
+  Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();  ///< observer's estimate at the phase start
+};
+
+struct PushStudy {
+  std::string source;
+  std::string span;  ///< "whole" or "contact"
+  std::vector<TimeInterval> intervals;
+  std::vector<PhaseResult> phases;
+  std::vector<DisturbanceEstimate> identification;  ///< the observer's output on every interval that was identified
+  double estimator_seconds = 0;  ///< wall time spent in the relation estimator (feeding and asking), for comparisons
+};
+
+PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions& options = {});
+
+}  // namespace pushpred

@@ -1,0 +1,66 @@
+#include "pushpred/prediction/prediction_system.hpp"
+
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+
+void PredictionModel::validate() const {
+  if (!(mass_kg > 0) || !std::isfinite(mass_kg)) throw InputError("prediction model: mass must be positive");
+  if (!(inertia_kgm2 > 0) || !std::isfinite(inertia_kgm2))
+    throw InputError("prediction model: inertia must be positive");
+  if (!beta.allFinite() || !eps.allFinite()) throw InputError("prediction model: beta and eps must be finite");
+  if (!(coulomb_force_N >= 0) || !(coulomb_speed_scale_m_s > 0))
+    throw InputError("prediction model: Coulomb force must be >= 0 and its speed scale > 0");
+}
+
+PredictionSystem::PredictionSystem(PredictionModel model, PlannedForce plan)
+    : model_(std::move(model)), plan_(std::move(plan)) {
+  model_.validate();
+  if (plan_.signal.channels() != 3) throw InputError("planned force must have 3 channels");
+  lo_ = plan_.t0_s;
+  hi_ = plan_.t1_s;
+}
+
+void PredictionSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                  Eigen::Ref<Eigen::VectorXd> xdot) const {
+  Eigen::Vector3d u;
+  plan_.signal.evaluate_within(t, lo_, hi_, u);
+  Eigen::Vector3d f = u + model_.beta.cwiseProduct(u) + model_.eps;
+  if (model_.coulomb_force_N > 0) {
+    const double speed = std::hypot(x(3), x(4));
+    const double scale = model_.coulomb_force_N / std::sqrt(speed * speed + std::pow(model_.coulomb_speed_scale_m_s, 2));
+    f(0) -= scale * x(3);
+    f(1) -= scale * x(4);
+  }
+  if (!model_.extra_terms.empty()) {
+    const PlanarState s = x;
+    for (const auto& term : model_.extra_terms) term->add(t, s, u, f);
+  }
+  xdot.head<3>() = x.tail<3>();
+  xdot(3) = f(0) / model_.mass_kg;
+  xdot(4) = f(1) / model_.mass_kg;
+  xdot(5) = f(2) / model_.inertia_kgm2;
+}
+
+bool PredictionSystem::has_jacobian() const { return model_.coulomb_force_N == 0 && model_.extra_terms.empty(); }
+
+void PredictionSystem::jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const {
+  // Only the kinematics couple states when the unknown force depends on the plan alone.
+  J.setZero();
+  J(0, 3) = J(1, 4) = J(2, 5) = 1.0;
+}
+
+Eigen::MatrixX3d predict_poses(const PredictionModel& model, const PlannedForce& plan, const Eigen::Vector3d& pose0,
+                               const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times,
+                               const IntegratorOptions& integrator) {
+  const PredictionSystem system(model, plan);
+  CvodeIntegrator cvode(system, integrator);
+  Eigen::VectorXd x0(6);
+  x0 << pose0, velocity0;
+  const Eigen::MatrixXd states = cvode.solve(plan.t0_s, x0, output_times);
+  return states.leftCols<3>();
+}
+
+}  // namespace pushpred

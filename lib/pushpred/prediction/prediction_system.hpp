@@ -1,0 +1,74 @@
+#pragma once
+// The prediction phase as a continuous system: a planar rigid body driven by the planned input and by a model
+// of the unknown force. State [x, y, theta, vx, vy, omega] in {R} (SI; see synchronised_push.hpp). Per channel
+// c (x, y, rotation), with u the planned input and M = (m, m, I):
+//
+//     M_c * accel_c = u_c + beta_c u_c + eps_c              (the paper's eq. for the prediction phase)
+//                     - friction_c(velocity)                (Coulomb, for the simple baseline and diagnosis)
+//                     + sum of extra terms                  (effects added by diagnosis or by a user)
+//
+// With beta = eps = 0 and no friction this is Newton's law under the planned force.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pushpred/prediction/planned_force.hpp"
+#include "pushpred/systems/continuous_system.hpp"
+#include "pushpred/systems/cvode_integrator.hpp"
+
+namespace pushpred {
+
+using PlanarState = Eigen::Matrix<double, 6, 1>;  ///< x, y [m], theta [rad], vx, vy [m/s], omega [rad/s]
+
+/// A force term a user or the diagnosis adds to the prediction model: adds its generalized force
+/// [f_x, f_y] [N], torque [N m] given the time, state and planned input. Must not allocate.
+class GeneralizedForceTerm {
+ public:
+  virtual ~GeneralizedForceTerm() = default;
+  virtual std::string name() const = 0;
+  virtual void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
+                   Eigen::Vector3d& generalized_force) const = 0;
+};
+
+struct PredictionModel {
+  double mass_kg = 0;
+  double inertia_kgm2 = 0;
+  Eigen::Vector3d beta = Eigen::Vector3d::Zero();  ///< per channel [-]
+  Eigen::Vector3d eps = Eigen::Vector3d::Zero();   ///< per channel [N, N, N m]
+  /// Coulomb friction of magnitude coulomb_force_N opposing the translational velocity (0: none). Regularised
+  /// as v / sqrt(|v|^2 + coulomb_speed_scale^2) so the dynamics stay smooth; at rest it vanishes and the
+  /// object starts moving only where the applied force points.
+  double coulomb_force_N = 0;
+  double coulomb_speed_scale_m_s = 1e-3;
+  std::vector<std::shared_ptr<const GeneralizedForceTerm>> extra_terms;
+
+  /// Throws InputError for a non-positive mass or inertia or non-finite parameters.
+  void validate() const;
+};
+
+class PredictionSystem final : public ContinuousSystem {
+ public:
+  PredictionSystem(PredictionModel model, PlannedForce plan);
+  int state_size() const override { return 6; }
+  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  bool has_jacobian() const override;
+  void jacobian(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const override;
+  std::vector<double> discontinuities(double t0, double t1) const override { return plan_.signal.jumps(t0, t1); }
+  void enter_interval(double t0, double t1) const override {
+    lo_ = t0;
+    hi_ = t1;
+  }
+
+ private:
+  PredictionModel model_;
+  PlannedForce plan_;
+  mutable double lo_ = 0, hi_ = 0;
+};
+
+/// Predicted poses (n x 3: x, y, theta) at `output_times_s` from `pose0` and `velocity0` at plan.t0_s.
+Eigen::MatrixX3d predict_poses(const PredictionModel& model, const PlannedForce& plan, const Eigen::Vector3d& pose0,
+                               const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
+                               const IntegratorOptions& integrator = {});
+
+}  // namespace pushpred

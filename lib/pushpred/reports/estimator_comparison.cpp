@@ -1,0 +1,92 @@
+#include "pushpred/reports/estimator_comparison.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/reports/prediction_summary.hpp"
+
+namespace pushpred {
+
+EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, const std::vector<std::string>& estimators,
+                                       const StudyOptions& options, const std::string& shape_override) {
+  if (estimators.empty()) throw InputError("compare: no estimators named");
+  for (const auto& name : estimators) make_relation_estimator(name);  // unknown names fail before any work
+  EstimatorComparison c;
+  c.reference = estimators.front();
+  c.options = options;
+  // One batch item per push: the studies of every estimator on it.
+  const auto batch = run_batch(expand_inputs(inputs), [&](const std::filesystem::path& path) {
+    const SynchronisedPush push = load_push(path, shape_override);
+    std::vector<PushStudy> studies;
+    for (const auto& name : estimators) {
+      StudyOptions o = options;
+      o.estimator = name;
+      studies.push_back(run_prediction_study(push, o));
+    }
+    return studies;
+  });
+  c.failures = batch.failures;
+  for (size_t e = 0; e < estimators.size(); ++e) {
+    EstimatorComparisonRow row;
+    row.estimator = estimators[e];
+    std::vector<PushStudy> studies;
+    for (const auto& per_push : batch.results) {
+      const PushStudy& s = per_push[e];
+      const PushStudy& ref = per_push[0];
+      studies.push_back(s);
+      row.fit_seconds += s.estimator_seconds;
+      const RelationParameters& p = s.phases.back().relation;
+      const RelationParameters& q = ref.phases.back().relation;
+      row.beta_mean += p.beta;
+      row.eps_mean += p.eps;
+      row.beta_max_abs_diff = row.beta_max_abs_diff.cwiseMax((p.beta - q.beta).cwiseAbs());
+      row.eps_max_abs_diff = row.eps_max_abs_diff.cwiseMax((p.eps - q.eps).cwiseAbs());
+      ++row.pushes;
+    }
+    if (row.pushes > 0) {
+      row.beta_mean /= row.pushes;
+      row.eps_mean /= row.pushes;
+      const auto agg = aggregate_errors(studies);
+      row.dob = agg.at("dob");
+      row.dob_velinit = agg.at("dob_velinit");
+    }
+    c.rows.push_back(row);
+  }
+  return c;
+}
+
+std::string comparison_markdown(const EstimatorComparison& c) {
+  std::string out;
+  char line[1024];
+  const int pushes = c.rows.empty() ? 0 : c.rows.front().pushes;
+  std::snprintf(line, sizeof line,
+                "# Relation estimators compared\n\n%d pushes, %d intervals over the %s span, observer `%s`, planned "
+                "force at %.3g Hz. Parameters are those of the last prediction phase (identified on all earlier "
+                "intervals); differences are against `%s`, worst push. Errors average all phases of all pushes. Fit "
+                "time is the time spent in the estimator, as a ratio to `%s` measured in the same run.\n\n",
+                pushes, c.options.schedule.intervals, schedule_span_name(c.options.schedule.span),
+                c.options.observer.c_str(), c.options.plan_rate_hz, c.reference.c_str(), c.reference.c_str());
+  out += line;
+  out += "| estimator | beta x | beta y | beta rot | eps x [N] | eps y [N] | eps rot [N m] | max |dbeta| | max |deps| | "
+         "dob pos err x/y [mm] | dob yaw err [deg] | dob_velinit pos err x/y [mm] | fit time ratio |\n";
+  out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  const double ref_time = c.rows.empty() ? 0 : c.rows.front().fit_seconds;
+  for (const auto& r : c.rows) {
+    std::snprintf(line, sizeof line,
+                  "| %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.5f | %.2e | %.2e | %.2f / %.2f | %.2f | %.2f / %.2f | "
+                  "%.2f |\n",
+                  r.estimator.c_str(), r.beta_mean(0), r.beta_mean(1), r.beta_mean(2), r.eps_mean(0), r.eps_mean(1),
+                  r.eps_mean(2), r.beta_max_abs_diff.maxCoeff(), r.eps_max_abs_diff.maxCoeff(), r.dob.x_mm_mean,
+                  r.dob.y_mm_mean, r.dob.theta_deg_mean, r.dob_velinit.x_mm_mean, r.dob_velinit.y_mm_mean,
+                  ref_time > 0 ? r.fit_seconds / ref_time : NAN);
+    out += line;
+  }
+  if (!c.failures.empty()) {
+    out += "\n## Pushes left out\n\n";
+    for (const auto& f : c.failures) out += "- `" + f.source + "`: " + f.reason + "\n";
+  }
+  return out;
+}
+
+}  // namespace pushpred

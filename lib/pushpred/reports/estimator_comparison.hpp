@@ -1,0 +1,37 @@
+#pragma once
+// `pushpred compare`: the relation estimators side by side on the same pushes (same observer output, same
+// schedule): fitted parameters, how far each lies from the reference (RLS), prediction errors of the `dob`
+// methods, and the time spent fitting, as a ratio to the reference measured in the same run.
+#include <string>
+#include <vector>
+
+#include "pushpred/core/batch.hpp"
+#include "pushpred/prediction/prediction_study.hpp"
+
+namespace pushpred {
+
+struct EstimatorComparisonRow {
+  std::string estimator;
+  int pushes = 0;
+  Eigen::Vector3d beta_mean = Eigen::Vector3d::Zero(), eps_mean = Eigen::Vector3d::Zero();  ///< last phase, over pushes
+  Eigen::Vector3d beta_max_abs_diff = Eigen::Vector3d::Zero();  ///< vs the reference, last phase, worst push
+  Eigen::Vector3d eps_max_abs_diff = Eigen::Vector3d::Zero();
+  PredictionErrors dob, dob_velinit;  ///< averaged over all phases of all pushes
+  double fit_seconds = 0;             ///< total over pushes
+};
+
+struct EstimatorComparison {
+  std::string reference;
+  std::vector<EstimatorComparisonRow> rows;
+  std::vector<BatchFailure> failures;
+  StudyOptions options;
+};
+
+/// Runs the prediction study with each estimator on each input. A push that fails with any estimator is
+/// listed once among the failures and left out of every row, so that all rows cover the same pushes.
+EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, const std::vector<std::string>& estimators,
+                                       const StudyOptions& options, const std::string& shape_override = "");
+
+std::string comparison_markdown(const EstimatorComparison& comparison);
+
+}  // namespace pushpred

@@ -1,0 +1,109 @@
+#include "pushpred/reports/prediction_summary.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "pushpred/core/version.hpp"
+
+namespace pushpred {
+
+nlohmann::json errors_json(const PredictionErrors& e) {
+  return {{"x_mm_mean", e.x_mm_mean},           {"x_mm_std", e.x_mm_std},
+          {"y_mm_mean", e.y_mm_mean},           {"y_mm_std", e.y_mm_std},
+          {"theta_deg_mean", e.theta_deg_mean}, {"theta_deg_std", e.theta_deg_std},
+          {"final_pos_mm", e.final_pos_mm},     {"final_theta_deg", e.final_theta_deg}};
+}
+
+nlohmann::json relation_json(const RelationParameters& p) {
+  nlohmann::json channels = nlohmann::json::object();
+  for (int c = 0; c < 3; ++c)
+    channels[relation_channel_name(c)] = {{"beta", p.beta(c)},
+                                          {"beta_std", std::sqrt(p.covariance[c](0, 0))},
+                                          {"eps", p.eps(c)},
+                                          {"eps_std", std::sqrt(p.covariance[c](1, 1))},
+                                          {"residual_std", p.residual_std(c)}};
+  return {{"estimator", p.estimator}, {"samples", p.samples}, {"intervals", p.intervals}, {"channels", channels}};
+}
+
+nlohmann::json study_json(const PushStudy& s) {
+  nlohmann::json phases = nlohmann::json::array();
+  for (const auto& r : s.phases) {
+    nlohmann::json methods = nlohmann::json::object();
+    for (const auto& name : prediction_method_names()) methods[name] = errors_json(r.errors.at(name));
+    nlohmann::json phase = {{"phase", r.phase},
+                            {"t0_s", r.interval.t0_s},
+                            {"t1_s", r.interval.t1_s},
+                            {"methods", methods}};
+    if (r.relation.samples > 0) phase["relation"] = relation_json(r.relation);
+    if (!r.note.empty()) phase["note"] = r.note;
+    phases.push_back(phase);
+  }
+  return {{"source", s.source}, {"span", s.span}, {"phases", phases}};
+}
+
+std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushStudy>& studies) {
+  std::map<std::string, PredictionErrors> sum;
+  int count = 0;
+  for (const auto& s : studies)
+    for (const auto& r : s.phases) {
+      ++count;
+      for (const auto& [name, e] : r.errors) {
+        PredictionErrors& a = sum[name];
+        a.x_mm_mean += e.x_mm_mean;
+        a.x_mm_std += e.x_mm_std;
+        a.y_mm_mean += e.y_mm_mean;
+        a.y_mm_std += e.y_mm_std;
+        a.theta_deg_mean += e.theta_deg_mean;
+        a.theta_deg_std += e.theta_deg_std;
+        a.final_pos_mm += e.final_pos_mm;
+        a.final_theta_deg += e.final_theta_deg;
+      }
+    }
+  for (auto& [name, a] : sum) {
+    for (double* v : {&a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean, &a.theta_deg_std,
+                      &a.final_pos_mm, &a.final_theta_deg})
+      *v /= count;
+  }
+  return sum;
+}
+
+nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& o) {
+  nlohmann::json files = nlohmann::json::array();
+  for (const auto& s : batch.results) files.push_back(study_json(s));
+  nlohmann::json aggregate = nlohmann::json::object();
+  for (const auto& [name, e] : aggregate_errors(batch.results)) aggregate[name] = errors_json(e);
+  nlohmann::json failures = nlohmann::json::array();
+  for (const auto& f : batch.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
+  return {{"pushpred_version", kVersion},
+          {"options",
+           {{"intervals", o.schedule.intervals},
+            {"span", schedule_span_name(o.schedule.span)},
+            {"plan_rate_hz", o.plan_rate_hz},
+            {"observer", o.observer},
+            {"estimator", o.estimator}}},
+          {"files", files},
+          {"aggregate", aggregate},
+          {"failures", failures}};
+}
+
+std::string predictions_csv(const PushStudy& s) {
+  std::ostringstream out;
+  out.precision(9);
+  out << "phase,t_s,measured_x_mm,measured_y_mm,measured_theta_deg";
+  for (const auto& m : prediction_method_names()) out << "," << m << "_x_mm," << m << "_y_mm," << m << "_theta_deg";
+  out << "\n";
+  constexpr double deg = 180.0 / M_PI;
+  for (const auto& r : s.phases)
+    for (Eigen::Index j = 0; j < r.t_s.size(); ++j) {
+      out << r.phase << "," << r.t_s(j) << "," << 1e3 * r.measured(j, 0) << "," << 1e3 * r.measured(j, 1) << ","
+          << deg * r.measured(j, 2);
+      for (const auto& m : prediction_method_names()) {
+        const auto& p = r.predicted.at(m);
+        out << "," << 1e3 * p(j, 0) << "," << 1e3 * p(j, 1) << "," << deg * p(j, 2);
+      }
+      out << "\n";
+    }
+  return out.str();
+}
+
+}  // namespace pushpred

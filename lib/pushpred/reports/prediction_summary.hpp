@@ -1,0 +1,26 @@
+#pragma once
+// The summary.json of `pushpred predict` and `pushpred reproduce`: for each file, phase and method the keys
+// x_mm_mean, x_mm_std, y_mm_mean, y_mm_std, theta_deg_mean, theta_deg_std, final_pos_mm, final_theta_deg; and an
+// `aggregate` object with the same keys per method, averaged over all phases of all files.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pushpred/core/batch.hpp"
+#include "pushpred/prediction/prediction_study.hpp"
+
+namespace pushpred {
+
+nlohmann::json errors_json(const PredictionErrors& e);
+nlohmann::json relation_json(const RelationParameters& p);
+nlohmann::json study_json(const PushStudy& study);
+
+/// Mean of every error key per method over all phases of `studies`.
+std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushStudy>& studies);
+
+nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& options);
+
+/// Per-phase predictions of one push as CSV: phase, t_s, measured x, y [mm], theta [deg], then each method's.
+std::string predictions_csv(const PushStudy& study);
+
+}  // namespace pushpred

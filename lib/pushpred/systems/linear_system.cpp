@@ -1,0 +1,53 @@
+#include "pushpred/systems/linear_system.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+
+LinearSystem::LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, SampledSignal input)
+    : A_(std::move(A)), B_(std::move(B)), input_(std::move(input)) {
+  if (A_.rows() == 0 || A_.rows() != A_.cols()) throw InputError("linear system: A must be square and not empty");
+  if (B_.rows() != A_.rows())
+    throw InputError("linear system: B has " + std::to_string(B_.rows()) + " rows, A " + std::to_string(A_.rows()));
+  if (B_.cols() != input_.channels())
+    throw InputError("linear system: B has " + std::to_string(B_.cols()) + " columns but the input " +
+                     std::to_string(input_.channels()) + " channels");
+  if (!A_.allFinite() || !B_.allFinite()) throw InputError("linear system: A or B holds NaN or infinity");
+  u_.resize(input_.channels());
+}
+
+void LinearSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                              Eigen::Ref<Eigen::VectorXd> xdot) const {
+  if (interval_hi_ > interval_lo_) input_.evaluate_within(t, interval_lo_, interval_hi_, u_);
+  else input_.evaluate(t, u_);
+  xdot.noalias() = A_ * x;
+  xdot.noalias() += B_ * u_;
+}
+
+void LinearSystem::jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const {
+  J = A_;
+}
+
+void LinearSystem::enter_interval(double t0, double t1) const {
+  interval_lo_ = t0;
+  interval_hi_ = t1;
+}
+
+LinearSystem double_integrator(const Eigen::VectorXd& inertia, SampledSignal force) {
+  const Eigen::Index n = inertia.size();
+  if (n == 0) throw InputError("double integrator: no channels");
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!(inertia(i) > 0) || !std::isfinite(inertia(i)))
+      throw InputError("double integrator: mass or inertia of channel " + std::to_string(i) +
+                       " must be positive and finite (got " + std::to_string(inertia(i)) + ")");
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  A.topRightCorner(n, n).setIdentity();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(2 * n, n);
+  B.bottomRows(n) = inertia.cwiseInverse().asDiagonal();
+  return LinearSystem(std::move(A), std::move(B), std::move(force));
+}
+
+}  // namespace pushpred

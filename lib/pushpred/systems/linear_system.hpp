@@ -1,0 +1,42 @@
+#pragma once
+// x' = A x + B u(t): a linear time-invariant ContinuousSystem driven by a held SampledSignal, and the
+// double integrator M r'' = F(t) built on it. Every continuous system of pushpred is of this kind, so CVODE
+// gets the exact Jacobian (A) and the jumps of zero-order-held inputs.
+//
+// The input buffer is mutable (derivative() must not allocate), so one system serves one integration at a time.
+#include <Eigen/Core>
+
+#include "pushpred/systems/continuous_system.hpp"
+#include "pushpred/systems/sampled_signal.hpp"
+
+namespace pushpred {
+
+class LinearSystem final : public ContinuousSystem {
+ public:
+  /// Throws InputError unless A is square, B has A's rows and as many columns as `input` has channels, and
+  /// both are finite.
+  LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, SampledSignal input);
+
+  int state_size() const override { return static_cast<int>(A_.rows()); }
+  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  bool has_jacobian() const override { return true; }
+  void jacobian(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const override;
+  std::vector<double> discontinuities(double t0, double t1) const override { return input_.jumps(t0, t1); }
+  void enter_interval(double t0, double t1) const override;
+
+  const Eigen::MatrixXd& A() const { return A_; }
+  const Eigen::MatrixXd& B() const { return B_; }
+  const SampledSignal& input() const { return input_; }
+
+ private:
+  Eigen::MatrixXd A_, B_;
+  SampledSignal input_;
+  mutable Eigen::VectorXd u_;              // input at the current derivative() call
+  mutable double interval_lo_ = 0, interval_hi_ = 0;  // the jump-free interval being integrated
+};
+
+/// M r'' = F(t) per channel: states [r (n), r' (n)], input F (n channels, held as `force` is). `inertia` holds
+/// the n masses [kg] or moments of inertia [kg m^2]; throws InputError unless each is positive and finite.
+LinearSystem double_integrator(const Eigen::VectorXd& inertia, SampledSignal force);
+
+}  // namespace pushpred

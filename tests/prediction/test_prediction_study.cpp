@@ -1,0 +1,68 @@
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/reports/prediction_summary.hpp"
+#include "test_support.hpp"
+
+using namespace pushpred;
+using pushpred::testing::real_file;
+
+BOOST_AUTO_TEST_SUITE(prediction_study)
+
+BOOST_AUTO_TEST_CASE(four_intervals_give_three_prediction_phases_with_every_method) {
+  const SynchronisedPush push = load_push(real_file("shape=hex_a=0_v=50"));
+  const PushStudy study = run_prediction_study(push);
+  BOOST_REQUIRE_EQUAL(study.phases.size(), 3u);
+  BOOST_TEST(study.span == "whole");
+  for (const auto& phase : study.phases) {
+    for (const auto& m : prediction_method_names()) {
+      BOOST_TEST_REQUIRE(phase.predicted.count(m) == 1u);
+      BOOST_TEST_REQUIRE(phase.predicted.at(m).rows() == phase.t_s.size());
+    }
+    // `hold` keeps the initial pose: its error at the first sample is one grid step of motion at most.
+    BOOST_TEST(phase.t_s(0) > phase.interval.t0_s);
+    BOOST_TEST(phase.t_s(phase.t_s.size() - 1) <= phase.interval.t1_s + 1e-12);
+  }
+  // The relation is identified on more data in every later phase.
+  BOOST_TEST(study.phases[0].relation.intervals == 1);
+  BOOST_TEST(study.phases[2].relation.intervals == 3);
+}
+
+BOOST_AUTO_TEST_CASE(every_key_of_summary_json_is_present_and_finite) {
+  Batch<PushStudy> batch;
+  batch.results.push_back(run_prediction_study(load_push(real_file("shape=ellip1_a=0_v=100"))));
+  batch.failures.push_back({"x.h5", "file does not exist"});
+  const nlohmann::json j = prediction_summary_json(batch, StudyOptions{});
+  const std::vector<std::string> keys{"x_mm_mean",      "x_mm_std",      "y_mm_mean",    "y_mm_std",
+                                      "theta_deg_mean", "theta_deg_std", "final_pos_mm", "final_theta_deg"};
+  auto check = [&](const nlohmann::json& e) {
+    for (const auto& k : keys) {
+      BOOST_TEST_REQUIRE(e.contains(k));
+      BOOST_TEST_REQUIRE(std::isfinite(e[k].get<double>()));
+      BOOST_TEST_REQUIRE(e[k].get<double>() >= 0.0);
+    }
+  };
+  BOOST_REQUIRE_EQUAL(j["files"].size(), 1u);
+  BOOST_REQUIRE_EQUAL(j["files"][0]["phases"].size(), 3u);
+  for (const auto& phase : j["files"][0]["phases"])
+    for (const auto& m : prediction_method_names()) check(phase["methods"][m]);
+  for (const auto& m : prediction_method_names()) check(j["aggregate"][m]);
+  BOOST_TEST(j["failures"][0]["reason"] == "file does not exist");
+  BOOST_TEST(j["options"]["span"] == "whole");
+}
+
+BOOST_AUTO_TEST_CASE(a_push_with_a_frozen_force_sensor_is_refused) {
+  BOOST_CHECK_THROW(run_prediction_study(load_push(real_file("shape=rect1_a=0_v=75"))), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(an_unknown_surface_needs_a_friction_coefficient) {
+  const SynchronisedPush push = load_push(resolve_data_folder() / "plywood" /
+                                          "motion_surface=plywood_shape=hex_a=0_v=150_i=1.000_s=0.000_t=-0.349.json");
+  BOOST_CHECK_THROW(run_prediction_study(push), InputError);
+  StudyOptions o;
+  o.friction_coefficient = 0.3;
+  BOOST_TEST(run_prediction_study(push, o).phases.size() == 3u);
+}
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,0 +1,95 @@
+#define BOOST_TEST_MODULE prediction
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/prediction/prediction_system.hpp"
+#include "test_support.hpp"
+
+using namespace pushpred;
+
+namespace {
+
+/// A planned input that changes every 0.1 s: [f_x, f_y, torque].
+PlannedForce staircase_plan(double t0, int steps) {
+  Eigen::VectorXd t(steps);
+  Eigen::MatrixXd v(steps, 3);
+  for (int k = 0; k < steps; ++k) {
+    t(k) = t0 + 0.1 * k;
+    v.row(k) << 1.0 + 0.5 * k, -0.3 * k, 0.01 * std::cos(k);
+  }
+  return {SampledSignal(t, v, Hold::Zero), t0, t0 + 0.1 * steps, 10.0};
+}
+
+/// Newton's law for a piecewise-constant input, integrated in closed form step by step.
+Eigen::Vector3d newton_closed_form(const PlannedForce& plan, const Eigen::Vector3d& mass, Eigen::Vector3d pose,
+                                   Eigen::Vector3d velocity, double t_end) {
+  const auto& t = plan.signal.times();
+  for (Eigen::Index k = 0; k < t.size(); ++k) {
+    const double a = t(k), b = std::min(k + 1 < t.size() ? t(k + 1) : plan.t1_s, t_end);
+    if (b <= a) break;
+    const Eigen::Vector3d acc = plan.signal.values().row(k).transpose().cwiseQuotient(mass);
+    const double dt = b - a;
+    pose += velocity * dt + 0.5 * acc * dt * dt;
+    velocity += acc * dt;
+  }
+  return pose;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_SUITE(prediction_system)
+
+BOOST_AUTO_TEST_CASE(prediction_with_zero_disturbance_reproduces_newtons_law) {
+  const PlannedForce plan = staircase_plan(2.0, 8);
+  PredictionModel model;
+  model.mass_kg = 1.045;
+  model.inertia_kgm2 = 0.001808;
+  const Eigen::Vector3d pose0(0.3, -0.02, 0.5), vel0(0.01, 0.0, -0.2);
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(41, 2.0, 2.8);
+  const Eigen::MatrixX3d poses = predict_poses(model, plan, pose0, vel0, times);
+  const Eigen::Vector3d mass(model.mass_kg, model.mass_kg, model.inertia_kgm2);
+  for (Eigen::Index j = 0; j < times.size(); ++j) {
+    const Eigen::Vector3d exact = newton_closed_form(plan, mass, pose0, vel0, times(j));
+    BOOST_TEST_REQUIRE((poses.row(j).transpose() - exact).norm() < 1e-7 * (1.0 + exact.norm()));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(a_relation_that_cancels_the_input_leaves_the_object_coasting) {
+  // beta = -1, eps = 0: the unknown force cancels the push exactly, so the object keeps its initial velocity.
+  PredictionModel model;
+  model.mass_kg = 1.0;
+  model.inertia_kgm2 = 0.002;
+  model.beta = Eigen::Vector3d::Constant(-1.0);
+  const Eigen::Vector3d pose0(0.1, 0.2, 0.0), vel0(0.02, -0.01, 0.1);
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(5, 0.1, 0.5);
+  const Eigen::MatrixX3d poses = predict_poses(model, staircase_plan(0.0, 5), pose0, vel0, times);
+  for (Eigen::Index j = 0; j < times.size(); ++j)
+    BOOST_TEST_REQUIRE((poses.row(j).transpose() - (pose0 + vel0 * times(j))).norm() < 1e-8);
+}
+
+BOOST_AUTO_TEST_CASE(coulomb_friction_stops_a_coasting_object_after_v_squared_over_2_mu_g) {
+  PredictionModel model;
+  model.mass_kg = 1.0;
+  model.inertia_kgm2 = 0.002;
+  const double mu = 0.14, v0 = 0.1;
+  model.coulomb_force_N = mu * model.mass_kg * 9.81;
+  model.coulomb_speed_scale_m_s = 1e-5;
+  PlannedForce none{SampledSignal(Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Zero(1, 3), Hold::Zero), 0.0, 1.0, 10};
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(3, 0.2, 1.0);
+  const Eigen::MatrixX3d poses = predict_poses(model, none, Eigen::Vector3d::Zero(), Eigen::Vector3d(v0, 0, 0), times);
+  const double stop = v0 * v0 / (2 * mu * 9.81);
+  BOOST_TEST(poses(2, 0) == stop, boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(std::abs(poses(2, 1)) < 1e-12);
+}
+
+BOOST_AUTO_TEST_CASE(a_bad_model_is_a_clear_error) {
+  PredictionModel model;
+  model.mass_kg = -1.0;
+  model.inertia_kgm2 = 0.001;
+  BOOST_CHECK_THROW(predict_poses(model, staircase_plan(0, 2), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                  Eigen::VectorXd::Constant(1, 0.1)),
+                    InputError);
+}
+
+BOOST_AUTO_TEST_SUITE_END()
