@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# pushpred predict and compare: outputs, failures listed, nothing written on a bad argument.
+set -u
+bin=$1
+data=$2
+source "$(dirname "$0")/cli_support.sh"
+
+hex=$(ls "$data"/abs/*shape=hex_a=0_v=50*.h5 | head -1)
+ellip=$(ls "$data"/abs/*shape=ellip1_a=0_v=20*.h5 | head -1)
+frozen=$(ls "$data"/abs/*shape=rect1*.h5 | head -1)
+
+expect_exit 0 "predict on two pushes" -- "$bin" predict "$hex" "$ellip" --out "$tmp/p"
+expect_in "$tmp/out" "predicted 2 pushes (4 intervals over the whole span)" "the span used is said"
+for key in x_mm_mean x_mm_std y_mm_mean y_mm_std theta_deg_mean theta_deg_std final_pos_mm final_theta_deg; do
+  expect_in "$tmp/p/summary.json" "\"$key\"" "summary.json has $key"
+done
+for method in dob dob_velinit simple hold const_velocity; do
+  expect_in "$tmp/p/summary.json" "\"$method\"" "summary.json has method $method"
+done
+expect_in "$tmp/p/summary.json" '"aggregate"' "summary.json has the aggregate"
+if ls "$tmp"/p/predictions/*.csv >/dev/null 2>&1; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: no per-push CSV"; fi
+
+expect_exit 1 "a frozen force sensor is a listed failure, the rest goes on" -- \
+  "$bin" predict "$frozen" "$hex" --out "$tmp/q" --span contact
+expect_in "$tmp/err" "force sensor frozen" "the reason is given"
+expect_in "$tmp/q/summary.json" '"failures"' "the failure is in summary.json"
+expect_in "$tmp/out" "predicted 1 pushes (4 intervals over the contact span)" "the good push is predicted"
+
+expect_exit 2 "an unknown estimator" -- "$bin" predict "$hex" --out "$tmp/r" --estimator magic
+expect_in "$tmp/err" "magic" "the unknown estimator is named"
+if [ -e "$tmp/r" ]; then failed=$((failed + 1)); echo "FAIL: output folder written on a bad argument"; else passed=$((passed + 1)); fi
+expect_exit 105 "a bad span" -- "$bin" predict "$hex" --out "$tmp/r" --span halfway
+expect_exit 105 "a non-numeric rate" -- "$bin" predict "$hex" --out "$tmp/r" --plan-rate fast
+
+expect_exit 0 "compare RLS with batch fits" -- "$bin" compare "$hex" "$ellip" --out "$tmp/c" --estimators rls,batch,batch_huber
+expect_in "$tmp/c/compare.md" "| rls |" "compare.md has the RLS row"
+expect_in "$tmp/c/compare.md" "| batch_huber |" "compare.md has the Huber row"
+finish
