@@ -143,6 +143,9 @@ BOOST_AUTO_TEST_CASE(the_covariance_matches_the_monte_carlo_spread_with_and_with
         Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
         for (const auto& e : estimates[c]) spread += (e - mean) * (e - mean).transpose() / (trials - 1);
         const Eigen::Vector2d ratio = test::covariance_ratio(spread, reported[c]);
+        BOOST_TEST_MESSAGE("forgetting " << lambda << ", channel " << relation_channel_name(c)
+                                         << ": Monte-Carlo / reported covariance eigenvalue ratios "
+                                         << ratio.transpose());
         BOOST_TEST_CONTEXT("channel " << relation_channel_name(c) << ", ratios " << ratio.transpose()) {
           BOOST_TEST(ratio.minCoeff() > 0.75);
           BOOST_TEST(ratio.maxCoeff() < 1.33);
@@ -206,8 +209,9 @@ BOOST_AUTO_TEST_CASE(a_first_interval_with_constant_input_defers_initialise_and_
 
 BOOST_AUTO_TEST_CASE(a_forgetting_factor_outside_zero_to_one_is_an_input_error) {
   for (const double lambda : {0.0, -0.5, 1.5, std::numeric_limits<double>::quiet_NaN()})
-    BOOST_CHECK_EXCEPTION(RecursiveLeastSquares(RlsOptions{lambda}), InputError,
-                          [](const InputError& e) { return message_contains(e, "forgetting factor must lie in (0, 1]"); });
+    BOOST_CHECK_EXCEPTION(RecursiveLeastSquares(RlsOptions{lambda}), InputError, [](const InputError& e) {
+      return message_contains(e, "forgetting factor must lie in (0, 1]");
+    });
   BOOST_TEST(RecursiveLeastSquares(RlsOptions{1.0}).name() == "rls");
   BOOST_TEST(RecursiveLeastSquares(RlsOptions{0.9}).name() == "rls_forget");
 }

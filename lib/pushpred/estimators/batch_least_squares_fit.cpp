@@ -146,12 +146,23 @@ RelationParameters BatchLeastSquaresFit::current_parameters() const { return fit
 
 void BatchLeastSquaresFit::add_checked_interval(const Eigen::Ref<const Eigen::MatrixX3d>& u,
                                                 const Eigen::Ref<const Eigen::MatrixX3d>& d_hat) {
+  const std::size_t before = u_[0].size();
   for (int c = 0; c < 3; ++c) {
     u_[c].insert(u_[c].end(), u.col(c).data(), u.col(c).data() + u.rows());
     d_[c].insert(d_[c].end(), d_hat.col(c).data(), d_hat.col(c).data() + d_hat.rows());
   }
   ++intervals_;
-  refit();
+  try {
+    refit();
+  } catch (...) {
+    // A failed refit leaves the estimator as it was before this interval.
+    for (int c = 0; c < 3; ++c) {
+      u_[c].resize(before);
+      d_[c].resize(before);
+    }
+    --intervals_;
+    throw;
+  }
 }
 
 void BatchLeastSquaresFit::refit() {
@@ -244,10 +255,12 @@ void BatchLeastSquaresFit::refit() {
       ceres::Solver::Summary summary;
       ceres::Solve(options_.solver, problems[i].get(), &summary);
       last_iterations_ += static_cast<int>(summary.iterations.size());
-      if (!summary.IsSolutionUsable())
-        throw SolverError(name() + ": Ceres found no usable solution" +
-                          (options_.joint ? std::string() : std::string(" for channel ") + relation_channel_name(int(i))) +
-                          " over " + std::to_string(intervals_) + " interval(s): " + summary.message);
+      if (!summary.IsSolutionUsable()) {
+        const std::string which =
+            options_.joint ? std::string() : std::string(" for channel ") + relation_channel_name(static_cast<int>(i));
+        throw SolverError(name() + ": Ceres found no usable solution" + which + " over " +
+                          std::to_string(intervals_) + " interval(s): " + summary.message);
+      }
     }
   };
 

@@ -44,6 +44,11 @@ std::string RecursiveLeastSquares::not_ready_reason() const {
     if (!channels_[c].initialised) flat += std::string(flat.empty() ? "" : ", ") + relation_channel_name(c);
   if (!flat.empty()) return input_not_varied_reason(flat, intervals_);
   if (samples_ < 3) return "needs at least 3 samples for a residual variance, has " + std::to_string(samples_);
+  // N_eff - tr(P M) is positive in exact arithmetic once 3 samples are in; guard against rounding.
+  for (const Channel& ch : channels_)
+    if (!(residual_dof(ch) > 0.0))
+      return "the forgetting factor leaves " + std::to_string(effective_samples_) +
+             " effective samples, too few for a residual variance";
   return {};
 }
 
@@ -81,6 +86,11 @@ void RecursiveLeastSquares::add_checked_interval(const Eigen::Ref<const Eigen::M
   }
 }
 
+double RecursiveLeastSquares::residual_dof(const Channel& ch) const {
+  // E[sum w r^2] = s^2 (sum w - tr(P M)) for a weighted fit; n - 2 for lambda = 1.
+  return effective_samples_ - ch.information.ldlt().solve(ch.squared_weight_information).trace();
+}
+
 RelationParameters RecursiveLeastSquares::current_parameters() const {
   RelationParameters p;
   p.estimator = name();
@@ -93,8 +103,7 @@ RelationParameters RecursiveLeastSquares::current_parameters() const {
     p.eps(c) = ch.x(1);
     const Eigen::Matrix2d pm = ch.information.ldlt().solve(ch.squared_weight_information);  // P M
     const Eigen::Matrix2d p_matrix = ch.information.ldlt().solve(Eigen::Matrix2d::Identity());
-    // Unbiased residual variance of a weighted fit: E[sum w r^2] = s^2 (sum w - tr(P M)); n - 2 for lambda = 1.
-    const double dof = effective_samples_ - pm.trace();
+    const double dof = residual_dof(ch);  // unbiased residual variance of a weighted fit
     const double rss = ch.dtd - 2.0 * ch.x.dot(ch.htd) + ch.x.dot(ch.information * ch.x);
     const double variance = std::max(rss, 0.0) / dof;
     // Covariance of the weighted estimate under white residuals: s^2 P M P (= s^2 P for lambda = 1).

@@ -54,6 +54,9 @@ class RecursiveLeastSquares final : public RelationEstimator {
   void update(Channel& channel, const Eigen::Ref<const Eigen::VectorXd>& u,
               const Eigen::Ref<const Eigen::VectorXd>& d) const;
 
+  /// N_eff - tr(P M): the residuals' degrees of freedom (n - 2 without forgetting).
+  double residual_dof(const Channel& channel) const;
+
   RlsOptions options_;
   std::array<Channel, 3> channels_;
   long samples_ = 0;
