@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <Eigen/QR>
+
 #include "pushpred/core/error.hpp"
 
 namespace pushpred {
@@ -27,16 +29,35 @@ EstimationSpan estimation_span(const SynchronisedPush& push, double t0, double t
   return span;
 }
 
-Eigen::RowVector3d initial_velocity(const SynchronisedPush& push, const EstimationSpan& span, double window_s) {
+namespace {
+
+/// Coefficients (one column per signal column) of the least-squares polynomial of `order` in tau.
+Eigen::MatrixXd polynomial_fit(const Eigen::VectorXd& tau, const Eigen::MatrixXd& values, int order) {
+  Eigen::MatrixXd H(tau.size(), order + 1);
+  for (int j = 0; j <= order; ++j) H.col(j) = tau.array().pow(j);
+  return H.colPivHouseholderQr().solve(values);
+}
+
+}  // namespace
+
+InitialMotion initial_motion(const SynchronisedPush& push, const EstimationSpan& span, double window_s) {
   const double t0 = push.t_s(span.first);
   Eigen::Index n = 2;
   while (n < span.size() && push.t_s(span.first + n) - t0 <= window_s + 1e-9) ++n;
-  const Eigen::VectorXd t = push.t_s.segment(span.first, n).array() - t0;
-  const Eigen::MatrixX3d y = push.pose.middleRows(span.first, n);
-  const double t_mean = t.mean();
-  const Eigen::VectorXd dt = t.array() - t_mean;
-  const Eigen::RowVector3d y_mean = y.colwise().mean();
-  return (dt.transpose() * (y.rowwise() - y_mean)) / dt.squaredNorm();
+  // Time scaled to [0, 1] keeps the normal equations well conditioned.
+  const double scale = push.t_s(span.first + n - 1) - t0;
+  const Eigen::VectorXd tau = (push.t_s.segment(span.first, n).array() - t0) / scale;
+  const Eigen::MatrixXd y = push.pose.middleRows(span.first, n).rowwise() - push.pose.row(span.first);
+  const int order = n >= 4 ? 2 : 1;
+  const Eigen::MatrixXd c = polynomial_fit(tau, y, order);
+  InitialMotion m;
+  m.velocity = c.row(1) / scale;
+  if (order == 2) m.acceleration = 2 * c.row(2) / (scale * scale);
+  const Eigen::MatrixXd u = push.applied_input().middleRows(span.first, n);
+  const Eigen::MatrixXd line = polynomial_fit(tau, u, 1);
+  m.input = line.row(0);
+  m.input_rate = line.row(1) / scale;
+  return m;
 }
 
 }  // namespace pushpred

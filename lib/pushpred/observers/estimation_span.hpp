@@ -19,9 +19,16 @@ struct EstimationSpan {
 /// naming `who`, the push and the span, when it holds fewer than two samples or the times are not finite.
 EstimationSpan estimation_span(const SynchronisedPush& push, double t_start_s, double t_end_s, const std::string& who);
 
-/// Object velocity x', y' [m/s], theta' [rad/s] at the span's first sample: slope of a least-squares line through
-/// the pose samples of the span's first `window_s` seconds (at least two samples). The window looks forward
-/// only, so the estimate uses no data from before the span.
-Eigen::RowVector3d initial_velocity(const SynchronisedPush& push, const EstimationSpan& span, double window_s);
+/// The object's motion and the applied input at the span's first sample t0, from least-squares fits over the
+/// span's first `window_s` seconds: a parabola through the pose samples (a line when the window holds fewer than
+/// four samples) and a line through the input samples. The window looks forward only, so the estimate uses no
+/// data from before the span.
+struct InitialMotion {
+  Eigen::RowVector3d velocity = Eigen::RowVector3d::Zero();      ///< x', y' [m/s], theta' [rad/s]
+  Eigen::RowVector3d acceleration = Eigen::RowVector3d::Zero();  ///< x'', y'' [m/s^2], theta'' [rad/s^2]
+  Eigen::RowVector3d input = Eigen::RowVector3d::Zero();         ///< u [N, N, N m] (the line's value at t0)
+  Eigen::RowVector3d input_rate = Eigen::RowVector3d::Zero();    ///< u' [N/s, N/s, N m/s]
+};
+InitialMotion initial_motion(const SynchronisedPush& push, const EstimationSpan& span, double window_s);
 
 }  // namespace pushpred

@@ -65,28 +65,36 @@ PidForceReconstruction::Tracking PidForceReconstruction::track(const Synchronise
   const Eigen::Vector3d kp(gains_.kp, gains_.kp, gains_.lp), ki(gains_.ki, gains_.ki, gains_.li),
       kd(gains_.kd, gains_.kd, gains_.ld);
 
-  // States per channel c: 3c = r_sim, 3c + 1 = s, 3c + 2 = iota; input: r_meas relative to the first sample.
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(9, 9), B = Eigen::MatrixXd::Zero(9, 3);
+  // States per channel c: 3c = r_sim, 3c + 1 = r_sim', 3c + 2 = iota. Inputs: r_meas relative to the first
+  // sample (first-order hold) and its slope on each grid interval (held, so it jumps at every sample).
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(9, 9), B = Eigen::MatrixXd::Zero(9, 6);
   for (int c = 0; c < 3; ++c) {
-    const int r = 3 * c, s = r + 1, i = r + 2;
-    A(r, s) = 1 / M(c);
-    B(r, c) = kd(c) / M(c);
-    A(s, r) = -kp(c);
-    A(s, s) = -kd(c) / M(c);
-    A(s, i) = ki(c);
-    B(s, c) = kp(c) - kd(c) * kd(c) / M(c);
-    A(i, r) = -1;
+    const int r = 3 * c, v = r + 1, i = r + 2;
+    A(r, v) = 1;
+    A(v, r) = -kp(c) / M(c);  // M v' = kp e + ki iota + kd (r_meas' - v)
+    A(v, v) = -kd(c) / M(c);
+    A(v, i) = ki(c) / M(c);
+    B(v, c) = kp(c) / M(c);
+    B(v, 3 + c) = kd(c) / M(c);
+    A(i, r) = -1;  // iota' = e
     B(i, c) = 1;
   }
   const Eigen::Index n = span.size();
   const Eigen::RowVector3d origin = push.pose.row(span.first);
   const Eigen::MatrixX3d y = push.pose.middleRows(span.first, n).rowwise() - origin;
   const Eigen::VectorXd t = push.t_s.segment(span.first, n);
-  const LinearSystem system(A, B, SampledSignal(t, y, Hold::First));
+  Eigen::MatrixX3d slope(n, 3);
+  for (Eigen::Index k = 0; k + 1 < n; ++k) slope.row(k) = (y.row(k + 1) - y.row(k)) / (t(k + 1) - t(k));
+  slope.row(n - 1) = slope.row(n - 2);
+  const LinearSystem system(A, B, {SampledSignal(t, y, Hold::First), SampledSignal(t, slope, Hold::Zero)});
 
-  const Eigen::RowVector3d v0 = initial_velocity(push, span, options_.velocity_window_s);
+  const InitialMotion motion = initial_motion(push, span, options_.velocity_window_s);
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(9);
-  for (int c = 0; c < 3; ++c) x0(3 * c + 1) = M(c) * v0(c);  // s = M r_sim' - kd r_meas, r_meas = 0 here
+  for (int c = 0; c < 3; ++c) {
+    x0(3 * c + 1) = motion.velocity(c);
+    // The integral term carries the measured acceleration, so that f_hat starts at M a0.
+    if (ki(c) > 0) x0(3 * c + 2) = M(c) * motion.acceleration(c) / ki(c);
+  }
   CvodeIntegrator integrator(system, options_.integrator);
   const Eigen::MatrixXd X = integrator.solve(t(0), x0, t);
 
@@ -100,7 +108,7 @@ PidForceReconstruction::Tracking PidForceReconstruction::track(const Synchronise
   out.simulated_pose.resize(n, 3);
   for (Eigen::Index k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c) {
-      e.velocity(k, c) = (X(k, 3 * c + 1) + kd(c) * y(k, c)) / M(c);  // r_sim' = (s + kd r_meas) / M
+      e.velocity(k, c) = X(k, 3 * c + 1);
       out.simulated_pose(k, c) = X(k, 3 * c) + origin(c);
     }
   e.total.resize(n, 3);

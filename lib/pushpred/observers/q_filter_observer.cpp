@@ -38,28 +38,50 @@ Prepared prepare(const QFilterObserver& observer, const SynchronisedPush& push, 
   values.rightCols(3) = push.applied_input().middleRows(p.span.first, n);
   p.input = SampledSignal(push.t_s.segment(p.span.first, n), std::move(values), o.hold);
 
-  Eigen::RowVector3d v0 = Eigen::RowVector3d::Zero();
-  if (o.start == QFilterObserverOptions::Start::Steady) v0 = initial_velocity(push, p.span, o.velocity_window_s);
+  InitialMotion motion;
+  if (o.start == QFilterObserverOptions::Start::Steady) motion = initial_motion(push, p.span, o.velocity_window_s);
+  else motion.input = p.input.values().row(0).tail<3>();
+  const double lag_s = 2 * o.zeta / o.wn_rad_s, curvature_s2 = (4 * o.zeta * o.zeta - 1) / (o.wn_rad_s * o.wn_rad_s);
   p.x0 = Eigen::VectorXd::Zero(12);
   for (int c = 0; c < 3; ++c) {
-    p.x0(4 * c + 0) = -2 * o.zeta * v0(c) / o.wn_rad_s;
-    p.x0(4 * c + 1) = v0(c);
-    p.x0(4 * c + 2) = p.input.values()(0, 3 + c);
-    p.x0(4 * c + 3) = 0;
+    const double v0 = motion.velocity(c), a0 = motion.acceleration(c);
+    p.x0(4 * c + 0) = -lag_s * v0 + curvature_s2 * a0;  // relative to y(t0)
+    p.x0(4 * c + 1) = v0 - lag_s * a0;
+    p.x0(4 * c + 2) = motion.input(c) - lag_s * motion.input_rate(c);
+    p.x0(4 * c + 3) = motion.input_rate(c);
   }
   return p;
 }
 
-DisturbanceEstimate outputs(const Prepared& p, const Eigen::MatrixXd& states) {
+// Interval means of the outputs (see the header): with h = t_k - t_{k-1} and D the difference over the interval,
+//   mean M z'' = M D q2 / h,   mean Q u = mean u - (D p2 + 2 zeta wn D p1) / (wn^2 h)   (from p2' = wn^2 (u - p1) - ...),
+//   mean z' = D q1 / h,        mean u = (u_{k-1} + u_k) / 2 under first-order hold, u_{k-1} under zero-order.
+DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, const Eigen::MatrixXd& X) {
   DisturbanceEstimate e;
   e.estimator = "dob";
   e.t_s = p.input.times();
   e.u = p.input.values().rightCols(3);
-  // Outputs at the grid samples, where the held input equals the samples whatever the hold.
-  e.d_hat = states * p.model.C.transpose() + p.input.values() * p.model.D.transpose();
-  e.velocity = states * p.model.C_velocity.transpose();
-  e.total = e.d_hat + states * p.model.C_filtered_input.transpose();
   e.nominal_inertia = p.model.inertia;
+  const Eigen::Index n = e.t_s.size();
+  e.d_hat.resize(n, 3);
+  e.total.resize(n, 3);
+  e.velocity.resize(n, 3);
+  const double wn2 = o.wn_rad_s * o.wn_rad_s, two_zeta_wn = 2 * o.zeta * o.wn_rad_s;
+  for (Eigen::Index k = 1; k < n; ++k) {
+    const double h = e.t_s(k) - e.t_s(k - 1);
+    for (int c = 0; c < 3; ++c) {
+      const auto delta = [&](int state) { return X(k, 4 * c + state) - X(k - 1, 4 * c + state); };
+      const double u_mean = o.hold == Hold::First ? 0.5 * (e.u(k - 1, c) + e.u(k, c)) : e.u(k - 1, c);
+      const double qu_mean = u_mean - (delta(3) + two_zeta_wn * delta(2)) / (wn2 * h);
+      e.total(k, c) = p.model.inertia(c) * delta(1) / h;
+      e.d_hat(k, c) = e.total(k, c) - qu_mean;
+      e.velocity(k, c) = delta(0) / h;
+    }
+  }
+  // The first sample has no interval of the span before it: it reports the first interval's means.
+  e.d_hat.row(0) = e.d_hat.row(1);
+  e.total.row(0) = e.total.row(1);
+  e.velocity.row(0) = e.velocity.row(1);
   return e;
 }
 
@@ -123,12 +145,12 @@ DisturbanceEstimate QFilterObserver::estimate(const SynchronisedPush& push, doub
   const LinearSystem system(p.model.A, p.model.B, p.input);
   CvodeIntegrator integrator(system, options_.integrator);
   const Eigen::MatrixXd states = integrator.solve(p.input.times()(0), p.x0, p.input.times());
-  return outputs(p, states);
+  return outputs(p, options_, states);
 }
 
 DisturbanceEstimate QFilterObserver::estimate_exactly(const SynchronisedPush& push, double t0, double t1) const {
   const Prepared p = prepare(*this, push, t0, t1);
-  return outputs(p, propagate_exactly(p.model.A, p.model.B, p.x0, p.input));
+  return outputs(p, options_, propagate_exactly(p.model.A, p.model.B, p.x0, p.input));
 }
 
 }  // namespace pushpred

@@ -14,11 +14,25 @@
 // the biproper part appears as the direct term M wn^2 y. q2 = Q s y is the filtered velocity. Positions enter
 // relative to the pose at the span's first sample (d_hat does not see a constant offset; the states stay small).
 //
-// Initialisation (the paper's "Implementation" paragraph): at the span's first sample t0 the filters start in
-// the steady state they would have reached had the object been moving at constant velocity v0 under constant
-// input u0: q1 = y0 - 2 zeta v0 / wn, q2 = v0, p1 = u0, p2 = 0, so d_hat(t0) = -u0 and there is no start-up
-// impulse. v0 is the slope of a line through the span's first `velocity_window_s` of pose samples
-// (estimation_span.hpp); a start at rest (q2 = 0) would give an impulse of about 2 zeta wn M v0 instead.
+// Outputs on the grid are means over the sample interval that ends at each sample (the first sample reports the
+// first interval), computed from the states at the interval's ends (q_filter_observer.cpp). Why not point values:
+// y is known only at samples and held in between, and Q is fast against the sampling (wn dt = 1.2 at 250 Hz).
+// Linear interpolation runs above a curved y by dt^2 y'' / 12 on average; the filter states see that offset but
+// the direct term, evaluated at a sample, does not, so point values of d_hat are off by -(wn dt)^2 / 12 M y''
+// (-12% of the inertial force at 250 Hz; under zero-order hold, by M wn^2 (dt / 2) y', newtons for a slow push).
+// The interval mean is a box filter with zeros at the sampling frequency and its harmonics: it removes that
+// ripple, at the price of half a sample of delay.
+//
+// Initialisation (the paper's "Implementation" paragraph): at the span's first sample t0 both filters start in
+// the steady state they would have reached had the object followed the parabola y0 + v0 t + a0 t^2 / 2 under the
+// input ramp u0 + u0' t:
+//   q1 = y0 - (2 zeta / wn) v0 + ((4 zeta^2 - 1) / wn^2) a0,  q2 = v0 - (2 zeta / wn) a0,
+//   p1 = u0 - (2 zeta / wn) u0',  p2 = u0',
+// so that d_hat starts at M a0 - u0 without a start-up impulse. v0, a0 come from a least-squares parabola through
+// the span's first `velocity_window_s` of pose samples, u0, u0' from a line through the input samples
+// (initial_motion, estimation_span.hpp); the fits look forward only. Starting at rest instead (Start::AtRest:
+// q = (y0, 0), p = (u(t0), 0)) adds M v0 times Q's impulse response, a peak of about 0.46 wn M v0 (18 N for
+// 1.3 kg at 0.1 m/s); it is kept to show what the initialisation avoids.
 #include <Eigen/Core>
 #include <cmath>
 
@@ -35,15 +49,17 @@ struct QFilterObserverOptions {
   double inertia_kgm2 = 0;             ///< nominal moment of inertia; 0: from the push's shape
   Hold hold = Hold::First;             ///< how y and u are held between grid samples
   enum class Start { Steady, AtRest };
-  Start start = Start::Steady;         ///< AtRest (q2 = 0) exists to show the impulse Steady avoids
-  double velocity_window_s = 0.04;     ///< forward window for the initial velocity (see above)
+  Start start = Start::Steady;         ///< AtRest exists to show the impulse Steady avoids
+  /// Forward window of the initial motion fit (see above). 30 ms (8 samples at 250 Hz) kept mid-push starts of
+  /// the real pushes inside their noise band most often among 20, 30, 40 and 60 ms (docs/observer.md).
+  double velocity_window_s = 0.03;
   IntegratorOptions integrator;
   /// Throws InputError naming the first bad value (negative mass, zeta <= 0, wn <= 0, bad tolerance, ...).
   void validate() const;
 };
 
-/// The observer of all three channels as one linear system: x' = A x + B [y; u], d_hat = C x + D [y; u],
-/// velocity = C_velocity x, Q u = C_filtered_input x. 12 states (channel c owns states 4c..4c+3 = q1, q2, p1, p2), 6 inputs
+/// The observer of all three channels as one linear system: x' = A x + B [y; u], with the point outputs
+/// d_hat = C x + D [y; u], velocity = C_velocity x, Q u = C_filtered_input x (estimate() reports interval means). 12 states (channel c owns states 4c..4c+3 = q1, q2, p1, p2), 6 inputs
 /// (y_x, y_y, theta, u_x, u_y, u_theta).
 struct QFilterObserverModel {
   Eigen::MatrixXd A, B, C, D, C_velocity, C_filtered_input;

@@ -50,6 +50,19 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
   study.span = schedule_span_name(o.schedule.span);
   study.intervals = split_into_intervals(push, o.schedule);
 
+  // The corrected method, when asked for: its own push, observer and relation estimator.
+  SynchronisedPush corrected_push;
+  std::unique_ptr<DisturbanceEstimator> corrected_observer;
+  std::unique_ptr<RelationEstimator> corrected_estimator;
+  std::vector<DisturbanceEstimate> corrected_identification;
+  if (o.correction) {
+    corrected_push = o.correction->corrected_push(push);
+    if (corrected_push.size() != push.size() || corrected_push.t_s != push.t_s || corrected_push.pose != push.pose)
+      throw InputError(about(push.source, "a prediction correction must keep the push's time grid and pose"));
+    corrected_observer = o.correction->observer(o.observer);
+    corrected_estimator = make_relation_estimator(o.estimator);
+  }
+
   for (size_t k = 1; k < study.intervals.size(); ++k) {
     const TimeInterval& previous = study.intervals[k - 1];
     const TimeInterval& phase = study.intervals[k];
@@ -105,6 +118,27 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     }
     r.predicted["hold"] = hold;
     r.predicted["const_velocity"] = constant;
+    if (o.correction) {
+      DisturbanceEstimate cid = corrected_observer->estimate(corrected_push, previous.t0_s, previous.t1_s);
+      const Eigen::Vector3d velocity0 = cid.velocity.row(cid.velocity.rows() - 1).transpose();
+      o.correction->remove_explained(corrected_push, cid);
+      corrected_estimator->add_interval(cid);
+      corrected_identification.push_back(std::move(cid));
+      PredictionModel corrected;
+      corrected.mass_kg = corrected_push.shape.mass_kg;
+      corrected.inertia_kgm2 = corrected_push.shape.inertia_kgm2;
+      if (corrected_estimator->ready()) {
+        r.corrected_relation = corrected_estimator->parameters();
+        corrected.beta = r.corrected_relation.beta;
+        corrected.eps = r.corrected_relation.eps;
+      }
+      o.correction->adjust_model(corrected_push, corrected_identification, corrected);
+      const PlannedForce corrected_plan = plan_from_measurement(corrected_push, phase.t0_s, phase.t1_s, o.plan_rate_hz);
+      r.predicted[kCorrectedMethod] =
+          predict_poses(corrected, corrected_plan, pose0,
+                        o.correction->initial_velocity_from_observer() ? velocity0 : Eigen::Vector3d::Zero(), r.t_s,
+                        o.integrator);
+    }
     for (const auto& [method, poses] : r.predicted) r.errors[method] = prediction_errors(poses, r.measured);
     study.phases.push_back(std::move(r));
   }

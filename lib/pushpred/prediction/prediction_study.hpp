@@ -11,6 +11,7 @@
 // - `const_velocity`: it keeps the observer's velocity estimate at the phase start.
 // Errors are reported in mm and degrees.
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,36 @@ inline constexpr double kGravity_m_s2 = 9.81;
 /// Names of the prediction methods, in report order.
 const std::vector<std::string>& prediction_method_names();
 
+/// Name of the extra method a PredictionCorrection adds to every phase.
+inline constexpr const char* kCorrectedMethod = "corrected";
+
+/// A change to the paper's `dob` method, made by a diagnosis (diagnosis/) or by a user. When
+/// StudyOptions::correction is set, every phase also holds the method `corrected`: the paper's identification and
+/// prediction run again, on the same phases and from the same measured initial pose, but on the corrected push,
+/// with the corrected observer, with the part of the disturbance the correction explains removed before the
+/// relation estimator sees it, and with the corrected prediction model. The other methods are unchanged.
+class PredictionCorrection {
+ public:
+  virtual ~PredictionCorrection() = default;
+  /// The push the corrected method reads (e.g. its force stream shifted in time or de-biased). It must keep the
+  /// push's time grid and pose. Default: the push as measured.
+  virtual SynchronisedPush corrected_push(const SynchronisedPush& push) const { return push; }
+  /// The disturbance estimator of the corrected method. Default: make_disturbance_estimator(name).
+  virtual std::unique_ptr<DisturbanceEstimator> observer(const std::string& name) const {
+    return make_disturbance_estimator(name);
+  }
+  /// Removes from `estimate.d_hat` the part of the disturbance that the correction's model terms explain, so that
+  /// the relation d_hat = beta u + eps is fitted to what is left. Default: nothing.
+  virtual void remove_explained(const SynchronisedPush& /*push*/, DisturbanceEstimate& /*estimate*/) const {}
+  /// Turns the paper's model of one phase (mass, inertia, beta, eps already set) into the corrected one (e.g. adds
+  /// GeneralizedForceTerms, changes the mass). `identification` holds the corrected observer's output on every
+  /// interval identified so far (after remove_explained). Default: unchanged.
+  virtual void adjust_model(const SynchronisedPush& /*push*/, const std::vector<DisturbanceEstimate>& /*identification*/,
+                            PredictionModel& /*model*/) const {}
+  /// True: the phase starts from the observer's velocity estimate (as `dob_velinit`); false: at rest (as `dob`).
+  virtual bool initial_velocity_from_observer() const { return false; }
+};
+
 struct StudyOptions {
   ScheduleOptions schedule;
   double plan_rate_hz = 10.0;
@@ -36,6 +67,8 @@ struct StudyOptions {
   std::string estimator = "rls";  ///< a relation estimator name
   double friction_coefficient = -1;  ///< for `simple`; < 0: from the surface
   IntegratorOptions integrator;
+  /// When set, every phase also holds the method `corrected` (kCorrectedMethod); see PredictionCorrection.
+  std::shared_ptr<const PredictionCorrection> correction;
 };
 
 /// Prediction errors of one method over one phase: means and standard deviations of |error| over the phase's
@@ -56,6 +89,7 @@ struct PhaseResult {
   std::map<std::string, Eigen::MatrixX3d> predicted;  ///< per method, pose at t_s
   std::map<std::string, PredictionErrors> errors;     ///< per method
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();  ///< observer's estimate at the phase start
+  RelationParameters corrected_relation;  ///< used by `corrected`, when StudyOptions::correction is set
 };
 
 struct PushStudy {

@@ -75,6 +75,7 @@ struct CvodeIntegrator::Impl {
   std::unique_ptr<_generic_SUNLinearSolver, LinearSolverDeleter> solver;
   std::unique_ptr<void, CvodeDeleter> memory;
   std::exception_ptr callback_error;  // an exception thrown inside a callback, rethrown after CVODE returns
+  std::string last_message;           // CVODE's own text for its last error, added to SolverError
   Stats stats;
 
   Impl(const ContinuousSystem& s, IntegratorOptions o) : system(s), options(o) {}
@@ -82,7 +83,12 @@ struct CvodeIntegrator::Impl {
   void check(int flag, const char* function, double t) const {
     if (flag < 0)
       throw SolverError(std::string("CVODE ") + function + " failed with " + flag_name(flag) + " at t = " +
-                        format_time(t) + " s");
+                        format_time(t) + " s" + (last_message.empty() ? "" : " (" + last_message + ")"));
+  }
+
+  // CVODE would print to stderr; errors become exceptions instead and warnings (e.g. "t + h = t") are dropped.
+  static void error_handler(int code, const char* /*module*/, const char* /*function*/, char* message, void* data) {
+    if (code < 0 && message) static_cast<Impl*>(data)->last_message = message;
   }
 
   static int rhs(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
@@ -159,6 +165,7 @@ CvodeIntegrator::CvodeIntegrator(const ContinuousSystem& system, IntegratorOptio
   if (!m.memory) throw SolverError("CVODE: cannot create the integrator memory");
 
   void* mem = m.memory.get();
+  m.check(CVodeSetErrHandlerFn(mem, &Impl::error_handler, impl_.get()), "CVodeSetErrHandlerFn", 0.0);
   m.check(CVodeInit(mem, &Impl::rhs, 0.0, m.y.get()), "CVodeInit", 0.0);
   m.check(CVodeSetUserData(mem, impl_.get()), "CVodeSetUserData", 0.0);
   m.check(CVodeSStolerances(mem, options.relative_tolerance, options.absolute_tolerance), "CVodeSStolerances", 0.0);
@@ -187,6 +194,7 @@ Eigen::MatrixXd CvodeIntegrator::solve(double t0, const Eigen::VectorXd& x0, con
     if (k > 0 && out_t(k) < out_t(k - 1)) throw InputError("integrator: output times must be non-decreasing");
   }
   m.stats = {};
+  m.last_message.clear();
   Eigen::MatrixXd out(out_t.size(), m.n);
   if (out_t.size() == 0) return out;
   const double t_end = out_t(out_t.size() - 1);
@@ -201,7 +209,7 @@ Eigen::MatrixXd CvodeIntegrator::solve(double t0, const Eigen::VectorXd& x0, con
   };
   for (double j : jumps)
     if (j > t0 && j < t_end && !too_close(ends.back(), j)) ends.push_back(j);
-  if (t_end > t0) {
+  if (t_end > t0 && !too_close(t0, t_end)) {
     if (ends.size() > 1 && too_close(ends.back(), t_end)) ends.back() = t_end;
     else ends.push_back(t_end);
   }
@@ -210,7 +218,7 @@ Eigen::MatrixXd CvodeIntegrator::solve(double t0, const Eigen::VectorXd& x0, con
   y = x0;
   void* mem = m.memory.get();
   Eigen::Index k = 0;
-  while (k < out_t.size() && out_t(k) <= t0) out.row(k++) = y.transpose();
+  while (k < out_t.size() && (out_t(k) <= t0 || too_close(t0, out_t(k)))) out.row(k++) = y.transpose();
   for (std::size_t i = 0; i + 1 < ends.size(); ++i) {
     const double a = ends[i], b = ends[i + 1];
     if (i > 0) {
@@ -223,11 +231,10 @@ Eigen::MatrixXd CvodeIntegrator::solve(double t0, const Eigen::VectorXd& x0, con
     double t = a;
     const bool last = i + 2 == ends.size();
     while (k < out_t.size() && (out_t(k) < b || (last && out_t(k) <= b))) {
-      if (out_t(k) > t) {
-        // An output a rounding error short of the interval end is reached exactly at the end.
-        const double target = too_close(out_t(k), b) ? b : out_t(k);
-        t = m.advance(target);
-      }
+      // An output a rounding error away from where the integration stands (a jump it has just stopped at) is
+      // taken there; one a rounding error short of the interval end is reached exactly at the end. CVODE
+      // cannot take a step shorter than its rounding (CV_TOO_CLOSE).
+      if (out_t(k) > t && !too_close(t, out_t(k))) t = m.advance(too_close(out_t(k), b) ? b : out_t(k));
       out.row(k++) = y.transpose();
     }
     if (t < b) t = m.advance(b);

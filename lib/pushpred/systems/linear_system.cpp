@@ -8,23 +8,42 @@
 namespace pushpred {
 
 LinearSystem::LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, SampledSignal input)
-    : A_(std::move(A)), B_(std::move(B)), input_(std::move(input)) {
+    : LinearSystem(std::move(A), std::move(B), std::vector<SampledSignal>{std::move(input)}) {}
+
+LinearSystem::LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, std::vector<SampledSignal> inputs)
+    : A_(std::move(A)), B_(std::move(B)), inputs_(std::move(inputs)) {
   if (A_.rows() == 0 || A_.rows() != A_.cols()) throw InputError("linear system: A must be square and not empty");
   if (B_.rows() != A_.rows())
     throw InputError("linear system: B has " + std::to_string(B_.rows()) + " rows, A " + std::to_string(A_.rows()));
-  if (B_.cols() != input_.channels())
-    throw InputError("linear system: B has " + std::to_string(B_.cols()) + " columns but the input " +
-                     std::to_string(input_.channels()) + " channels");
+  Eigen::Index channels = 0;
+  for (const auto& in : inputs_) channels += in.channels();
+  if (inputs_.empty() || B_.cols() != channels)
+    throw InputError("linear system: B has " + std::to_string(B_.cols()) + " columns but the inputs " +
+                     std::to_string(channels) + " channels");
   if (!A_.allFinite() || !B_.allFinite()) throw InputError("linear system: A or B holds NaN or infinity");
-  u_.resize(input_.channels());
+  u_.resize(channels);
 }
 
 void LinearSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                               Eigen::Ref<Eigen::VectorXd> xdot) const {
-  if (interval_hi_ > interval_lo_) input_.evaluate_within(t, interval_lo_, interval_hi_, u_);
-  else input_.evaluate(t, u_);
+  Eigen::Index at = 0;
+  for (const auto& in : inputs_) {
+    auto u = u_.segment(at, in.channels());
+    if (interval_hi_ > interval_lo_) in.evaluate_within(t, interval_lo_, interval_hi_, u);
+    else in.evaluate(t, u);
+    at += in.channels();
+  }
   xdot.noalias() = A_ * x;
   xdot.noalias() += B_ * u_;
+}
+
+std::vector<double> LinearSystem::discontinuities(double t0, double t1) const {
+  std::vector<double> all;
+  for (const auto& in : inputs_) {
+    const auto j = in.jumps(t0, t1);
+    all.insert(all.end(), j.begin(), j.end());
+  }
+  return all;  // the integrator sorts and merges
 }
 
 void LinearSystem::jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const {

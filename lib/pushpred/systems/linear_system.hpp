@@ -5,6 +5,7 @@
 //
 // The input buffer is mutable (derivative() must not allocate), so one system serves one integration at a time.
 #include <Eigen/Core>
+#include <vector>
 
 #include "pushpred/systems/continuous_system.hpp"
 #include "pushpred/systems/sampled_signal.hpp"
@@ -16,22 +17,25 @@ class LinearSystem final : public ContinuousSystem {
   /// Throws InputError unless A is square, B has A's rows and as many columns as `input` has channels, and
   /// both are finite.
   LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, SampledSignal input);
+  /// Several input signals, each with its own sample times and hold, stacked in order into u (B has as many
+  /// columns as they have channels together); the system jumps wherever any of them does.
+  LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, std::vector<SampledSignal> inputs);
 
   int state_size() const override { return static_cast<int>(A_.rows()); }
   void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
   bool has_jacobian() const override { return true; }
   void jacobian(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const override;
-  std::vector<double> discontinuities(double t0, double t1) const override { return input_.jumps(t0, t1); }
+  std::vector<double> discontinuities(double t0, double t1) const override;
   void enter_interval(double t0, double t1) const override;
 
   const Eigen::MatrixXd& A() const { return A_; }
   const Eigen::MatrixXd& B() const { return B_; }
-  const SampledSignal& input() const { return input_; }
+  const std::vector<SampledSignal>& inputs() const { return inputs_; }
 
  private:
   Eigen::MatrixXd A_, B_;
-  SampledSignal input_;
-  mutable Eigen::VectorXd u_;              // input at the current derivative() call
+  std::vector<SampledSignal> inputs_;
+  mutable Eigen::VectorXd u_;              // stacked inputs at the current derivative() call
   mutable double interval_lo_ = 0, interval_hi_ = 0;  // the jump-free interval being integrated
 };
 

@@ -1,0 +1,86 @@
+// `pushpred diagnose FILE... --out DIR`: finds what the paper's method leaves unexplained on pushes of one object,
+// tests a library of candidate physical effects against it, adds the selected ones and reports the prediction
+// error before and after on held-out phases (DIR/diagnosis.json, DIR/report.md, plots).
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/output_files.hpp"
+#include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/reports/diagnosis_report.hpp"
+
+namespace pushpred::app {
+namespace {
+
+struct DiagnoseArgs {
+  std::vector<std::string> files;
+  std::string out, shape, span = "whole", estimator = "rls";
+  int intervals = 4;
+  double plan_rate_hz = 10.0, bic_threshold = 10.0, rate_hz = 250.0;
+  std::vector<std::string> exclude;
+  bool no_confirm = false, no_plots = false;
+};
+
+int run_diagnose(const DiagnoseArgs& a) {
+  DiagnosisOptions o;
+  o.study.schedule.intervals = a.intervals;
+  o.study.schedule.span = parse_schedule_span(a.span);
+  o.study.plan_rate_hz = a.plan_rate_hz;
+  o.study.estimator = a.estimator;
+  o.bic_threshold = a.bic_threshold;
+  o.confirm_on_prediction = !a.no_confirm;
+  o.validate();
+  make_relation_estimator(o.study.estimator);  // fail on a bad name before reading
+  EffectLibrary library = EffectLibrary::standard();
+  for (const auto& kind : a.exclude) library.remove(kind);
+  PreprocessOptions pre;
+  pre.rate_hz = a.rate_hz;
+
+  const Batch<SynchronisedPush> loaded =
+      run_batch(expand_inputs(a.files), [&](const std::filesystem::path& path) { return load_push(path, a.shape, pre); });
+  if (loaded.results.empty()) {
+    for (const auto& f : loaded.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
+    throw InputError("no push could be read");
+  }
+  DiagnosisResult result = diagnose(loaded.results, library, o);
+  result.failures.insert(result.failures.begin(), loaded.failures.begin(), loaded.failures.end());
+
+  StagedOutput out(a.out);
+  write_diagnosis_report(result, o, out, !a.no_plots);
+  out.commit();
+
+  for (const auto& line : result.log) std::cout << line << "\n";
+  std::cout << diagnosis_summary_text(result);
+  std::cout << "report in " << a.out << "/report.md, data in " << a.out << "/diagnosis.json\n";
+  for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
+  return result.failures.empty() ? 0 : 1;
+}
+
+const CommandRegistration reg([](CLI::App& app, Runner& run) {
+  auto a = std::make_shared<DiagnoseArgs>();
+  auto* sub = app.add_subcommand(
+      "diagnose", "Find the residual of the paper's method, test candidate effects, report the error before and after");
+  sub->add_option("files", a->files, "Recordings of one object on one surface (.h5 or .json), or folders of them")
+      ->required();
+  sub->add_option("--out", a->out, "Output folder (diagnosis.json, report.md, plots)")->required();
+  sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
+  sub->add_option("--intervals", a->intervals, "Number of equal intervals (identify on the first)")
+      ->check(CLI::Range(3, 100));
+  sub->add_option("--span", a->span, "Split the whole recording or only the contact span")
+      ->check(CLI::IsMember({"whole", "contact"}));
+  sub->add_option("--estimator", a->estimator, "Relation estimator of the paper's method (default rls)");
+  sub->add_option("--plan-rate", a->plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_option("--bic-threshold", a->bic_threshold, "BIC drop an effect needs to be selected (default 10)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--exclude", a->exclude, "Candidate effect kinds to leave out (repeatable)");
+  sub->add_flag("--no-confirm", a->no_confirm, "Skip the confirmation of selected effects on the fit pushes' predictions");
+  sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");
+  sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->callback([a, &run] { run = [a] { return run_diagnose(*a); }; });
+});
+
+}  // namespace
+}  // namespace pushpred::app

@@ -1,0 +1,409 @@
+#include "pushpred/diagnosis/builtin_effects.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <mutex>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+#include "pushpred/diagnosis/residual_regression.hpp"
+#include "pushpred/simulation/outline.hpp"
+
+namespace pushpred {
+
+namespace {
+
+/// The footprint as area elements (simulation/outline.hpp), for shapes with an outline: element centres in the
+/// body frame (origin at the tracked centre) and their share of the weight under uniform pressure.
+struct FrictionElements {
+  std::vector<Eigen::Vector2d> centre_m;
+  std::vector<double> share;
+};
+
+const FrictionElements* friction_elements(const ShapeInfo& shape) {
+  if (!shape.has_outline()) return nullptr;
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<FrictionElements>> cache;
+  char key[160];
+  std::snprintf(key, sizeof key, "%s/%d/%.9g/%.9g", shape.name.c_str(), static_cast<int>(shape.geometry), shape.dim1_m,
+                shape.dim2_m);
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = cache[key];
+  if (!slot) {
+    const Footprint footprint = make_footprint(Outline(shape), 16, 4);
+    auto e = std::make_unique<FrictionElements>();
+    e->centre_m = footprint.centre_m;
+    for (double a : footprint.area_m2) e->share.push_back(a / footprint.total_area_m2);
+    slot = std::move(e);
+  }
+  return slot.get();
+}
+
+/// Unit-coefficient Coulomb friction wrench (force [N], torque about the tracked centre [N m]) of the footprint
+/// sliding with twist `v` at `pose`, each element's share scaled by multiplier(element index, world position,
+/// element speed).
+template <class Multiplier>
+Eigen::Vector3d footprint_friction(const FrictionElements& el, const Eigen::Vector3d& pose, const Eigen::Vector3d& v,
+                                   double weight_N, Multiplier&& multiplier) {
+  const double c = std::cos(pose(2)), s = std::sin(pose(2));
+  const double reg2 = kFrictionRegularisation_m_s * kFrictionRegularisation_m_s;
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < el.share.size(); ++i) {
+    const Eigen::Vector2d r(c * el.centre_m[i].x() - s * el.centre_m[i].y(), s * el.centre_m[i].x() + c * el.centre_m[i].y());
+    const Eigen::Vector2d vi(v(0) - v(2) * r.y(), v(1) + v(2) * r.x());
+    const double speed2 = vi.squaredNorm();
+    const double m = multiplier(i, Eigen::Vector2d(pose(0) + r.x(), pose(1) + r.y()), std::sqrt(speed2));
+    if (m == 0) continue;
+    const Eigen::Vector2d f = -(m * el.share[i] * weight_N / std::sqrt(speed2 + reg2)) * vi;
+    w(0) += f.x();
+    w(1) += f.y();
+    w(2) += r.x() * f.y() - r.y() * f.x();
+  }
+  return w;
+}
+
+/// The ellipsoidal limit surface, for shapes without an outline: -(v, rho^2 omega) / s times the weight.
+Eigen::Vector3d ellipsoid_friction(const Eigen::Vector3d& v, const ShapeInfo& shape, double weight_N) {
+  const double rho2 = shape.inertia_kgm2 / shape.mass_kg;
+  const double s = std::sqrt(v(0) * v(0) + v(1) * v(1) + rho2 * v(2) * v(2) +
+                             kFrictionRegularisation_m_s * kFrictionRegularisation_m_s);
+  return -weight_N / s * Eigen::Vector3d(v(0), v(1), rho2 * v(2));
+}
+
+}  // namespace
+
+Eigen::Vector3d limit_surface_friction(const Eigen::Vector3d& v, const ShapeInfo& shape) {
+  return coulomb_friction_wrench(Eigen::Vector3d::Zero(), v, shape);
+}
+
+Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape) {
+  const double weight = shape.mass_kg * kStandardGravity_m_s2;
+  if (const FrictionElements* el = friction_elements(shape))
+    return footprint_friction(*el, pose, v, weight, [](std::size_t, const Eigen::Vector2d&, double) { return 1.0; });
+  return ellipsoid_friction(v, shape, weight);
+}
+
+Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
+                                         double speed_scale_m_s) {
+  const double weight = shape.mass_kg * kStandardGravity_m_s2;
+  if (const FrictionElements* el = friction_elements(shape))
+    return footprint_friction(*el, pose, v, weight, [&](std::size_t, const Eigen::Vector2d&, double speed) {
+      const double r = speed / speed_scale_m_s;
+      return std::exp(-r * r);
+    });
+  const double r = sliding_speed(v, shape) / speed_scale_m_s;
+  return std::exp(-r * r) * ellipsoid_friction(v, shape, weight);
+}
+
+Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
+                                         const Eigen::Vector2d& origin_m, int axis) {
+  const double weight = shape.mass_kg * kStandardGravity_m_s2;
+  if (const FrictionElements* el = friction_elements(shape))
+    return footprint_friction(*el, pose, v, weight, [&](std::size_t, const Eigen::Vector2d& where, double) {
+      return where(axis) - origin_m(axis);
+    });
+  return (pose(axis) - origin_m(axis)) * ellipsoid_friction(v, shape, weight);
+}
+
+double sliding_speed(const Eigen::Vector3d& v, const ShapeInfo& shape) {
+  return std::sqrt(v(0) * v(0) + v(1) * v(1) + shape.inertia_kgm2 / shape.mass_kg * v(2) * v(2));
+}
+
+namespace {
+
+class TimeOffsetEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "time_offset"; }
+  std::string description() const override {
+    return "force stream lags the pose by tau: regressor (Q u)', applied by reading the force tau later";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"delay", "s"}}; }
+  std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double) const override {
+    // u(t + tau) - u(t) ~ tau u'(t); u' by central differences of the measured input.
+    const Eigen::Index n = push.rows();
+    const Eigen::VectorXd& t = push.estimate.t_s;
+    Eigen::MatrixX3d rate = Eigen::MatrixX3d::Zero(n, 3);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Eigen::Index a = std::max<Eigen::Index>(k - 1, 0), b = std::min<Eigen::Index>(k + 1, n - 1);
+      if (b > a) rate.row(k) = (push.estimate.u.row(b) - push.estimate.u.row(a)) / (t(b) - t(a));
+    }
+    return {push.as_observed(rate)};
+  }
+  void apply(const Eigen::VectorXd& theta, double, const std::shared_ptr<const CandidateEffect>&,
+             ModelCorrection& c) const override {
+    c.force_delay_s += theta(0);
+  }
+  bool corrects_data() const override { return true; }
+};
+
+class ForceOffsetEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "force_offset"; }
+  std::string description() const override {
+    return "force sensor bias on fx, fy: estimated where the tip has not moved yet (no contact)";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"bias_x", "N"}, {"bias_y", "N"}}; }
+  EffectTest test() const override { return EffectTest::Direct; }
+  bool corrects_data() const override { return true; }
+  void apply(const Eigen::VectorXd& theta, double, const std::shared_ptr<const CandidateEffect>&,
+             ModelCorrection& c) const override {
+    c.sensor_bias_N += theta.head<2>();
+  }
+
+  // The bias is shared by all pushes. Its variance combines the within-push long-run variance (Newey-West over
+  // the whole rest window: the sensor's noise is slow) and, with three or more pushes, the spread of the pushes'
+  // own means (which also holds whatever is slower than a rest window); the larger is used. Score: the Wald
+  // statistic minus the BIC penalty 2 ln(N_eff), as for the regression effects.
+  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
+    std::vector<Eigen::MatrixX2d> blocks;
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    long count = 0;
+    for (const auto& d : pushes) {
+      const auto idx = samples_before_tip_moves(d.push);
+      if (idx.size() < 5) continue;
+      Eigen::MatrixX2d f(idx.size(), 2);
+      for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = d.push.force_N.row(idx[k]);
+      sum += f.colwise().sum().transpose();
+      count += f.rows();
+      blocks.push_back(std::move(f));
+    }
+    DirectFit fit;
+    fit.theta = Eigen::Vector2d::Zero();
+    fit.covariance = Eigen::Matrix2d::Zero();
+    fit.samples = 2 * count;
+    if (count < 5) {
+      fit.score = -std::numeric_limits<double>::infinity();
+      fit.note = "no samples before the tip moves";
+      return fit;
+    }
+    // The reading is -f_C + b; before the tip moves f_C = 0, so b = -mean(f_C recorded).
+    const Eigen::Vector2d mean = sum / static_cast<double>(count);
+    fit.theta = -mean;
+    const double N = static_cast<double>(count);
+    Eigen::Vector2d within = Eigen::Vector2d::Zero(), between = Eigen::Vector2d::Zero();
+    double neff = 0;
+    for (const auto& f : blocks) {
+      const double n = static_cast<double>(f.rows());
+      for (int c = 0; c < 2; ++c) {
+        const double lrv = long_run_variance(f.col(c), f.rows() - 1);
+        within(c) += n * lrv / (N * N);
+        const double var = (f.col(c).array() - f.col(c).mean()).square().mean();
+        neff += lrv > 0 ? n * var / lrv : n;
+        between(c) += std::pow(f.col(c).mean() - mean(c), 2);
+      }
+    }
+    const double P = static_cast<double>(blocks.size());
+    fit.effective_samples = std::max(neff, 2.0);
+    double wald = 0;
+    for (int c = 0; c < 2; ++c) {
+      double v = within(c);
+      if (P >= 3) v = std::max(v, between(c) / (P - 1) / P);
+      fit.covariance(c, c) = v;
+      wald += v > 0 ? mean(c) * mean(c) / v : 0.0;
+    }
+    fit.score = wald - 2 * std::log(fit.effective_samples);
+    return fit;
+  }
+};
+
+class ViscousFrictionEffect final : public CandidateEffect {
+ public:
+  bool needs_friction_base() const override { return true; }
+  std::string kind() const override { return "viscous_friction"; }
+  std::string description() const override { return "speed-proportional drag -c (m v, I omega)"; }
+  std::vector<EffectParameter> parameters() const override { return {{"c", "1/s"}}; }
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
+    return -Eigen::Vector3d(shape.mass_kg * s.velocity(0), shape.mass_kg * s.velocity(1),
+                            shape.inertia_kgm2 * s.velocity(2));
+  }
+};
+
+class CoulombFrictionEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "coulomb_friction"; }
+  std::string description() const override {
+    return "friction mu m g opposing the velocity (limit surface), which stops the object when the push ends";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"mu", "-"}}; }
+  bool replaces_relation() const override { return true; }
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
+    return coulomb_friction_wrench(s.pose, s.velocity, shape);
+  }
+};
+
+class StribeckFrictionEffect final : public CandidateEffect {
+ public:
+  bool needs_friction_base() const override { return true; }
+  std::string kind() const override { return "stribeck_friction"; }
+  std::string description() const override {
+    return "extra friction at low speed, mu_s exp(-(s / v_s)^2) times the Coulomb shape";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"mu_s", "-"}}; }
+  std::vector<double> settings() const override { return {0.005, 0.01, 0.02, 0.04}; }
+  EffectParameter setting_name() const override { return {"v_s", "m/s"}; }
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int, double v_s, const EffectState& s, const ShapeInfo& shape) const override {
+    return stribeck_friction_wrench(s.pose, s.velocity, shape, v_s);
+  }
+};
+
+class PositionFrictionEffect final : public CandidateEffect {
+ public:
+  bool needs_friction_base() const override { return true; }
+  std::string kind() const override { return "position_friction"; }
+  std::string description() const override {
+    return "friction coefficient changing along the table: (g_x (x - x0) + g_y (y - y0)) times the Coulomb shape";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"g_x", "1/m"}, {"g_y", "1/m"}}; }
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int j, double, const EffectState& s, const ShapeInfo& shape) const override {
+    return position_friction_wrench(s.pose, s.velocity, shape, s.start_pose.head<2>(), j);
+  }
+};
+
+class ComOffsetEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "com_offset"; }
+  std::string description() const override {
+    return "mass centre at delta (body frame) from the tracked centre: torque error -(R(theta) delta) x f_C";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"delta_x", "m"}, {"delta_y", "m"}}; }
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int j, double, const EffectState& s, const ShapeInfo&) const override {
+    const double c = std::cos(s.pose(2)), sn = std::sin(s.pose(2));
+    const Eigen::Vector2d e = j == 0 ? Eigen::Vector2d(c, sn) : Eigen::Vector2d(-sn, c);
+    return {0.0, 0.0, -(e(0) * s.input(1) - e(1) * s.input(0))};
+  }
+};
+
+class InertiaMismatchEffect final : public CandidateEffect {
+ public:
+  bool needs_friction_base() const override { return true; }
+  std::string kind() const override { return "inertia_mismatch"; }
+  std::string description() const override {
+    return "mass and inertia (1 + theta) x nominal: regressor -M (Q y)'', applied by scaling the nominal values";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"relative_error", "-"}}; }
+  // The observer's own acceleration M (Q y)'' would carry the same position noise, differentiated twice, as d_hat
+  // and pull theta towards -1 (errors in variables); the zero-phase smoothed acceleration shares little of it.
+  std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double) const override {
+    Eigen::MatrixX3d raw = push.smooth_acceleration;
+    for (int c = 0; c < 3; ++c) raw.col(c) *= -push.estimate.nominal_inertia(c);
+    return {push.as_observed(raw)};
+  }
+  void apply(const Eigen::VectorXd& theta, double, const std::shared_ptr<const CandidateEffect>&,
+             ModelCorrection& c) const override {
+    if (!(1 + theta(0) > 0)) throw InputError("inertia_mismatch: the fitted mass factor is not positive");
+    c.inertia_factor *= 1 + theta(0);
+  }
+  bool corrects_data() const override { return true; }
+  Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const override {
+    return ((1 + applied.array()) * (1 + residual.array()) - 1).matrix();
+  }
+  std::vector<Derived> derived(const Eigen::VectorXd& theta) const override {
+    return {{"factor", "-", 1 + theta(0)}};
+  }
+};
+
+class InitialVelocityEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "initial_velocity"; }
+  std::string description() const override {
+    return "prediction phases start from the observer's velocity estimate instead of rest";
+  }
+  std::vector<EffectParameter> parameters() const override { return {}; }
+  EffectTest test() const override { return EffectTest::Prediction; }
+  void apply(const Eigen::VectorXd&, double, const std::shared_ptr<const CandidateEffect>&,
+             ModelCorrection& c) const override {
+    c.initial_velocity = true;
+  }
+};
+
+class QuasiStaticEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "quasi_static"; }
+  std::string description() const override {
+    return "the push is balanced while the applied force stays above a fraction of the push's force level; below, "
+           "kinetic friction stops the object (replaces the relation in the prediction)";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"push_force", "N"}}; }
+  EffectTest test() const override { return EffectTest::Prediction; }
+  std::vector<double> settings() const override { return {0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8}; }
+  EffectParameter setting_name() const override { return {"stop_fraction", "-"}; }
+  void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>&,
+             ModelCorrection& c) const override {
+    c.quasi_static.enabled = true;
+    c.quasi_static.stop_fraction = setting;
+    c.quasi_static.fallback_push_force_N = theta.size() > 0 ? theta(0) : 0.0;
+  }
+  /// The fit pushes' force level while sliding (the fallback for a push that has not slid yet): mean |f_C| over
+  /// their samples sliding faster than 5 mm/s; standard error from the pushes' own levels.
+  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
+    DirectFit fit;
+    fit.theta = Eigen::VectorXd::Zero(1);
+    fit.covariance = Eigen::MatrixXd::Zero(1, 1);
+    std::vector<double> levels;
+    double sum = 0;
+    long count = 0;
+    for (const auto& d : pushes) {
+      double s = 0;
+      long n = 0;
+      for (Eigen::Index k = 0; k < d.rows(); ++k)
+        if (sliding_speed(d.estimate.velocity.row(k).transpose(), d.push.shape) > 5e-3) {
+          s += d.estimate.u.row(k).head<2>().norm();
+          ++n;
+        }
+      if (n >= 10) levels.push_back(s / static_cast<double>(n));
+      sum += s;
+      count += n;
+    }
+    fit.samples = count;
+    if (count == 0) {
+      fit.note = "the object never slides in the fit data";
+      return fit;
+    }
+    fit.theta(0) = sum / static_cast<double>(count);
+    if (levels.size() >= 2) {
+      double m = 0, v = 0;
+      for (double l : levels) m += l;
+      m /= static_cast<double>(levels.size());
+      for (double l : levels) v += (l - m) * (l - m);
+      fit.covariance(0, 0) = v / static_cast<double>(levels.size() - 1) / static_cast<double>(levels.size());
+    }
+    return fit;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<CandidateEffect> make_quasi_static_effect() { return std::make_unique<QuasiStaticEffect>(); }
+std::unique_ptr<CandidateEffect> make_time_offset_effect() { return std::make_unique<TimeOffsetEffect>(); }
+std::unique_ptr<CandidateEffect> make_force_offset_effect() { return std::make_unique<ForceOffsetEffect>(); }
+std::unique_ptr<CandidateEffect> make_viscous_friction_effect() { return std::make_unique<ViscousFrictionEffect>(); }
+std::unique_ptr<CandidateEffect> make_coulomb_friction_effect() { return std::make_unique<CoulombFrictionEffect>(); }
+std::unique_ptr<CandidateEffect> make_stribeck_friction_effect() { return std::make_unique<StribeckFrictionEffect>(); }
+std::unique_ptr<CandidateEffect> make_position_friction_effect() { return std::make_unique<PositionFrictionEffect>(); }
+std::unique_ptr<CandidateEffect> make_com_offset_effect() { return std::make_unique<ComOffsetEffect>(); }
+std::unique_ptr<CandidateEffect> make_inertia_mismatch_effect() { return std::make_unique<InertiaMismatchEffect>(); }
+std::unique_ptr<CandidateEffect> make_initial_velocity_effect() { return std::make_unique<InitialVelocityEffect>(); }
+
+EffectLibrary EffectLibrary::standard() {
+  EffectLibrary library;
+  library.register_effect(make_time_offset_effect());
+  library.register_effect(make_force_offset_effect());
+  library.register_effect(make_viscous_friction_effect());
+  library.register_effect(make_stribeck_friction_effect());
+  library.register_effect(make_position_friction_effect());
+  library.register_effect(make_com_offset_effect());
+  library.register_effect(make_inertia_mismatch_effect());
+  library.register_effect(make_coulomb_friction_effect());
+  library.register_effect(make_initial_velocity_effect());
+  library.register_effect(make_quasi_static_effect());
+  return library;
+}
+
+}  // namespace pushpred

@@ -1,0 +1,69 @@
+#pragma once
+// The candidate effects of the standard library (EffectLibrary::standard()), each a physical term the paper's
+// model lacks. Regressors as in candidate_effect.hpp; m, I the shape table's mass and moment of inertia,
+// g = 9.81 m/s^2, v the object velocity, omega its yaw rate, rho = sqrt(I / m) its radius of gyration.
+//
+// Friction of the object on the table is written with an ellipsoidal limit surface: a sliding object of twist
+// (v, omega) feels the wrench  -mu m g (v, rho^2 omega) / s,  s = sqrt(|v|^2 + rho^2 omega^2 + v_reg^2),
+// which is Coulomb friction (magnitude mu m g, opposing the velocity) for translation and its counterpart for
+// rotation; v_reg (kFrictionRegularisation_m_s) keeps it smooth at rest, where the observer's velocity is noise.
+//
+// - time_offset [s] (regression; corrects data): the force stream lags the pose by tau, f_rec(t) = f(t - tau).
+//   Then d_hat carries Q(f - f_rec) ~ tau (Q u)'; regressor (Q u)'. Applied by reading the force stream tau later.
+// - force_offset [N] (direct; corrects data): the sensor's fx, fy read a bias b. Estimated from the samples
+//   before the tip moves (samples_before_tip_moves), where the true force is zero; scored by the same BIC on those
+//   samples (model: zero mean vs mean b). Applied by removing b.
+// - viscous_friction [1/s]: drag -c (m v, I omega) (uniform drag per unit mass over the footprint).
+// - coulomb_friction [-]: the limit-surface friction above with coefficient mu: friction that opposes the
+//   velocity, so the object slows and stops when the push ends, where beta u + eps would not stop it.
+// - stribeck_friction [-]: extra friction at low speed, mu_s exp(-(s / v_s)^2) times the Coulomb shape; v_s is
+//   chosen on a grid (5, 10, 20, 40 mm/s).
+// - position_friction [1/m]: friction coefficient changing along the table, (g_x (x - x0) + g_y (y - y0)) times
+//   the Coulomb shape, (x0, y0) the push's first measured position.
+// - com_offset [m]: the mass centre sits at delta (body frame) from the tracked centre, so the pusher's torque
+//   about it is u_theta - (R(theta) delta) x f_C; rotation-channel regressors -(R(theta) e_x) x f_C and
+//   -(R(theta) e_y) x f_C (the torque error of a wrong lever arm).
+// - inertia_mismatch [-] (regression; corrects data): true mass and inertia (1 + theta) times nominal; the
+//   observer then reads d_hat = Q d - theta M (Q y)''; regressor -M (Q y)'' (the observer's total force and
+//   torque). Applied by scaling the nominal mass and inertia; reported as the factor 1 + theta.
+// - initial_velocity (prediction): each prediction phase starts from the observer's velocity instead of rest
+//   (the paper starts at rest because velocity is not measured; the observer estimates it).
+#include <memory>
+
+#include "pushpred/diagnosis/candidate_effect.hpp"
+
+namespace pushpred {
+
+inline constexpr double kStandardGravity_m_s2 = 9.81;
+/// v_reg of the limit-surface friction [m/s].
+inline constexpr double kFrictionRegularisation_m_s = 2e-3;
+
+std::unique_ptr<CandidateEffect> make_time_offset_effect();
+std::unique_ptr<CandidateEffect> make_force_offset_effect();
+std::unique_ptr<CandidateEffect> make_viscous_friction_effect();
+std::unique_ptr<CandidateEffect> make_coulomb_friction_effect();
+std::unique_ptr<CandidateEffect> make_stribeck_friction_effect();
+std::unique_ptr<CandidateEffect> make_position_friction_effect();
+std::unique_ptr<CandidateEffect> make_com_offset_effect();
+std::unique_ptr<CandidateEffect> make_inertia_mismatch_effect();
+std::unique_ptr<CandidateEffect> make_initial_velocity_effect();
+std::unique_ptr<CandidateEffect> make_quasi_static_effect();
+
+/// Unit-coefficient Coulomb friction wrench of the object on the table (multiply by mu): force [N] and torque
+/// about the tracked centre [N m] when the tracked centre is at `pose` and moves with twist `velocity`. For a shape
+/// with an outline, summed over the footprint's area elements under uniform pressure (each element resisting its
+/// own velocity, v_i / sqrt(|v_i|^2 + v_reg^2)); otherwise the ellipsoidal limit surface above.
+Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
+                                        const ShapeInfo& shape);
+/// The same with each element's share scaled by exp(-(|v_i| / v_s)^2) (ellipsoid: the sliding speed s).
+Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
+                                         const ShapeInfo& shape, double speed_scale_m_s);
+/// The same with each element's share scaled by its world coordinate `axis` (0: x, 1: y) minus origin_m(axis).
+Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
+                                         const ShapeInfo& shape, const Eigen::Vector2d& origin_m, int axis);
+/// coulomb_friction_wrench at yaw 0 (orientation matters only for the footprint's torque arms).
+Eigen::Vector3d limit_surface_friction(const Eigen::Vector3d& velocity, const ShapeInfo& shape);
+/// s / 1 of the limit surface without the regulariser: sqrt(|v|^2 + rho^2 omega^2) [m/s].
+double sliding_speed(const Eigen::Vector3d& velocity, const ShapeInfo& shape);
+
+}  // namespace pushpred

@@ -1,0 +1,129 @@
+#include "pushpred/diagnosis/candidate_effect.hpp"
+
+#include <cstdio>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+
+namespace pushpred {
+
+const char* effect_test_name(EffectTest test) {
+  switch (test) {
+    case EffectTest::Regression: return "regression";
+    case EffectTest::Direct: return "direct";
+    case EffectTest::Prediction: return "prediction";
+  }
+  return "?";
+}
+
+Eigen::Vector3d FittedForceLaw::force(const EffectState& state, const ShapeInfo& shape) const {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (Eigen::Index j = 0; j < theta.size(); ++j)
+    f += theta(j) * effect->unit_force(static_cast<int>(j), setting, state, shape);
+  return f;
+}
+
+bool ModelCorrection::empty() const {
+  return force_delay_s == 0 && sensor_bias_N.isZero() && inertia_factor == 1 && !initial_velocity &&
+         !quasi_static.enabled && force_laws.empty();
+}
+
+std::vector<std::string> ModelCorrection::describe() const {
+  std::vector<std::string> out;
+  char line[256];
+  if (force_delay_s != 0) {
+    std::snprintf(line, sizeof line, "force stream read %.2f ms later (it lags the pose)", 1e3 * force_delay_s);
+    out.emplace_back(line);
+  }
+  if (!sensor_bias_N.isZero()) {
+    std::snprintf(line, sizeof line, "sensor bias fx %.3f N, fy %.3f N removed", sensor_bias_N(0), sensor_bias_N(1));
+    out.emplace_back(line);
+  }
+  if (inertia_factor != 1) {
+    std::snprintf(line, sizeof line, "mass and inertia x %.3f", inertia_factor);
+    out.emplace_back(line);
+  }
+  if (initial_velocity) out.emplace_back("predictions start from the observer's velocity");
+  if (quasi_static.enabled) {
+    std::snprintf(line, sizeof line,
+                  "quasi-static push law replaces the relation: the push is balanced while |f_C| stays above %.2f x "
+                  "the push's force level (%.3f N before the push slides)",
+                  quasi_static.stop_fraction, quasi_static.fallback_push_force_N);
+    out.emplace_back(line);
+  }
+  for (const auto& law : force_laws) {
+    std::string s = "force law " + law.effect->kind() + ":";
+    const auto names = law.effect->parameters();
+    for (Eigen::Index j = 0; j < law.theta.size(); ++j) {
+      std::snprintf(line, sizeof line, " %s = %.4g %s", names.at(j).name.c_str(), law.theta(j), names.at(j).unit.c_str());
+      s += line;
+    }
+    if (!law.effect->settings().empty()) {
+      std::snprintf(line, sizeof line, " (%s = %.4g %s)", law.effect->setting_name().name.c_str(), law.setting,
+                    law.effect->setting_name().unit.c_str());
+      s += line;
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<Eigen::MatrixX3d> CandidateEffect::regressors(const DiagnosisPush& push, double setting) const {
+  if (!is_force_law())
+    throw InputError("effect " + kind() + ": a regression effect must override regressors() or unit_force()");
+  const int k = static_cast<int>(parameters().size());
+  const Eigen::Index n = push.rows();
+  std::vector<Eigen::MatrixX3d> out(k, Eigen::MatrixX3d(n, 3));
+  for (Eigen::Index row = 0; row < n; ++row) {
+    const EffectState s = push.state(row);
+    for (int j = 0; j < k; ++j) out[j].row(row) = unit_force(j, setting, s, push.push.shape).transpose();
+  }
+  for (auto& column : out) column = push.as_observed(column);
+  return out;
+}
+
+Eigen::Vector3d CandidateEffect::unit_force(int, double, const EffectState&, const ShapeInfo&) const {
+  throw InputError("effect " + kind() + " is not a force law");
+}
+
+DirectFit CandidateEffect::fit_directly(const std::vector<DiagnosisPush>&) const {
+  throw InputError("effect " + kind() + " is not fitted directly");
+}
+
+void CandidateEffect::apply(const Eigen::VectorXd& theta, double setting,
+                            const std::shared_ptr<const CandidateEffect>& self, ModelCorrection& correction) const {
+  if (!is_force_law()) throw InputError("effect " + kind() + " must override apply()");
+  if (self.get() != this) throw InputError("effect " + kind() + ": apply() needs the effect itself as `self`");
+  correction.force_laws.push_back({self, theta, setting});
+}
+
+void EffectLibrary::register_effect(std::unique_ptr<CandidateEffect> effect) {
+  if (!effect) throw InputError("effect library: cannot register a null effect");
+  const std::string kind = effect->kind();
+  if (kind.empty()) throw InputError("effect library: an effect needs a kind");
+  if (find(kind)) throw InputError("effect library: an effect of kind '" + kind + "' is already registered");
+  effects_.push_back(std::shared_ptr<const CandidateEffect>(std::move(effect)));
+}
+
+void EffectLibrary::remove(const std::string& kind) {
+  for (auto it = effects_.begin(); it != effects_.end(); ++it)
+    if ((*it)->kind() == kind) {
+      effects_.erase(it);
+      return;
+    }
+  throw InputError("effect library: no effect of kind '" + kind + "'");
+}
+
+std::shared_ptr<const CandidateEffect> EffectLibrary::find(const std::string& kind) const {
+  for (const auto& e : effects_)
+    if (e->kind() == kind) return e;
+  return nullptr;
+}
+
+std::vector<std::string> EffectLibrary::kinds() const {
+  std::vector<std::string> out;
+  for (const auto& e : effects_) out.push_back(e->kind());
+  return out;
+}
+
+}  // namespace pushpred

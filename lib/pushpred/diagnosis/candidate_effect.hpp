@@ -1,0 +1,180 @@
+#pragma once
+// Candidate effects: physical terms the paper's model lacks, each with its own regressor and parameters, tested
+// by a diagnosis (diagnosis.hpp) against what the paper's method leaves unexplained. An analysis program adds
+// its own by deriving from CandidateEffect and registering it in an EffectLibrary.
+//
+// The residual model, on the samples a diagnosis fits, per push p and channel c (0 = x force [N], 1 = y force
+// [N], 2 = torque about the tracked centre [N m]; frames, units and signs as in
+// preprocessing/synchronised_push.hpp):
+//
+//     d_hat_c(t) = beta_pc (Q u_c)(t) + eps_pc + sum_e sum_j Phi_ejc(t) theta_ej + r_c(t),
+//
+// with beta and eps per push and channel (the paper's relation; u Q-filtered like d_hat, so that the filter's
+// lag is not read as an effect) and theta_e shared by all pushes (physical constants). Phi_ej is effect e's
+// regressor: its contribution to d_hat per unit of its parameter j, on the observer's time base.
+//
+// How an effect is tested:
+// - Regression: its regressor columns join the regression above; it is scored by the drop of an information
+//   criterion (residual_regression.hpp).
+// - Direct: it estimates its parameters from data of its own (the force offset: samples where the tip does not
+//   touch) and scores itself with the same criterion.
+// - Prediction: it changes the structure of the prediction (the initial velocity) and is scored on the
+//   prediction error of the fit pushes.
+// How it corrects the model: apply() writes into a ModelCorrection, which is either a change of the data
+// (force stream delay, sensor bias, nominal mass) or a force law added to the observer's residual and to the
+// prediction model (a GeneralizedForceTerm built from unit_force()).
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pushpred/reading/shape_table.hpp"
+
+namespace pushpred {
+
+struct DiagnosisPush;
+class CandidateEffect;
+
+struct EffectParameter {
+  std::string name;
+  std::string unit;
+};
+
+/// What a force law sees at one instant. In the regression: the measured pose, the observer's (Q-filtered)
+/// velocity and the Q-filtered input; in the prediction: the predicted state and the planned input.
+struct EffectState {
+  Eigen::Vector3d pose = Eigen::Vector3d::Zero();        ///< x, y [m], theta [rad], {R}
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();    ///< x', y' [m/s], theta' [rad/s]
+  Eigen::Vector3d input = Eigen::Vector3d::Zero();       ///< f_x, f_y [N], torque about the centre [N m]
+  Eigen::Vector3d start_pose = Eigen::Vector3d::Zero();  ///< the push's first measured pose
+};
+
+/// A force law with fitted parameters, as the correction carries it.
+struct FittedForceLaw {
+  std::shared_ptr<const CandidateEffect> effect;
+  Eigen::VectorXd theta;  ///< in the units of effect->parameters()
+  double setting = 0;     ///< the setting chosen from effect->settings() (0 when it has none)
+  /// Generalized force [f_x, f_y] [N], torque [N m] of the law at `state`.
+  Eigen::Vector3d force(const EffectState& state, const ShapeInfo& shape) const;
+};
+
+/// Everything the selected effects change, as one value: what the corrected method of the prediction study
+/// (corrected_prediction.hpp) and the corrected observer read.
+struct ModelCorrection {
+  /// The force stream lags the pose: the force stamped t happened at t - delay, so f(t) := f_recorded(t + delay).
+  double force_delay_s = 0;
+  /// Bias of the sensor's fx, fy reading [N] (the reading is the reaction on the pusher, -f_C): removed.
+  Eigen::Vector2d sensor_bias_N = Eigen::Vector2d::Zero();
+  /// True mass and moment of inertia = factor x the shape table's.
+  double inertia_factor = 1;
+  /// Predictions start from the observer's velocity estimate instead of rest.
+  bool initial_velocity = false;
+  /// The quasi-static push law replaces the paper's relation in the prediction (quasi_static effect): while the
+  /// applied force stays above stop_fraction x the push's force level, it is balanced and the object keeps its
+  /// velocity; below, kinetic friction (the force laws, or Coulomb friction of that level when none is a friction
+  /// law replacing the relation) stops it; at rest static friction holds it. The push's force level is the mean
+  /// |f_C| while sliding in its identification data, or fallback_push_force_N before it slides.
+  struct QuasiStatic {
+    bool enabled = false;
+    double stop_fraction = 0.5;
+    double fallback_push_force_N = 0;
+  } quasi_static;
+  std::vector<FittedForceLaw> force_laws;
+
+  bool empty() const;
+  /// One line per change, for reports.
+  std::vector<std::string> describe() const;
+};
+
+/// Parameters estimated outside the regression (EffectTest::Direct).
+struct DirectFit {
+  Eigen::VectorXd theta;
+  Eigen::MatrixXd covariance;
+  double score = 0;   ///< drop of the information criterion (positive: the effect explains data)
+  long samples = 0;   ///< samples used
+  double effective_samples = 0;
+  std::string note;
+};
+
+enum class EffectTest { Regression, Direct, Prediction };
+const char* effect_test_name(EffectTest test);  ///< "regression", "direct", "prediction"
+
+class CandidateEffect {
+ public:
+  virtual ~CandidateEffect() = default;
+
+  /// Short identifier, e.g. "viscous_friction"; unique within a library.
+  virtual std::string kind() const = 0;
+  /// One line: the physical term and its regressor.
+  virtual std::string description() const = 0;
+  virtual std::vector<EffectParameter> parameters() const = 0;
+  virtual EffectTest test() const { return EffectTest::Regression; }
+  /// A friction law that replaces the paper's relation as the base the other effects are tested against
+  /// (residual_regression.hpp, Relation::Friction); at most one is selected.
+  virtual bool replaces_relation() const { return false; }
+  /// Tested only against a friction law (Relation::Friction): against the paper's free relation the effect is
+  /// confounded with the relation's own misfit (a friction change is mirrored by the push force and absorbed;
+  /// the relation's misfit at accelerations reads as a mass error).
+  virtual bool needs_friction_base() const { return false; }
+
+  /// A structural constant tried on a grid (e.g. the Stribeck speed); the diagnosis keeps the best and counts
+  /// the choice as one more parameter. Empty: none.
+  virtual std::vector<double> settings() const { return {}; }
+  virtual EffectParameter setting_name() const { return {}; }
+
+  /// Regression effects: per parameter j, its contribution to d_hat per unit of theta_j at every row of
+  /// push.estimate (n x 3 each). Default: unit_force() at push.state(row) for every row.
+  virtual std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double setting) const;
+
+  /// Force-law effects: the generalized force per unit of parameter j at `state`. Default: throws (not a force
+  /// law); an effect that overrides it keeps the default regressors() and apply().
+  virtual bool is_force_law() const { return false; }
+  virtual Eigen::Vector3d unit_force(int parameter, double setting, const EffectState& state,
+                                     const ShapeInfo& shape) const;
+
+  /// Direct effects, and prediction effects with parameters: estimates theta from the fit pushes (as corrected so
+  /// far). For prediction effects the score is not used.
+  virtual DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const;
+
+  /// Adds the effect with parameters `theta` (and `setting`) to `correction`. `self` is this effect, shared, for
+  /// force laws to keep. Default for force laws: appends a FittedForceLaw.
+  virtual void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>& self,
+                     ModelCorrection& correction) const;
+
+  /// True when apply() changes the data the observer reads (delay, bias, mass): the diagnosis then re-runs the
+  /// observer and re-fits, and the parameters found next are residual amounts to compose with the applied ones.
+  virtual bool corrects_data() const { return false; }
+  /// The total amount after applying `applied` and then finding `residual` on the corrected data.
+  virtual Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const {
+    return applied + residual;
+  }
+  /// Amounts for reports derived from the parameters (e.g. an inertia factor), as name, unit, value.
+  struct Derived {
+    std::string name, unit;
+    double value = 0;
+  };
+  virtual std::vector<Derived> derived(const Eigen::VectorXd& /*theta*/) const { return {}; }
+};
+
+/// The candidate effects a diagnosis tests, in a fixed order. A user registers their own.
+class EffectLibrary {
+ public:
+  /// Every effect the issue asks for: time_offset, force_offset, viscous_friction, stribeck_friction,
+  /// position_friction, com_offset, inertia_mismatch, initial_velocity, coulomb_friction.
+  static EffectLibrary standard();
+
+  /// Adds `effect`; throws InputError for a null effect, an empty kind or a kind already registered.
+  void register_effect(std::unique_ptr<CandidateEffect> effect);
+  /// Removes the effect called `kind`; throws InputError when there is none.
+  void remove(const std::string& kind);
+  /// The effect called `kind` or null.
+  std::shared_ptr<const CandidateEffect> find(const std::string& kind) const;
+  const std::vector<std::shared_ptr<const CandidateEffect>>& effects() const { return effects_; }
+  std::vector<std::string> kinds() const;
+
+ private:
+  std::vector<std::shared_ptr<const CandidateEffect>> effects_;
+};
+
+}  // namespace pushpred

@@ -1,0 +1,119 @@
+#include "pushpred/diagnosis/corrected_prediction.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/builtin_effects.hpp"
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+
+namespace pushpred {
+
+void ForceLawTerm::add(double, const PlanarState& state, const Eigen::Vector3d& planned_input,
+                       Eigen::Vector3d& generalized_force) const {
+  EffectState s;
+  s.pose = state.head<3>();
+  s.velocity = state.tail<3>();
+  s.input = planned_input;
+  s.start_pose = start_pose_;
+  generalized_force += law_.force(s, shape_);
+}
+
+QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
+                                         const Eigen::Vector3d& start_pose)
+    : stop_force_N_(stop_force_N), laws_(std::move(laws)), shape_(std::move(shape)), start_pose_(start_pose) {
+  if (!(stop_force_N_ > 0) || !std::isfinite(stop_force_N_))
+    throw InputError("quasi-static push law: the stop force must be positive");
+  for (const auto& law : laws_)
+    if (law.effect->replaces_relation()) coulomb_from_stop_force_ = false;
+}
+
+void QuasiStaticPushTerm::add(double, const PlanarState& x, const Eigen::Vector3d& u, Eigen::Vector3d& f) const {
+  const Eigen::Vector3d v = x.tail<3>();
+  const double s = sliding_speed(v, shape_);
+  const double reg = std::sqrt(s * s + kFrictionRegularisation_m_s * kFrictionRegularisation_m_s);
+  const double g = s / reg;
+  const double applied = u.head<2>().norm();
+  const double w = 1.0 / (1.0 + std::exp(std::clamp((applied - stop_force_N_) / (0.05 * stop_force_N_), -50.0, 50.0)));
+  Eigen::Vector3d kinetic = Eigen::Vector3d::Zero();
+  if (coulomb_from_stop_force_)
+    kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
+  if (!laws_.empty()) {
+    EffectState st;
+    st.pose = x.head<3>();
+    st.velocity = v;
+    st.input = u;
+    st.start_pose = start_pose_;
+    for (const auto& law : laws_) kinetic += law.force(st, shape_);
+  }
+  f += -(1 - w) * u + w * (g * kinetic - (1 - g) * u);
+}
+
+double push_force_level(const std::vector<DisturbanceEstimate>& identification, const ShapeInfo& shape,
+                        double fallback_N) {
+  double sum = 0;
+  long count = 0;
+  for (const auto& e : identification)
+    for (Eigen::Index k = 0; k < e.t_s.size(); ++k)
+      if (sliding_speed(e.velocity.row(k).transpose(), shape) > 5e-3) {
+        sum += e.u.row(k).head<2>().norm();
+        ++count;
+      }
+  return count >= 10 ? sum / static_cast<double>(count) : fallback_N;
+}
+
+SynchronisedPush CorrectedPrediction::corrected_push(const SynchronisedPush& push) const {
+  return apply_data_correction(push, correction_);
+}
+
+std::unique_ptr<DisturbanceEstimator> CorrectedPrediction::observer(const std::string& name) const {
+  if (name == "dob") return std::make_unique<QFilterObserver>(observer_);
+  return make_disturbance_estimator(name);
+}
+
+Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, const SynchronisedPush& push,
+                                       const DisturbanceEstimate& e) {
+  const Eigen::Index n = e.t_s.size();
+  Eigen::MatrixX3d out = Eigen::MatrixX3d::Zero(n, 3);
+  if (laws.empty() || n == 0) return out;
+  const Eigen::Index first = push.index_at(e.t_s(0));
+  if (first + n > push.size()) throw InputError(about(push.source, "an estimate does not belong to this push"));
+  const Eigen::MatrixX3d filtered_input = e.total - e.d_hat;
+  EffectState s;
+  s.start_pose = push.pose.row(0).transpose();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    s.pose = push.pose.row(first + k).transpose();
+    s.velocity = e.velocity.row(k).transpose();
+    s.input = filtered_input.row(k).transpose();
+    Eigen::Vector3d f = Eigen::Vector3d::Zero();
+    for (const auto& law : laws) f += law.force(s, push.shape);
+    out.row(k) = f.transpose();
+  }
+  return out;
+}
+
+void CorrectedPrediction::remove_explained(const SynchronisedPush& push, DisturbanceEstimate& estimate) const {
+  if (correction_.force_laws.empty()) return;
+  estimate.d_hat -= explained_disturbance(correction_.force_laws, push, estimate);
+}
+
+void CorrectedPrediction::adjust_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,
+                                       PredictionModel& model) const {
+  model.mass_kg = push.shape.mass_kg;
+  model.inertia_kgm2 = push.shape.inertia_kgm2;
+  const Eigen::Vector3d start_pose = push.pose.row(0).transpose();
+  if (correction_.quasi_static.enabled) {
+    model.beta.setZero();
+    model.eps.setZero();
+    const double level = push_force_level(identification, push.shape, correction_.quasi_static.fallback_push_force_N);
+    const double stop = correction_.quasi_static.stop_fraction * level;
+    if (stop > 0)
+      model.extra_terms.push_back(
+          std::make_shared<QuasiStaticPushTerm>(stop, correction_.force_laws, push.shape, start_pose));
+    return;
+  }
+  for (const auto& law : correction_.force_laws)
+    model.extra_terms.push_back(std::make_shared<ForceLawTerm>(law, push.shape, start_pose));
+}
+
+}  // namespace pushpred

@@ -1,0 +1,84 @@
+#pragma once
+// A ModelCorrection as the prediction study's `corrected` method uses it (prediction_study.hpp): the push with
+// its data corrected, the paper's observer with the corrected nominal mass, the force laws' share of d_hat removed
+// before the paper's online relation estimator sees it, and the force laws added to the prediction model. The
+// relation d_hat = beta u + eps is still identified online per push, as in the paper: the correction only
+// changes what it is fitted to and what the model holds besides it.
+#include "pushpred/diagnosis/candidate_effect.hpp"
+#include "pushpred/observers/q_filter_observer.hpp"
+#include "pushpred/prediction/prediction_study.hpp"
+
+namespace pushpred {
+
+/// A force law as a term of the prediction model: its generalized force at the predicted state and planned input.
+class ForceLawTerm final : public GeneralizedForceTerm {
+ public:
+  ForceLawTerm(FittedForceLaw law, ShapeInfo shape, const Eigen::Vector3d& start_pose)
+      : law_(std::move(law)), shape_(std::move(shape)), start_pose_(start_pose) {}
+  std::string name() const override { return law_.effect->kind(); }
+  void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
+           Eigen::Vector3d& generalized_force) const override;
+
+ private:
+  FittedForceLaw law_;
+  ShapeInfo shape_;
+  Eigen::Vector3d start_pose_;
+};
+
+/// The quasi-static push law of ModelCorrection::QuasiStatic as a term of the prediction model (whose beta and
+/// eps are then zero). With s the sliding speed (builtin_effects.hpp), g = s / sqrt(s^2 + v_reg^2) (0 at rest,
+/// 1 sliding) and w = 1 / (1 + exp((|f| - F_stop) / (0.05 F_stop))) (1 once the applied force |f| falls below
+/// F_stop):
+///     generalized force = -(1 - w) u + w (g K - (1 - g) u),
+/// K the kinetic friction: the force laws, plus Coulomb friction of magnitude F_stop when none of them replaces
+/// the relation. So a pushed object keeps its velocity, an object no longer pushed slides to a stop, and a
+/// resting one stays.
+class QuasiStaticPushTerm final : public GeneralizedForceTerm {
+ public:
+  QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
+                      const Eigen::Vector3d& start_pose);
+  std::string name() const override { return "quasi_static"; }
+  void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
+           Eigen::Vector3d& generalized_force) const override;
+
+ private:
+  double stop_force_N_;
+  std::vector<FittedForceLaw> laws_;
+  ShapeInfo shape_;
+  Eigen::Vector3d start_pose_;
+  bool coulomb_from_stop_force_ = true;
+};
+
+/// The push's force level for the quasi-static law: mean |f_C| over the samples of `identification` where the
+/// object slides faster than 5 mm/s; `fallback_N` when there are fewer than 10 of them.
+double push_force_level(const std::vector<DisturbanceEstimate>& identification, const ShapeInfo& shape,
+                        double fallback_N);
+
+class CorrectedPrediction final : public PredictionCorrection {
+ public:
+  explicit CorrectedPrediction(ModelCorrection correction, QFilterObserverOptions observer = {})
+      : correction_(std::move(correction)), observer_(std::move(observer)) {}
+
+  SynchronisedPush corrected_push(const SynchronisedPush& push) const override;
+  /// "dob": the Q-filter observer with this correction's options (nominal mass from the corrected push's shape);
+  /// other names: make_disturbance_estimator(name).
+  std::unique_ptr<DisturbanceEstimator> observer(const std::string& name) const override;
+  void remove_explained(const SynchronisedPush& push, DisturbanceEstimate& estimate) const override;
+  /// Mass and inertia from the corrected push's shape; the quasi-static law (beta = eps = 0) or the force laws.
+  void adjust_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,
+                    PredictionModel& model) const override;
+  bool initial_velocity_from_observer() const override { return correction_.initial_velocity; }
+
+  const ModelCorrection& correction() const { return correction_; }
+
+ private:
+  ModelCorrection correction_;
+  QFilterObserverOptions observer_;
+};
+
+/// The force laws' share of `estimate.d_hat` (n x 3), at the estimate's rows of `push`: state from the measured
+/// pose, the estimate's velocity and its Q-filtered input (total - d_hat).
+Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, const SynchronisedPush& push,
+                                       const DisturbanceEstimate& estimate);
+
+}  // namespace pushpred

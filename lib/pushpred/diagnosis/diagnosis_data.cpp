@@ -1,0 +1,137 @@
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/builtin_effects.hpp"
+#include "pushpred/systems/exact_discretisation.hpp"
+
+namespace pushpred {
+
+EffectState DiagnosisPush::state(Eigen::Index row) const {
+  EffectState s;
+  s.pose = smooth_pose.row(row).transpose();
+  s.velocity = smooth_velocity.row(row).transpose();
+  s.input = estimate.u.row(row).transpose();
+  s.start_pose = push.pose.row(0).transpose();
+  return s;
+}
+
+Eigen::MatrixX3d DiagnosisPush::as_observed(const Eigen::MatrixX3d& raw) const {
+  if (raw.rows() != rows()) throw InputError("diagnosis: a regressor has the wrong number of rows");
+  Eigen::MatrixX3d masked = raw;
+  for (Eigen::Index k = 0; k < masked.rows(); ++k)
+    if (stuck[k]) masked.row(k).setZero();
+  return q_filter(estimate.t_s, masked, q_zeta, q_wn_rad_s);
+}
+
+Eigen::MatrixXd zero_phase_smooth(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& values, double wn,
+                                  Eigen::MatrixXd* rate) {
+  const double zeta = 1.0 / std::sqrt(2.0);
+  const Eigen::Index n = t_s.size();
+  const Eigen::MatrixXd forward = q_filter(t_s, values, zeta, wn);
+  // Backward: the same filter on reversed time (t -> t_end - t keeps the steps).
+  const Eigen::VectorXd reversed_t = (t_s(n - 1) - t_s.reverse().array()).matrix();
+  Eigen::MatrixXd backward_rate;
+  const Eigen::MatrixXd backward = q_filter(reversed_t, forward.colwise().reverse(), zeta, wn, &backward_rate);
+  if (rate) *rate = -backward_rate.colwise().reverse();
+  return backward.colwise().reverse();
+}
+
+Eigen::MatrixXd q_filter(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& values, double zeta, double wn,
+                         Eigen::MatrixXd* rate) {
+  const Eigen::Index m = values.cols(), n = values.rows();
+  if (n != t_s.size() || n < 2) throw InputError("q_filter: need at least two samples, one per time");
+  // One second-order filter per column: states (z, z') of column c at 2c, 2c + 1.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * m, 2 * m), B = Eigen::MatrixXd::Zero(2 * m, m);
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(2 * m);
+  for (Eigen::Index c = 0; c < m; ++c) {
+    A(2 * c, 2 * c + 1) = 1;
+    A(2 * c + 1, 2 * c) = -wn * wn;
+    A(2 * c + 1, 2 * c + 1) = -2 * zeta * wn;
+    B(2 * c + 1, c) = wn * wn;
+    x0(2 * c) = values(0, c);
+  }
+  const Eigen::MatrixXd states = propagate_exactly(A, B, x0, SampledSignal(t_s, values, Hold::First));
+  Eigen::MatrixXd out(n, m);
+  if (rate) rate->resize(n, m);
+  for (Eigen::Index c = 0; c < m; ++c) {
+    out.col(c) = states.col(2 * c);
+    if (rate) rate->col(c) = states.col(2 * c + 1);
+  }
+  return out;
+}
+
+DiagnosisPush prepare_diagnosis_push(const SynchronisedPush& push, double t0, double t1,
+                                     const QFilterObserverOptions& options) {
+  DiagnosisPush d;
+  d.push = push;
+  const QFilterObserver observer(options);
+  d.estimate = observer.estimate(push, t0, t1);
+  d.first = push.index_at(d.estimate.t_s(0));
+  Eigen::MatrixXd rate;
+  d.filtered_input = q_filter(d.estimate.t_s, d.estimate.u, options.zeta, options.wn_rad_s, &rate);
+  d.filtered_input_rate = rate;
+  const Eigen::MatrixX3d y = push.pose.middleRows(d.first, d.rows()).rowwise() - push.pose.row(d.first);
+  Eigen::MatrixXd velocity;
+  d.smooth_pose = zero_phase_smooth(d.estimate.t_s, y, kSmoothingBandwidth_rad_s, &velocity);
+  d.smooth_pose.rowwise() += push.pose.row(d.first);
+  d.smooth_velocity = velocity;
+  Eigen::MatrixXd acceleration;
+  zero_phase_smooth(d.estimate.t_s, d.smooth_velocity, kSmoothingBandwidth_rad_s, &acceleration);
+  d.smooth_acceleration = acceleration;
+  d.stuck.resize(d.rows());
+  for (Eigen::Index k = 0; k < d.rows(); ++k)
+    d.stuck[k] = sliding_speed(d.smooth_velocity.row(k).transpose(), push.shape) < kStuckSpeed_m_s;
+  d.q_zeta = options.zeta;
+  d.q_wn_rad_s = options.wn_rad_s;
+  return d;
+}
+
+SynchronisedPush apply_data_correction(const SynchronisedPush& push, const ModelCorrection& c) {
+  SynchronisedPush p = push;
+  const Eigen::Index n = p.size();
+  if (c.force_delay_s != 0 && n >= 2) {
+    Eigen::MatrixXd values(n, 3);
+    values.leftCols<2>() = push.force_N;
+    values.col(2) = push.tip_torque_Nm;
+    Eigen::VectorXd query = (push.t_s.array() + c.force_delay_s).matrix();
+    for (Eigen::Index k = 0; k < n; ++k) query(k) = std::clamp(query(k), push.t_s(0), push.t_s(n - 1));
+    const Eigen::MatrixXd shifted = interpolate_linear(push.t_s, values, query);
+    p.force_N = shifted.leftCols<2>();
+    p.tip_torque_Nm = shifted.col(2);
+  }
+  // f_C = -reading; the reading carries +bias, so the recorded f_C is short by the bias.
+  p.force_N.rowwise() += c.sensor_bias_N.transpose();
+  for (Eigen::Index k = 0; k < n; ++k)
+    p.torque_about_centre_Nm(k) =
+        p.tip_torque_Nm(k) + p.lever_m(k, 0) * p.force_N(k, 1) - p.lever_m(k, 1) * p.force_N(k, 0);
+  if (c.inertia_factor != 1) {
+    if (!(c.inertia_factor > 0)) throw InputError("a data correction's inertia factor must be positive");
+    p.shape.mass_kg *= c.inertia_factor;
+    p.shape.inertia_kgm2 *= c.inertia_factor;
+  }
+  return p;
+}
+
+std::vector<Eigen::Index> samples_before_tip_moves(const SynchronisedPush& push, double travel_m) {
+  std::vector<Eigen::Index> out;
+  const Eigen::Index n = push.size();
+  if (n == 0) return out;
+  // The rest position: the median of the first few samples, robust to one glitch.
+  const Eigen::Index head = std::min<Eigen::Index>(n, 5);
+  Eigen::Vector2d rest;
+  for (int c = 0; c < 2; ++c) {
+    std::vector<double> v(push.tip_m.col(c).data(), push.tip_m.col(c).data() + head);
+    std::nth_element(v.begin(), v.begin() + head / 2, v.end());
+    rest(c) = v[head / 2];
+  }
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if ((push.tip_m.row(k).transpose() - rest).norm() > travel_m) break;
+    out.push_back(k);
+  }
+  return out;
+}
+
+}  // namespace pushpred

@@ -1,0 +1,66 @@
+#pragma once
+// The data a diagnosis fits: one push (as corrected so far), the paper's disturbance observer run over the
+// samples used for fitting, and the observer's view of the applied input (Q u and its rate), so that every
+// regressor lives on the observer's time base. Channels, frames and signs: preprocessing/synchronised_push.hpp.
+#include <Eigen/Core>
+
+#include "pushpred/diagnosis/candidate_effect.hpp"
+#include "pushpred/observers/q_filter_observer.hpp"
+
+namespace pushpred {
+
+struct DiagnosisPush {
+  SynchronisedPush push;                 ///< as corrected by the data corrections applied so far
+  DisturbanceEstimate estimate;          ///< the observer over the fit span
+  Eigen::Index first = 0;                ///< grid index of the estimate's first row
+  Eigen::MatrixX3d filtered_input;       ///< Q u at the estimate's rows (channel units)
+  Eigen::MatrixX3d filtered_input_rate;  ///< (Q u)' [N/s, N/s, N m/s]
+  /// Velocity from the pose smoothed without lag (zero_phase_smooth at kSmoothingBandwidth_rad_s) [m/s, rad/s]:
+  /// the diagnosis fits offline, so it can use a velocity whose noise is far below the observer's.
+  Eigen::MatrixX3d smooth_velocity;
+  Eigen::MatrixX3d smooth_pose;
+  Eigen::MatrixX3d smooth_acceleration;  ///< [m/s^2, rad/s^2]
+  /// Per row: the object is stuck (sliding speed of smooth_velocity below kStuckSpeed_m_s). Static friction then
+  /// balances whatever acts, d = -u, so no effect is visible there.
+  std::vector<char> stuck;
+  double q_zeta = 0, q_wn_rad_s = 0;  ///< the observer's Q filter
+
+  Eigen::Index rows() const { return estimate.t_s.size(); }
+  /// The force-law state at estimate row `row`: smoothed pose and velocity, the measured input u (not filtered:
+  /// regressors are Q-filtered after evaluation, like d_hat), the push's first pose.
+  EffectState state(Eigen::Index row) const;
+  /// What a disturbance `raw` (n x 3, one row per estimate row) looks like in d_hat: zero where the object is
+  /// stuck, then through the observer's Q filter. Every regressor goes through this.
+  Eigen::MatrixX3d as_observed(const Eigen::MatrixX3d& raw) const;
+};
+
+/// Bandwidth of the zero-phase smoothing of the pose for the force laws' state [rad/s].
+inline constexpr double kSmoothingBandwidth_rad_s = 100.0;
+/// Sliding speed (builtin_effects.hpp) below which a sample counts as stuck [m/s].
+inline constexpr double kStuckSpeed_m_s = 3e-3;
+
+/// Runs the observer over [t0_s, t1_s] of `push` and prepares the regression inputs. Throws InputError for a
+/// span with fewer than two samples.
+DiagnosisPush prepare_diagnosis_push(const SynchronisedPush& push, double t0_s, double t1_s,
+                                     const QFilterObserverOptions& observer = {});
+
+/// `values` (rows at times `t_s`, held first-order between them) through Q = wn^2 / (s^2 + 2 zeta wn s + wn^2),
+/// starting in the steady state of the first row; exact discretisation. `rate`, when given, receives the
+/// derivative of the output.
+Eigen::MatrixXd q_filter(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& values, double zeta, double wn_rad_s,
+                         Eigen::MatrixXd* rate = nullptr);
+
+/// `values` through the second-order low-pass of bandwidth wn (zeta 1/sqrt(2)) forward and then backward in time
+/// (no lag); `rate`, when given, receives the derivative of the result.
+Eigen::MatrixXd zero_phase_smooth(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& values, double wn_rad_s,
+                                  Eigen::MatrixXd* rate = nullptr);
+
+/// The push as `correction` says it was: force (and tip torque) stream read `force_delay_s` later, the sensor
+/// bias removed, mass and inertia scaled. Time grid and pose are unchanged.
+SynchronisedPush apply_data_correction(const SynchronisedPush& push, const ModelCorrection& correction);
+
+/// Grid samples where the tip is certainly not touching: before the tip has moved `travel_m` from where it
+/// rests at the start of the recording (a push starts with the tip at rest, a gap away from the object).
+std::vector<Eigen::Index> samples_before_tip_moves(const SynchronisedPush& push, double travel_m = 3e-4);
+
+}  // namespace pushpred

@@ -1,0 +1,205 @@
+#include "pushpred/diagnosis/residual_regression.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/builtin_effects.hpp"
+
+namespace pushpred {
+
+Eigen::VectorXd RegressionFit::standard_error() const { return covariance.diagonal().cwiseMax(0.0).cwiseSqrt(); }
+
+double RegressionFit::wald(Eigen::Index first, Eigen::Index count) const {
+  if (!identifiable) return 0.0;
+  const Eigen::VectorXd t = theta.segment(first, count);
+  const Eigen::MatrixXd V = covariance.block(first, first, count, count);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(V);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return 0.0;
+  return t.dot(ldlt.solve(t));
+}
+
+double lag1_autocorrelation(const Eigen::Ref<const Eigen::VectorXd>& r) {
+  const Eigen::Index n = r.size();
+  if (n < 3) return 0.0;
+  const double denominator = r.squaredNorm();
+  if (!(denominator > 0)) return 0.0;
+  const double rho = r.head(n - 1).dot(r.tail(n - 1)) / denominator;
+  return std::clamp(rho, 0.0, 0.999);
+}
+
+double effective_sample_count(const Eigen::Ref<const Eigen::VectorXd>& r) {
+  const double rho = lag1_autocorrelation(r);
+  return static_cast<double>(r.size()) * (1 - rho) / (1 + rho);
+}
+
+double long_run_variance(const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Index lag) {
+  const Eigen::Index n = r.size();
+  if (n == 0) return 0.0;
+  const Eigen::VectorXd c = r.array() - r.mean();
+  double s = c.squaredNorm();
+  for (Eigen::Index l = 1; l <= std::min(lag, n - 1); ++l)
+    s += 2 * (1 - static_cast<double>(l) / static_cast<double>(lag + 1)) * c.head(n - l).dot(c.tail(n - l));
+  return std::max(s, 0.0) / static_cast<double>(n);
+}
+
+ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes, Relation relation)
+    : relation_(relation) {
+  if (pushes.empty()) throw InputError("diagnosis regression: no pushes to fit");
+  blocks_.resize(pushes.size());
+  Eigen::Vector3d sum2 = Eigen::Vector3d::Zero();
+  double dof = 0;
+  std::vector<Eigen::MatrixX3d> linear_residual(pushes.size());
+  for (std::size_t p = 0; p < pushes.size(); ++p) {
+    const DiagnosisPush& d = pushes[p];
+    const Eigen::Index n = d.rows();
+    if (n < 3) throw InputError(about(d.push.source, "diagnosis regression: fewer than 3 samples to fit"));
+    Block& b = blocks_[p];
+    b.rate_hz = d.push.rate_hz > 0 ? d.push.rate_hz : 250.0;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::VectorXd qu = d.filtered_input.col(c);
+      b.centred_input[c] = qu.array() - qu.mean();
+      b.input_norm2[c] = b.centred_input[c].squaredNorm();
+      // An input that does not vary leaves only eps to fit.
+      if (!(b.input_norm2[c] > 1e-12 * std::max(1.0, qu.squaredNorm()))) {
+        b.centred_input[c].setZero();
+        b.input_norm2[c] = 0;
+      }
+    }
+    b.stuck = d.stuck;
+    // The Linear base's residual sets the channel weights and N_eff for both bases.
+    Eigen::MatrixX3d lin = d.estimate.d_hat;
+    const Relation keep = relation_;
+    relation_ = Relation::Linear;
+    for (int c = 0; c < 3; ++c) to_base(p, c, lin.col(c));
+    relation_ = keep;
+    sum2 += lin.colwise().squaredNorm().transpose();
+    dof += static_cast<double>(n) - 2;
+    samples_ += 3 * n;
+    linear_residual[p] = lin;
+    if (relation_ == Relation::Linear) {
+      b.residual = lin;
+    } else {
+      // Static balance where stuck: d = -u there, which the observer sees as -Q (stuck u).
+      Eigen::MatrixX3d stuck_input = Eigen::MatrixX3d::Zero(n, 3);
+      for (Eigen::Index k = 0; k < n; ++k)
+        if (b.stuck[k]) stuck_input.row(k) = d.estimate.u.row(k);
+      b.residual = d.estimate.d_hat + q_filter(d.estimate.t_s, stuck_input, d.q_zeta, d.q_wn_rad_s);
+    }
+  }
+  for (int c = 0; c < 3; ++c) scale_(c) = sum2(c) > 0 ? std::sqrt(sum2(c) / dof) : 1.0;
+  for (const auto& r : linear_residual)
+    for (int c = 0; c < 3; ++c) effective_samples_ += effective_sample_count(r.col(c));
+  effective_samples_ = std::max(effective_samples_, 2.0);
+}
+
+int ResidualRegression::nuisance_parameters() const {
+  return relation_ == Relation::Linear ? 6 * static_cast<int>(blocks_.size()) : 0;
+}
+
+double ResidualRegression::sliding_share() const {
+  double sliding = 0, all = 0;
+  for (const auto& b : blocks_)
+    for (char s : b.stuck) {
+      sliding += s ? 0 : 1;
+      all += 1;
+    }
+  return all > 0 ? sliding / all : 0.0;
+}
+
+void ResidualRegression::to_base(std::size_t p, int c, Eigen::Ref<Eigen::VectorXd> x) const {
+  const Block& b = blocks_[p];
+  if (relation_ == Relation::Linear) {
+    x.array() -= x.mean();
+    if (b.input_norm2[c] > 0) x -= (b.centred_input[c].dot(x) / b.input_norm2[c]) * b.centred_input[c];
+  }
+}
+
+RegressionFit ResidualRegression::fit(const std::vector<const EffectColumns*>& columns, int extra_parameters) const {
+  int k = 0;
+  for (const EffectColumns* e : columns) k += static_cast<int>(e->size());
+  const Eigen::Index N = samples_;
+  Eigen::VectorXd y(N);
+  Eigen::MatrixXd X(N, k);
+  Eigen::Index row = 0;
+  for (std::size_t p = 0; p < blocks_.size(); ++p) {
+    const Eigen::Index n = blocks_[p].residual.rows();
+    for (int c = 0; c < 3; ++c) {
+      y.segment(row, n) = blocks_[p].residual.col(c) / scale_(c);
+      int j = 0;
+      for (const EffectColumns* e : columns)
+        for (const auto& parameter : *e) {
+          const Eigen::MatrixX3d& phi = parameter.at(p);
+          if (phi.rows() != n) throw InputError("diagnosis regression: an effect column has the wrong number of rows");
+          auto x = X.col(j).segment(row, n);
+          x = phi.col(c) / scale_(c);
+          to_base(p, c, x);
+          ++j;
+        }
+      row += n;
+    }
+  }
+  RegressionFit f;
+  f.parameters = k + extra_parameters;
+  const double log_neff = std::log(effective_samples_);
+  const double penalty = (f.parameters + nuisance_parameters()) * log_neff;
+  if (k == 0) {
+    f.rss = y.squaredNorm();
+    f.bic = effective_samples_ * std::log(f.rss / static_cast<double>(N)) + penalty;
+    return f;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+  if (qr.rank() < k || !X.allFinite()) {
+    f.identifiable = false;
+    f.theta = Eigen::VectorXd::Zero(k);
+    f.covariance = Eigen::MatrixXd::Constant(k, k, std::numeric_limits<double>::infinity());
+    f.rss = y.squaredNorm();
+    f.bic = std::numeric_limits<double>::infinity();
+    return f;
+  }
+  f.theta = qr.solve(y);
+  const Eigen::VectorXd e = y - X * f.theta;
+  f.rss = e.squaredNorm();
+  f.bic = effective_samples_ * std::log(f.rss / static_cast<double>(N)) + penalty;
+
+  // Newey-West: per push, the score of a sample time sums the three channels; Bartlett weights up to the lag.
+  Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(k, k);
+  row = 0;
+  for (const Block& b : blocks_) {
+    const Eigen::Index n = b.residual.rows();
+    Eigen::MatrixXd s = Eigen::MatrixXd::Zero(n, k);
+    for (int c = 0; c < 3; ++c)
+      s += (X.middleRows(row + c * n, n).array().colwise() * e.segment(row + c * n, n).array()).matrix();
+    const Eigen::Index lag = std::min<Eigen::Index>(n - 1, static_cast<Eigen::Index>(std::lround(kHacLag_s * b.rate_hz)));
+    omega += s.transpose() * s;
+    for (Eigen::Index l = 1; l <= lag; ++l) {
+      const double w = 1 - static_cast<double>(l) / static_cast<double>(lag + 1);
+      const Eigen::MatrixXd g = s.topRows(n - l).transpose() * s.bottomRows(n - l);
+      omega += w * (g + g.transpose());
+    }
+    row += 3 * n;
+  }
+  const Eigen::MatrixXd information = X.transpose() * X;
+  const Eigen::MatrixXd inverse = information.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+  f.covariance = inverse * omega * inverse;
+  return f;
+}
+
+std::vector<Eigen::MatrixX3d> ResidualRegression::residuals(const std::vector<const EffectColumns*>& columns,
+                                                            const Eigen::VectorXd& theta) const {
+  std::vector<Eigen::MatrixX3d> out;
+  for (std::size_t p = 0; p < blocks_.size(); ++p) {
+    Eigen::MatrixX3d explained = Eigen::MatrixX3d::Zero(blocks_[p].residual.rows(), 3);
+    int j = 0;
+    for (const EffectColumns* e : columns)
+      for (const auto& parameter : *e) explained += theta(j++) * parameter.at(p);
+    for (int c = 0; c < 3; ++c) to_base(p, c, explained.col(c));
+    out.push_back(blocks_[p].residual - explained);
+  }
+  return out;
+}
+
+}  // namespace pushpred

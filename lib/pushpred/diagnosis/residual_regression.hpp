@@ -1,0 +1,103 @@
+#pragma once
+// The disturbance regression of candidate_effect.hpp over a set of pushes, and the statistics that decide
+// whether effects explain the residual.
+//
+// Two bases for what the effects are tested against:
+// - Relation::Linear, the paper's: per push and channel, beta (Q u_c) + eps is projected out of d_hat and of
+//   every effect column (Frisch-Waugh), so that effect parameters are fitted jointly with a free relation per
+//   push, as the paper's online estimator would have it (6 nuisance parameters per push).
+// - Relation::Friction: no free relation. Samples where the object is stuck (sliding speed below
+//   kStuckSpeed_m_s) are taken as balanced by static friction, d = -u, and explain nothing else (every column is
+//   zero there); on sliding samples d_hat is explained by the effect columns alone, among them a friction law that
+//   replaces the relation (CandidateEffect::replaces_relation(), Coulomb friction). In quasi-static pushing the
+//   free relation absorbs any friction law (the push force mirrors the friction), so friction effects are only
+//   visible against this base.
+// Channels are weighted by 1 / sigma_c, sigma_c the Linear base's residual standard deviation pooled over the
+// pushes, so that newtons and newton metres add up; parameters stay in physical units.
+//
+// Statistics:
+// - Parameter covariance: heteroscedasticity-and-autocorrelation-consistent (Newey-West, Bartlett weights, lag
+//   kHacLag_s within each push, the three channels of a sample together). The observer's output is strongly
+//   autocorrelated (its Q filter is a 48 Hz low-pass of a 250 Hz signal, and model errors are slow), so the plain
+//   least-squares covariance would be far too small.
+// - Effective sample count N_eff = sum over push-channel blocks of n (1 - rho) / (1 + rho), rho the lag-1
+//   autocorrelation of the Linear base's residual (the AR(1) variance-inflation rule).
+// - Adding effects to a model (nested): the BIC drop is approximated by the robust Wald statistic of the added
+//   parameters minus their BIC penalty, W - k ln(N_eff).
+// - Changing the base (not nested): BIC = N_eff ln(RSS / N) + k ln(N_eff), k counting the nuisance.
+#include <Eigen/Core>
+#include <vector>
+
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+
+namespace pushpred {
+
+/// Regressor columns of one effect: [parameter][push], each n_push x 3 (channels).
+using EffectColumns = std::vector<std::vector<Eigen::MatrixX3d>>;
+
+/// Lag window of the Newey-West covariance [s].
+inline constexpr double kHacLag_s = 0.2;
+
+enum class Relation { Linear, Friction };
+
+struct RegressionFit {
+  Eigen::VectorXd theta;       ///< effect parameters, in the order of the columns given
+  Eigen::MatrixXd covariance;  ///< Newey-West
+  double rss = 0;              ///< weighted residual sum of squares (dimensionless)
+  double bic = 0;              ///< N_eff ln(RSS / N) + k ln(N_eff), k including the base's nuisance
+  int parameters = 0;          ///< effect parameters (plus settings) counted in k
+  bool identifiable = true;    ///< false when the columns are (numerically) dependent: bic is then +inf
+  Eigen::VectorXd standard_error() const;
+  /// Robust Wald statistic of the parameters [first, first + count): theta^T V^-1 theta.
+  double wald(Eigen::Index first, Eigen::Index count) const;
+};
+
+class ResidualRegression {
+ public:
+  /// Throws InputError for no pushes or a push with fewer than 3 rows.
+  ResidualRegression(const std::vector<DiagnosisPush>& pushes, Relation relation = Relation::Linear);
+
+  /// Fits the effect parameters of `columns` (concatenated: one EffectColumns per effect) jointly with the
+  /// base. `extra_parameters` adds to k (settings chosen on a grid).
+  RegressionFit fit(const std::vector<const EffectColumns*>& columns, int extra_parameters = 0) const;
+
+  /// Per push, the residual (unweighted, n x 3) after the base and sum Phi theta.
+  std::vector<Eigen::MatrixX3d> residuals(const std::vector<const EffectColumns*>& columns,
+                                          const Eigen::VectorXd& theta) const;
+
+  Relation relation() const { return relation_; }
+  long samples() const { return samples_; }  ///< N: rows x channels
+  double effective_samples() const { return effective_samples_; }
+  const Eigen::Vector3d& channel_scale() const { return scale_; }  ///< sigma_c [N, N, N m]
+  int nuisance_parameters() const;  ///< 6 per push for Linear, 0 for Friction
+  /// Share of the fit samples where the object slides.
+  double sliding_share() const;
+
+ private:
+  /// The base applied to column `x` of push p, channel c, in place: the nuisance projected out (Linear) or the
+  /// stuck samples zeroed (Friction).
+  void to_base(std::size_t p, int c, Eigen::Ref<Eigen::VectorXd> x) const;
+
+  struct Block {
+    Eigen::VectorXd centred_input[3];  ///< Q u_c minus its mean (zero when it does not vary)
+    double input_norm2[3] = {0, 0, 0};
+    std::vector<char> stuck;
+    Eigen::MatrixX3d residual;  ///< d_hat in the base: nuisance projected out, or d_hat + Q u at stuck samples
+    double rate_hz = 250;
+  };
+  Relation relation_;
+  std::vector<Block> blocks_;
+  Eigen::Vector3d scale_ = Eigen::Vector3d::Ones();
+  long samples_ = 0;
+  double effective_samples_ = 0;
+};
+
+/// Lag-1 autocorrelation of `r`, clamped to [0, 0.999].
+double lag1_autocorrelation(const Eigen::Ref<const Eigen::VectorXd>& r);
+/// n (1 - rho) / (1 + rho) with rho = lag1_autocorrelation(r).
+double effective_sample_count(const Eigen::Ref<const Eigen::VectorXd>& r);
+/// Newey-West long-run variance of the mean of `r` (Bartlett weights up to `lag`): the variance of the
+/// sample mean of an autocorrelated series, times n.
+double long_run_variance(const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Index lag);
+
+}  // namespace pushpred

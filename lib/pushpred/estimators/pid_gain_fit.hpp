@@ -1,0 +1,190 @@
+#pragma once
+// PID gains of the paper's force reconstruction (section II-B, observers/pid_force_reconstruction.hpp) fitted by
+// Ceres instead of by trial and error. The gains should make the simulated object track the measured pose to
+// within the pose sensor's noise while keeping the reconstructed total force f_hat no rougher than the force
+// sensor's noise allows. Least squares over grid samples k and channels c:
+//
+//   tracking   (r_meas,ck - r_sim,ck) / sigma_pose_c                        k = 0 .. n-1
+//   roughness  sqrt(lambda) (f_hat,c(k+1) - f_hat,ck) / sigma_df_c            k = 0 .. n-2
+//
+// sigma_pose_c [m, m, rad] and sigma_df_c [N, N, N m] are measured on each push while the object rests before the
+// push begins (measure_rest_noise); lambda (default 1) weighs the two. Translation gains (kp, ki, kd) are shared
+// by x and y and fitted on the x and y residuals, rotation gains (lp, li, ld) on the rotation residuals: two
+// independent three-parameter problems. Each gain g enters Ceres as p = ln(g / 1e-6) (positive gains, relative
+// steps; bounded to g in [1e-6, 1e6]). A residual evaluation is one CVODE run of PidForceReconstruction::track,
+// differentiated by central differences (ceres::DynamicNumericDiffCostFunction). Fitting over a set of pushes
+// sums their residual blocks: one gain set for all. docs/pid_gains.md states the objective and its results.
+//
+// Start. Levenberg-Marquardt is local, and the objective is flat where the derivative gain dominates the inertia
+// (kd / M far above the 250 Hz sample rate): r_sim' then follows the measured slope within a sample whatever the
+// gains, f_hat is M times the measured pose's second difference, and no gain changes anything. The paper's
+// rotation gains lie there (ld / I is about 1.4e4 1/s for I = 0.0018 kg m^2). So Ceres starts from the best of the
+// given gains and a few triple-pole designs of increasing bandwidth (PidGainFitOptions::start_bandwidths_rad_s).
+#include <ceres/solver.h>
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pushpred/core/batch.hpp"
+#include "pushpred/observers/pid_force_reconstruction.hpp"
+
+namespace pushpred {
+
+/// How the rest at the start of a push is found. The real recordings start with the object still and the pusher
+/// either in free air or already touching it (about half of them: the force reads a steady 1 to 3 N from the
+/// first sample, so "before contact" would leave no rest); the rest therefore ends where the push begins: the
+/// first sample at which the object has left its rest level (median of the first `reference_s`) by `moved_m`
+/// or `moved_rad`, or the pusher's force f_C has changed from its rest level by `force_change_N`, less `margin_s`.
+struct RestNoiseOptions {
+  double reference_s = 0.04;            ///< the rest level is the median over the first this-long [s]
+  double moved_m = 0.5e-3;              ///< the object has moved once it is this far from its rest level [m]...
+  double moved_rad = 0.5 * M_PI / 180;  ///< ...or has turned this far [rad]...
+  double force_change_N = 0.25;         ///< ...or |f_C - rest level| exceeds this [N] (the push has begun)
+  double margin_s = 0.02;               ///< the rest ends this long before that onset [s]
+  double min_rest_s = 0.1;              ///< shorter rests cannot measure the noise [s]
+  void validate() const;
+};
+
+/// The noise scales of one push, measured over its rest [rest_start_s, rest_end_s] (grid times).
+struct PidFitNoise {
+  /// sigma_pose: standard deviation of the pose about its least-squares line (a line absorbs slow drift)
+  /// [m, m, rad].
+  Eigen::Vector3d pose = Eigen::Vector3d::Ones();
+  /// sigma_df: RMS of the step u(k+1) - u(k) of the applied input u (applied_input(); during the rest only the
+  /// sensor's noise moves it) [N, N, N m]. The same step of f_hat is what the roughness residual measures.
+  Eigen::Vector3d force_step = Eigen::Vector3d::Ones();
+  double rest_start_s = 0, rest_end_s = 0;
+  long rest_samples = 0;
+};
+
+/// Why the PID fit cannot use `push`, or empty when it can: a frozen force sensor (d_hat = f_hat - u is then
+/// meaningless), or a rest at the start too short to measure the noise.
+std::string pid_fit_unsuitable_reason(const SynchronisedPush& push, const RestNoiseOptions& options = {});
+
+/// Noise scales from the rest at the start of the push. Throws InputError when the push is unsuitable (above) or a
+/// measured scale is zero (a frozen stream).
+PidFitNoise measure_rest_noise(const SynchronisedPush& push, const RestNoiseOptions& options = {});
+
+/// One push to fit on: the push, its noise scales, and the span the reconstruction runs over (the whole push by
+/// default, rest included: the rest is where the gains show how much sensor noise they pass into f_hat).
+struct PidFitPush {
+  SynchronisedPush push;
+  PidFitNoise noise;
+  double t_start_s = 0;
+  double t_end_s = std::numeric_limits<double>::infinity();  ///< clamped to the push's duration
+};
+
+/// The push with noise measured by measure_rest_noise (throws InputError when it is unsuitable).
+PidFitPush make_pid_fit_push(SynchronisedPush push, const RestNoiseOptions& options = {});
+
+/// Ceres options used by default: DENSE_QR, Levenberg-Marquardt, at most 50 iterations, function tolerance
+/// 1e-7 (the CVODE runs are accurate to about 1e-8 relative, so smaller cost changes are integration noise),
+/// parameter tolerance 1e-6 (relative change of the log-gains), single thread, silent.
+ceres::Solver::Options default_pid_fit_solver_options();
+
+struct PidGainFitOptions {
+  double roughness_weight = 1.0;  ///< lambda > 0
+  /// The reconstruction the gains are fitted for (nominal inertia, CVODE tolerances).
+  PidReconstructionOptions reconstruction;
+  /// Central-difference step relative to |p|, p = ln(g / 1e-3) (p is 2 to 14 for useful gains, so steps of 2e-4
+  /// to 1.4e-3 in ln g: far above the CVODE noise of ~1e-8, far below the curvature scale).
+  double numeric_diff_relative_step = 1e-4;
+  ceres::Solver::Options solver = default_pid_fit_solver_options();
+  /// Starts besides the given gains, as closed-loop bandwidths w [rad/s]: the gains that put the three poles of
+  /// M s^3 + kd s^2 + kp s + ki at -w (kd = 3 M w, kp = 3 M w^2, ki = M w^3; M the mean nominal mass or inertia of
+  /// the set). Ceres starts from whichever start has the lowest objective (see the header for why).
+  std::vector<double> start_bandwidths_rad_s = {1, 3, 10, 30, 100};
+  bool fit_translation = true, fit_rotation = true;  ///< a problem left out keeps the given gains
+  /// Throws InputError naming the first bad value (lambda <= 0, bad step, invalid Ceres options, ...).
+  void validate() const;
+};
+
+/// One of the two independent problems.
+enum class PidFitProblem { Translation, Rotation };
+std::string pid_fit_problem_name(PidFitProblem problem);
+
+/// How one problem was solved. Costs are Ceres' 1/2 sum of squared residuals.
+struct PidFitSolve {
+  bool fitted = false;      ///< false when the options left this problem out (its gains stay the given ones)
+  double given_cost = 0;    ///< at the given (start) gains
+  std::string start;        ///< the start Ceres ran from: "given gains" or "triple pole at W rad/s"
+  double start_cost = 0, final_cost = 0;
+  int iterations = 0;
+  std::string termination;  ///< Ceres' termination type and message
+};
+
+struct PidGainFit {
+  PidGains gains;  ///< the fitted gains
+  PidFitSolve translation, rotation;
+  long pushes = 0;
+};
+
+/// Fits the gains over `pushes` (one push: a per-push fit; several: one gain set for the set), starting from
+/// `start`. Throws InputError for an empty set, a push flagged frozen_force_sensor, bad noise scales or bad
+/// options; SolverError when Ceres returns no usable solution (for instance when the start gains already make
+/// CVODE fail).
+PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFitOptions& options,
+                         const PidGains& start = {});
+
+/// What one gain set does on one push: the objective's two terms and what they mean in units, and how far the
+/// PID's d_hat lies from the disturbance observer's ("dob", QFilterObserver with default options).
+struct PidGainQuality {
+  long samples = 0;
+  Eigen::Vector3d tracking_sum = Eigen::Vector3d::Zero();   ///< sum_k ((r_meas - r_sim) / sigma_pose)^2
+  Eigen::Vector3d roughness_sum = Eigen::Vector3d::Zero();  ///< sum_k ((f_hat(k+1) - f_hat(k)) / sigma_df)^2
+  Eigen::Vector3d tracking_rms = Eigen::Vector3d::Zero();   ///< RMS of r_meas - r_sim [m, m, rad]
+  Eigen::Vector3d roughness_rms = Eigen::Vector3d::Zero();  ///< RMS of f_hat(k+1) - f_hat(k) [N, N, N m]
+  Eigen::Vector3d dob_rms = Eigen::Vector3d::Zero();        ///< RMS of d_hat_pid - d_hat_dob [N, N, N m]
+  /// RMS of the measured input's step u(k+1) - u(k) over the span [N, N, N m]: not a property of the gains, the
+  /// roughness of a force the sensor saw, for comparison.
+  Eigen::Vector3d input_roughness_rms = Eigen::Vector3d::Zero();
+};
+PidGainQuality assess_pid_gains(const PidFitPush& push, const PidGains& gains, const PidGainFitOptions& options);
+
+/// The reconstructed forces as CSV, one row per grid sample: t_s, then per channel (x [N], y [N], rotation [N m])
+/// the applied input u, the observer's d_hat, and the PID's d_hat with the paper's and with `fitted` gains.
+std::string pid_fit_forces_csv(const PidFitPush& push, const PidGains& fitted, const PidGainFitOptions& options);
+
+/// The objective of `problem` (1/2 (tracking + lambda roughness), summed over its channels and the pushes),
+/// from assessments: what Ceres minimises, up to the integrator's accuracy.
+double pid_objective(const std::vector<PidGainQuality>& qualities, PidFitProblem problem, double lambda);
+
+// The study `pushpred fit-pid` runs and its report.
+
+struct PidFitStudyOptions {
+  PidGainFitOptions fit;
+  bool per_push = false;  ///< also fit one gain set per push (the joint fit over the set is always made)
+};
+
+struct PidFitPushResult {
+  std::string source;
+  PidFitNoise noise;
+  PidGainQuality paper, joint;                 ///< with the paper's gains and with the joint fit's
+  std::optional<PidGainFit> own;               ///< the per-push fit
+  std::optional<PidGainQuality> own_quality;   ///< with the per-push fit's gains
+};
+
+struct PidFitStudy {
+  PidGainFit joint;
+  std::vector<PidFitPushResult> pushes;
+  std::vector<BatchFailure> skipped;  ///< unsuitable pushes and why (pid_fit_unsuitable_reason)
+  std::vector<BatchFailure> failed;   ///< files that could not be read or fitted
+  double roughness_weight = 1.0;
+};
+
+/// Fits jointly (and per push when asked) and assesses every push with the paper's and the fitted gains.
+/// Throws InputError for an empty set or bad options.
+PidFitStudy run_pid_fit_study(const std::vector<PidFitPush>& pushes, const PidFitStudyOptions& options);
+
+/// pid_gains.json: gains (paper, joint, per push), objective terms before and after, noise scales, and per push
+/// the tracking RMS [mm, deg], roughness and RMS difference from the observer's d_hat, before and after.
+nlohmann::json pid_fit_json(const PidFitStudy& study);
+/// pid_fit.md: the same as tables.
+std::string pid_fit_markdown(const PidFitStudy& study);
+
+}  // namespace pushpred

@@ -1,0 +1,320 @@
+#include "pushpred/reports/diagnosis_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "pushpred/core/version.hpp"
+
+namespace pushpred {
+namespace {
+
+constexpr double kDeg = 180.0 / M_PI;
+
+std::string fixed(double v, int digits = 2) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string general(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json effect_json(const EffectReport& r) {
+  nlohmann::json parameters = nlohmann::json::object();
+  for (std::size_t j = 0; j < r.parameter_info.size(); ++j) {
+    const auto J = static_cast<Eigen::Index>(j);
+    parameters[r.parameter_info[j].name] = {
+        {"value", J < r.theta.size() ? number_or_null(r.theta(J)) : nlohmann::json(nullptr)},
+        {"std", J < r.theta_std.size() ? number_or_null(r.theta_std(J)) : nlohmann::json(nullptr)},
+        {"unit", r.parameter_info[j].unit}};
+  }
+  nlohmann::json j = {{"kind", r.kind},     {"description", r.description}, {"test", effect_test_name(r.test)},
+                      {"selected", r.selected}, {"score", number_or_null(r.score)}, {"parameters", parameters}};
+  if (r.has_setting) j["setting"] = {{"name", r.setting_info.name}, {"value", r.setting}, {"unit", r.setting_info.unit}};
+  if (!r.derived.empty()) {
+    nlohmann::json d = nlohmann::json::object();
+    for (const auto& x : r.derived) d[x.name] = {{"value", number_or_null(x.value)}, {"unit", x.unit}};
+    j["derived"] = d;
+  }
+  if (!r.note.empty()) j["note"] = r.note;
+  return j;
+}
+
+std::string effect_parameters_text(const EffectReport& r) {
+  std::string s;
+  for (std::size_t j = 0; j < r.parameter_info.size(); ++j) {
+    const auto J = static_cast<Eigen::Index>(j);
+    if (J >= r.theta.size()) break;
+    if (!s.empty()) s += ", ";
+    s += r.parameter_info[j].name + " = " + general(r.theta(J));
+    if (J < r.theta_std.size()) s += " ± " + general(r.theta_std(J));
+    if (r.parameter_info[j].unit != "-") s += " " + r.parameter_info[j].unit;
+  }
+  if (r.has_setting) s += (s.empty() ? "" : "; ") + r.setting_info.name + " = " + general(r.setting) + " " + r.setting_info.unit;
+  for (const auto& d : r.derived) s += "; " + d.name + " = " + general(d.value) + (d.unit == "-" ? "" : " " + d.unit);
+  return s.empty() ? "—" : s;
+}
+
+std::string error_row(const std::string& name, const ErrorSummary& e) {
+  return "| " + name + " | " + fixed(e.pos_mm_mean) + " | " + fixed(e.x_mm_mean) + " | " + fixed(e.y_mm_mean) + " | " +
+         fixed(e.theta_deg_mean) + " | " + fixed(e.final_pos_mm) + " | " + fixed(e.final_theta_deg) + " |\n";
+}
+
+bool gnuplot_available() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
+
+std::string quoted(const std::filesystem::path& p) {
+  std::string s = "'";
+  for (char c : p.string()) s += c == '\'' ? std::string("''") : std::string(1, c);
+  return s + "'";
+}
+
+/// Residual before/after of the first fit push: one panel per channel.
+bool plot_residuals(const ResidualTrace& r, const StagedOutput& out, const std::string& name) {
+  std::ostringstream data;
+  data.precision(8);
+  for (Eigen::Index k = 0; k < r.t_s.size(); ++k) {
+    data << r.t_s(k);
+    for (int c = 0; c < 3; ++c) data << " " << r.before(k, c) << " " << r.after(k, c);
+    data << "\n";
+  }
+  const auto data_path = out.path("plots/" + name + ".dat");
+  write_text_atomically(data_path, data.str());
+  std::ostringstream gp;
+  gp << "set terminal svg size 900,800 dynamic font 'sans,11'\n"
+     << "set output " << quoted(out.path("plots/" + name + ".svg")) << "\n"
+     << "set multiplot layout 3,1 title " << quoted("Disturbance residual d_hat - beta Qu - eps of " +
+                                                     std::filesystem::path(r.source).filename().string()) << " noenhanced\n"
+     << "set grid\nset key top right\n";
+  const char* labels[3] = {"x [N]", "y [N]", "rotation [N m]"};
+  for (int c = 0; c < 3; ++c) {
+    gp << "set ylabel '" << labels[c] << "'\n" << (c == 2 ? "set xlabel 't [s]'\n" : "unset xlabel\n");
+    gp << "plot " << quoted(data_path) << " using 1:" << 2 + 2 * c << " with lines lw 1 title 'before (paper)', "
+       << quoted(data_path) << " using 1:" << 3 + 2 * c << " with lines lw 1 title 'after (corrected)'\n";
+  }
+  gp << "unset multiplot\n";
+  const auto script = out.path("plots/" + name + ".gp");
+  write_text_atomically(script, gp.str());
+  return std::system(("gnuplot " + quoted(script) + " > /dev/null 2>&1").c_str()) == 0;
+}
+
+/// Prediction errors over time of the test phases of the first test push.
+bool plot_test_errors(const std::vector<PhaseTrace>& phases, const StagedOutput& out, const std::string& name) {
+  if (phases.empty()) return false;
+  const std::string source = phases.front().source;
+  const std::vector<std::string> methods{"dob", kCorrectedMethod, "hold", "const_velocity"};
+  std::ostringstream data;
+  data.precision(8);
+  for (const auto& p : phases) {
+    if (p.source != source) continue;
+    for (Eigen::Index k = 0; k < p.t_s.size(); ++k) {
+      data << p.t0_s + p.t_s(k);
+      for (const auto& m : methods) {
+        const auto& e = p.error.at(m);
+        data << " " << 1e3 * e.row(k).head<2>().norm() << " " << kDeg * e(k, 2);
+      }
+      data << "\n";
+    }
+    data << "\n";  // a gap between phases
+  }
+  const auto data_path = out.path("plots/" + name + ".dat");
+  write_text_atomically(data_path, data.str());
+  std::ostringstream gp;
+  gp << "set terminal svg size 900,600 dynamic font 'sans,11'\n"
+     << "set output " << quoted(out.path("plots/" + name + ".svg")) << "\n"
+     << "set multiplot layout 2,1 title " << quoted("Prediction error over the test phases of " +
+                                                     std::filesystem::path(source).filename().string()) << " noenhanced\n"
+     << "set grid\nset key top left\n";
+  for (int panel = 0; panel < 2; ++panel) {
+    gp << "set ylabel '" << (panel == 0 ? "position error [mm]" : "yaw error [deg]") << "'\n"
+       << (panel == 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n") << "plot ";
+    for (std::size_t m = 0; m < methods.size(); ++m)
+      gp << (m ? ", " : "") << quoted(data_path) << " using 1:" << 2 + 2 * m + panel << " with lines lw 1.5 title '"
+         << methods[m] << "' noenhanced";
+    gp << "\n";
+  }
+  gp << "unset multiplot\n";
+  const auto script = out.path("plots/" + name + ".gp");
+  write_text_atomically(script, gp.str());
+  return std::system(("gnuplot " + quoted(script) + " > /dev/null 2>&1").c_str()) == 0;
+}
+
+}  // namespace
+
+nlohmann::json error_summary_json(const ErrorSummary& e) {
+  return {{"phases", e.phases},
+          {"pos_mm_mean", e.pos_mm_mean},
+          {"x_mm_mean", e.x_mm_mean},
+          {"y_mm_mean", e.y_mm_mean},
+          {"theta_deg_mean", e.theta_deg_mean},
+          {"final_pos_mm", e.final_pos_mm},
+          {"final_theta_deg", e.final_theta_deg}};
+}
+
+nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& o) {
+  nlohmann::json effects = nlohmann::json::array();
+  for (const auto& e : r.effects) effects.push_back(effect_json(e));
+  nlohmann::json failures = nlohmann::json::array();
+  for (const auto& f : r.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
+  const auto channels = [](const Eigen::Vector3d& v) { return nlohmann::json{{"x_N", v(0)}, {"y_N", v(1)}, {"rotation_Nm", v(2)}}; };
+  return {{"pushpred_version", kVersion},
+          {"shape", r.shape},
+          {"surface", r.surface},
+          {"options",
+           {{"intervals", o.study.schedule.intervals},
+            {"span", schedule_span_name(o.study.schedule.span)},
+            {"plan_rate_hz", o.study.plan_rate_hz},
+            {"estimator", o.study.estimator},
+            {"bic_threshold", o.bic_threshold},
+            {"confirm_on_prediction", o.confirm_on_prediction}}},
+          {"held_out", r.held_out},
+          {"fit_pushes", r.fit_sources},
+          {"test_pushes", r.test_sources},
+          {"effects", effects},
+          {"correction", r.correction.describe()},
+          {"initial_velocity_from_observer", r.correction.initial_velocity},
+          {"error_before", error_summary_json(r.error_before)},
+          {"error_after", error_summary_json(r.error_after)},
+          {"error_references",
+           {{"hold", error_summary_json(r.hold)},
+            {"const_velocity", error_summary_json(r.const_velocity)},
+            {"dob_velinit", error_summary_json(r.dob_velinit)}}},
+          {"fit_phases",
+           {{"before", error_summary_json(r.fit_before)},
+            {"after", error_summary_json(r.fit_after)},
+            {"hold", error_summary_json(r.fit_hold)},
+            {"const_velocity", error_summary_json(r.fit_const_velocity)}}},
+          {"regression",
+           {{"samples", r.samples},
+            {"effective_samples", r.effective_samples},
+            {"residual_std_before", channels(r.residual_std_before)},
+            {"residual_std_after", channels(r.residual_std_after)}}},
+          {"failures", failures},
+          {"log", r.log}};
+}
+
+std::string diagnosis_summary_text(const DiagnosisResult& r) {
+  std::ostringstream s;
+  s << "diagnosis of " << r.fit_sources.size() << " fit and " << r.test_sources.size() << " test pushes (" << r.shape
+    << " on " << r.surface << ")\n";
+  for (const auto& e : r.effects)
+    if (e.selected) s << "  selected " << e.kind << ": " << effect_parameters_text(e) << "\n";
+  bool any = false;
+  for (const auto& e : r.effects) any = any || e.selected;
+  if (!any) s << "  no effect selected\n";
+  char line[256];
+  s << "held-out phases (" << r.error_after.phases << "):      pos mm   yaw deg\n";
+  const std::pair<const char*, const ErrorSummary*> rows[] = {{"before (paper dob)", &r.error_before},
+                                                             {"after (corrected)", &r.error_after},
+                                                             {"hold", &r.hold},
+                                                             {"const_velocity", &r.const_velocity}};
+  for (const auto& [name, e] : rows) {
+    std::snprintf(line, sizeof line, "  %-22s %8.2f %9.2f\n", name, e->pos_mm_mean, e->theta_deg_mean);
+    s << line;
+  }
+  return s.str();
+}
+
+std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions& o, const std::vector<std::string>& plots,
+                               const std::string& plot_note) {
+  std::ostringstream md;
+  md << "# Diagnosis: " << r.shape << " on " << r.surface << "\n\n"
+     << "pushpred " << kVersion << ". " << r.fit_sources.size() << " fit push(es), " << r.test_sources.size()
+     << " test push(es); held out: " << r.held_out << ". Schedule: " << o.study.schedule.intervals
+     << " intervals over the " << schedule_span_name(o.study.schedule.span) << " span, plan at "
+     << general(o.study.plan_rate_hz) << " Hz, relation estimator `" << o.study.estimator
+     << "`. Selection: greedy BIC with the effective sample count, threshold " << general(o.bic_threshold)
+     << (o.confirm_on_prediction ? ", each selected effect confirmed on the fit pushes' predictions" : "") << ".\n\n";
+
+  md << "## Prediction error on the held-out phases\n\n"
+     << "Mean over " << r.error_after.phases << " phases of the per-phase mean error. `before` is the paper's method "
+     << "(`dob`: relation identified online, initial velocity zero); `after` is the corrected model (initial velocity "
+     << (r.correction.initial_velocity ? "from the observer" : "zero") << ").\n\n"
+     << "| method | pos [mm] | x [mm] | y [mm] | yaw [deg] | final pos [mm] | final yaw [deg] |\n"
+     << "|---|---|---|---|---|---|---|\n"
+     << error_row("before (paper `dob`)", r.error_before) << error_row("after (corrected)", r.error_after)
+     << error_row("`hold`", r.hold) << error_row("`const_velocity`", r.const_velocity)
+     << error_row("`dob_velinit`", r.dob_velinit) << "\n";
+  const bool beats_pos = r.error_after.pos_mm_mean < std::min(r.hold.pos_mm_mean, r.const_velocity.pos_mm_mean);
+  const bool beats_yaw = r.error_after.theta_deg_mean < std::min(r.hold.theta_deg_mean, r.const_velocity.theta_deg_mean);
+  if (beats_pos && beats_yaw) {
+    md << "The corrected model beats both naive references in position and yaw on these phases.\n\n";
+  } else {
+    md << "**The corrected model does not beat both naive references:** "
+       << (beats_pos ? "" : "its position error is not below both references") << (!beats_pos && !beats_yaw ? "; " : "")
+       << (beats_yaw ? "" : "its yaw error is not below both references") << ".\n\n";
+  }
+
+  md << "## Candidate effects\n\n"
+     << "| effect | test | selected | score | parameters (± 1 std) | note |\n|---|---|---|---|---|---|\n";
+  for (const auto& e : r.effects)
+    md << "| " << e.kind << " | " << effect_test_name(e.test) << " | " << (e.selected ? "**yes**" : "no") << " | "
+       << (std::isfinite(e.score) ? general(e.score) : std::string("—")) << " | " << effect_parameters_text(e) << " | "
+       << e.note << " |\n";
+  md << "\nScore: the BIC drop when the effect was last tried (regression, direct), or the relative drop of the fit "
+        "phases' normalised prediction error (prediction). Parameter uncertainty: regression covariance inflated "
+        "by N / N_eff.\n\n";
+  md << "Correction applied:\n\n";
+  const auto lines = r.correction.describe();
+  if (lines.empty()) md << "- none\n";
+  for (const auto& l : lines) md << "- " << l << "\n";
+
+  md << "\n## Residual of the disturbance regression (fit data)\n\n"
+     << "Samples " << r.samples / 3 << " (x 3 channels), effective " << fixed(r.effective_samples, 1) << ".\n\n"
+     << "| channel | std before | std after |\n|---|---|---|\n"
+     << "| x [N] | " << general(r.residual_std_before(0)) << " | " << general(r.residual_std_after(0)) << " |\n"
+     << "| y [N] | " << general(r.residual_std_before(1)) << " | " << general(r.residual_std_after(1)) << " |\n"
+     << "| rotation [N m] | " << general(r.residual_std_before(2)) << " | " << general(r.residual_std_after(2))
+     << " |\n\n";
+
+  md << "## In-sample: the fit pushes' phases\n\n"
+     << "| method | pos [mm] | x [mm] | y [mm] | yaw [deg] | final pos [mm] | final yaw [deg] |\n"
+     << "|---|---|---|---|---|---|---|\n"
+     << error_row("before (paper `dob`)", r.fit_before) << error_row("after (corrected)", r.fit_after)
+     << error_row("`hold`", r.fit_hold) << error_row("`const_velocity`", r.fit_const_velocity) << "\n";
+
+  md << "## Plots\n\n";
+  if (plots.empty()) md << plot_note << "\n\n";
+  for (const auto& p : plots) md << "![" << p << "](" << p << ")\n\n";
+
+  md << "## Selection log\n\n";
+  for (const auto& l : r.log) md << "    " << l << "\n";
+  md << "\n## Pushes\n\nFit: ";
+  for (std::size_t k = 0; k < r.fit_sources.size(); ++k)
+    md << (k ? ", " : "") << "`" << std::filesystem::path(r.fit_sources[k]).filename().string() << "`";
+  md << "\n\nTest: ";
+  for (std::size_t k = 0; k < r.test_sources.size(); ++k)
+    md << (k ? ", " : "") << "`" << std::filesystem::path(r.test_sources[k]).filename().string() << "`";
+  md << "\n";
+  if (!r.failures.empty()) {
+    md << "\nLeft out:\n\n";
+    for (const auto& f : r.failures)
+      md << "- `" << std::filesystem::path(f.source).filename().string() << "`: " << f.reason << "\n";
+  }
+  return md.str();
+}
+
+void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o, const StagedOutput& out, bool plots) {
+  write_text_atomically(out.path("diagnosis.json"), diagnosis_json(r, o).dump(2) + "\n");
+  std::vector<std::string> drawn;
+  std::string note;
+  if (!plots) {
+    note = "Plots were not asked for (--no-plots).";
+  } else if (!gnuplot_available()) {
+    note = "Plots left out: gnuplot was not found.";
+  } else {
+    if (!r.residuals.empty() && plot_residuals(r.residuals.front(), out, "residuals"))
+      drawn.push_back("plots/residuals.svg");
+    if (plot_test_errors(r.test_phases, out, "test_errors")) drawn.push_back("plots/test_errors.svg");
+    if (drawn.empty()) note = "Plots left out: gnuplot failed.";
+  }
+  write_text_atomically(out.path("report.md"), diagnosis_markdown(r, o, drawn, note));
+}
+
+}  // namespace pushpred

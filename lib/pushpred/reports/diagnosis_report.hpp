@@ -1,0 +1,31 @@
+#pragma once
+// The outputs of `pushpred diagnose`:
+// - diagnosis.json: `effects` (every candidate: kind, test, selected, score, parameters with value, std and unit,
+//   setting, derived amounts, note), `error_before` (the paper's `dob`), `error_after` (the corrected model),
+//   `error_references` (`hold`, `const_velocity`), each with pos_mm_mean, x_mm_mean, y_mm_mean, theta_deg_mean,
+//   final_pos_mm, final_theta_deg and phases, all on the same held-out phases; the fit-phase (in-sample) errors;
+//   the regression's sample counts and residual spread; the correction; the pushes used and left out; the log.
+// - report.md: the same as tables, with residual and error plots before and after (gnuplot, SVG; left out with a
+//   note when gnuplot is not installed).
+// Millimetres and degrees here only; the library is SI.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "pushpred/core/output_files.hpp"
+#include "pushpred/diagnosis/diagnosis.hpp"
+
+namespace pushpred {
+
+nlohmann::json error_summary_json(const ErrorSummary& e);
+nlohmann::json diagnosis_json(const DiagnosisResult& result, const DiagnosisOptions& options);
+/// report.md; `plots` lists the plot files written beside it (empty: plots were not drawn), `plot_note` why not.
+std::string diagnosis_markdown(const DiagnosisResult& result, const DiagnosisOptions& options,
+                               const std::vector<std::string>& plots, const std::string& plot_note);
+/// A few lines for the terminal: selected effects and the before/after table.
+std::string diagnosis_summary_text(const DiagnosisResult& result);
+
+/// Writes diagnosis.json, report.md and (when `plots` and gnuplot is found) the plots into `out`.
+void write_diagnosis_report(const DiagnosisResult& result, const DiagnosisOptions& options, const StagedOutput& out,
+                            bool plots = true);
+
+}  // namespace pushpred

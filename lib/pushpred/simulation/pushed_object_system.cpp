@@ -1,0 +1,183 @@
+#include "pushpred/simulation/pushed_object_system.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+namespace {
+
+Eigen::Matrix2d rotation(double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  Eigen::Matrix2d r;
+  r << c, -s, s, c;
+  return r;
+}
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+void require_positive(double v, const std::string& what) {
+  if (!(v > 0) || !std::isfinite(v)) throw InputError(what + " must be positive and finite, got " + std::to_string(v));
+}
+
+}  // namespace
+
+ObjectProperties ObjectProperties::nominal(const ShapeInfo& shape) {
+  ObjectProperties p;
+  p.mass_kg = shape.mass_kg;
+  p.inertia_kgm2 = shape.inertia_kgm2;
+  p.mass_centre_m = shape.centroid_m;
+  return p;
+}
+
+PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectProperties& object,
+                                       const SupportFriction& support, const RodContact& contact,
+                                       const PusherPath& path)
+    : outline_(shape), object_(object), support_(support), contact_(contact), path_(path) {
+  require_positive(object.mass_kg, "object mass");
+  require_positive(object.inertia_kgm2, "object moment of inertia");
+  if (!(support.coefficient >= 0) || !std::isfinite(support.coefficient))
+    throw InputError("support friction coefficient must not be negative");
+  require_positive(support.regularisation_m_s, "support friction regularisation speed");
+  require_positive(contact.stiffness_N_m, "contact stiffness");
+  require_positive(contact.rod_radius_m, "rod radius");
+  require_positive(contact.regularisation_m_s, "contact friction regularisation speed");
+  if (!(contact.damping_N_s_m >= 0) || !(contact.friction >= 0) || !(contact.damping_blend_m > 0))
+    throw InputError("contact damping and friction must not be negative");
+  if (!(support.viscous_per_kg >= 0)) throw InputError("viscous friction must not be negative");
+  if (!(support.stribeck_excess >= 0) || !(support.stribeck_speed_m_s > 0))
+    throw InputError("Stribeck excess must not be negative and its speed must be positive");
+  if (!(support.patch_excess > -1)) throw InputError("patch friction change must be above -1 (friction stays positive)");
+  if (!object.mass_centre_m.allFinite()) throw InputError("mass centre must be finite");
+
+  // Planar pressure p_i = 1 + g . (r_i - c) over the footprint: its centre of pressure is c + J g / A, which
+  // must be the mass centre for the object to rest on the table without tipping.
+  const Footprint footprint = make_footprint(outline_);
+  const Eigen::Vector2d g = footprint.total_area_m2 * footprint.second_moment_m4.inverse() *
+                            (object.mass_centre_m - footprint.centroid_m);
+  double total = 0;
+  load_.resize(footprint.area_m2.size());
+  for (size_t i = 0; i < load_.size(); ++i) {
+    const double p = 1 + g.dot(footprint.centre_m[i] - footprint.centroid_m);
+    if (p < 0)
+      throw InputError("mass centre (" + std::to_string(object.mass_centre_m.x()) + ", " +
+                       std::to_string(object.mass_centre_m.y()) +
+                       ") m is too far from the footprint's centroid: the pressure under the object would turn "
+                       "negative");
+    load_[i] = p * footprint.area_m2[i];
+    total += load_[i];
+  }
+  for (auto& l : load_) l *= object.mass_kg * support.gravity_m_s2 / total;
+  element_from_mass_centre_.reserve(load_.size());
+  for (const auto& c : footprint.centre_m) element_from_mass_centre_.push_back(c - object.mass_centre_m);
+}
+
+Eigen::VectorXd PushedObjectSystem::state_at_rest(const Eigen::Vector3d& pose) const {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(6);
+  x.head<2>() = pose.head<2>() + rotation(pose(2)) * object_.mass_centre_m;
+  x(2) = pose(2);
+  return x;
+}
+
+Eigen::Vector3d PushedObjectSystem::tracked_pose(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  Eigen::Vector3d pose;
+  pose.head<2>() = x.head<2>() - rotation(x(2)) * object_.mass_centre_m;
+  pose(2) = x(2);
+  return pose;
+}
+
+RodWrench PushedObjectSystem::rod_wrench(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  RodWrench w;
+  const Eigen::Matrix2d R = rotation(x(2));
+  const Eigen::Vector2d mass_centre = x.head<2>();
+  const Eigen::Vector2d origin = mass_centre - R * object_.mass_centre_m;
+  w.rod_centre_m = path_.position_m(t);
+  const Outline::Closest c = outline_.closest(R.transpose() * (w.rod_centre_m - origin));
+  w.penetration_m = contact_.rod_radius_m - c.signed_distance_m;
+  w.contact_point_m = origin + R * c.point_m;
+  if (w.penetration_m <= 0) return w;
+
+  const Eigen::Vector2d n = R * c.normal;  // outward normal of the object, world
+  const Eigen::Vector2d tangent(-n.y(), n.x());
+  const Eigen::Vector2d v_centre = x.segment<2>(3);
+  const double omega = x(5);
+  const Eigen::Vector2d arm = w.contact_point_m - mass_centre;
+  const Eigen::Vector2d v_material = v_centre + omega * Eigen::Vector2d(-arm.y(), arm.x());
+  const Eigen::Vector2d v_rel = path_.velocity_m_s(t) - v_material;  // rod relative to the object's surface
+  const double penetration_rate = -n.dot(v_rel);
+  const double blend = std::min(1.0, w.penetration_m / contact_.damping_blend_m);
+  const double normal =
+      std::max(0.0, contact_.stiffness_N_m * w.penetration_m + contact_.damping_N_s_m * penetration_rate * blend);
+  if (normal <= 0) return w;
+  const double slip = tangent.dot(v_rel);
+  const double tangential =
+      contact_.friction * normal * slip / std::sqrt(slip * slip + contact_.regularisation_m_s * contact_.regularisation_m_s);
+  w.touching = true;
+  w.force_on_object_N = -normal * n + tangential * tangent;
+  w.torque_about_rod_Nm = cross(w.contact_point_m - w.rod_centre_m, w.force_on_object_N);
+  return w;
+}
+
+PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  const Eigen::Matrix2d R = rotation(x(2));
+  const Eigen::Vector2d v_body = R.transpose() * x.segment<2>(3);
+  const double omega = x(5);
+  const double eps2 = support_.regularisation_m_s * support_.regularisation_m_s;
+  const bool stribeck = support_.stribeck_excess > 0;
+  const bool patch = support_.patch_excess != 0;
+  const double vs2 = support_.stribeck_speed_m_s * support_.stribeck_speed_m_s;
+  Eigen::Vector2d force_body = Eigen::Vector2d::Zero();
+  double torque = 0;
+  for (size_t i = 0; i < load_.size(); ++i) {
+    const Eigen::Vector2d& r = element_from_mass_centre_[i];
+    const Eigen::Vector2d v(v_body.x() - omega * r.y(), v_body.y() + omega * r.x());
+    const double speed2 = v.squaredNorm();
+    double mu = support_.coefficient;
+    if (stribeck) mu *= 1 + support_.stribeck_excess * std::exp(-speed2 / vs2);
+    if (patch) {
+      const Eigen::Vector2d where = x.head<2>() + R * r;
+      const double inside = (support_.patch_radius_m + 0.5 * support_.patch_edge_m - (where - support_.patch_centre_m).norm()) /
+                            support_.patch_edge_m;
+      const double s = std::clamp(inside, 0.0, 1.0);
+      mu *= 1 + support_.patch_excess * s * s * (3 - 2 * s);  // smooth step: the force stays continuous
+    }
+    const Eigen::Vector2d f = -(mu * load_[i] / std::sqrt(speed2 + eps2)) * v;
+    force_body += f;
+    torque += r.x() * f.y() - r.y() * f.x();
+  }
+  PlanarWrench w;
+  w.force_N = R * force_body;
+  w.torque_Nm = torque;
+  if (support_.viscous_per_kg > 0) {
+    w.force_N -= support_.viscous_per_kg * object_.mass_kg * x.segment<2>(3);
+    w.torque_Nm -= support_.viscous_per_kg * object_.inertia_kgm2 * omega;
+  }
+  return w;
+}
+
+void PushedObjectSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                    Eigen::Ref<Eigen::VectorXd> xdot) const {
+  const PlanarWrench support = support_wrench(x);
+  const RodWrench rod = rod_wrench(t, x);
+  Eigen::Vector2d force = support.force_N;
+  double torque = support.torque_Nm;
+  if (rod.touching) {
+    force += rod.force_on_object_N;
+    torque += cross(rod.contact_point_m - x.head<2>(), rod.force_on_object_N);
+  }
+  xdot.head<3>() = x.tail<3>();
+  xdot.segment<2>(3) = force / object_.mass_kg;
+  xdot(5) = torque / object_.inertia_kgm2;
+}
+
+std::vector<double> PushedObjectSystem::discontinuities(double t0, double t1) const {
+  std::vector<double> out;
+  for (double b : path_.phase_boundaries())
+    if (b > t0 && b < t1) out.push_back(b);
+  return out;
+}
+
+}  // namespace pushpred
