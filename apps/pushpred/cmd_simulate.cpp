@@ -19,8 +19,7 @@ struct SimulateArgs {
   std::optional<int> paper_case;
   std::string config, out;
   std::optional<std::string> shape, surface;
-  std::optional<double> mu, contact_mu, speed, acceleration, position, angle, length, gap, noise_scale,
-      jitter_scale;
+  std::optional<double> mu, contact_mu, speed, acceleration, position, angle, length, gap, noise_scale, jitter_scale;
   std::optional<int> side;
   std::optional<std::uint64_t> seed;
   std::vector<std::string> effects;
@@ -31,8 +30,10 @@ struct SimulateArgs {
 PushScenario scenario_from_args(const SimulateArgs& a) {
   PushScenario s;
   if (a.paper_case && !a.config.empty()) throw InputError("give either --case or --config, not both");
-  if (a.paper_case) s = paper_case_scenario(*a.paper_case);
-  else if (!a.config.empty()) s = read_scenario_file(a.config);
+  if (a.paper_case)
+    s = paper_case_scenario(*a.paper_case);
+  else if (!a.config.empty())
+    s = read_scenario_file(a.config);
   if (a.shape) s.shape = *a.shape;
   if (a.surface) s.surface = *a.surface;
   if (a.mu) s.surface_friction = *a.mu;
@@ -77,9 +78,10 @@ int run_compare(const SimulateArgs& a) {
   const double mu = a.mu ? *a.mu : PushScenario().surface_friction;
   const double contact_mu = a.contact_mu ? *a.contact_mu : PushScenario().contact_friction;
   const Batch<RealComparison> batch = compare_with_real(a.files, mu, contact_mu);
-  std::printf("clean simulations (surface friction %.3f, rod friction %.3f) of the real pushes, with their parameters, "
-              "pose, gap and timing\n",
-              mu, contact_mu);
+  std::printf(
+      "clean simulations (surface friction %.3f, rod friction %.3f) of the real pushes, with their parameters, "
+      "pose, gap and timing\n",
+      mu, contact_mu);
   std::cout << comparison_table(batch, mu);
   for (const auto& f : batch.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
   return batch.failures.empty() ? 0 : 1;
@@ -88,7 +90,8 @@ int run_compare(const SimulateArgs& a) {
 int run_simulate(const SimulateArgs& a) {
   if (a.measure_real) return run_measure(a);
   if (a.compare_real) return run_compare(a);
-  if (!a.files.empty()) throw InputError("unexpected arguments (recordings are only read with --compare-real or --measure-real)");
+  if (!a.files.empty())
+    throw InputError("unexpected arguments (recordings are only read with --compare-real or --measure-real)");
   const PushScenario s = scenario_from_args(a);
   if (a.print_config) std::cout << scenario_to_json(s).dump(2) << "\n";
   if (a.out.empty()) {
@@ -114,8 +117,8 @@ std::string effects_help() {
   std::string h = "Effects (--effect NAME=AMOUNT, repeatable; never written into the file):\n";
   for (const auto& e : effect_catalogue()) {
     char line[512];
-    std::snprintf(line, sizeof line, "  %-18s [%s] %s (neutral %g)\n", e.name.c_str(), e.unit.c_str(), e.meaning.c_str(),
-                  e.neutral);
+    std::snprintf(line, sizeof line, "  %-18s [%s] %s (neutral %g)\n", e.name.c_str(), e.unit.c_str(),
+                  e.meaning.c_str(), e.neutral);
     h += line;
   }
   h += "Paper cases (--case N): rect2 on abs; 1-3 at 10 mm/s, 4 at 50 mm/s, 5 at 0.2 m/s^2, 6 at 2.5 m/s^2.\n"

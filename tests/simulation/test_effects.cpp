@@ -1,6 +1,5 @@
 // Each hidden effect changes the simulated recording the way its physics says, and only that way.
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 
 #include "pushpred/simulation/pushed_object_system.hpp"
@@ -142,10 +141,10 @@ BOOST_AUTO_TEST_CASE(viscous_friction_adds_a_drag_proportional_to_speed) {
 }
 
 BOOST_AUTO_TEST_CASE(stribeck_friction_raises_the_force_at_low_speed_only) {
-  const double slow_rise = cruise_force(run(central_push(0.01), "stribeck_friction", 0.5)) /
-                               cruise_force(run(central_push(0.01))) - 1;
-  const double fast_rise = cruise_force(run(central_push(0.08), "stribeck_friction", 0.5)) /
-                               cruise_force(run(central_push(0.08))) - 1;
+  const double slow_rise =
+      cruise_force(run(central_push(0.01), "stribeck_friction", 0.5)) / cruise_force(run(central_push(0.01))) - 1;
+  const double fast_rise =
+      cruise_force(run(central_push(0.08), "stribeck_friction", 0.5)) / cruise_force(run(central_push(0.08))) - 1;
   // Steady sliding at 10 mm/s would give 0.5 exp(-1) = 0.18; the falling friction makes the push stick and slip,
   // so the mean lies between the sliding and the static value.
   BOOST_TEST(slow_rise > 0.1);
@@ -158,7 +157,9 @@ BOOST_AUTO_TEST_CASE(position_friction_grows_as_the_object_runs_onto_the_patch) 
   const SimulatedPush clean = run(s), patched = run(s, "position_friction", 1.0);
   const ShapeInfo& rect2 = ShapeTable::published().find("rect2");
   const double patch_share = M_PI * 0.02 * 0.02 / (rect2.dim1_m * rect2.dim2_m);  // of the uniform load
-  auto rise = [&](double d0, double d1) { return force_at_travel(patched, d0, d1) / force_at_travel(clean, d0, d1) - 1; };
+  auto rise = [&](double d0, double d1) {
+    return force_at_travel(patched, d0, d1) / force_at_travel(clean, d0, d1) - 1;
+  };
   // The patch's near rim is 5 mm ahead of the leading side, its far rim 45 mm.
   BOOST_TEST(std::abs(rise(0.001, 0.004)) < 0.003);
   BOOST_TEST(rise(0.023, 0.027) > 0.35 * patch_share);

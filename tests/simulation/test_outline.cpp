@@ -1,6 +1,5 @@
 #define BOOST_TEST_MODULE simulation
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -82,7 +81,8 @@ BOOST_AUTO_TEST_CASE(the_footprint_has_the_outline_area_and_centroid) {
     const ShapeInfo& s = ShapeTable::published().find(name);
     const Footprint f = make_footprint(Outline(s));
     // Exact for polygons (cells clipped by the sides), sampled for ellipses.
-    BOOST_TEST(f.total_area_m2 == area_of(s), boost::test_tools::tolerance(s.geometry == Geometry::Ellipse ? 1e-3 : 1e-9));
+    BOOST_TEST(f.total_area_m2 == area_of(s),
+               boost::test_tools::tolerance(s.geometry == Geometry::Ellipse ? 1e-3 : 1e-9));
     BOOST_TEST((f.centroid_m - s.centroid_m).norm() < 1e-9, name);
     BOOST_TEST(f.area_m2.size() >= 200u);
   }

@@ -1,6 +1,5 @@
 // The physics of the simulated object: Newton's laws with distributed Coulomb friction and a compliant rod.
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 
 #include "pushpred/core/error.hpp"

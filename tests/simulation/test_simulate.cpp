@@ -1,9 +1,9 @@
 // A simulated push is a recording like the real ones: same layout and naming, same clocks and noise, and it
 // moves the object the way the real pushes moved theirs.
-#include <boost/test/unit_test.hpp>
 #include <hdf5.h>
 
 #include <algorithm>
+#include <boost/test/unit_test.hpp>
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
@@ -137,8 +137,10 @@ BOOST_AUTO_TEST_CASE(clean_simulations_of_the_real_pushes_move_the_objects_as_th
   std::vector<std::string> rect1, others;
   for (const auto& p : list_recordings(data)) {
     const std::string name = p.filename().string();
-    if (name.find("rect1") != std::string::npos) rect1.push_back(p.string());
-    else if (name.find("butter") == std::string::npos) others.push_back(p.string());
+    if (name.find("rect1") != std::string::npos)
+      rect1.push_back(p.string());
+    else if (name.find("butter") == std::string::npos)
+      others.push_back(p.string());
   }
   const double mu = PushScenario().surface_friction;
   const auto r = compare_with_real(rect1, mu);

@@ -23,9 +23,12 @@ double ellipse_root(double r0, double z0, double z1, double g) {
     if (s == s0 || s == s1) break;
     const double ratio0 = n0 / (s + r0), ratio1 = z1 / (s + 1);
     const double gs = ratio0 * ratio0 + ratio1 * ratio1 - 1;
-    if (gs > 0) s0 = s;
-    else if (gs < 0) s1 = s;
-    else break;
+    if (gs > 0)
+      s0 = s;
+    else if (gs < 0)
+      s1 = s;
+    else
+      break;
   }
   return s;
 }
@@ -236,7 +239,8 @@ Footprint make_footprint(const Outline& outline, int cells_across, int subsample
       int inside = 0;
       for (int u = 0; u < subsamples; ++u)
         for (int v = 0; v < subsamples; ++v) {
-          const Eigen::Vector2d q = c0 + Eigen::Vector2d((u + 0.5) / subsamples * cell.x(), (v + 0.5) / subsamples * cell.y());
+          const Eigen::Vector2d q =
+              c0 + Eigen::Vector2d((u + 0.5) / subsamples * cell.x(), (v + 0.5) / subsamples * cell.y());
           if (outline.contains(q)) {
             sum += q;
             ++inside;

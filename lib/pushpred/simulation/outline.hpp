@@ -24,7 +24,7 @@ class Outline {
   explicit Outline(const ShapeInfo& shape);
 
   struct Closest {
-    double signed_distance_m = 0;  ///< negative inside
+    double signed_distance_m = 0;                       ///< negative inside
     Eigen::Vector2d point_m = Eigen::Vector2d::Zero();  ///< nearest point on the outline
     Eigen::Vector2d normal = Eigen::Vector2d::UnitX();  ///< outward unit normal there
   };
@@ -47,7 +47,7 @@ class Outline {
 
  private:
   bool ellipse_ = false;
-  double a_ = 0, b_ = 0;                  // ellipse semi-axes along body x and y
+  double a_ = 0, b_ = 0;                   // ellipse semi-axes along body x and y
   std::vector<Eigen::Vector2d> vertices_;  // polygon, counter-clockwise, in contact-side order
   std::vector<Eigen::Vector2d> normals_;   // outward unit normal of edge i (vertex i to i+1)
   Eigen::Vector2d lower_, upper_;

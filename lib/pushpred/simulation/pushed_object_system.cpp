@@ -50,14 +50,15 @@ PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectPrope
   if (!(support.viscous_per_kg >= 0)) throw InputError("viscous friction must not be negative");
   if (!(support.stribeck_excess >= 0) || !(support.stribeck_speed_m_s > 0))
     throw InputError("Stribeck excess must not be negative and its speed must be positive");
-  if (!(support.patch_excess > -1)) throw InputError("patch friction change must be above -1 (friction stays positive)");
+  if (!(support.patch_excess > -1))
+    throw InputError("patch friction change must be above -1 (friction stays positive)");
   if (!object.mass_centre_m.allFinite()) throw InputError("mass centre must be finite");
 
   // Planar pressure p_i = 1 + g . (r_i - c) over the footprint: its centre of pressure is c + J g / A, which
   // must be the mass centre for the object to rest on the table without tipping.
   const Footprint footprint = make_footprint(outline_);
-  const Eigen::Vector2d g = footprint.total_area_m2 * footprint.second_moment_m4.inverse() *
-                            (object.mass_centre_m - footprint.centroid_m);
+  const Eigen::Vector2d g =
+      footprint.total_area_m2 * footprint.second_moment_m4.inverse() * (object.mass_centre_m - footprint.centroid_m);
   double total = 0;
   load_.resize(footprint.area_m2.size());
   for (size_t i = 0; i < load_.size(); ++i) {
@@ -113,8 +114,8 @@ RodWrench PushedObjectSystem::rod_wrench(double t, const Eigen::Ref<const Eigen:
       std::max(0.0, contact_.stiffness_N_m * w.penetration_m + contact_.damping_N_s_m * penetration_rate * blend);
   if (normal <= 0) return w;
   const double slip = tangent.dot(v_rel);
-  const double tangential =
-      contact_.friction * normal * slip / std::sqrt(slip * slip + contact_.regularisation_m_s * contact_.regularisation_m_s);
+  const double tangential = contact_.friction * normal * slip /
+                            std::sqrt(slip * slip + contact_.regularisation_m_s * contact_.regularisation_m_s);
   w.touching = true;
   w.force_on_object_N = -normal * n + tangential * tangent;
   w.torque_about_rod_Nm = cross(w.contact_point_m - w.rod_centre_m, w.force_on_object_N);
@@ -139,8 +140,9 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
     if (stribeck) mu *= 1 + support_.stribeck_excess * std::exp(-speed2 / vs2);
     if (patch) {
       const Eigen::Vector2d where = x.head<2>() + R * r;
-      const double inside = (support_.patch_radius_m + 0.5 * support_.patch_edge_m - (where - support_.patch_centre_m).norm()) /
-                            support_.patch_edge_m;
+      const double inside =
+          (support_.patch_radius_m + 0.5 * support_.patch_edge_m - (where - support_.patch_centre_m).norm()) /
+          support_.patch_edge_m;
       const double s = std::clamp(inside, 0.0, 1.0);
       mu *= 1 + support_.patch_excess * s * s * (3 - 2 * s);  // smooth step: the force stays continuous
     }

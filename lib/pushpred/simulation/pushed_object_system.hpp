@@ -32,25 +32,25 @@ namespace pushpred {
 /// The object as simulated (true values, which may differ from the shape table's nominal ones).
 struct ObjectProperties {
   double mass_kg = 1.0;
-  double inertia_kgm2 = 1e-3;                                   ///< about the mass centre
-  Eigen::Vector2d mass_centre_m = Eigen::Vector2d::Zero();      ///< body frame
+  double inertia_kgm2 = 1e-3;                               ///< about the mass centre
+  Eigen::Vector2d mass_centre_m = Eigen::Vector2d::Zero();  ///< body frame
   /// The nominal values of `shape`: its mass, inertia and centroid.
   static ObjectProperties nominal(const ShapeInfo& shape);
 };
 
 struct SupportFriction {
-  double gravity_m_s2 = 9.81;         ///< the weight m g is what the surface carries
-  double coefficient = 0.35;          ///< Coulomb mu between object and surface
+  double gravity_m_s2 = 9.81;  ///< the weight m g is what the surface carries
+  double coefficient = 0.35;   ///< Coulomb mu between object and surface
   /// eps in v / sqrt(|v|^2 + eps^2). Under a load f below mu N a resting object creeps at about eps f / (mu N):
   /// at 1e-5 m/s that is under a micrometre over a rest period, below the tracker's noise.
   double regularisation_m_s = 1e-5;
-  double stribeck_excess = 0;         ///< mu(v) = mu (1 + excess exp(-(v / stribeck_speed)^2))
+  double stribeck_excess = 0;  ///< mu(v) = mu (1 + excess exp(-(v / stribeck_speed)^2))
   double stribeck_speed_m_s = 0.01;
-  double patch_excess = 0;            ///< mu (1 + excess) inside the patch disk (world frame)
+  double patch_excess = 0;  ///< mu (1 + excess) inside the patch disk (world frame)
   Eigen::Vector2d patch_centre_m = Eigen::Vector2d::Zero();
   double patch_radius_m = 0.02;
-  double patch_edge_m = 0.002;        ///< width of the smooth step at the patch rim
-  double viscous_per_kg = 0;          ///< extra drag -c m v and -c I omega [1/s = N s/m per kg]
+  double patch_edge_m = 0.002;  ///< width of the smooth step at the patch rim
+  double viscous_per_kg = 0;    ///< extra drag -c m v and -c I omega [1/s = N s/m per kg]
 };
 
 struct RodContact {
@@ -58,7 +58,7 @@ struct RodContact {
   double stiffness_N_m = 1e4;
   double damping_N_s_m = 25.0;
   double damping_blend_m = 5e-5;
-  double friction = 0.25;            ///< Coulomb mu between rod and object
+  double friction = 0.25;  ///< Coulomb mu between rod and object
   double regularisation_m_s = 1e-5;
 };
 
@@ -88,7 +88,8 @@ class PushedObjectSystem final : public ContinuousSystem {
                      const RodContact& contact, const PusherPath& path);
 
   int state_size() const override { return 6; }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override;
   std::vector<double> discontinuities(double t0_s, double t1_s) const override;
 
   /// The state at rest with the tracked centre at `tracked_pose` (x, y [m], yaw [rad]).

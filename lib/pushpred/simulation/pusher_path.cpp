@@ -14,8 +14,12 @@ void require_positive(double value, const std::string& what) {
 }
 
 // Raised-cosine ramps: speed V (1 - cos(pi s / T)) / 2 rising, V (1 + cos(pi s / T)) / 2 falling.
-double rising_distance(double v, double ramp, double s) { return 0.5 * v * (s - ramp / M_PI * std::sin(M_PI * s / ramp)); }
-double falling_distance(double v, double ramp, double s) { return 0.5 * v * (s + ramp / M_PI * std::sin(M_PI * s / ramp)); }
+double rising_distance(double v, double ramp, double s) {
+  return 0.5 * v * (s - ramp / M_PI * std::sin(M_PI * s / ramp));
+}
+double falling_distance(double v, double ramp, double s) {
+  return 0.5 * v * (s + ramp / M_PI * std::sin(M_PI * s / ramp));
+}
 
 }  // namespace
 

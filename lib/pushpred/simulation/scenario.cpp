@@ -134,9 +134,10 @@ PushParameters PushScenario::push_parameters() const {
 void PushScenario::validate() const {
   const ShapeInfo& s = ShapeTable::published().find(shape);
   require(s.has_outline(), "shape '" + shape + "' has no outline in the shape table and cannot be simulated");
-  require(!surface.empty() && surface.find_first_not_of(
-                                  "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789") == std::string::npos,
-          "surface name '" + surface + "' must be letters and digits (it goes into the file name)");
+  require(
+      !surface.empty() && surface.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789") ==
+                              std::string::npos,
+      "surface name '" + surface + "' must be letters and digits (it goes into the file name)");
   require(surface_friction > 0 && std::isfinite(surface_friction), "surface friction must be positive");
   require(contact_friction >= 0 && std::isfinite(contact_friction), "contact friction must not be negative");
   if (motion.profile == PusherMotion::Profile::ConstantSpeed)
@@ -163,10 +164,10 @@ void PushScenario::validate() const {
 
 PushScenario scenario_from_json(const nlohmann::json& j, const std::string& source) {
   static const std::set<std::string> known = {
-      "name", "comment", "shape", "surface", "surface_friction", "contact_friction", "speed_m_s",
-      "acceleration_m_s2", "push_length_m", "ramp_s", "contact_side", "contact_position", "push_angle_rad",
-      "approach_gap_m", "initial_pose", "rest_before_s", "rest_after_s", "start_unix_s", "seed", "effects",
-      "sensors"};
+      "name",           "comment",           "shape",         "surface",       "surface_friction", "contact_friction",
+      "speed_m_s",      "acceleration_m_s2", "push_length_m", "ramp_s",        "contact_side",     "contact_position",
+      "push_angle_rad", "approach_gap_m",    "initial_pose",  "rest_before_s", "rest_after_s",     "start_unix_s",
+      "seed",           "effects",           "sensors"};
   try {
     require(j.is_object(), "a scenario must be a JSON object");
     for (const auto& [key, value] : j.items()) {

@@ -42,7 +42,7 @@ std::pair<std::string, double> parse_effect_assignment(const std::string& text);
 struct Effects {
   double time_offset_s = 0;
   double force_offset_N = 0;
-  double viscous_per_kg = 0;          ///< [1/s]
+  double viscous_per_kg = 0;  ///< [1/s]
   double stribeck_excess = 0;
   double position_friction_excess = 0;
   double com_offset_m = 0;
@@ -62,24 +62,24 @@ struct SensorRealism {
 };
 
 struct PushScenario {
-  std::string name;                    ///< a label, e.g. "paper case 1"
+  std::string name;  ///< a label, e.g. "paper case 1"
   std::string shape = "rect2";
-  std::string surface = "abs";         ///< only goes into the file name
+  std::string surface = "abs";  ///< only goes into the file name
   /// Coulomb mu, object on surface. 0.47 is the abs value at which clean simulations of the real pushes match
   /// their measured force level (docs/simulator.md); the paper quotes 0.13-0.15 for abs.
   double surface_friction = 0.47;
-  double contact_friction = 0.25;      ///< Coulomb mu, rod on object
-  PusherMotion motion;                 ///< speed or acceleration, length, ramp
+  double contact_friction = 0.25;  ///< Coulomb mu, rod on object
+  PusherMotion motion;             ///< speed or acceleration, length, ramp
   int contact_side = 0;
-  double contact_position = 0.5;       ///< 0..1 along the side
-  double push_angle_rad = 0;           ///< push direction = inward normal rotated counter-clockwise by this
+  double contact_position = 0.5;  ///< 0..1 along the side
+  double push_angle_rad = 0;      ///< push direction = inward normal rotated counter-clockwise by this
   /// Rod surface to outline at the start; negative: the rod starts pressed into the object by that much, a
   /// preload of stiffness x |gap| (1e4 N/m: 0.0002 m is 2 N), as in many real files.
   double approach_gap_m = 0.001;
   double initial_x_m = 0.35, initial_y_m = 0.0, initial_yaw_rad = 0.0;  ///< tracked centre, robot frame
-  double rest_before_s = 0.18;         ///< recording before the rod moves
-  double rest_after_s = 0.27;          ///< recording after the rod stops
-  double start_unix_s = 1.6e9;         ///< Unix time of the force stream's first sample
+  double rest_before_s = 0.18;                                          ///< recording before the rod moves
+  double rest_after_s = 0.27;                                           ///< recording after the rod stops
+  double start_unix_s = 1.6e9;  ///< Unix time of the force stream's first sample
   std::uint64_t seed = 1;
   Effects effects;
   SensorRealism sensors;

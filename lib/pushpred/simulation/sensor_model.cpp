@@ -44,8 +44,8 @@ SensorModel SensorModel::mcube() {
   tip.period_s = 1.0 / 248.0;
   tip.short_interval_s = 3.35e-3;  // the measured modes (3.40, 4.49 ms) less the median of the tail
   tip.long_interval_s = 4.44e-3;
-  tip.tail_mean_s = 0.11e-3;       // with these, 47.5 % short intervals give the mean 4.032 ms, as measured
-  tip.lock_width_s = 0.8e-3;       // successive intervals correlate at about -0.5, as measured
+  tip.tail_mean_s = 0.11e-3;  // with these, 47.5 % short intervals give the mean 4.032 ms, as measured
+  tip.lock_width_s = 0.8e-3;  // successive intervals correlate at about -0.5, as measured
   tip.start_offset_min_s = -4e-3;
   tip.start_offset_max_s = 2e-3;
   tip.end_offset_min_s = -4e-3;
@@ -90,8 +90,8 @@ StreamSchedule draw_schedule(const StreamClock& c, double duration, double js, s
   } else {
     if (!(c.period_s > 0) || !(c.long_interval_s > c.short_interval_s))
       throw InputError("stream clock needs a positive period and a long interval above the short one");
-    const double p0 = std::clamp((c.period_s - c.short_interval_s - c.tail_mean_s) / (c.long_interval_s - c.short_interval_s),
-                                 0.0, 1.0);
+    const double p0 = std::clamp(
+        (c.period_s - c.short_interval_s - c.tail_mean_s) / (c.long_interval_s - c.short_interval_s), 0.0, 1.0);
     std::exponential_distribution<double> tail(c.tail_mean_s > 0 ? 1.0 / c.tail_mean_s : 1.0);
     double ahead = 0;  // stamp minus its grid time
     for (double t = first; t <= last;) {

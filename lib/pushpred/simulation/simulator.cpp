@@ -97,7 +97,8 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
       draw_noise(sensors.object_pose, sensors.slow_time_constant_s, object_clock.stamp_s, ns, rng);
   const Eigen::MatrixX3d force_noise =
       draw_noise(sensors.ft_wrench, sensors.slow_time_constant_s, force_clock.stamp_s, ns, rng);
-  const Eigen::MatrixX3d tip_noise = draw_noise(sensors.tip_pose, sensors.slow_time_constant_s, tip_clock.stamp_s, ns, rng);
+  const Eigen::MatrixX3d tip_noise =
+      draw_noise(sensors.tip_pose, sensors.slow_time_constant_s, tip_clock.stamp_s, ns, rng);
 
   // The force sensor lags by time_offset: its sample stamped at grid time t holds the force at t - offset.
   // An instant a rounding error away from a phase boundary of the rod is taken as that boundary (the state is
@@ -330,7 +331,8 @@ ComparisonSummary summarise_comparison(const Batch<RealComparison>& batch, doubl
     s.mean_abs_travel_mm += std::abs(c.real.travel_mm - c.simulated.travel_mm);
     s.mean_abs_rotation_deg += std::abs(c.real.rotation_deg - c.simulated.rotation_deg);
     s.mean_abs_duration_s += std::abs(c.real.duration_s - c.simulated.duration_s);
-    if (!c.real_force_trusted || !std::isfinite(c.real_force_per_weight) || !std::isfinite(c.simulated_force_per_weight))
+    if (!c.real_force_trusted || !std::isfinite(c.real_force_per_weight) ||
+        !std::isfinite(c.simulated_force_per_weight))
       continue;
     ++s.force_pushes;
     s.mean_abs_force_per_weight += std::abs(c.real_force_per_weight - c.simulated_force_per_weight);
@@ -372,7 +374,8 @@ std::string comparison_table(const Batch<RealComparison>& batch, double surface_
     char force[64], ratio[64], spread[64], final[64];
     if (c.real_force_trusted) {
       std::snprintf(final, sizeof final, "%5.2f / %5.2f", c.real_final_force_N, c.simulated_final_force_N);
-      std::snprintf(force, sizeof force, "%5.2f / %5.2f", c.real.mean_contact_force_N, c.simulated.mean_contact_force_N);
+      std::snprintf(force, sizeof force, "%5.2f / %5.2f", c.real.mean_contact_force_N,
+                    c.simulated.mean_contact_force_N);
       std::snprintf(ratio, sizeof ratio, "%5.2f / %5.2f", c.real_force_per_weight, c.simulated_force_per_weight);
       std::snprintf(spread, sizeof spread, "%5.2f / %5.2f", c.real_force_spread_N, c.simulated_force_spread_N);
     } else {
@@ -386,8 +389,8 @@ std::string comparison_table(const Batch<RealComparison>& batch, double surface_
                   c.simulated.travel_mm, c.real.rotation_deg, c.simulated.rotation_deg, force, ratio, spread, final);
     out += line;
   }
-  std::snprintf(line, sizeof line, "%zu recordings compared, %zu failed%s\n", batch.results.size(), batch.failures.size(),
-                "; '-': real force sensor frozen (flagged by inspect), not compared");
+  std::snprintf(line, sizeof line, "%zu recordings compared, %zu failed%s\n", batch.results.size(),
+                batch.failures.size(), "; '-': real force sensor frozen (flagged by inspect), not compared");
   out += line;
   const ComparisonSummary s = summarise_comparison(batch, surface_friction);
   std::snprintf(line, sizeof line,
@@ -399,7 +402,8 @@ std::string comparison_table(const Batch<RealComparison>& batch, double surface_
   std::snprintf(line, sizeof line, "surface friction at which the simulated force level matches (median): %.3f\n",
                 s.matching_surface_friction);
   out += line;
-  std::snprintf(line, sizeof line, "force fluctuation while pushing, median std of |f|: real %.2f N, simulated %.2f N\n",
+  std::snprintf(line, sizeof line,
+                "force fluctuation while pushing, median std of |f|: real %.2f N, simulated %.2f N\n",
                 s.median_real_force_spread_N, s.median_simulated_force_spread_N);
   out += line;
   return out;

@@ -31,9 +31,9 @@ struct SimulatedPush {
 
   // Truth, on the simulation clock, at every instant a sensor sampled the object or the force (sorted).
   Eigen::VectorXd t_s;
-  Eigen::MatrixX3d tracked_pose;        ///< tracked centre x, y [m], yaw [rad] (unwrapped), world
+  Eigen::MatrixX3d tracked_pose;          ///< tracked centre x, y [m], yaw [rad] (unwrapped), world
   Eigen::MatrixX3d mass_centre_velocity;  ///< vX, vY [m/s], omega [rad/s]
-  Eigen::MatrixX2d force_on_object_N;   ///< the rod's force on the object, world
+  Eigen::MatrixX2d force_on_object_N;     ///< the rod's force on the object, world
   std::vector<char> touching;
   double push_start_s = 0, push_end_s = 0;  ///< the rod's motion
   double rod_peak_speed_m_s = 0;
@@ -62,7 +62,7 @@ struct RealComparison {
   double real_force_per_weight = 0, simulated_force_per_weight = 0;  ///< median |f| / (m g), middle of push
   double real_force_spread_N = 0, simulated_force_spread_N = 0;      ///< std of |f| over the same span
   double real_final_force_N = 0, simulated_final_force_N = 0;        ///< median |f| over the last 0.1 s
-  bool real_force_trusted = true;  ///< false when the real force sensor is frozen
+  bool real_force_trusted = true;                                    ///< false when the real force sensor is frozen
 };
 
 /// Simulates a clean copy of each real recording (see scenario_like_recording) and inspects both the same way
