@@ -44,6 +44,12 @@ void observer_cvode(benchmark::State& state, pushpred::Hold hold, double rtol) {
   for (auto _ : state) benchmark::DoNotOptimize(observer.estimate(push));
 }
 
+void pid_exact(benchmark::State& state) {
+  const auto& push = ellip3_push();
+  const pushpred::PidForceReconstruction pid;
+  for (auto _ : state) benchmark::DoNotOptimize(pid.estimate_exactly(push, 0, push.duration_s()));
+}
+
 void pid_cvode(benchmark::State& state) {
   const auto& push = ellip3_push();
   const pushpred::PidForceReconstruction pid;
@@ -59,6 +65,7 @@ const bool registered = [] {
       ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("observer/cvode_zero_hold_rtol1e-8", observer_cvode, Hold::Zero, 1e-8)
       ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("pid/exact", pid_exact)->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("pid/cvode_rtol1e-8", pid_cvode)->Unit(benchmark::kMillisecond);
   return true;
 }();

@@ -21,7 +21,7 @@ struct DiagnoseArgs {
   int intervals = 4;
   double plan_rate_hz = 10.0, bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
-  bool no_confirm = false, no_plots = false;
+  bool no_confirm = false, no_plots = false, no_structure = false;
 };
 
 int run_diagnose(const DiagnoseArgs& a) {
@@ -32,6 +32,7 @@ int run_diagnose(const DiagnoseArgs& a) {
   o.study.estimator = a.estimator;
   o.bic_threshold = a.bic_threshold;
   o.confirm_on_prediction = !a.no_confirm;
+  o.search_structure = !a.no_structure;
   o.validate();
   make_relation_estimator(o.study.estimator);  // fail on a bad name before reading
   EffectLibrary library = EffectLibrary::standard();
@@ -77,6 +78,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--exclude", a->exclude, "Candidate effect kinds to leave out (repeatable)");
   sub->add_flag("--no-confirm", a->no_confirm, "Skip the confirmation of selected effects on the fit pushes' predictions");
+  sub->add_flag("--no-structure", a->no_structure, "Do not try the prediction-structure effects");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
   sub->callback([a, &run] { run = [a] { return run_diagnose(*a); }; });

@@ -1,6 +1,8 @@
 // `pushpred observe FILE --out DIR`: the disturbance observer and the PID force reconstruction on one push,
 // side by side (paper figures 2 and 4). Writes DIR/observer.csv, resimulation.csv, observation.json, the gnuplot
 // scripts and, where gnuplot is installed, their PNGs; all or nothing (StagedOutput).
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -34,7 +36,7 @@ int run_observe(const ObserveArgs& a) {
   if (!a.no_plots)
     for (const auto& script : observation_plot_scripts()) {
       const PlotRun run = run_gnuplot(out.path(script));
-      if (!run.drawn) notes.push_back(run.note);
+      if (!run.drawn && std::find(notes.begin(), notes.end(), run.note) == notes.end()) notes.push_back(run.note);
     }
   out.commit();
   std::cout << observation_summary(observation);

@@ -59,6 +59,32 @@ BOOST_AUTO_TEST_CASE(cvode_and_the_exact_discretisation_agree_under_both_holds) 
   }
 }
 
+BOOST_AUTO_TEST_CASE(inputs_with_different_holds_are_superposed) {
+  // A double integrator driven by a ramp held first-order and a force held zero-order: exact in closed form.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2, 2), B(2, 2);
+  A(0, 1) = 1;
+  B << 0, 0, 1, 1;
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(6, 0.0, 0.5);
+  Eigen::MatrixXd ramp(6, 1), steps(6, 1);
+  for (int k = 0; k < 6; ++k) {
+    ramp(k, 0) = 2.0 * t(k);  // u1 = 2 t exactly under first-order hold
+    steps(k, 0) = (k % 2) ? 1.0 : -1.0;
+  }
+  const LinearSystem system(A, B, {SampledSignal(t, ramp, Hold::First), SampledSignal(t, steps, Hold::Zero)});
+  const Eigen::MatrixXd X = propagate_exactly(system, Eigen::Vector2d::Zero());
+  double x = 0, v = 0;
+  for (int k = 0; k < 5; ++k) {
+    const double h = 0.1, t0 = t(k), a = steps(k, 0);
+    // x'' = 2 t + a on [t0, t0 + h]
+    x += v * h + a * h * h / 2 + (t0 * h * h + h * h * h / 3);
+    v += a * h + ((t0 + h) * (t0 + h) - t0 * t0);
+    BOOST_TEST(X(k + 1, 0) == x, boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(X(k + 1, 1) == v, boost::test_tools::tolerance(1e-12));
+  }
+  const LinearSystem mismatched(A, B, {SampledSignal(t, ramp, Hold::First), SampledSignal(t * 2, steps, Hold::Zero)});
+  BOOST_CHECK_THROW(propagate_exactly(mismatched, Eigen::Vector2d::Zero()), InputError);
+}
+
 BOOST_AUTO_TEST_CASE(a_bad_step_is_a_clear_error) {
   const Eigen::MatrixXd A = Eigen::MatrixXd::Zero(1, 1), B = Eigen::MatrixXd::Ones(1, 1);
   BOOST_CHECK_THROW(discretise_exactly(A, B, 0.0, Hold::Zero), InputError);

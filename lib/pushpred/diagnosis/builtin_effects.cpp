@@ -117,25 +117,80 @@ class TimeOffsetEffect final : public CandidateEffect {
  public:
   std::string kind() const override { return "time_offset"; }
   std::string description() const override {
-    return "force stream lags the pose by tau: regressor (Q u)', applied by reading the force tau later";
+    return "force stream lags the pose by tau: found by a search over tau of the paper's residual, applied by "
+           "reading the force tau later";
   }
   std::vector<EffectParameter> parameters() const override { return {{"delay", "s"}}; }
-  std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double) const override {
-    // u(t + tau) - u(t) ~ tau u'(t); u' by central differences of the measured input.
-    const Eigen::Index n = push.rows();
-    const Eigen::VectorXd& t = push.estimate.t_s;
-    Eigen::MatrixX3d rate = Eigen::MatrixX3d::Zero(n, 3);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const Eigen::Index a = std::max<Eigen::Index>(k - 1, 0), b = std::min<Eigen::Index>(k + 1, n - 1);
-      if (b > a) rate.row(k) = (push.estimate.u.row(b) - push.estimate.u.row(a)) / (t(b) - t(a));
-    }
-    return {push.as_observed(rate)};
-  }
+  EffectTest test() const override { return EffectTest::Direct; }
   void apply(const Eigen::VectorXd& theta, double, const std::shared_ptr<const CandidateEffect>&,
              ModelCorrection& c) const override {
     c.force_delay_s += theta(0);
   }
   bool corrects_data() const override { return true; }
+  std::string implausible(const Eigen::VectorXd& theta) const override {
+    return std::abs(theta(0)) < kMaxDelay_s ? "" : "a delay at the end of the searched range";
+  }
+
+  // A lag of tau changes d_hat by Q u(t) - Q u(t + tau) (the observer reads the force too early); the relation
+  // is then refitted against Q u(t + tau). The residual sum of squares of the paper's linear relation is
+  // searched over tau on a 4 ms grid over +-kMaxDelay_s, refined on a 0.5 ms grid, and its minimum located by a
+  // parabola. Score: the BIC drop N_eff ln(RSS(0) / RSS(tau)) - ln(N_eff); standard error from the parabola's
+  // curvature (the profile likelihood with N_eff samples: RSS rises by RSS / N_eff one standard error away).
+  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
+    const double neff = ResidualRegression(pushes, Relation::Linear).effective_samples();
+    const Eigen::Vector3d scale = ResidualRegression(pushes, Relation::Linear).channel_scale();
+    const auto rss = [&](double tau) {
+      double sum = 0;
+      for (const auto& d : pushes) {
+        ModelCorrection c;
+        c.force_delay_s = tau;
+        const SynchronisedPush shifted = apply_data_correction(d.push, c);
+        const Eigen::MatrixX3d u = shifted.applied_input().middleRows(d.first, d.rows());
+        const Eigen::MatrixX3d qu =
+            q_filter(d.estimate.t_s, u, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
+        const Eigen::MatrixX3d dh = d.estimate.d_hat + d.filtered_input - qu;
+        for (int c = 0; c < 3; ++c) {
+          Eigen::VectorXd y = dh.col(c).array() - dh.col(c).mean();
+          const Eigen::VectorXd x = qu.col(c).array() - qu.col(c).mean();
+          if (x.squaredNorm() > 0) y -= (x.dot(y) / x.squaredNorm()) * x;
+          sum += y.squaredNorm() / (scale(c) * scale(c));
+        }
+      }
+      return sum;
+    };
+    auto search = [&](double lo, double hi, double step, double& best_tau) {
+      double best = std::numeric_limits<double>::infinity();
+      for (double tau = lo; tau <= hi + 1e-12; tau += step) {
+        const double r = rss(tau);
+        if (r < best) {
+          best = r;
+          best_tau = tau;
+        }
+      }
+      return best;
+    };
+    double tau = 0;
+    search(-kMaxDelay_s, kMaxDelay_s, 0.004, tau);
+    const double step = 0.0005;
+    const double at = search(tau - 0.004, tau + 0.004, step, tau);
+    const double below = rss(tau - step), above = rss(tau + step);
+    const double curvature = (below + above - 2 * at) / (step * step);  // d^2 RSS / d tau^2
+    double shift = 0;
+    if (curvature > 0) shift = std::clamp(0.5 * (below - above) / (curvature * step * step) * step, -step, step);
+    DirectFit fit;
+    fit.theta = Eigen::VectorXd::Constant(1, tau + shift);
+    const double minimum = rss(tau + shift);
+    fit.covariance = Eigen::MatrixXd::Constant(1, 1, curvature > 0 ? 2 * minimum / (neff * curvature) : 1.0);
+    fit.effective_samples = neff;
+    long n = 0;
+    for (const auto& d : pushes) n += 3 * d.rows();
+    fit.samples = n;
+    fit.score = neff * std::log(rss(0.0) / minimum) - std::log(neff);
+    return fit;
+  }
+
+ private:
+  static constexpr double kMaxDelay_s = 0.1;
 };
 
 class ForceOffsetEffect final : public CandidateEffect {
@@ -210,6 +265,9 @@ class ForceOffsetEffect final : public CandidateEffect {
 
 class ViscousFrictionEffect final : public CandidateEffect {
  public:
+  std::string implausible(const Eigen::VectorXd& theta) const override {
+    return theta(0) >= 0 ? "" : "negative drag";
+  }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "viscous_friction"; }
   std::string description() const override { return "speed-proportional drag -c (m v, I omega)"; }
@@ -237,6 +295,9 @@ class CoulombFrictionEffect final : public CandidateEffect {
 
 class StribeckFrictionEffect final : public CandidateEffect {
  public:
+  std::string implausible(const Eigen::VectorXd& theta) const override {
+    return theta(0) >= 0 && theta(0) < 1 ? "" : "friction at rest below the sliding friction, or above 1";
+  }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "stribeck_friction"; }
   std::string description() const override {
@@ -253,20 +314,28 @@ class StribeckFrictionEffect final : public CandidateEffect {
 
 class PositionFrictionEffect final : public CandidateEffect {
  public:
+  std::string implausible(const Eigen::VectorXd& theta) const override {
+    return std::abs(theta(0)) < 5 ? "" : "a friction change of more than 1 per 20 cm";
+  }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "position_friction"; }
   std::string description() const override {
-    return "friction coefficient changing along the table: (g_x (x - x0) + g_y (y - y0)) times the Coulomb shape";
+    return "friction coefficient changing with the distance the object has travelled from where the push began: "
+           "g |r - r0| times the Coulomb law";
   }
-  std::vector<EffectParameter> parameters() const override { return {{"g_x", "1/m"}, {"g_y", "1/m"}}; }
+  std::vector<EffectParameter> parameters() const override { return {{"g", "1/m"}}; }
   bool is_force_law() const override { return true; }
-  Eigen::Vector3d unit_force(int j, double, const EffectState& s, const ShapeInfo& shape) const override {
-    return position_friction_wrench(s.pose, s.velocity, shape, s.start_pose.head<2>(), j);
+  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
+    return (s.pose.head<2>() - s.start_pose.head<2>()).norm() * coulomb_friction_wrench(s.pose, s.velocity, shape);
   }
 };
 
 class ComOffsetEffect final : public CandidateEffect {
  public:
+  std::string implausible(const Eigen::VectorXd& theta) const override {
+    return theta.norm() < 0.05 ? "" : "a mass centre 5 cm or more from the tracked centre";
+  }
+  bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "com_offset"; }
   std::string description() const override {
     return "mass centre at delta (body frame) from the tracked centre: torque error -(R(theta) delta) x f_C";
@@ -282,6 +351,9 @@ class ComOffsetEffect final : public CandidateEffect {
 
 class InertiaMismatchEffect final : public CandidateEffect {
  public:
+  std::string implausible(const Eigen::VectorXd& theta) const override {
+    return 1 + theta(0) > 0.2 && 1 + theta(0) < 5 ? "" : "a mass factor outside 0.2 to 5";
+  }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "inertia_mismatch"; }
   std::string description() const override {
@@ -297,7 +369,8 @@ class InertiaMismatchEffect final : public CandidateEffect {
   }
   void apply(const Eigen::VectorXd& theta, double, const std::shared_ptr<const CandidateEffect>&,
              ModelCorrection& c) const override {
-    if (!(1 + theta(0) > 0)) throw InputError("inertia_mismatch: the fitted mass factor is not positive");
+    if (!(1 + theta(0) > 0.2) || !(1 + theta(0) < 5))
+      throw InputError("inertia_mismatch: a mass factor of " + std::to_string(1 + theta(0)) + " is not plausible");
     c.inertia_factor *= 1 + theta(0);
   }
   bool corrects_data() const override { return true; }
@@ -332,7 +405,7 @@ class QuasiStaticEffect final : public CandidateEffect {
   }
   std::vector<EffectParameter> parameters() const override { return {{"push_force", "N"}}; }
   EffectTest test() const override { return EffectTest::Prediction; }
-  std::vector<double> settings() const override { return {0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8}; }
+  std::vector<double> settings() const override { return {0.3, 0.4, 0.5, 0.6}; }
   EffectParameter setting_name() const override { return {"stop_fraction", "-"}; }
   void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>&,
              ModelCorrection& c) const override {

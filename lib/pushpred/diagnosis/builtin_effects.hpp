@@ -18,8 +18,9 @@
 //   velocity, so the object slows and stops when the push ends, where beta u + eps would not stop it.
 // - stribeck_friction [-]: extra friction at low speed, mu_s exp(-(s / v_s)^2) times the Coulomb shape; v_s is
 //   chosen on a grid (5, 10, 20, 40 mm/s).
-// - position_friction [1/m]: friction coefficient changing along the table, (g_x (x - x0) + g_y (y - y0)) times
-//   the Coulomb shape, (x0, y0) the push's first measured position.
+// - position_friction [1/m]: friction coefficient changing along the way: g |r - r0| times the Coulomb law, |r - r0|
+//   the distance the tracked centre has travelled from the push's first measured position (a table whose friction
+//   changes where the object slides; push-relative, so pushes in any direction share it).
 // - com_offset [m]: the mass centre sits at delta (body frame) from the tracked centre, so the pusher's torque
 //   about it is u_theta - (R(theta) delta) x f_C; rotation-channel regressors -(R(theta) e_x) x f_C and
 //   -(R(theta) e_y) x f_C (the torque error of a wrong lever arm).
@@ -36,7 +37,7 @@ namespace pushpred {
 
 inline constexpr double kStandardGravity_m_s2 = 9.81;
 /// v_reg of the limit-surface friction [m/s].
-inline constexpr double kFrictionRegularisation_m_s = 2e-3;
+inline constexpr double kFrictionRegularisation_m_s = 5e-4;
 
 std::unique_ptr<CandidateEffect> make_time_offset_effect();
 std::unique_ptr<CandidateEffect> make_force_offset_effect();

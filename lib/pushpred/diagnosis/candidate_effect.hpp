@@ -149,6 +149,9 @@ class CandidateEffect {
   virtual Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const {
     return applied + residual;
   }
+  /// Empty when `theta` is physically possible for this effect; otherwise why not (e.g. a negative drag). A fit
+  /// outside the physical range is not taken as this effect, whatever its score.
+  virtual std::string implausible(const Eigen::VectorXd& /*theta*/) const { return ""; }
   /// Amounts for reports derived from the parameters (e.g. an inertia factor), as name, unit, value.
   struct Derived {
     std::string name, unit;

@@ -66,8 +66,27 @@ SynchronisedPush CorrectedPrediction::corrected_push(const SynchronisedPush& pus
   return apply_data_correction(push, correction_);
 }
 
+namespace {
+
+/// The Q-filter observer through its exact discretisation (QFilterObserver::estimate_exactly): the same estimate
+/// as its CVODE path, much faster.
+class ExactQFilterObserver final : public DisturbanceEstimator {
+ public:
+  explicit ExactQFilterObserver(QFilterObserverOptions options) : observer_(std::move(options)) {}
+  std::string name() const override { return "dob"; }
+  using DisturbanceEstimator::estimate;
+  DisturbanceEstimate estimate(const SynchronisedPush& push, double t0, double t1) const override {
+    return observer_.estimate_exactly(push, t0, t1);
+  }
+
+ private:
+  QFilterObserver observer_;
+};
+
+}  // namespace
+
 std::unique_ptr<DisturbanceEstimator> CorrectedPrediction::observer(const std::string& name) const {
-  if (name == "dob") return std::make_unique<QFilterObserver>(observer_);
+  if (name == "dob") return std::make_unique<ExactQFilterObserver>(observer_);
   return make_disturbance_estimator(name);
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "pushpred/core/error.hpp"
@@ -83,10 +84,14 @@ class Diagnoser {
   std::vector<StudyPhase> test_phases(const std::vector<PushStudy>& s) const;
   /// Normalised error per phase of `method`.
   std::vector<double> normalised(const std::vector<StudyPhase>& phases, const std::string& method) const;
-  RegressionFit fit_selected(const std::vector<Selection>& selected, std::vector<EffectColumns>& storage) const;
+  /// The regression base an effect is tested against: Friction for friction laws and effects that need one.
+  Relation group_of(std::size_t candidate) const;
+  /// Fits the selected regression effects of `group` jointly, in that group's base.
+  RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
+                             std::vector<EffectColumns>& storage) const;
   void refit(std::vector<Selection>& selected);
-  /// Base of the regression for `selected`: Friction when it holds an effect that replaces the relation.
-  Relation base_of(const std::vector<Selection>& selected) const;
+  /// Greedy forward selection over the regression effects of `group` (not yet in `selected`).
+  void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
   double fit_metric(const std::vector<Selection>& selected, std::vector<double>* per_phase) const;
   std::vector<const SynchronisedPush*> fit_pointers() const;
   void log(const std::string& line) { result_.log.push_back(line); }
@@ -224,25 +229,96 @@ std::vector<double> Diagnoser::normalised(const std::vector<StudyPhase>& phases,
   return out;
 }
 
-Relation Diagnoser::base_of(const std::vector<Selection>& selected) const {
-  for (const auto& s : selected)
-    if (library_.effects()[s.candidate]->replaces_relation()) return Relation::Friction;
-  return Relation::Linear;
+Relation Diagnoser::group_of(std::size_t candidate) const {
+  const auto& e = library_.effects()[candidate];
+  return e->replaces_relation() || e->needs_friction_base() ? Relation::Friction : Relation::Linear;
 }
 
-RegressionFit Diagnoser::fit_selected(const std::vector<Selection>& selected, std::vector<EffectColumns>& storage) const {
+RegressionFit Diagnoser::fit_selected(const std::vector<Selection>& selected, Relation group,
+                                      std::vector<EffectColumns>& storage) const {
   storage.clear();
   storage.reserve(selected.size());
   int extra = 0;
   for (const auto& s : selected) {
-    if (library_.effects()[s.candidate]->test() != EffectTest::Regression) continue;
+    if (library_.effects()[s.candidate]->test() != EffectTest::Regression || group_of(s.candidate) != group) continue;
     storage.push_back(columns(s.candidate, s.setting));
     extra += s.extra_parameters;
   }
   std::vector<const EffectColumns*> pointers;
   for (const auto& c : storage) pointers.push_back(&c);
-  const ResidualRegression regression(data_, base_of(selected));
+  const ResidualRegression regression(data_, group);
   return regression.fit(pointers, extra);
+}
+
+void Diagnoser::greedy(std::vector<Selection>& selected, Relation group, double log_neff) {
+  const auto& effects = library_.effects();
+  const char* base_name = group == Relation::Linear ? "linear relation" : "friction law";
+  while (true) {
+    std::vector<EffectColumns> storage;
+    int current_extra = 0;
+    for (const auto& s : selected)
+      if (effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == group) {
+        storage.push_back(columns(s.candidate, s.setting));
+        current_extra += s.extra_parameters;
+      }
+    std::vector<const EffectColumns*> pointers;
+    for (const auto& c : storage) pointers.push_back(&c);
+    const ResidualRegression regression(data_, group);
+    std::optional<Selection> best;
+    for (std::size_t i = 0; i < effects.size(); ++i) {
+      if (effects[i]->test() != EffectTest::Regression || group_of(i) != group) continue;
+      if (std::any_of(selected.begin(), selected.end(), [&](const Selection& s) { return s.candidate == i; })) continue;
+      // Against the friction base, the friction law itself comes first; the others refine it.
+      const bool law_selected = std::any_of(selected.begin(), selected.end(), [&](const Selection& s) {
+        return effects[s.candidate]->replaces_relation();
+      });
+      if (group == Relation::Friction) {
+        if (effects[i]->replaces_relation()) {
+          if (law_selected) continue;
+        } else if (!law_selected) {
+          result_.effects[i].note = "not tested: it refines a friction law, and none was selected";
+          continue;
+        }
+      }
+      std::vector<double> settings = effects[i]->settings();
+      const int extra = settings.size() > 1 ? 1 : 0;
+      if (settings.empty()) settings.push_back(0.0);
+      std::optional<Selection> here;
+      for (double setting : settings) {
+        const EffectColumns cols = columns(i, setting);
+        std::vector<const EffectColumns*> with = pointers;
+        with.push_back(&cols);
+        const RegressionFit f = regression.fit(with, current_extra + extra);
+        const auto k = static_cast<Eigen::Index>(cols.size());
+        const Eigen::Index at = f.theta.size() - k;
+        const double score = f.identifiable ? f.wald(at, k) - static_cast<double>(k + extra) * log_neff : -kInfinity;
+        if (!here || score > here->score)
+          here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score};
+      }
+      EffectReport& r = result_.effects[i];
+      r.score = here->score;
+      r.theta = here->total;
+      r.theta_std = here->std;
+      r.setting = here->setting;
+      r.note.clear();
+      const std::string why = effects[i]->implausible(here->total);
+      if (!why.empty()) {
+        r.note = "fitted outside the physical range (" + why + "): not this effect";
+        continue;
+      }
+      if (!best || here->score > best->score) best = here;
+    }
+    if (!best) break;
+    if (!(best->score > o_.bic_threshold)) {
+      log(std::string("greedy (against the ") + base_name + "): best remaining " + effects[best->candidate]->kind() +
+          format(" scores only %.1f (robust Wald minus BIC penalty): stop", best->score));
+      break;
+    }
+    log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
+        format(" joins, score %.1f", best->score));
+    result_.effects[best->candidate].passed_test = true;
+    selected.push_back(*best);
+  }
 }
 
 std::vector<const SynchronisedPush*> Diagnoser::fit_pointers() const {
@@ -266,25 +342,49 @@ double Diagnoser::fit_metric(const std::vector<Selection>& selected, std::vector
 void Diagnoser::refit(std::vector<Selection>& selected) {
   for (int iteration = 0; iteration <= o_.max_refits; ++iteration) {
     rebuild_data(correction_of(selected, false));
-    std::vector<EffectColumns> storage;
-    const RegressionFit fit = fit_selected(selected, storage);
     bool converged = true;
-    int j = 0;
-    for (auto& s : selected) {
-      const auto& effect = library_.effects()[s.candidate];
-      if (effect->test() != EffectTest::Regression) continue;
-      const int k = static_cast<int>(effect->parameters().size());
-      const Eigen::VectorXd theta = fit.theta.segment(j, k);
-      s.std = fit.standard_error().segment(j, k);
-      if (effect->corrects_data()) {
-        s.total = effect->compose(s.total, theta);
-        if (!s.total.allFinite()) throw SolverError("diagnosis: the re-fit of " + effect->kind() + " diverged");
-        if ((theta.array().abs() > 0.05 * s.std.array()).any()) converged = false;
-      } else {
-        s.total = theta;
+    for (const Relation group : {Relation::Linear, Relation::Friction}) {
+      std::vector<EffectColumns> storage;
+      const RegressionFit fit = fit_selected(selected, group, storage);
+      int j = 0;
+      for (auto& s : selected) {
+        const auto& effect = library_.effects()[s.candidate];
+        if (effect->test() != EffectTest::Regression || group_of(s.candidate) != group) continue;
+        const int k = static_cast<int>(effect->parameters().size());
+        const Eigen::VectorXd theta = fit.theta.segment(j, k);
+        s.std = fit.standard_error().segment(j, k);
+        if (effect->corrects_data()) {
+          s.total = effect->compose(s.total, theta);
+          if ((theta.array().abs() > 0.25 * s.std.array()).any()) converged = false;
+        } else {
+          s.total = theta;
+        }
+        j += k;
       }
-      j += k;
     }
+    // A data correction the data cannot carry (e.g. a mass factor at or below zero) is not a finding: drop it.
+    bool dropped = false;
+    for (std::size_t k = 0; k < selected.size();) {
+      const auto& effect = library_.effects()[selected[k].candidate];
+      ModelCorrection probe;
+      bool plausible = selected[k].total.allFinite();
+      try {
+        if (plausible) effect->apply(selected[k].total, selected[k].setting, effect, probe);
+        if (plausible) apply_data_correction(fit_raw_.front(), probe);
+      } catch (const std::exception&) {
+        plausible = false;
+      }
+      if (!plausible) {
+        result_.effects[selected[k].candidate].note = "dropped: its re-fit left the plausible range";
+        result_.effects[selected[k].candidate].passed_test = false;
+        log(effect->kind() + ": re-fit left the plausible range; dropped");
+        selected.erase(selected.begin() + static_cast<std::ptrdiff_t>(k));
+        dropped = true;
+        continue;
+      }
+      ++k;
+    }
+    if (dropped) continue;
     if (converged) {
       rebuild_data(correction_of(selected, false));
       return;
@@ -367,163 +467,137 @@ DiagnosisResult Diagnoser::run() {
     r.note = f.note;
     log(effects[i]->kind() + format(": direct fit on %.0f samples (effective %.1f), score %.1f", f.samples,
                                      f.effective_samples, f.score));
-    if (f.score > o_.bic_threshold) {
+    const std::string why = effects[i]->implausible(f.theta);
+    if (!why.empty()) r.note = "fitted outside the physical range (" + why + "): not this effect";
+    if (f.score > o_.bic_threshold && why.empty()) {
       selected.push_back({i, 0.0, 0, f.theta, r.theta_std, f.score});
       r.passed_test = true;
       log("  selected");
+      rebuild_data(correction_of(selected, false));
     }
   }
-  if (!selected.empty()) rebuild_data(correction_of(selected, false));
 
-  // Step 3a: the relation base. A friction law that replaces the paper's relation is compared with it by the
-  // BIC (not nested: 6 nuisance parameters per push against the law's own).
-  {
-    const ResidualRegression linear(data_, Relation::Linear);
-    const ResidualRegression friction(data_, Relation::Friction);
-    const double bic_linear = linear.fit({}).bic;
-    std::optional<Selection> best;
+  // Step 3: greedy forward selection of the regression effects: against the paper's linear relation, and against
+  // a friction law (Coulomb friction first, then the effects that refine it).
+  // Step 4, after each: apply data corrections (delay, mass) and re-fit jointly, so that the friction law and its
+  // refinements are tested on data corrected for what the linear relation found.
+  const auto any_regression = [&] {
+    return std::any_of(selected.begin(), selected.end(),
+                       [&](const Selection& s) { return effects[s.candidate]->test() == EffectTest::Regression; });
+  };
+  greedy(selected, Relation::Linear, log_neff);
+  if (any_regression()) refit(selected);
+  greedy(selected, Relation::Friction, log_neff);
+  if (any_regression()) refit(selected);
+
+  // Step 5: prediction-structure effects, on the fit pushes' predictions. They interact (the quasi-static law
+  // keeps a velocity only the observer can give), so every combination, at every setting, is tried; the best
+  // is kept when it lowers the fit phases' normalised error by more than twice the standard error of the
+  // paired per-phase differences.
+  if (o_.search_structure) {
+    std::vector<std::size_t> structural;
+    std::vector<Eigen::VectorXd> theta, theta_std;
     for (std::size_t i = 0; i < effects.size(); ++i) {
-      if (effects[i]->test() != EffectTest::Regression || !effects[i]->replaces_relation()) continue;
-      std::vector<double> settings = effects[i]->settings();
-      const int extra = settings.size() > 1 ? 1 : 0;
-      if (settings.empty()) settings.push_back(0.0);
-      std::optional<Selection> here;
-      for (double setting : settings) {
-        const EffectColumns cols = columns(i, setting);
-        const RegressionFit f = friction.fit({&cols}, extra);
-        const double drop = f.identifiable ? bic_linear - f.bic : -kInfinity;
-        if (!here || drop > here->score) here = Selection{i, setting, extra, f.theta, f.standard_error(), drop};
+      if (effects[i]->test() != EffectTest::Prediction) continue;
+      structural.push_back(i);
+      Eigen::VectorXd t(0), sd(0);
+      if (!effects[i]->parameters().empty()) {
+        const DirectFit f = effects[i]->fit_directly(data_);
+        t = f.theta;
+        sd = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+        if (!f.note.empty()) result_.effects[i].note = f.note;
       }
-      EffectReport& r = result_.effects[i];
-      r.score = here->score;
-      r.theta = here->total;
-      r.theta_std = here->std;
-      r.setting = here->setting;
-      log(effects[i]->kind() + format(" as the relation: BIC %.1f against the paper's linear relation's %.1f (drop %.1f)",
-                                       bic_linear - here->score, bic_linear, here->score));
-      if (!best || here->score > best->score) best = here;
+      result_.effects[i].theta = t;
+      result_.effects[i].theta_std = sd;
+      theta.push_back(t);
+      theta_std.push_back(sd);
     }
-    if (best && best->score > o_.bic_threshold) {
-      result_.effects[best->candidate].passed_test = true;
-      log("  " + effects[best->candidate]->kind() + " replaces the relation as the base");
-      selected.push_back(*best);
-    }
-  }
-
-  // Step 3b: greedy forward selection of the other regression effects, tested against the chosen base.
-  while (true) {
-    std::vector<EffectColumns> storage;
-    int current_extra = 0;
-    for (const auto& s : selected)
-      if (effects[s.candidate]->test() == EffectTest::Regression) {
-        storage.push_back(columns(s.candidate, s.setting));
-        current_extra += s.extra_parameters;
+    if (structural.size() > 4) throw InputError("diagnosis: at most 4 prediction-structure effects can be combined");
+    std::vector<double> none_phases;
+    const double none = fit_metric(selected, &none_phases);
+    std::vector<Selection> best_trial;
+    std::vector<double> best_phases = none_phases;
+    double best = none;
+    std::map<std::vector<std::size_t>, double> by_subset;  // best metric per subset (candidates), for the scores
+    by_subset[{}] = none;
+    for (unsigned mask = 1; mask < (1u << structural.size()); ++mask) {
+      std::vector<std::size_t> members;
+      for (std::size_t m = 0; m < structural.size(); ++m)
+        if (mask & (1u << m)) members.push_back(m);
+      // The cartesian product of the members' settings.
+      std::vector<std::vector<double>> grids;
+      for (std::size_t m : members) {
+        auto g = effects[structural[m]]->settings();
+        if (g.empty()) g.push_back(0.0);
+        grids.push_back(g);
       }
-    std::vector<const EffectColumns*> pointers;
-    for (const auto& c : storage) pointers.push_back(&c);
-    const ResidualRegression regression(data_, base_of(selected));
-    std::optional<Selection> best;
-    const bool friction_base = base_of(selected) == Relation::Friction;
-    for (std::size_t i = 0; i < effects.size(); ++i) {
-      if (effects[i]->test() != EffectTest::Regression || effects[i]->replaces_relation()) continue;
-      if (std::any_of(selected.begin(), selected.end(), [&](const Selection& s) { return s.candidate == i; })) continue;
-      if (effects[i]->needs_friction_base() && !friction_base) {
-        result_.effects[i].note = "not tested: it needs a friction law as the base, and none replaced the paper's relation";
-        continue;
-      }
-      std::vector<double> settings = effects[i]->settings();
-      const int extra = settings.size() > 1 ? 1 : 0;
-      if (settings.empty()) settings.push_back(0.0);
-      std::optional<Selection> here;
-      for (double setting : settings) {
-        const EffectColumns cols = columns(i, setting);
-        std::vector<const EffectColumns*> with = pointers;
-        with.push_back(&cols);
-        const RegressionFit f = regression.fit(with, current_extra + extra);
-        const auto k = static_cast<Eigen::Index>(cols.size());
-        const Eigen::Index at = f.theta.size() - k;
-        const double score =
-            f.identifiable ? f.wald(at, k) - static_cast<double>(k + extra) * log_neff : -kInfinity;
-        if (!here || score > here->score)
-          here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score};
-      }
-      EffectReport& r = result_.effects[i];
-      r.score = here->score;
-      r.theta = here->total;
-      r.theta_std = here->std;
-      r.setting = here->setting;
-      if (!best || here->score > best->score) best = here;
-    }
-    if (!best) break;
-    if (!(best->score > o_.bic_threshold)) {
-      log("greedy: best remaining " + effects[best->candidate]->kind() +
-          format(" scores only %.1f (Wald minus BIC penalty): stop", best->score));
-      break;
-    }
-    log("greedy: " + effects[best->candidate]->kind() + format(" joins, score %.1f", best->score));
-    result_.effects[best->candidate].passed_test = true;
-    selected.push_back(*best);
-  }
-
-  // Step 4: apply data corrections and re-fit jointly.
-  if (std::any_of(selected.begin(), selected.end(),
-                  [&](const Selection& s) { return effects[s.candidate]->test() == EffectTest::Regression; }))
-    refit(selected);
-
-  // Step 5: prediction-structure effects, on the fit pushes' predictions.
-  for (std::size_t i = 0; i < effects.size(); ++i) {
-    if (effects[i]->test() != EffectTest::Prediction) continue;
-    EffectReport& r = result_.effects[i];
-    Eigen::VectorXd theta(0), theta_std(0);
-    if (!effects[i]->parameters().empty()) {
-      const DirectFit f = effects[i]->fit_directly(data_);
-      theta = f.theta;
-      theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-      r.theta = theta;
-      r.theta_std = theta_std;
-      if (!f.note.empty()) r.note = f.note;
-    }
-    std::vector<double> without_phases;
-    const double without = fit_metric(selected, &without_phases);
-    std::vector<double> settings = effects[i]->settings();
-    if (settings.empty()) settings.push_back(0.0);
-    double best_with = kInfinity, best_setting = settings.front();
-    std::vector<double> best_phases;
-    for (double setting : settings) {
-      std::vector<Selection> trial = selected;
-      trial.push_back({i, setting, 0, theta, theta_std, 0.0});
-      std::vector<double> phases;
-      const double with = fit_metric(trial, &phases);
-      if (with < best_with) {
-        best_with = with;
-        best_setting = setting;
-        best_phases = phases;
+      std::vector<std::size_t> at(members.size(), 0);
+      while (true) {
+        std::vector<Selection> trial = selected;
+        for (std::size_t q = 0; q < members.size(); ++q)
+          trial.push_back({structural[members[q]], grids[q][at[q]], 0, theta[members[q]], theta_std[members[q]], 0.0});
+        std::vector<double> phases;
+        const double e = fit_metric(trial, &phases);
+        std::vector<std::size_t> key;
+        for (std::size_t m : members) key.push_back(structural[m]);
+        if (!by_subset.count(key) || e < by_subset[key]) by_subset[key] = e;
+        if (e < best && phases.size() == none_phases.size()) {
+          best = e;
+          best_trial.assign(trial.begin() + static_cast<std::ptrdiff_t>(selected.size()), trial.end());
+          best_phases = phases;
+        }
+        std::size_t q = 0;
+        while (q < at.size() && ++at[q] == grids[q].size()) at[q++] = 0;
+        if (q == at.size()) break;
       }
     }
-    r.setting = best_setting;
-    if (!std::isfinite(best_with) || !std::isfinite(without) || best_phases.size() != without_phases.size()) {
-      r.note = "the prediction failed with or without it";
-      log(effects[i]->kind() + ": " + r.note);
-      continue;
-    }
-    const std::size_t n = best_phases.size();
+    const std::size_t n = none_phases.size();
     double mean = 0, var = 0;
-    for (std::size_t k = 0; k < n; ++k) mean += without_phases[k] - best_phases[k];
-    mean /= static_cast<double>(n);
-    for (std::size_t k = 0; k < n; ++k) var += std::pow(without_phases[k] - best_phases[k] - mean, 2);
+    for (std::size_t k = 0; k < n; ++k) mean += none_phases[k] - best_phases[k];
+    mean /= static_cast<double>(std::max<std::size_t>(n, 1));
+    for (std::size_t k = 0; k < n; ++k) var += std::pow(none_phases[k] - best_phases[k] - mean, 2);
     const double se = n > 1 ? std::sqrt(var / static_cast<double>(n - 1) / static_cast<double>(n)) : kInfinity;
-    r.score = without > 0 ? (without - best_with) / without : 0;
-    log(effects[i]->kind() + format(": fit phases' normalised error %.3f without, %.3f with (paired difference ",
-                                     without, best_with) +
-        format("%.3f +- %.3f)", mean, se) +
-        (settings.size() > 1 ? " at " + effects[i]->setting_name().name + format(" = %.3g", best_setting)
-                             : std::string()));
-    if (mean > 2 * se && mean > 0) {
-      selected.push_back({i, best_setting, 0, theta, theta_std, r.score});
-      r.passed_test = true;
+    std::string names;
+    for (const auto& t : best_trial)
+      names += (names.empty() ? "" : " + ") + effects[t.candidate]->kind() +
+               (effects[t.candidate]->settings().empty()
+                    ? std::string()
+                    : " (" + effects[t.candidate]->setting_name().name + format(" %.3g)", t.setting));
+    log(format("prediction structure: fit phases' normalised error %.3f with none, %.3f at best (", none, best) +
+        (names.empty() ? std::string("none") : names) + format("; paired difference %.3f +- %.3f)", mean, se));
+    const bool accept = !best_trial.empty() && std::isfinite(none) && mean > 2 * se && mean > 0;
+    std::vector<std::size_t> chosen;
+    for (const auto& t : best_trial) chosen.push_back(t.candidate);
+    for (std::size_t m = 0; m < structural.size(); ++m) {
+      const std::size_t i = structural[m];
+      EffectReport& r = result_.effects[i];
+      const bool in = std::find(chosen.begin(), chosen.end(), i) != chosen.end();
+      // Score: the relative drop of the best metric when this effect joins the rest of the chosen set.
+      std::vector<std::size_t> with = chosen, without = chosen;
+      if (in) {
+        without.erase(std::find(without.begin(), without.end(), i));
+      } else {
+        with.push_back(i);
+        std::sort(with.begin(), with.end());
+      }
+      if (by_subset.count(with) && by_subset.count(without) && by_subset[without] > 0)
+        r.score = (by_subset[without] - by_subset[with]) / by_subset[without];
+      for (const auto& t : best_trial)
+        if (t.candidate == i) r.setting = t.setting;
+      if (in && accept) {
+        r.passed_test = true;
+      } else if (in) {
+        r.note = "part of the best structure, which did not lower the fit phases' error by twice its standard error";
+      } else {
+        r.note = "not part of the best prediction structure on the fit phases";
+      }
+    }
+    if (accept) {
+      for (auto& t : best_trial) {
+        t.score = result_.effects[t.candidate].score;
+        selected.push_back(t);
+      }
       log("  selected");
-    } else {
-      r.note = "did not lower the fit phases' prediction error by twice its standard error";
     }
   }
 
@@ -563,7 +637,6 @@ DiagnosisResult Diagnoser::run() {
         rebuild_data(correction_of(selected, false));
     }
   }
-  result_.relation_base = base_of(selected) == Relation::Friction ? "friction" : "linear";
 
   // The final model, its residual and its errors.
   for (const auto& s : selected) {
@@ -586,7 +659,7 @@ DiagnosisResult Diagnoser::run() {
     std::vector<Selection> regression_only;
     Eigen::VectorXd theta(0);
     for (const auto& s : selected)
-      if (effects[s.candidate]->test() == EffectTest::Regression) {
+      if (effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Linear) {
         regression_only.push_back(s);
         const Eigen::Index n = theta.size();
         theta.conservativeResize(n + s.total.size());
@@ -594,10 +667,10 @@ DiagnosisResult Diagnoser::run() {
         theta.segment(n, s.total.size()) =
             effects[s.candidate]->corrects_data() ? Eigen::VectorXd::Zero(s.total.size()) : s.total;
       }
-    fit_selected(regression_only, storage);
+    fit_selected(regression_only, Relation::Linear, storage);
     std::vector<const EffectColumns*> pointers;
     for (const auto& c : storage) pointers.push_back(&c);
-    const ResidualRegression final_regression(data_, base_of(selected));
+    const ResidualRegression final_regression(data_, Relation::Linear);
     const std::vector<Eigen::MatrixX3d> residual_after = final_regression.residuals(pointers, theta);
     Eigen::Vector3d before2 = Eigen::Vector3d::Zero(), after2 = Eigen::Vector3d::Zero();
     double rows = 0;
@@ -609,6 +682,27 @@ DiagnosisResult Diagnoser::run() {
     }
     result_.residual_std_before = (before2 / rows).cwiseSqrt();
     result_.residual_std_after = (after2 / rows).cwiseSqrt();
+    // Against the friction law, when one was selected.
+    std::vector<EffectColumns> friction_storage;
+    Eigen::VectorXd friction_theta(0);
+    bool law = false;
+    for (const auto& s : selected)
+      if (effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction) {
+        law = law || effects[s.candidate]->replaces_relation();
+        const Eigen::Index n = friction_theta.size();
+        friction_theta.conservativeResize(n + s.total.size());
+        friction_theta.segment(n, s.total.size()) =
+            effects[s.candidate]->corrects_data() ? Eigen::VectorXd::Zero(s.total.size()) : s.total;
+        friction_storage.push_back(columns(s.candidate, s.setting));
+      }
+    if (law) {
+      std::vector<const EffectColumns*> fp;
+      for (const auto& c : friction_storage) fp.push_back(&c);
+      const ResidualRegression friction(data_, Relation::Friction);
+      Eigen::Vector3d f2 = Eigen::Vector3d::Zero();
+      for (const auto& r : friction.residuals(fp, friction_theta)) f2 += r.colwise().squaredNorm().transpose();
+      result_.friction_residual_std = (f2 / rows).cwiseSqrt();
+    }
   }
 
   // Step 7: the test phases.

@@ -24,6 +24,7 @@
 // The normalised prediction error of a phase is pos_mm_mean / H_pos + theta_deg_mean / H_theta, H the mean `hold`
 // errors over the phases compared (so millimetres and degrees weigh alike).
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,7 @@ struct DiagnosisOptions {
   QFilterObserverOptions observer;   ///< the disturbance observer
   double bic_threshold = 10;         ///< an effect joins when it lowers the BIC by more than this
   int max_refits = 4;                ///< re-fits after applying data corrections
+  bool search_structure = true;      ///< step 5 (off: prediction-structure effects are not tried)
   bool confirm_on_prediction = true; ///< step 6
   void validate() const;
 };
@@ -99,11 +101,12 @@ struct DiagnosisResult {
   /// The same on the fit pushes' phases (in-sample), for comparison.
   ErrorSummary fit_before, fit_after, fit_hold, fit_const_velocity;
   // The disturbance regression on the fit data.
-  std::string relation_base = "linear";  ///< "linear" (the paper's relation) or "friction" (a friction law replaces it)
   long samples = 0;
   double effective_samples = 0;
   Eigen::Vector3d residual_std_before = Eigen::Vector3d::Zero();  ///< [N, N, N m]
-  Eigen::Vector3d residual_std_after = Eigen::Vector3d::Zero();
+  Eigen::Vector3d residual_std_after = Eigen::Vector3d::Zero();  ///< against the linear relation, after the effects
+  /// Against the selected friction law and the effects that refine it (NaN when no law was selected).
+  Eigen::Vector3d friction_residual_std = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::vector<ResidualTrace> residuals;
   std::vector<PhaseTrace> test_phases;
   std::vector<BatchFailure> failures;  ///< pushes left out, and why

@@ -13,8 +13,8 @@ struct DiagnosisPush {
   SynchronisedPush push;                 ///< as corrected by the data corrections applied so far
   DisturbanceEstimate estimate;          ///< the observer over the fit span
   Eigen::Index first = 0;                ///< grid index of the estimate's first row
-  Eigen::MatrixX3d filtered_input;       ///< Q u at the estimate's rows (channel units)
-  Eigen::MatrixX3d filtered_input_rate;  ///< (Q u)' [N/s, N/s, N m/s]
+  Eigen::MatrixX3d filtered_input;       ///< Q u at the estimate's rows (channel units), interval means like d_hat
+  Eigen::MatrixX3d filtered_input_rate;  ///< (Q u)' [N/s, N/s, N m/s], interval means
   /// Velocity from the pose smoothed without lag (zero_phase_smooth at kSmoothingBandwidth_rad_s) [m/s, rad/s]:
   /// the diagnosis fits offline, so it can use a velocity whose noise is far below the observer's.
   Eigen::MatrixX3d smooth_velocity;
@@ -30,25 +30,33 @@ struct DiagnosisPush {
   /// regressors are Q-filtered after evaluation, like d_hat), the push's first pose.
   EffectState state(Eigen::Index row) const;
   /// What a disturbance `raw` (n x 3, one row per estimate row) looks like in d_hat: zero where the object is
-  /// stuck, then through the observer's Q filter. Every regressor goes through this.
+  /// stuck, then through the observer's Q filter, reported as interval means like d_hat. Every regressor goes
+  /// through this.
   Eigen::MatrixX3d as_observed(const Eigen::MatrixX3d& raw) const;
 };
 
 /// Bandwidth of the zero-phase smoothing of the pose for the force laws' state [rad/s].
 inline constexpr double kSmoothingBandwidth_rad_s = 100.0;
 /// Sliding speed (builtin_effects.hpp) below which a sample counts as stuck [m/s].
-inline constexpr double kStuckSpeed_m_s = 3e-3;
+inline constexpr double kStuckSpeed_m_s = 1.5e-3;
 
 /// Runs the observer over [t0_s, t1_s] of `push` and prepares the regression inputs. Throws InputError for a
 /// span with fewer than two samples.
 DiagnosisPush prepare_diagnosis_push(const SynchronisedPush& push, double t0_s, double t1_s,
                                      const QFilterObserverOptions& observer = {});
 
+/// How q_filter reports its output at the sample times.
+enum class FilterOutput {
+  Point,         ///< the value at each sample
+  IntervalMean,  ///< the mean over the interval that ends at each sample (the first sample: the first interval),
+                 ///< as the observer reports d_hat and its total (q_filter_observer.hpp)
+};
+
 /// `values` (rows at times `t_s`, held first-order between them) through Q = wn^2 / (s^2 + 2 zeta wn s + wn^2),
 /// starting in the steady state of the first row; exact discretisation. `rate`, when given, receives the
-/// derivative of the output.
+/// derivative of the output (reported the same way).
 Eigen::MatrixXd q_filter(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& values, double zeta, double wn_rad_s,
-                         Eigen::MatrixXd* rate = nullptr);
+                         Eigen::MatrixXd* rate = nullptr, FilterOutput output = FilterOutput::Point);
 
 /// `values` through the second-order low-pass of bandwidth wn (zeta 1/sqrt(2)) forward and then backward in time
 /// (no lag); `rate`, when given, receives the derivative of the result.

@@ -70,6 +70,13 @@ ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes,
       }
     }
     b.stuck = d.stuck;
+    b.used.assign(n, 1);
+    if (relation_ == Relation::Friction) {
+      const auto guard = static_cast<Eigen::Index>(std::lround(kTransitionGuard_s * b.rate_hz));
+      for (Eigen::Index k = 1; k < n; ++k)
+        if (b.stuck[k] != b.stuck[k - 1])
+          for (Eigen::Index j = std::max<Eigen::Index>(0, k - guard); j < std::min(n, k + guard); ++j) b.used[j] = 0;
+    }
     // The Linear base's residual sets the channel weights and N_eff for both bases.
     Eigen::MatrixX3d lin = d.estimate.d_hat;
     const Relation keep = relation_;
@@ -87,7 +94,10 @@ ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes,
       Eigen::MatrixX3d stuck_input = Eigen::MatrixX3d::Zero(n, 3);
       for (Eigen::Index k = 0; k < n; ++k)
         if (b.stuck[k]) stuck_input.row(k) = d.estimate.u.row(k);
-      b.residual = d.estimate.d_hat + q_filter(d.estimate.t_s, stuck_input, d.q_zeta, d.q_wn_rad_s);
+      b.residual = d.estimate.d_hat + q_filter(d.estimate.t_s, stuck_input, d.q_zeta, d.q_wn_rad_s, nullptr,
+                                               FilterOutput::IntervalMean);
+      for (Eigen::Index k = 0; k < n; ++k)
+        if (!b.used[k]) b.residual.row(k).setZero();
     }
   }
   for (int c = 0; c < 3; ++c) scale_(c) = sum2(c) > 0 ? std::sqrt(sum2(c) / dof) : 1.0;
@@ -115,6 +125,9 @@ void ResidualRegression::to_base(std::size_t p, int c, Eigen::Ref<Eigen::VectorX
   if (relation_ == Relation::Linear) {
     x.array() -= x.mean();
     if (b.input_norm2[c] > 0) x -= (b.centred_input[c].dot(x) / b.input_norm2[c]) * b.centred_input[c];
+  } else {
+    for (Eigen::Index k = 0; k < x.size(); ++k)
+      if (!b.used[k]) x(k) = 0;
   }
 }
 

@@ -37,6 +37,10 @@ using EffectColumns = std::vector<std::vector<Eigen::MatrixX3d>>;
 
 /// Lag window of the Newey-West covariance [s].
 inline constexpr double kHacLag_s = 0.2;
+/// Against the friction law, samples this close to a change between stuck and sliding are left out: there the
+/// switch between static balance and the law is only known to within the smoothing's and the observer's time
+/// scales, and a sharp friction law misfits for reasons no candidate effect describes [s].
+inline constexpr double kTransitionGuard_s = 0.03;
 
 enum class Relation { Linear, Friction };
 
@@ -82,6 +86,7 @@ class ResidualRegression {
     Eigen::VectorXd centred_input[3];  ///< Q u_c minus its mean (zero when it does not vary)
     double input_norm2[3] = {0, 0, 0};
     std::vector<char> stuck;
+    std::vector<char> used;  ///< Friction: not near a stuck-sliding change
     Eigen::MatrixX3d residual;  ///< d_hat in the base: nuisance projected out, or d_hat + Q u at stuck samples
     double rate_hz = 250;
   };

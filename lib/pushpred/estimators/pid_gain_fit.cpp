@@ -21,8 +21,13 @@ namespace {
 
 // Gains enter Ceres as p = ln(g / kGainFloor): g = kGainFloor maps to p = 0, where Ceres' relative
 // numeric-diff step would vanish; useful gains (1e-3 for the rotation of a 0.002 kg m^2 object to 1e3) map to p of
-// 7 to 21.
+// 7 to 21. The gains are clamped to [kGainFloor, kGainCeiling] inside the residuals rather than bounded in Ceres:
+// beyond the clamp the objective is flat, so the parameter stops there, whereas Ceres' bounds-constrained
+// trust region runs a projected line search that re-evaluates the numeric Jacobian at every trial point (ten
+// times the cost when a gain that does not matter, such as an unused integral gain, runs into its bound).
 constexpr double kGainFloor = 1e-6, kGainCeiling = 1e6;
+
+double gain_at(double p) { return std::clamp(kGainFloor * std::exp(p), kGainFloor, kGainCeiling); }
 constexpr double kRadToDeg = 180.0 / M_PI;
 
 struct ProblemChannels {
@@ -49,7 +54,7 @@ void set_gains(PidGains& g, PidFitProblem p, const std::array<double, 3>& v) {
 PidGains evaluation_gains(PidFitProblem problem, const double* p) {
   PidGains g;
   g.kp = g.ki = g.kd = g.lp = g.li = g.ld = 0.0;
-  set_gains(g, problem, {kGainFloor * std::exp(p[0]), kGainFloor * std::exp(p[1]), kGainFloor * std::exp(p[2])});
+  set_gains(g, problem, {gain_at(p[0]), gain_at(p[1]), gain_at(p[2])});
   return g;
 }
 
@@ -204,30 +209,36 @@ void RestNoiseOptions::validate() const {
 
 namespace {
 
-/// Grid samples [0, end) of the rest at the start of `push` (RestNoiseOptions states how it is found).
-Eigen::Index rest_length(const SynchronisedPush& push, const RestNoiseOptions& o) {
+/// The rest at the start of `push`: grid samples [0, end), and the sample where the push begins (onset; the
+/// push's size when it never does). RestNoiseOptions states how they are found.
+struct RestSpan {
+  Eigen::Index end = 0, onset = 0;
+};
+RestSpan rest_span(const SynchronisedPush& push, const RestNoiseOptions& o) {
   const Eigen::Index n = push.size();
-  if (n < 2) return 0;
+  RestSpan rest;
+  if (n < 2) return rest;
   Eigen::Index ref = 1;
   while (ref < n && push.t_s(ref) - push.t_s(0) <= o.reference_s + 1e-9) ++ref;
-  const auto median = [ref](auto column) {
-    std::vector<double> v(column.data(), column.data() + ref);
+  const auto median = [ref](const auto& column) {
+    std::vector<double> v(static_cast<std::size_t>(ref));
+    for (Eigen::Index k = 0; k < ref; ++k) v[static_cast<std::size_t>(k)] = column(k);
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(ref / 2), v.end());
-    return v[ref / 2];
+    return v[static_cast<std::size_t>(ref / 2)];
   };
-  const Eigen::Vector3d pose0(median(Eigen::VectorXd(push.pose.col(0))), median(Eigen::VectorXd(push.pose.col(1))),
-                              median(Eigen::VectorXd(push.pose.col(2))));
-  const Eigen::Vector2d force0(median(Eigen::VectorXd(push.force_N.col(0))),
-                               median(Eigen::VectorXd(push.force_N.col(1))));
-  Eigen::Index onset = 0;
-  while (onset < n && (push.pose.row(onset).head<2>().transpose() - pose0.head<2>()).norm() <= o.moved_m &&
-         std::abs(push.pose(onset, 2) - pose0(2)) <= o.moved_rad &&
-         (push.force_N.row(onset).transpose() - force0).norm() <= o.force_change_N)
-    ++onset;
-  if (onset == n) return n;  // never pushed: all rest
-  Eigen::Index end = 0;
-  while (end < onset && push.t_s(end) <= push.t_s(onset) - o.margin_s + 1e-9) ++end;
-  return end;
+  const Eigen::Vector3d pose0(median(push.pose.col(0)), median(push.pose.col(1)), median(push.pose.col(2)));
+  const Eigen::Vector2d force0(median(push.force_N.col(0)), median(push.force_N.col(1)));
+  while (rest.onset < n &&
+         (push.pose.row(rest.onset).head<2>().transpose() - pose0.head<2>()).norm() <= o.moved_m &&
+         std::abs(push.pose(rest.onset, 2) - pose0(2)) <= o.moved_rad &&
+         (push.force_N.row(rest.onset).transpose() - force0).norm() <= o.force_change_N)
+    ++rest.onset;
+  if (rest.onset == n) {
+    rest.end = n;  // never pushed: all rest
+    return rest;
+  }
+  while (rest.end < rest.onset && push.t_s(rest.end) <= push.t_s(rest.onset) - o.margin_s + 1e-9) ++rest.end;
+  return rest;
 }
 
 }  // namespace
@@ -236,14 +247,14 @@ std::string pid_fit_unsuitable_reason(const SynchronisedPush& push, const RestNo
   options.validate();
   if (push.flags.frozen_force_sensor)
     return "frozen force sensor: its force is not needed for tracking, but d_hat = f_hat - u is meaningless";
-  const Eigen::Index rest = rest_length(push, options);
-  const double rest_s = rest >= 2 ? push.t_s(rest - 1) - push.t_s(0) : 0.0;
-  if (rest < 3 || rest_s < options.min_rest_s - 1e-9) {
+  const RestSpan rest = rest_span(push, options);
+  const double rest_s = rest.end >= 2 ? push.t_s(rest.end - 1) - push.t_s(0) : 0.0;
+  if (rest.end < 3 || rest_s < options.min_rest_s - 1e-9) {
     char buf[200];
     std::snprintf(buf, sizeof buf,
-                  "the object rests for only %.3g s at the start (the push begins at %.3g s); the noise scales "
-                  "need %.3g s",
-                  rest_s, rest < push.size() ? push.t_s(std::min<Eigen::Index>(rest, push.size() - 1)) : 0.0,
+                  "the object rests for only %.3g s at the start (the push begins at %.3g s, the rest ends %.3g s "
+                  "before); the noise scales need %.3g s",
+                  rest_s, rest.onset < push.size() ? push.t_s(rest.onset) : 0.0, options.margin_s,
                   options.min_rest_s);
     return buf;
   }
@@ -253,7 +264,7 @@ std::string pid_fit_unsuitable_reason(const SynchronisedPush& push, const RestNo
 PidFitNoise measure_rest_noise(const SynchronisedPush& push, const RestNoiseOptions& options) {
   const std::string unsuitable = pid_fit_unsuitable_reason(push, options);
   if (!unsuitable.empty()) throw InputError(about(push.source, "PID gain fit: " + unsuitable));
-  const Eigen::Index n = rest_length(push, options);
+  const Eigen::Index n = rest_span(push, options).end;
   PidFitNoise noise;
   noise.rest_start_s = push.t_s(0);
   noise.rest_end_s = push.t_s(n - 1);
@@ -298,6 +309,7 @@ void PidGainFitOptions::validate() const {
   require_positive_finite(roughness_weight, "the roughness weight lambda");
   require_positive_finite(numeric_diff_relative_step, "the numeric-diff relative step");
   if (numeric_diff_relative_step >= 0.1) throw InputError("PID gain fit: the numeric-diff relative step must be below 0.1");
+  for (const double w : start_bandwidths_rad_s) require_positive_finite(w, "every start bandwidth [rad/s]");
   reconstruction.validate();
   std::string error;
   if (!solver.IsValid(&error)) throw InputError("PID gain fit: invalid Ceres solver options: " + error);
@@ -370,10 +382,9 @@ PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFit
         }
         out += f.num_residuals();
       }
-      if (std::isfinite(cost)) {
+      if (std::isfinite(cost))
         for (const double v : r) cost += 0.5 * v * v;
-        if (label == "given gains") s.given_cost = cost;
-      }
+      if (label == "given gains") s.given_cost = cost;
       if (cost < s.start_cost) {
         s.start_cost = cost;
         s.start = label;
@@ -392,17 +403,12 @@ PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFit
       cost->SetNumResiduals(f.num_residuals());
       cp.AddResidualBlock(cost, nullptr, p);
     }
-    for (int i = 0; i < 3; ++i) {
-      cp.SetParameterLowerBound(p, i, 0.0);
-      cp.SetParameterUpperBound(p, i, std::log(kGainCeiling / kGainFloor));
-    }
     ceres::Solver::Summary summary;
     ceres::Solve(options.solver, &cp, &summary);
     if (!summary.IsSolutionUsable())
       throw SolverError("PID gain fit: Ceres found no usable " + pid_fit_problem_name(problem) + " gains over " +
                         std::to_string(pushes.size()) + " push(es): " + summary.message);
-    set_gains(fit.gains, problem,
-              {kGainFloor * std::exp(p[0]), kGainFloor * std::exp(p[1]), kGainFloor * std::exp(p[2])});
+    set_gains(fit.gains, problem, {gain_at(p[0]), gain_at(p[1]), gain_at(p[2])});
     s.fitted = true;
     s.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
     s.final_cost = summary.final_cost;

@@ -11,7 +11,7 @@
 // push begins (measure_rest_noise); lambda (default 1) weighs the two. Translation gains (kp, ki, kd) are shared
 // by x and y and fitted on the x and y residuals, rotation gains (lp, li, ld) on the rotation residuals: two
 // independent three-parameter problems. Each gain g enters Ceres as p = ln(g / 1e-6) (positive gains, relative
-// steps; bounded to g in [1e-6, 1e6]). A residual evaluation is one CVODE run of PidForceReconstruction::track,
+// steps; the residuals clamp g to [1e-6, 1e6]). A residual evaluation is one CVODE run of PidForceReconstruction::track,
 // differentiated by central differences (ceres::DynamicNumericDiffCostFunction). Fitting over a set of pushes
 // sums their residual blocks: one gain set for all. docs/pid_gains.md states the objective and its results.
 //

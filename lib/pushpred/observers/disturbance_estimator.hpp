@@ -12,16 +12,19 @@
 
 namespace pushpred {
 
+/// Forces are reported per sample t_k as their mean over the grid interval [t_{k-1}, t_k] (the first sample: over
+/// the first interval); a continuous-time estimator's output carries, between samples, ripple that a point value
+/// would alias (q_filter_observer.hpp, pid_force_reconstruction.hpp). Velocities are values at t_k.
 struct DisturbanceEstimate {
   std::string estimator;      ///< name of the estimator that made it
   Eigen::VectorXd t_s;        ///< times (a slice of the push's grid)
-  Eigen::MatrixX3d u;         ///< applied input per channel: f_Cx, f_Cy [N], T_C + r_m x f_C [N m]
+  Eigen::MatrixX3d u;         ///< applied input per channel at t_k: f_Cx, f_Cy [N], T_C + r_m x f_C [N m]
   Eigen::MatrixX3d d_hat;     ///< estimated unknown force [N] / torque [N m] per channel
   Eigen::MatrixX3d velocity;  ///< estimated object velocity x', y' [m/s], theta' [rad/s]
   /// The estimated total force [N] / torque [N m] M r'' per channel, as this estimator sees it. For the PID
   /// reconstruction it is f_hat = u + d_hat. For the observer, whose d_hat is Q-filtered, it is Q u + d_hat =
-  /// M (Q y)'': u + d_hat would mix a filtered and an unfiltered force and, integrated twice, drift by about
-  /// (2 zeta / wn) / M times the integral of d (resimulation.hpp).
+  /// M (Q y)'': u + d_hat would mix a filtered and an unfiltered force and, integrated twice, drift from the
+  /// measured pose by about (2 zeta / wn) / M times the integral of d - d(t0).
   Eigen::MatrixX3d total;
   /// Nominal mass [kg] (x and y) and moment of inertia [kg m^2] (rotation) the estimator used.
   Eigen::Vector3d nominal_inertia = Eigen::Vector3d::Zero();

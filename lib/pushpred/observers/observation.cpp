@@ -37,7 +37,7 @@ std::string forces_script(const Observation& o) {
   gp << "# DOB against PID estimate of the unknown force and torque (the paper's figure 4). Data: observer.csv.\n"
      << png_terminal("forces.png", 1000, 900) << "set datafile separator ','\n"
      << "set multiplot layout 3,1 title " << gnuplot_quoted("Unknown force and torque: " + title) << " noenhanced\n"
-     << "set grid\nset key top right\n";
+     << "set grid\nset key outside right top\n";
   const char* labels[3] = {"f_{frt,x} [N]", "f_{frt,y} [N]", "T_{frt} [N m]"};
   for (int c = 0; c < 3; ++c) {
     gp << "set ylabel '" << labels[c] << "'\n" << (c == 2 ? "set xlabel 't [s]'\n" : "unset xlabel\n")
@@ -55,7 +55,7 @@ std::string trajectory_script(const Observation& o) {
      << "# Data: resimulation.csv (SI); drawn in mm and degrees.\n"
      << png_terminal("trajectory.png", 1000, 900) << "set datafile separator ','\n"
      << "set multiplot layout 3,1 title " << gnuplot_quoted("Re-simulated against measured pose: " + title) << " noenhanced\n"
-     << "set grid\nset key top left\n";
+     << "set grid\nset key outside right top\n";
   const char* labels[3] = {"x [mm]", "y [mm]", "theta [deg]"};
   const char* scale[3] = {"1000", "1000", "180/pi"};
   for (int c = 0; c < 3; ++c) {
@@ -91,6 +91,7 @@ Observation observe_push(const SynchronisedPush& push, const ObservationOptions&
   o.measured_pose = push.pose.middleRows(push.index_at(o.dob.t_s(0)), o.dob.t_s.size());
   o.resimulated_dob = resimulate_pose(push, o.dob, options.observer.integrator);
   o.resimulated_pid = resimulate_pose(push, o.pid, options.observer.integrator);
+  o.rms_dob = rms_difference(o.dob.d_hat, Eigen::MatrixX3d::Zero(o.dob.d_hat.rows(), 3));
   o.rms_dob_minus_pid = rms_difference(o.dob.d_hat, o.pid.d_hat);
   o.rms_resimulation_dob = rms_difference(o.resimulated_dob, o.measured_pose);
   o.rms_resimulation_pid = rms_difference(o.resimulated_pid, o.measured_pose);
@@ -126,6 +127,7 @@ nlohmann::json observation_json(const Observation& o) {
           {"samples", n},
           {"nominal_mass_kg", o.dob.nominal_inertia(0)},
           {"nominal_inertia_kgm2", o.dob.nominal_inertia(2)},
+          {"rms_dob", triple(o.rms_dob, 1, 1, "N", "Nm")},
           {"rms_dob_minus_pid", triple(o.rms_dob_minus_pid, 1, 1, "N", "Nm")},
           {"rms_resimulated_minus_measured",
            {{"dob", triple(o.rms_resimulation_dob, 1e3, kDeg, "mm", "deg")},
@@ -133,14 +135,15 @@ nlohmann::json observation_json(const Observation& o) {
 }
 
 std::string observation_summary(const Observation& o) {
-  char buf[512];
+  char buf[768];
   std::snprintf(buf, sizeof buf,
                 "%s: %.3f-%.3f s, %ld samples\n"
+                "  RMS d_hat(DOB):                         x %.3f N, y %.3f N, rotation %.4f N m\n"
                 "  RMS d_hat(DOB) - d_hat(PID):            x %.3f N, y %.3f N, rotation %.4f N m\n"
                 "  RMS re-simulated - measured pose, DOB:  x %.2f mm, y %.2f mm, theta %.2f deg\n"
                 "  RMS re-simulated - measured pose, PID:  x %.2f mm, y %.2f mm, theta %.2f deg\n",
                 std::filesystem::path(o.source).filename().c_str(), o.dob.t_s(0), o.dob.t_s(o.dob.t_s.size() - 1),
-                static_cast<long>(o.dob.t_s.size()), o.rms_dob_minus_pid(0), o.rms_dob_minus_pid(1),
+                static_cast<long>(o.dob.t_s.size()), o.rms_dob(0), o.rms_dob(1), o.rms_dob(2), o.rms_dob_minus_pid(0), o.rms_dob_minus_pid(1),
                 o.rms_dob_minus_pid(2), 1e3 * o.rms_resimulation_dob(0), 1e3 * o.rms_resimulation_dob(1),
                 kDeg * o.rms_resimulation_dob(2), 1e3 * o.rms_resimulation_pid(0), 1e3 * o.rms_resimulation_pid(1),
                 kDeg * o.rms_resimulation_pid(2));

@@ -25,6 +25,7 @@ struct Observation {
   DisturbanceEstimate dob, pid;
   Eigen::MatrixX3d measured_pose;                    ///< over the span [m, m, rad]
   Eigen::MatrixX3d resimulated_dob, resimulated_pid;  ///< from each estimate's total force
+  Eigen::RowVector3d rms_dob;                        ///< RMS of d_hat(DOB), for scale [N, N, N m]
   Eigen::RowVector3d rms_dob_minus_pid;              ///< RMS of d_hat(DOB) - d_hat(PID) [N, N, N m]
   Eigen::RowVector3d rms_resimulation_dob, rms_resimulation_pid;  ///< RMS re-simulated - measured [m, m, rad]
 };

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/observers/estimation_span.hpp"
+#include "pushpred/systems/exact_discretisation.hpp"
 #include "pushpred/systems/linear_system.hpp"
 
 namespace pushpred {
@@ -49,21 +51,31 @@ PidForceReconstruction::PidForceReconstruction(PidGains gains, PidReconstruction
   options_.validate();
 }
 
-DisturbanceEstimate PidForceReconstruction::estimate(const SynchronisedPush& push, double t0, double t1) const {
-  return track(push, t0, t1).estimate;
-}
+namespace {
 
-PidForceReconstruction::Tracking PidForceReconstruction::track(const SynchronisedPush& push, double t0,
-                                                               double t1) const {
-  const EstimationSpan span = estimation_span(push, t0, t1, "PID force reconstruction");
-  const double m = options_.mass_kg > 0 ? options_.mass_kg : push.shape.mass_kg;
-  const double I = options_.inertia_kgm2 > 0 ? options_.inertia_kgm2 : push.shape.inertia_kgm2;
+// What both paths need: the span, the nominal inertias, the linear system and its initial state.
+struct PidSetup {
+  EstimationSpan span;
+  Eigen::Vector3d M;
+  Eigen::RowVector3d origin;
+  Eigen::VectorXd t;
+  std::unique_ptr<LinearSystem> system;
+  Eigen::VectorXd x0;
+};
+
+PidSetup set_up(const PidGains& gains, const PidReconstructionOptions& options, const SynchronisedPush& push,
+                double t0, double t1) {
+  PidSetup p;
+  p.span = estimation_span(push, t0, t1, "PID force reconstruction");
+  const double m = options.mass_kg > 0 ? options.mass_kg : push.shape.mass_kg;
+  const double I = options.inertia_kgm2 > 0 ? options.inertia_kgm2 : push.shape.inertia_kgm2;
   if (!(m > 0) || !(I > 0) || !std::isfinite(m) || !std::isfinite(I))
     throw InputError(about(push.source, "PID force reconstruction: shape '" + push.shape.name +
                                             "' has no positive mass and moment of inertia"));
-  const Eigen::Vector3d M(m, m, I);
-  const Eigen::Vector3d kp(gains_.kp, gains_.kp, gains_.lp), ki(gains_.ki, gains_.ki, gains_.li),
-      kd(gains_.kd, gains_.kd, gains_.ld);
+  p.M = Eigen::Vector3d(m, m, I);
+  const Eigen::Vector3d& M = p.M;
+  const Eigen::Vector3d kp(gains.kp, gains.kp, gains.lp), ki(gains.ki, gains.ki, gains.li),
+      kd(gains.kd, gains.kd, gains.ld);
 
   // States per channel c: 3c = r_sim, 3c + 1 = r_sim', 3c + 2 = iota. Inputs: r_meas relative to the first
   // sample (first-order hold) and its slope on each grid interval (held, so it jumps at every sample).
@@ -79,45 +91,71 @@ PidForceReconstruction::Tracking PidForceReconstruction::track(const Synchronise
     A(i, r) = -1;  // iota' = e
     B(i, c) = 1;
   }
-  const Eigen::Index n = span.size();
-  const Eigen::RowVector3d origin = push.pose.row(span.first);
-  const Eigen::MatrixX3d y = push.pose.middleRows(span.first, n).rowwise() - origin;
-  const Eigen::VectorXd t = push.t_s.segment(span.first, n);
+  const Eigen::Index n = p.span.size();
+  p.origin = push.pose.row(p.span.first);
+  const Eigen::MatrixX3d y = push.pose.middleRows(p.span.first, n).rowwise() - p.origin;
+  p.t = push.t_s.segment(p.span.first, n);
   Eigen::MatrixX3d slope(n, 3);
-  for (Eigen::Index k = 0; k + 1 < n; ++k) slope.row(k) = (y.row(k + 1) - y.row(k)) / (t(k + 1) - t(k));
+  for (Eigen::Index k = 0; k + 1 < n; ++k) slope.row(k) = (y.row(k + 1) - y.row(k)) / (p.t(k + 1) - p.t(k));
   slope.row(n - 1) = slope.row(n - 2);
-  const LinearSystem system(A, B, {SampledSignal(t, y, Hold::First), SampledSignal(t, slope, Hold::Zero)});
+  p.system = std::make_unique<LinearSystem>(
+      A, B, std::vector<SampledSignal>{SampledSignal(p.t, y, Hold::First), SampledSignal(p.t, slope, Hold::Zero)});
 
-  const InitialMotion motion = initial_motion(push, span, options_.velocity_window_s);
-  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(9);
+  const InitialMotion motion = initial_motion(push, p.span, options.velocity_window_s);
+  p.x0 = Eigen::VectorXd::Zero(9);
   for (int c = 0; c < 3; ++c) {
-    x0(3 * c + 1) = motion.velocity(c);
+    p.x0(3 * c + 1) = motion.velocity(c);
     // The integral term carries the measured acceleration, so that f_hat starts at M a0.
-    if (ki(c) > 0) x0(3 * c + 2) = M(c) * motion.acceleration(c) / ki(c);
+    if (ki(c) > 0) p.x0(3 * c + 2) = M(c) * motion.acceleration(c) / ki(c);
   }
-  CvodeIntegrator integrator(system, options_.integrator);
-  const Eigen::MatrixXd X = integrator.solve(t(0), x0, t);
+  return p;
+}
 
-  Tracking out;
+PidForceReconstruction::Tracking outputs(const PidSetup& p, const SynchronisedPush& push, const Eigen::MatrixXd& X) {
+  const Eigen::Index n = p.span.size();
+  PidForceReconstruction::Tracking out;
   DisturbanceEstimate& e = out.estimate;
   e.estimator = "pid";
-  e.t_s = t;
-  e.u = push.applied_input().middleRows(span.first, n);
-  e.nominal_inertia = M;
+  e.t_s = p.t;
+  e.u = push.applied_input().middleRows(p.span.first, n);
+  e.nominal_inertia = p.M;
   e.velocity.resize(n, 3);
   out.simulated_pose.resize(n, 3);
   for (Eigen::Index k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c) {
       e.velocity(k, c) = X(k, 3 * c + 1);
-      out.simulated_pose(k, c) = X(k, 3 * c) + origin(c);
+      out.simulated_pose(k, c) = X(k, 3 * c) + p.origin(c);
     }
   e.total.resize(n, 3);
   for (Eigen::Index k = 0; k < n; ++k) {
     const Eigen::Index b = std::max<Eigen::Index>(k, 1), a = b - 1;
-    e.total.row(k) = (e.velocity.row(b) - e.velocity.row(a)).cwiseProduct(M.transpose()) / (t(b) - t(a));
+    e.total.row(k) = (e.velocity.row(b) - e.velocity.row(a)).cwiseProduct(p.M.transpose()) / (p.t(b) - p.t(a));
   }
   e.d_hat = e.total - e.u;
   return out;
+}
+
+}  // namespace
+
+DisturbanceEstimate PidForceReconstruction::estimate(const SynchronisedPush& push, double t0, double t1) const {
+  return track(push, t0, t1).estimate;
+}
+
+DisturbanceEstimate PidForceReconstruction::estimate_exactly(const SynchronisedPush& push, double t0, double t1) const {
+  return track_exactly(push, t0, t1).estimate;
+}
+
+PidForceReconstruction::Tracking PidForceReconstruction::track(const SynchronisedPush& push, double t0,
+                                                               double t1) const {
+  const PidSetup p = set_up(gains_, options_, push, t0, t1);
+  CvodeIntegrator integrator(*p.system, options_.integrator);
+  return outputs(p, push, integrator.solve(p.t(0), p.x0, p.t));
+}
+
+PidForceReconstruction::Tracking PidForceReconstruction::track_exactly(const SynchronisedPush& push, double t0,
+                                                                       double t1) const {
+  const PidSetup p = set_up(gains_, options_, push, t0, t1);
+  return outputs(p, push, propagate_exactly(*p.system, p.x0));
 }
 
 }  // namespace pushpred

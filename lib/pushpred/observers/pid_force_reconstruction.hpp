@@ -61,6 +61,12 @@ class PidForceReconstruction final : public DisturbanceEstimator {
   };
   Tracking track(const SynchronisedPush& push, double t_start_s, double t_end_s) const;
 
+  /// The same from the exact discretisation of the same linear system (matrix exponentials for its two holds):
+  /// the tests hold it equal to the CVODE path; about a thousand times faster (bench/bench_observers.cpp), for
+  /// callers that run the reconstruction many times, such as a gain fit.
+  DisturbanceEstimate estimate_exactly(const SynchronisedPush& push, double t_start_s, double t_end_s) const;
+  Tracking track_exactly(const SynchronisedPush& push, double t_start_s, double t_end_s) const;
+
   const PidGains& gains() const { return gains_; }
   const PidReconstructionOptions& options() const { return options_; }
 

@@ -1,5 +1,6 @@
 #include "pushpred/observers/q_filter_observer.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -55,7 +56,8 @@ Prepared prepare(const QFilterObserver& observer, const SynchronisedPush& push, 
 
 // Interval means of the outputs (see the header): with h = t_k - t_{k-1} and D the difference over the interval,
 //   mean M z'' = M D q2 / h,   mean Q u = mean u - (D p2 + 2 zeta wn D p1) / (wn^2 h)   (from p2' = wn^2 (u - p1) - ...),
-//   mean z' = D q1 / h,        mean u = (u_{k-1} + u_k) / 2 under first-order hold, u_{k-1} under zero-order.
+//   mean u = (u_{k-1} + u_k) / 2 under first-order hold, u_{k-1} under zero-order.
+// The velocity is the point value q2(t_k).
 DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, const Eigen::MatrixXd& X) {
   DisturbanceEstimate e;
   e.estimator = "dob";
@@ -75,13 +77,12 @@ DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, 
       const double qu_mean = u_mean - (delta(3) + two_zeta_wn * delta(2)) / (wn2 * h);
       e.total(k, c) = p.model.inertia(c) * delta(1) / h;
       e.d_hat(k, c) = e.total(k, c) - qu_mean;
-      e.velocity(k, c) = delta(0) / h;
     }
   }
   // The first sample has no interval of the span before it: it reports the first interval's means.
   e.d_hat.row(0) = e.d_hat.row(1);
   e.total.row(0) = e.total.row(1);
-  e.velocity.row(0) = e.velocity.row(1);
+  for (int c = 0; c < 3; ++c) e.velocity.col(c) = X.col(4 * c + 1);
   return e;
 }
 

@@ -14,12 +14,14 @@
 // the biproper part appears as the direct term M wn^2 y. q2 = Q s y is the filtered velocity. Positions enter
 // relative to the pose at the span's first sample (d_hat does not see a constant offset; the states stay small).
 //
-// Outputs on the grid are means over the sample interval that ends at each sample (the first sample reports the
-// first interval), computed from the states at the interval's ends (q_filter_observer.cpp). Why not point values:
+// d_hat and the total force are reported as means over the sample interval that ends at each sample (the first
+// sample reports the first interval), computed from the states at the interval's ends; the velocity is the point
+// value q2(t_k) (q_filter_observer.cpp). Why not point values of d_hat:
 // y is known only at samples and held in between, and Q is fast against the sampling (wn dt = 1.2 at 250 Hz).
 // Linear interpolation runs above a curved y by dt^2 y'' / 12 on average; the filter states see that offset but
 // the direct term, evaluated at a sample, does not, so point values of d_hat are off by -(wn dt)^2 / 12 M y''
-// (-12% of the inertial force at 250 Hz; under zero-order hold, by M wn^2 (dt / 2) y', newtons for a slow push).
+// (-12% of the inertial force at 250 Hz). Under zero-order hold the states see y half a sample late and point
+// values are off by about 1.3 M wn^2 (dt / 2) y' (2.7 N on a 9 mm/s push of the 1.33 kg ellip3).
 // The interval mean is a box filter with zeros at the sampling frequency and its harmonics: it removes that
 // ripple, at the price of half a sample of delay.
 //
@@ -28,7 +30,7 @@
 // input ramp u0 + u0' t:
 //   q1 = y0 - (2 zeta / wn) v0 + ((4 zeta^2 - 1) / wn^2) a0,  q2 = v0 - (2 zeta / wn) a0,
 //   p1 = u0 - (2 zeta / wn) u0',  p2 = u0',
-// so that d_hat starts at M a0 - u0 without a start-up impulse. v0, a0 come from a least-squares parabola through
+// so that d_hat starts at its steady value M a0 - Q u, without a start-up impulse. v0, a0 come from a least-squares parabola through
 // the span's first `velocity_window_s` of pose samples, u0, u0' from a line through the input samples
 // (initial_motion, estimation_span.hpp); the fits look forward only. Starting at rest instead (Start::AtRest:
 // q = (y0, 0), p = (u(t0), 0)) adds M v0 times Q's impulse response, a peak of about 0.46 wn M v0 (18 N for
@@ -50,8 +52,9 @@ struct QFilterObserverOptions {
   Hold hold = Hold::First;             ///< how y and u are held between grid samples
   enum class Start { Steady, AtRest };
   Start start = Start::Steady;         ///< AtRest exists to show the impulse Steady avoids
-  /// Forward window of the initial motion fit (see above). 30 ms (8 samples at 250 Hz) kept mid-push starts of
-  /// the real pushes inside their noise band most often among 20, 30, 40 and 60 ms (docs/observer.md).
+  /// Forward window of the initial motion fit (see above): 30 ms, 8 samples at 250 Hz. Longer windows average
+  /// more pose noise but fit a parabola to motion that is no longer one; on the real pushes, 40 and 60 ms left
+  /// more mid-push starts outside their noise band (docs/observer.md).
   double velocity_window_s = 0.03;
   IntegratorOptions integrator;
   /// Throws InputError naming the first bad value (negative mass, zeta <= 0, wn <= 0, bad tolerance, ...).

@@ -16,7 +16,9 @@ Eigen::MatrixX3d resimulate_pose(const SynchronisedPush& push, const Disturbance
   if (first + n > push.size() || std::abs(push.t_s(first) - e.t_s(0)) > 1e-9 ||
       std::abs(push.t_s(first + n - 1) - e.t_s(n - 1)) > 1e-9)
     throw InputError(about(push.source, "re-simulation: the estimate's times are not a slice of this push's grid"));
-  const LinearSystem system = double_integrator(e.nominal_inertia, SampledSignal(e.t_s, e.total, Hold::First));
+  // total(k) is the mean over [t_{k-1}, t_k]: zero-order-held from t_{k-1}.
+  const LinearSystem system = double_integrator(
+      e.nominal_inertia, SampledSignal(e.t_s.head(n - 1), e.total.bottomRows(n - 1), Hold::Zero));
   Eigen::VectorXd x0(6);
   x0.head<3>() = push.pose.row(first).transpose();
   x0.tail<3>() = e.velocity.row(0).transpose();

@@ -9,8 +9,9 @@
 
 namespace pushpred {
 
-/// Pose x, y [m], theta [rad] at the estimate's samples, absolute (same frame as push.pose). The total force
-/// is held first-order between samples. Throws InputError when the estimate does not belong to `push`.
+/// Pose x, y [m], theta [rad] at the estimate's samples, absolute (same frame as push.pose). The total force is
+/// held at its reported interval mean over each grid interval, so that the re-simulated velocity at every sample
+/// is the estimator's own. Throws InputError when the estimate does not belong to `push`.
 Eigen::MatrixX3d resimulate_pose(const SynchronisedPush& push, const DisturbanceEstimate& estimate,
                                  const IntegratorOptions& integrator = {});
 

@@ -28,7 +28,7 @@ struct PreprocessOptions {
   double rate_hz = 250.0;               ///< uniform grid rate
   double glitch_position_m = 2e-3;      ///< a pose sample this far off its neighbours' midpoint is a glitch...
   double glitch_yaw_rad = 0.035;        ///< ...or this far in yaw (2 degrees)
-  double contact_force_N = 0.25;        ///< |f_C| above this means contact (real sensor noise: 0.01-0.05 N)
+  double contact_force_N = 0.25;        ///< |f_C| above this means contact (noise at rest: 0.04 N fx, 0.10 N fy std)
   double contact_gap_m = 2e-3;          ///< geometric contact: tip surface within this of the outline
   double barely_moves_m = 2e-3;         ///< object travel below this flags the push
 };

@@ -32,8 +32,9 @@ class ContinuousSystem {
   /// Called by the integrator before it integrates across [t0, t1], an interval free of declared jumps. A
   /// system with zero-order-held inputs evaluates them as seen from inside this interval (see
   /// SampledSignal::evaluate_within), so that derivative() at t1 uses the value held on the interval and not
-  /// the one that starts at t1. The system may keep the interval in a mutable member; systems without held
-  /// inputs ignore it.
+  /// the one that starts at t1. (CVODE 6.4 happens to end such an interval a rounding error short of t1; this
+  /// keeps the result independent of that.) The system may keep the interval in a mutable member; systems
+  /// without held inputs ignore it.
   virtual void enter_interval(double /*t0*/, double /*t1*/) const {}
 };
 

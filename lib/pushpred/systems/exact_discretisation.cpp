@@ -2,7 +2,9 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <string>
 
 #include "pushpred/core/error.hpp"
@@ -58,6 +60,48 @@ Eigen::MatrixXd propagate_exactly(const Eigen::MatrixXd& A, const Eigen::MatrixX
       step_dt = dt;
     }
     x = step.phi * x + step.gamma_from * u.row(k).transpose() + step.gamma_to * u.row(k + 1).transpose();
+    X.row(k + 1) = x.transpose();
+  }
+  return X;
+}
+
+Eigen::MatrixXd propagate_exactly(const LinearSystem& system, const Eigen::VectorXd& x0) {
+  const auto& inputs = system.inputs();
+  const Eigen::MatrixXd& A = system.A();
+  const Eigen::Index n = A.rows();
+  if (x0.size() != n) throw InputError("exact propagation: initial state does not match A");
+  const Eigen::VectorXd& t = inputs.front().times();
+  for (const auto& in : inputs)
+    if (in.samples() != t.size() || (in.times() - t).cwiseAbs().maxCoeff() > 1e-12 * std::max(1.0, t.cwiseAbs().maxCoeff()))
+      throw InputError("exact propagation: the inputs are not sampled at the same times");
+  // By superposition, one discretisation per input signal with its own hold; the same phi for all.
+  struct Block {
+    Eigen::Index column;
+    const SampledSignal* signal;
+    DiscreteStep step;
+  };
+  std::vector<Block> blocks;
+  Eigen::Index column = 0;
+  for (const auto& in : inputs) {
+    blocks.push_back({column, &in, {}});
+    column += in.channels();
+  }
+  Eigen::MatrixXd X(t.size(), n);
+  X.row(0) = x0.transpose();
+  Eigen::VectorXd x = x0, next(n);
+  double step_dt = -1;
+  for (Eigen::Index k = 0; k + 1 < t.size(); ++k) {
+    const double dt = t(k + 1) - t(k);
+    if (std::abs(dt - step_dt) > 1e-12 * dt) {
+      for (auto& b : blocks)
+        b.step = discretise_exactly(A, system.B().middleCols(b.column, b.signal->channels()), dt, b.signal->hold());
+      step_dt = dt;
+    }
+    next = blocks.front().step.phi * x;
+    for (const auto& b : blocks)
+      next += b.step.gamma_from * b.signal->values().row(k).transpose() +
+              b.step.gamma_to * b.signal->values().row(k + 1).transpose();
+    x = next;
     X.row(k + 1) = x.transpose();
   }
   return X;

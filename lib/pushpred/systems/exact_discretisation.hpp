@@ -7,6 +7,7 @@
 //   first-order hold: exp([[A, B, 0], [0, 0, I], [0, 0, 0]] dt) gives  x+ = Phi x + Gamma_from u_k + Gamma_to u_{k+1}
 #include <Eigen/Core>
 
+#include "pushpred/systems/linear_system.hpp"
 #include "pushpred/systems/sampled_signal.hpp"
 
 namespace pushpred {
@@ -24,5 +25,9 @@ DiscreteStep discretise_exactly(const Eigen::MatrixXd& A, const Eigen::MatrixXd&
 /// sample, one row per sample. Steps of equal length share one matrix exponential.
 Eigen::MatrixXd propagate_exactly(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::VectorXd& x0,
                                   const SampledSignal& input);
+
+/// The same for a LinearSystem whose inputs (each with its own hold) are all sampled at the same times: states at
+/// those times from x0 at the first. Throws InputError when the inputs' sample times differ.
+Eigen::MatrixXd propagate_exactly(const LinearSystem& system, const Eigen::VectorXd& x0);
 
 }  // namespace pushpred

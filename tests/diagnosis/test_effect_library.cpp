@@ -1,0 +1,118 @@
+// The library of candidate effects: every kind the issue asks for is there, a user can add and remove effects,
+// the footprint friction law is the simulator's, and the corrected prediction model's quasi-static law keeps a
+// pushed object moving and stops it when the push ends.
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/builtin_effects.hpp"
+#include "pushpred/diagnosis/corrected_prediction.hpp"
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+#include "test_support.hpp"
+
+using namespace pushpred;
+
+namespace {
+
+class NamedEffect final : public CandidateEffect {
+ public:
+  explicit NamedEffect(std::string kind) : kind_(std::move(kind)) {}
+  std::string kind() const override { return kind_; }
+  std::string description() const override { return "test"; }
+  std::vector<EffectParameter> parameters() const override { return {{"a", "N"}}; }
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo&) const override {
+    return {s.velocity(0), 0.0, 0.0};
+  }
+
+ private:
+  std::string kind_;
+};
+
+}  // namespace
+
+BOOST_AUTO_TEST_SUITE(effect_library)
+
+BOOST_AUTO_TEST_CASE(the_standard_library_holds_every_kind_the_issue_names) {
+  const EffectLibrary library = EffectLibrary::standard();
+  for (const char* kind : {"time_offset", "force_offset", "viscous_friction", "stribeck_friction", "position_friction",
+                           "com_offset", "inertia_mismatch", "initial_velocity", "coulomb_friction", "quasi_static"}) {
+    BOOST_TEST_REQUIRE(library.find(kind) != nullptr, kind);
+    BOOST_TEST(!library.find(kind)->description().empty());
+  }
+  BOOST_TEST(std::string(effect_test_name(library.find("initial_velocity")->test())) == "prediction");
+  BOOST_TEST(std::string(effect_test_name(library.find("force_offset")->test())) == "direct");
+  BOOST_TEST(library.find("coulomb_friction")->replaces_relation());
+}
+
+BOOST_AUTO_TEST_CASE(a_user_adds_and_removes_effects_and_mistakes_are_input_errors) {
+  EffectLibrary library = EffectLibrary::standard();
+  const std::size_t n = library.effects().size();
+  library.register_effect(std::make_unique<NamedEffect>("my_effect"));
+  BOOST_TEST(library.effects().size() == n + 1);
+  BOOST_TEST(library.kinds().back() == "my_effect");
+  BOOST_CHECK_THROW(library.register_effect(std::make_unique<NamedEffect>("my_effect")), InputError);
+  BOOST_CHECK_THROW(library.register_effect(std::make_unique<NamedEffect>("")), InputError);
+  BOOST_CHECK_THROW(library.register_effect(nullptr), InputError);
+  library.remove("my_effect");
+  BOOST_TEST(library.find("my_effect") == nullptr);
+  BOOST_CHECK_THROW(library.remove("my_effect"), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(a_force_law_regressor_is_its_force_as_the_observer_sees_it) {
+  const SynchronisedPush push = load_push(pushpred::testing::real_file("shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.000"));
+  const DiagnosisPush d = prepare_diagnosis_push(push, 0.0, push.duration_s());
+  const NamedEffect effect("velocity_x");
+  const std::vector<Eigen::MatrixX3d> r = effect.regressors(d, 0.0);
+  BOOST_TEST_REQUIRE(r.size() == 1u);
+  Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(d.rows(), 3);
+  raw.col(0) = d.smooth_velocity.col(0);
+  BOOST_TEST((r[0] - d.as_observed(raw)).cwiseAbs().maxCoeff() < 1e-12);
+  // Stuck samples carry nothing before the filter: the first, at rest, is zero.
+  BOOST_TEST(r[0](0, 0) == 0.0);
+}
+
+BOOST_AUTO_TEST_CASE(the_coulomb_law_has_the_weight_as_its_scale_and_opposes_the_motion) {
+  for (const char* name : {"rect2", "ellip1", "hex", "butter"}) {
+    const ShapeInfo& shape = ShapeTable::published().find(name);
+    const double weight = shape.mass_kg * kStandardGravity_m_s2;
+    // Pure translation: the whole weight resists it, along the velocity.
+    const Eigen::Vector3d w = coulomb_friction_wrench(Eigen::Vector3d(0.3, 0.1, 0.4), Eigen::Vector3d(0.05, 0, 0), shape);
+    BOOST_TEST(w(0) == -weight, boost::test_tools::tolerance(0.01));
+    BOOST_TEST(std::abs(w(1)) < 1e-3 * weight);
+    // Pure rotation: a torque against it and (nearly) no force.
+    const Eigen::Vector3d r = coulomb_friction_wrench(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 1.0), shape);
+    BOOST_TEST(r(2) < 0);
+    BOOST_TEST(r.head<2>().norm() < 0.05 * weight);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(the_quasi_static_law_keeps_a_pushed_object_moving_and_stops_it_after_the_push) {
+  const ShapeInfo& shape = ShapeTable::published().find("rect2");
+  // 3 N for 0.3 s, then nothing; the object starts at 50 mm/s.
+  PlannedForce plan;
+  Eigen::VectorXd t(2);
+  t << 0.0, 0.3;
+  Eigen::MatrixXd u(2, 3);
+  u << 3.0, 0.0, 0.0, 0.0, 0.0, 0.0;
+  plan.signal = SampledSignal(t, u, Hold::Zero);
+  plan.t0_s = 0;
+  plan.t1_s = 0.6;
+  plan.rate_hz = 1 / 0.3;
+  PredictionModel model;
+  model.mass_kg = shape.mass_kg;
+  model.inertia_kgm2 = shape.inertia_kgm2;
+  model.extra_terms.push_back(std::make_shared<QuasiStaticPushTerm>(1.5, std::vector<FittedForceLaw>{}, shape,
+                                                                     Eigen::Vector3d::Zero()));
+  Eigen::VectorXd times(3);
+  times << 0.2, 0.45, 0.6;
+  const Eigen::MatrixX3d p = predict_poses(model, plan, Eigen::Vector3d::Zero(), Eigen::Vector3d(0.05, 0, 0), times);
+  BOOST_TEST(p(0, 0) == 0.05 * 0.2, boost::test_tools::tolerance(0.02));  // moving with the push
+  // After the push it slides at most v^2 / (2 a), a = F_stop / m, and then rests.
+  const double slide = 0.05 * 0.05 / (2 * 1.5 / shape.mass_kg);
+  BOOST_TEST(p(1, 0) > 0.05 * 0.3);
+  BOOST_TEST(p(1, 0) < 0.05 * 0.3 + 1.5 * slide);
+  BOOST_TEST(std::abs(p(2, 0) - p(1, 0)) < 1e-4);
+}
+
+BOOST_AUTO_TEST_SUITE_END()
