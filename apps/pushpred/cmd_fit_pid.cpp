@@ -1,4 +1,4 @@
-// `pushpred fit-pid FILE... --out DIR [--per-push] [--shape NAME] [--lambda L]`: the PID gains of the paper's
+// `pushpred fit-pid FILE... --out DIR [--per-push] [--shape NAME] [--lambda L] [--cvode]`: the PID gains of the paper's
 // force reconstruction fitted by Ceres over the pushes (and per push), compared with the paper's trial-and-error
 // gains; DIR/pid_gains.json, DIR/pid_fit.md and DIR/forces/<push>.csv (u and d_hat of the observer and of the PID
 // with the paper's and the jointly fitted gains). The objective is stated in docs/pid_gains.md.
@@ -19,7 +19,7 @@ namespace {
 struct FitPidArgs {
   std::vector<std::string> files;
   std::string out, shape;
-  bool per_push = false;
+  bool per_push = false, cvode = false;
   double lambda = 1.0, rate_hz = 250.0;
   int max_iterations = 50;
 };
@@ -29,6 +29,7 @@ int run_fit_pid(const FitPidArgs& a) {
   o.per_push = a.per_push;
   o.fit.roughness_weight = a.lambda;
   o.fit.solver.max_num_iterations = a.max_iterations;
+  o.fit.exact_discretisation = !a.cvode;
   o.fit.validate();  // a bad option fails before any file is read
   PreprocessOptions pre;
   pre.rate_hz = a.rate_hz;
@@ -98,6 +99,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--lambda", a->lambda, "Weight of the force-roughness term (> 0)");
   sub->add_option("--max-iterations", a->max_iterations, "Ceres iterations per problem")->check(CLI::Range(1, 1000));
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_flag("--cvode", a->cvode,
+                "Run the reconstruction by CVODE instead of its exact discretisation (a hundred times slower)");
   sub->callback([a, &run] { run = [a] { return run_fit_pid(*a); }; });
 });
 

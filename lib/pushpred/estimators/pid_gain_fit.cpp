@@ -48,9 +48,9 @@ void set_gains(PidGains& g, PidFitProblem p, const std::array<double, 3>& v) {
 }
 
 /// The gains a residual evaluation of `problem` runs with: the problem's from the log-parameters, the other
-/// problem's zero. The channels are decoupled, so the others do not change the fitted channels' residuals; at
-/// zero gain they are slow and cost CVODE nothing (the paper's rotation gains put a pole near -ld / I, about
-/// -1.4e4 rad/s, that would set CVODE's steps for the translation problem too).
+/// problem's zero. The channels are decoupled, so the others do not change the fitted channels' residuals; on the
+/// CVODE path, at zero gain they are slow and cost nothing (the paper's rotation gains put a pole near -ld / I,
+/// about -1.4e4 rad/s, that would set CVODE's steps for the translation problem too).
 PidGains evaluation_gains(PidFitProblem problem, const double* p) {
   PidGains g;
   g.kp = g.ki = g.kd = g.lp = g.li = g.ld = 0.0;
@@ -73,18 +73,23 @@ void write_residuals(const PidFitPush& p, const PidForceReconstruction::Tracking
   }
 }
 
-/// The residuals of one push for one problem, as a function of the three log-gains: one CVODE run of the PID
-/// reconstruction per evaluation. A failed run (CVODE gives up at extreme gains) reports failure to Ceres, which
-/// then shrinks its step.
+/// One run of the PID reconstruction, exact discretisation or CVODE as the options say.
+PidForceReconstruction::Tracking run_pid(const PidForceReconstruction& pid, const PidFitPush& p, bool exact) {
+  return exact ? pid.track_exactly(p.push, p.t_start_s, span_end(p)) : pid.track(p.push, p.t_start_s, span_end(p));
+}
+
+/// The residuals of one push for one problem, as a function of the three log-gains: one run of the PID
+/// reconstruction per evaluation. A failed run (CVODE gives up, or a matrix exponential overflows, at extreme
+/// gains) reports failure to Ceres, which then shrinks its step.
 class PidTrackingResiduals {
  public:
-  PidTrackingResiduals(const PidFitPush& push, PidFitProblem problem, double lambda,
-                       const PidReconstructionOptions& reconstruction)
+  PidTrackingResiduals(const PidFitPush& push, PidFitProblem problem, const PidGainFitOptions& options)
       : push_(push),
         problem_(problem),
         channels_(channels_of(problem)),
-        sqrt_lambda_(std::sqrt(lambda)),
-        reconstruction_(reconstruction),
+        sqrt_lambda_(std::sqrt(options.roughness_weight)),
+        reconstruction_(options.reconstruction),
+        exact_(options.exact_discretisation),
         samples_(estimation_span(push.push, push.t_start_s, span_end(push), "PID gain fit").size()) {}
 
   int num_residuals() const { return static_cast<int>(channels_.count * (2 * samples_ - 1)); }
@@ -92,7 +97,7 @@ class PidTrackingResiduals {
   bool operator()(double const* const* parameters, double* residuals) const {
     try {
       const PidForceReconstruction pid(evaluation_gains(problem_, parameters[0]), reconstruction_);
-      const PidForceReconstruction::Tracking tr = pid.track(push_.push, push_.t_start_s, span_end(push_));
+      const PidForceReconstruction::Tracking tr = run_pid(pid, push_, exact_);
       if (tr.estimate.t_s.size() != samples_) return false;
       write_residuals(push_, tr, channels_, sqrt_lambda_, residuals);
       for (int i = 0; i < num_residuals(); ++i)
@@ -109,6 +114,7 @@ class PidTrackingResiduals {
   ProblemChannels channels_;
   double sqrt_lambda_;
   PidReconstructionOptions reconstruction_;
+  bool exact_;
   Eigen::Index samples_;
 };
 
@@ -308,7 +314,8 @@ ceres::Solver::Options default_pid_fit_solver_options() {
 void PidGainFitOptions::validate() const {
   require_positive_finite(roughness_weight, "the roughness weight lambda");
   require_positive_finite(numeric_diff_relative_step, "the numeric-diff relative step");
-  if (numeric_diff_relative_step >= 0.1) throw InputError("PID gain fit: the numeric-diff relative step must be below 0.1");
+  if (numeric_diff_relative_step >= 0.1)
+    throw InputError("PID gain fit: the numeric-diff relative step must be below 0.1");
   for (const double w : start_bandwidths_rad_s) require_positive_finite(w, "every start bandwidth [rad/s]");
   reconstruction.validate();
   std::string error;
@@ -357,7 +364,7 @@ PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFit
     std::vector<PidTrackingResiduals> functors;
     int residuals = 0;
     for (const PidFitPush& push : pushes) {
-      functors.emplace_back(push, problem, options.roughness_weight, options.reconstruction);
+      functors.emplace_back(push, problem, options);
       residuals += functors.back().num_residuals();
     }
 
@@ -419,12 +426,16 @@ PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFit
 
 namespace {
 
-QFilterObserver observer_for(const PidGainFitOptions& options) {
+/// The disturbance observer's estimate over the push's span, with the reconstruction's nominal inertia, by the
+/// same path (exact or CVODE) as the reconstruction.
+DisturbanceEstimate observer_estimate(const PidFitPush& p, const PidGainFitOptions& options) {
   QFilterObserverOptions o;
   o.mass_kg = options.reconstruction.mass_kg;
   o.inertia_kgm2 = options.reconstruction.inertia_kgm2;
   o.integrator = options.reconstruction.integrator;
-  return QFilterObserver(o);
+  const QFilterObserver observer(o);
+  return options.exact_discretisation ? observer.estimate_exactly(p.push, p.t_start_s, span_end(p))
+                                      : observer.estimate(p.push, p.t_start_s, span_end(p));
 }
 
 }  // namespace
@@ -432,8 +443,8 @@ QFilterObserver observer_for(const PidGainFitOptions& options) {
 PidGainQuality assess_pid_gains(const PidFitPush& p, const PidGains& gains, const PidGainFitOptions& options) {
   options.validate();
   const PidForceReconstruction pid(gains, options.reconstruction);
-  const PidForceReconstruction::Tracking tr = pid.track(p.push, p.t_start_s, span_end(p));
-  const DisturbanceEstimate dob = observer_for(options).estimate(p.push, p.t_start_s, span_end(p));
+  const PidForceReconstruction::Tracking tr = run_pid(pid, p, options.exact_discretisation);
+  const DisturbanceEstimate dob = observer_estimate(p, options);
 
   const Eigen::Index n = tr.estimate.t_s.size();
   PidGainQuality q;
@@ -455,11 +466,11 @@ PidGainQuality assess_pid_gains(const PidFitPush& p, const PidGains& gains, cons
 
 std::string pid_fit_forces_csv(const PidFitPush& p, const PidGains& fitted, const PidGainFitOptions& options) {
   options.validate();
+  const bool exact = options.exact_discretisation;
   const DisturbanceEstimate paper =
-      PidForceReconstruction(PidGains{}, options.reconstruction).estimate(p.push, p.t_start_s, span_end(p));
-  const DisturbanceEstimate fit =
-      PidForceReconstruction(fitted, options.reconstruction).estimate(p.push, p.t_start_s, span_end(p));
-  const DisturbanceEstimate dob = observer_for(options).estimate(p.push, p.t_start_s, span_end(p));
+      run_pid(PidForceReconstruction(PidGains{}, options.reconstruction), p, exact).estimate;
+  const DisturbanceEstimate fit = run_pid(PidForceReconstruction(fitted, options.reconstruction), p, exact).estimate;
+  const DisturbanceEstimate dob = observer_estimate(p, options);
   std::ostringstream csv;
   csv << "t_s";
   for (const char* c : {"x_N", "y_N", "rot_Nm"})
@@ -492,6 +503,12 @@ PidFitStudy run_pid_fit_study(const std::vector<PidFitPush>& pushes, const PidFi
   PidFitStudy study;
   study.roughness_weight = options.fit.roughness_weight;
   study.joint = fit_pid_gains(pushes, options.fit);
+  for (const PidFitPush& p : pushes) {
+    const auto& r = options.fit.reconstruction;
+    const double m = r.mass_kg > 0 ? r.mass_kg : p.push.shape.mass_kg;
+    const double I = r.inertia_kgm2 > 0 ? r.inertia_kgm2 : p.push.shape.inertia_kgm2;
+    study.mean_inertia += Eigen::Vector3d(m, m, I) / static_cast<double>(pushes.size());
+  }
   for (const PidFitPush& p : pushes) {
     PidFitPushResult r;
     r.source = p.push.source;
@@ -580,7 +597,8 @@ std::string pid_fit_markdown(const PidFitStudy& s) {
   md << "# PID gains fitted by Ceres\n\n";
   md << "Objective (docs/pid_gains.md): 1/2 sum over samples and channels of ((r_meas - r_sim) / sigma_pose)^2 + "
         "lambda ((f_hat(k+1) - f_hat(k)) / sigma_df)^2, lambda = "
-     << fmt("%g", s.roughness_weight) << "; sigma_pose and sigma_df measured on each push while the object rests at the start. "
+     << fmt("%g", s.roughness_weight)
+     << "; sigma_pose and sigma_df measured on each push while the object rests at the start. "
      << s.pushes.size() << " push(es) fitted";
   if (!s.skipped.empty()) md << ", " << s.skipped.size() << " skipped";
   if (!s.failed.empty()) md << ", " << s.failed.size() << " failed";
@@ -589,13 +607,47 @@ std::string pid_fit_markdown(const PidFitStudy& s) {
   md << "|---|---:|---:|---:|---:|---:|---:|\n";
   const auto gain_row = [&](const std::string& label, const PidGains& g) {
     md << "| " << label;
-    for (double v : {g.kp, g.ki, g.kd, g.lp, g.li, g.ld}) md << " | " << fmt("%.4g", v);
+    for (double v : {g.kp, g.ki, g.kd, g.lp, g.li, g.ld})
+      md << " | " << (v <= kGainFloor * (1 + 1e-9) ? std::string("floor") : fmt("%.4g", v));
     md << " |\n";
   };
   gain_row("paper (trial and error)", paper);
   gain_row("joint fit over " + std::to_string(s.joint.pushes) + " push(es)", s.joint.gains);
+  std::vector<PidGains> own_gains;
+  for (const auto& r : s.pushes)
+    if (r.own) own_gains.push_back(r.own->gains);
+  if (!own_gains.empty()) {
+    // Nearest-rank order statistics of each gain over the per-push fits.
+    const auto order_statistic = [&](double fraction) {
+      PidGains g;
+      for (double PidGains::*field : {&PidGains::kp, &PidGains::ki, &PidGains::kd, &PidGains::lp, &PidGains::li,
+                                      &PidGains::ld}) {
+        std::vector<double> v;
+        for (const PidGains& o : own_gains) v.push_back(o.*field);
+        std::sort(v.begin(), v.end());
+        g.*field = v[static_cast<std::size_t>(fraction * static_cast<double>(v.size() - 1) + 0.5)];
+      }
+      return g;
+    };
+    gain_row("per push: lower quartile", order_statistic(0.25));
+    gain_row("per push: median", order_statistic(0.5));
+    gain_row("per push: upper quartile", order_statistic(0.75));
+  }
   for (const auto& r : s.pushes)
     if (r.own) gain_row("per push: " + short_name(r.source), r.own->gains);
+  md << "\n\"floor\": the gain ran to its lower clamp, 1e-6; the objective has no use for it there and its value is "
+        "undetermined.\n";
+  {
+    const PidGains& g = s.joint.gains;
+    const double m = s.mean_inertia(0), I = s.mean_inertia(2);
+    md << "\nThe joint gains' PD part with the set's mean mass " << fmt("%.4g", m) << " kg and moment of inertia "
+       << fmt("%.4g", I) << " kg m^2: translation poles at " << fmt("%.3g", std::sqrt(g.kp / m))
+       << " rad/s with damping " << fmt("%.2g", g.kd / (2 * std::sqrt(g.kp * m))) << ", rotation poles at "
+       << fmt("%.3g", std::sqrt(g.lp / I)) << " rad/s with damping " << fmt("%.2g", g.ld / (2 * std::sqrt(g.lp * I)))
+       << " (the paper's: " << fmt("%.3g", std::sqrt(paper.kp / m)) << " rad/s, "
+       << fmt("%.2g", paper.kd / (2 * std::sqrt(paper.kp * m))) << "; ld / I = " << fmt("%.3g", paper.ld / I)
+       << " 1/s).\n";
+  }
   md << "\nCeres, joint fit:\n\n";
   for (const PidFitProblem problem : {PidFitProblem::Translation, PidFitProblem::Rotation}) {
     const PidFitSolve& f = problem == PidFitProblem::Translation ? s.joint.translation : s.joint.rotation;
@@ -616,16 +668,23 @@ std::string pid_fit_markdown(const PidFitStudy& s) {
   }
   md << "\n## Objective, summed over the pushes\n\n"
         "tracking = sum of ((r_meas - r_sim) / sigma_pose)^2, roughness = sum of ((f_hat(k+1) - f_hat(k)) / "
-        "sigma_df)^2; both about the sample count when the PID tracks at the pose noise and f_hat is as rough "
-        "as the force noise.\n\n";
-  md << "| problem | gains | tracking | roughness | objective |\n|---|---|---:|---:|---:|\n";
+        "sigma_df)^2; per sample (per step): divided by the channel-samples (channel-steps), 1 when the PID "
+        "tracks at the pose noise and f_hat is as rough as the force noise.\n\n";
+  md << "| problem | gains | tracking | per sample | roughness | per step | objective |\n"
+        "|---|---|---:|---:|---:|---:|---:|\n";
   for (const PidFitProblem problem : {PidFitProblem::Translation, PidFitProblem::Rotation}) {
     const auto row = [&](const std::string& label, const std::vector<const PidGainQuality*>& qs) {
       if (qs.empty()) return;
       const ObjectiveTerms t = objective_terms(qs, problem);
+      double samples = 0, steps = 0;
+      for (const PidGainQuality* q : qs) {
+        samples += static_cast<double>(channels_of(problem).count * q->samples);
+        steps += static_cast<double>(channels_of(problem).count * (q->samples - 1));
+      }
       md << "| " << pid_fit_problem_name(problem) << " | " << label << " | " << fmt("%.4g", t.tracking) << " | "
-         << fmt("%.4g", t.roughness) << " | " << fmt("%.4g", 0.5 * (t.tracking + s.roughness_weight * t.roughness))
-         << " |\n";
+         << fmt("%.4g", t.tracking / samples) << " | " << fmt("%.4g", t.roughness) << " | "
+         << fmt("%.4g", t.roughness / steps) << " | "
+         << fmt("%.4g", 0.5 * (t.tracking + s.roughness_weight * t.roughness)) << " |\n";
     };
     row("paper", paper_q);
     row("joint fit", joint_q);
@@ -656,6 +715,30 @@ std::string pid_fit_markdown(const PidFitStudy& s) {
   const Eigen::Vector3d u_rough = mean_of(paper_q, &PidGainQuality::input_roughness_rms);
   md << "| measured input u, for comparison | | | | " << fmt("%.4f", u_rough(0)) << " | " << fmt("%.4f", u_rough(1))
      << " | " << fmt("%.3f", 1e3 * u_rough(2)) << " | | | |\n";
+  const auto closer = [&](bool own, int c) {
+    int n = 0;
+    for (const auto& r : s.pushes) {
+      const PidGainQuality* q = own ? (r.own_quality ? &*r.own_quality : nullptr) : &r.joint;
+      if (q && q->dob_rms(c) < r.paper.dob_rms(c)) ++n;
+    }
+    return std::to_string(n);
+  };
+  md << "\nPushes whose d_hat is closer to the observer's than with the paper's gains (x, y, rotation): joint gains "
+     << closer(false, 0) << ", " << closer(false, 1) << ", " << closer(false, 2) << " of " << s.pushes.size();
+  if (!own_q.empty())
+    md << "; per-push gains " << closer(true, 0) << ", " << closer(true, 1) << ", " << closer(true, 2);
+  md << ".\n";
+  {
+    std::vector<double> ratio[3];
+    for (const auto& r : s.pushes)
+      for (int c = 0; c < 3; ++c) ratio[c].push_back(r.paper.input_roughness_rms(c) / r.noise.force_step(c));
+    md << "Median over the pushes of the measured input's step RMS over sigma_df (x, y, rotation):";
+    for (int c = 0; c < 3; ++c) {
+      std::sort(ratio[c].begin(), ratio[c].end());
+      md << (c ? ", " : " ") << fmt("%.3g", ratio[c][ratio[c].size() / 2]);
+    }
+    md << ".\n";
+  }
 
   md << "\n## Per push\n\n";
   md << "Noise during the rest at the start: sigma_pose x, y [mm], theta [deg]; sigma_df x, y [N], rot [N mm].\n\n";

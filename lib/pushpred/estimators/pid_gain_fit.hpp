@@ -11,9 +11,10 @@
 // push begins (measure_rest_noise); lambda (default 1) weighs the two. Translation gains (kp, ki, kd) are shared
 // by x and y and fitted on the x and y residuals, rotation gains (lp, li, ld) on the rotation residuals: two
 // independent three-parameter problems. Each gain g enters Ceres as p = ln(g / 1e-6) (positive gains, relative
-// steps; the residuals clamp g to [1e-6, 1e6]). A residual evaluation is one CVODE run of PidForceReconstruction::track,
-// differentiated by central differences (ceres::DynamicNumericDiffCostFunction). Fitting over a set of pushes
-// sums their residual blocks: one gain set for all. docs/pid_gains.md states the objective and its results.
+// steps; the residuals clamp g to [1e-6, 1e6]). A residual evaluation is one run of the reconstruction over the
+// push (PidForceReconstruction::track_exactly, the exact discretisation; CVODE's track on request), differentiated
+// by central differences (ceres::DynamicNumericDiffCostFunction). Fitting over a set of pushes sums their residual
+// blocks: one gain set for all. docs/pid_gains.md states the objective and its results.
 //
 // Start. Levenberg-Marquardt is local, and the objective is flat where the derivative gain dominates the inertia
 // (kd / M far above the 250 Hz sample rate): r_sim' then follows the measured slope within a sample whatever the
@@ -83,16 +84,20 @@ struct PidFitPush {
 PidFitPush make_pid_fit_push(SynchronisedPush push, const RestNoiseOptions& options = {});
 
 /// Ceres options used by default: DENSE_QR, Levenberg-Marquardt, at most 50 iterations, function tolerance
-/// 1e-7 (the CVODE runs are accurate to about 1e-8 relative, so smaller cost changes are integration noise),
-/// parameter tolerance 1e-6 (relative change of the log-gains), single thread, silent.
+/// 1e-7 (on the CVODE path smaller relative cost changes are integration noise), parameter tolerance 1e-6
+/// (relative change of the log-gains), single thread, silent.
 ceres::Solver::Options default_pid_fit_solver_options();
 
 struct PidGainFitOptions {
   double roughness_weight = 1.0;  ///< lambda > 0
   /// The reconstruction the gains are fitted for (nominal inertia, CVODE tolerances).
   PidReconstructionOptions reconstruction;
-  /// Central-difference step relative to |p|, p = ln(g / 1e-3) (p is 2 to 14 for useful gains, so steps of 2e-4
-  /// to 1.4e-3 in ln g: far above the CVODE noise of ~1e-8, far below the curvature scale).
+  /// Run the reconstruction (and the observer the report compares with) by the exact discretisation of its
+  /// linear system (track_exactly; about a thousand times faster, bench/bench_observers.cpp) rather than by
+  /// CVODE (track; integration noise of about 1e-6 relative in f_hat). The two agree to that noise.
+  bool exact_discretisation = true;
+  /// Central-difference step relative to |p|, p = ln(g / 1e-6) (p is 7 to 21 for useful gains, so steps of 7e-4
+  /// to 2e-3 in ln g: far above the CVODE path's noise, far below the curvature scale).
   double numeric_diff_relative_step = 1e-4;
   ceres::Solver::Options solver = default_pid_fit_solver_options();
   /// Starts besides the given gains, as closed-loop bandwidths w [rad/s]: the gains that put the three poles of
@@ -126,13 +131,13 @@ struct PidGainFit {
 
 /// Fits the gains over `pushes` (one push: a per-push fit; several: one gain set for the set), starting from
 /// `start`. Throws InputError for an empty set, a push flagged frozen_force_sensor, bad noise scales or bad
-/// options; SolverError when Ceres returns no usable solution (for instance when the start gains already make
-/// CVODE fail).
+/// options; SolverError when the reconstruction fails at every start or Ceres returns no usable solution.
 PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFitOptions& options,
                          const PidGains& start = {});
 
 /// What one gain set does on one push: the objective's two terms and what they mean in units, and how far the
-/// PID's d_hat lies from the disturbance observer's ("dob", QFilterObserver with default options).
+/// PID's d_hat lies from the disturbance observer's ("dob", QFilterObserver with default options and the
+/// reconstruction's nominal inertia).
 struct PidGainQuality {
   long samples = 0;
   Eigen::Vector3d tracking_sum = Eigen::Vector3d::Zero();   ///< sum_k ((r_meas - r_sim) / sigma_pose)^2
@@ -173,8 +178,9 @@ struct PidFitStudy {
   PidGainFit joint;
   std::vector<PidFitPushResult> pushes;
   std::vector<BatchFailure> skipped;  ///< unsuitable pushes and why (pid_fit_unsuitable_reason)
-  std::vector<BatchFailure> failed;   ///< files that could not be read or fitted
+  std::vector<BatchFailure> failed;   ///< files that could not be read, and per-push fits that failed
   double roughness_weight = 1.0;
+  Eigen::Vector3d mean_inertia = Eigen::Vector3d::Zero();  ///< mean nominal m, m [kg], I [kg m^2] of the set
 };
 
 /// Fits jointly (and per push when asked) and assesses every push with the paper's and the fitted gains.
