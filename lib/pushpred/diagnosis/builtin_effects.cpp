@@ -127,35 +127,81 @@ class TimeOffsetEffect final : public CandidateEffect {
     c.force_delay_s += theta(0);
   }
   bool corrects_data() const override { return true; }
+  /// A delay at the end of the searched range is no minimum; one under half a sample period (2 ms at 250 Hz) is
+  /// within what the synchronisation of three jittered streams onto one grid can resolve.
   std::string implausible(const Eigen::VectorXd& theta) const override {
-    return std::abs(theta(0)) < kMaxDelay_s ? "" : "a delay at the end of the searched range";
+    if (std::abs(theta(0)) >= kMaxDelay_s) return "a delay at the end of the searched range";
+    if (std::abs(theta(0)) < kMinDelay_s) return "under half a sample period, within the synchronisation's resolution";
+    return "";
   }
 
-  // A lag of tau changes d_hat by Q u(t) - Q u(t + tau) (the observer reads the force too early); the relation
-  // is then refitted against Q u(t + tau). The residual sum of squares of the paper's linear relation is
-  // searched over tau on a 4 ms grid over +-kMaxDelay_s, refined on a 0.5 ms grid, and its minimum located by a
-  // parabola. Score: the BIC drop N_eff ln(RSS(0) / RSS(tau)) - ln(N_eff); standard error from the parabola's
-  // curvature (the profile likelihood with N_eff samples: RSS rises by RSS / N_eff one standard error away).
+  // A lag of tau changes d_hat by Q u(t) - Q u(t + tau) (the observer reads the force too early). Against the
+  // paper's relation the change is nearly invisible where the friction follows the push force (beta near -1
+  // absorbs it), so the lag is searched against the Coulomb friction law (residual_regression.hpp,
+  // Relation::Friction): for each tau, d_hat + Q u(t) - Q u(t + tau), balanced where stuck and explained by
+  // mu times the footprint's Coulomb law where sliding, mu refitted, in the force channels only (a wrong lever arm
+  // or mass centre would bend the torque channel's curve). The residual sum of squares is searched over
+  // tau on a 4 ms grid over +-kMaxDelay_s, refined on a 0.5 ms grid, and its minimum located by a parabola.
+  // Score: the BIC drop N_eff ln(RSS(0) / RSS(tau)) - ln(N_eff); standard error from the parabola's curvature
+  // (the profile likelihood with N_eff samples: RSS rises by RSS / N_eff one standard error away).
   DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
-    const double neff = ResidualRegression(pushes, Relation::Linear).effective_samples();
-    const Eigen::Vector3d scale = ResidualRegression(pushes, Relation::Linear).channel_scale();
+    const ResidualRegression linear(pushes, Relation::Linear);
+    const double neff = linear.effective_samples();
+    const Eigen::Vector3d scale = linear.channel_scale();
+    // Per push: the Coulomb column (independent of tau) and the samples the friction base uses.
+    std::vector<Eigen::MatrixX3d> coulomb;
+    std::vector<std::vector<char>> used;
+    const auto guard = [](const DiagnosisPush& d) {
+      std::vector<char> u(d.rows(), 1);
+      const auto g = static_cast<Eigen::Index>(std::lround(kTransitionGuard_s * d.push.rate_hz));
+      for (Eigen::Index k = 1; k < d.rows(); ++k)
+        if (d.stuck[k] != d.stuck[k - 1])
+          for (Eigen::Index j = std::max<Eigen::Index>(0, k - g); j < std::min(d.rows(), k + g); ++j) u[j] = 0;
+      return u;
+    };
+    for (const auto& d : pushes) {
+      Eigen::MatrixX3d raw(d.rows(), 3);
+      for (Eigen::Index k = 0; k < d.rows(); ++k) {
+        const EffectState st = d.state(k);
+        raw.row(k) = coulomb_friction_wrench(st.pose, st.velocity, d.push.shape).transpose();
+      }
+      coulomb.push_back(d.as_observed(raw));
+      used.push_back(guard(d));
+    }
     const auto rss = [&](double tau) {
-      double sum = 0;
-      for (const auto& d : pushes) {
+      std::vector<Eigen::MatrixX3d> ys;
+      double xy = 0, xx = 0;
+      for (std::size_t p = 0; p < pushes.size(); ++p) {
+        const DiagnosisPush& d = pushes[p];
         ModelCorrection c;
         c.force_delay_s = tau;
         const SynchronisedPush shifted = apply_data_correction(d.push, c);
         const Eigen::MatrixX3d u = shifted.applied_input().middleRows(d.first, d.rows());
         const Eigen::MatrixX3d qu =
             q_filter(d.estimate.t_s, u, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
-        const Eigen::MatrixX3d dh = d.estimate.d_hat + d.filtered_input - qu;
-        for (int c = 0; c < 3; ++c) {
-          Eigen::VectorXd y = dh.col(c).array() - dh.col(c).mean();
-          const Eigen::VectorXd x = qu.col(c).array() - qu.col(c).mean();
-          if (x.squaredNorm() > 0) y -= (x.dot(y) / x.squaredNorm()) * x;
-          sum += y.squaredNorm() / (scale(c) * scale(c));
+        Eigen::MatrixX3d stuck_u = Eigen::MatrixX3d::Zero(d.rows(), 3);
+        for (Eigen::Index k = 0; k < d.rows(); ++k)
+          if (d.stuck[k]) stuck_u.row(k) = u.row(k);
+        Eigen::MatrixX3d y = d.estimate.d_hat + d.filtered_input - qu - d.friction_explained +
+                             q_filter(d.estimate.t_s, stuck_u, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
+        for (Eigen::Index k = 0; k < d.rows(); ++k)
+          if (!used[p][k]) y.row(k).setZero();
+        for (int ch = 0; ch < 2; ++ch) {
+          const double w = 1 / (scale(ch) * scale(ch));
+          for (Eigen::Index k = 0; k < d.rows(); ++k)
+            if (used[p][k]) {
+              xy += w * coulomb[p](k, ch) * y(k, ch);
+              xx += w * coulomb[p](k, ch) * coulomb[p](k, ch);
+            }
         }
+        ys.push_back(std::move(y));
       }
+      const double mu = xx > 0 ? xy / xx : 0.0;
+      double sum = 0;
+      for (std::size_t p = 0; p < pushes.size(); ++p)
+        for (int ch = 0; ch < 2; ++ch)
+          for (Eigen::Index k = 0; k < pushes[p].rows(); ++k)
+            if (used[p][k]) sum += std::pow(ys[p](k, ch) - mu * coulomb[p](k, ch), 2) / (scale(ch) * scale(ch));
       return sum;
     };
     auto search = [&](double lo, double hi, double step, double& best_tau) {
@@ -191,6 +237,7 @@ class TimeOffsetEffect final : public CandidateEffect {
 
  private:
   static constexpr double kMaxDelay_s = 0.1;
+  static constexpr double kMinDelay_s = 0.002;
 };
 
 class ForceOffsetEffect final : public CandidateEffect {
@@ -287,6 +334,12 @@ class CoulombFrictionEffect final : public CandidateEffect {
   }
   std::vector<EffectParameter> parameters() const override { return {{"mu", "-"}}; }
   bool replaces_relation() const override { return true; }
+  /// Also the quasi-static law's fallback level (mu m g) when the quasi_static effect does not give one.
+  void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>& self,
+             ModelCorrection& c) const override {
+    CandidateEffect::apply(theta, setting, self, c);
+    c.quasi_static.fallback_friction_coefficient = theta(0);
+  }
   bool is_force_law() const override { return true; }
   Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
     return coulomb_friction_wrench(s.pose, s.velocity, shape);

@@ -45,10 +45,16 @@ std::vector<std::string> ModelCorrection::describe() const {
   }
   if (initial_velocity) out.emplace_back("predictions start from the observer's velocity");
   if (quasi_static.enabled) {
-    std::snprintf(line, sizeof line,
-                  "quasi-static push law replaces the relation: the push is balanced while |f_C| stays above %.2f x "
-                  "the push's force level (%.3f N before the push slides)",
-                  quasi_static.stop_fraction, quasi_static.fallback_push_force_N);
+    if (quasi_static.fallback_push_force_N > 0)
+      std::snprintf(line, sizeof line,
+                    "quasi-static push law replaces the relation: the push is balanced while |f_C| stays above %.2f x "
+                    "the push's force level (%.3f N before the push slides)",
+                    quasi_static.stop_fraction, quasi_static.fallback_push_force_N);
+    else
+      std::snprintf(line, sizeof line,
+                    "quasi-static push law replaces the relation: the push is balanced while |f_C| stays above %.2f x "
+                    "the push's force level (%.3f m g before the push slides)",
+                    quasi_static.stop_fraction, quasi_static.fallback_friction_coefficient);
     out.emplace_back(line);
   }
   for (const auto& law : force_laws) {

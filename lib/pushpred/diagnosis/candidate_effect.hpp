@@ -79,6 +79,8 @@ struct ModelCorrection {
     bool enabled = false;
     double stop_fraction = 0.5;
     double fallback_push_force_N = 0;
+    /// When fallback_push_force_N is 0: the fallback is this coefficient times the object's weight.
+    double fallback_friction_coefficient = 0;
   } quasi_static;
   std::vector<FittedForceLaw> force_laws;
 

@@ -124,7 +124,11 @@ void CorrectedPrediction::adjust_model(const SynchronisedPush& push, const std::
   if (correction_.quasi_static.enabled) {
     model.beta.setZero();
     model.eps.setZero();
-    const double level = push_force_level(identification, push.shape, correction_.quasi_static.fallback_push_force_N);
+    const auto& qs = correction_.quasi_static;
+    const double fallback = qs.fallback_push_force_N > 0
+                                ? qs.fallback_push_force_N
+                                : qs.fallback_friction_coefficient * push.shape.mass_kg * kStandardGravity_m_s2;
+    const double level = push_force_level(identification, push.shape, fallback);
     const double stop = correction_.quasi_static.stop_fraction * level;
     if (stop > 0)
       model.extra_terms.push_back(

@@ -61,6 +61,9 @@ struct Selection {
   Eigen::VectorXd total;      ///< amount applied so far (data corrections) or fitted (force laws)
   Eigen::VectorXd std;
   double score = 0;
+  /// False for a friction law the confirmation left out of the prediction: it stays the base its refinements are
+  /// fitted against.
+  bool in_prediction = true;
 };
 
 class Diagnoser {
@@ -90,6 +93,10 @@ class Diagnoser {
   RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
                              std::vector<EffectColumns>& storage) const;
   void refit(std::vector<Selection>& selected);
+  /// Tests the selected direct effects again, each on data without its own correction and with what the selected
+  /// refinements of the friction law explain set aside: a lag found against a bare Coulomb law may be a friction
+  /// effect in disguise. Drops those that no longer pass; updates the others.
+  void retest_direct(std::vector<Selection>& selected);
   /// Greedy forward selection over the regression effects of `group` (not yet in `selected`).
   void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
   double fit_metric(const std::vector<Selection>& selected, std::vector<double>* per_phase) const;
@@ -181,6 +188,7 @@ ModelCorrection Diagnoser::correction_of(const std::vector<Selection>& selected,
   for (const auto& s : selected) {
     const auto& effect = library_.effects()[s.candidate];
     if (!with_structure && effect->test() == EffectTest::Prediction) continue;
+    if (with_structure && !s.in_prediction) continue;
     effect->apply(s.total, s.setting, effect, c);
   }
   return c;
@@ -292,7 +300,10 @@ void Diagnoser::greedy(std::vector<Selection>& selected, Relation group, double 
         const auto k = static_cast<Eigen::Index>(cols.size());
         const Eigen::Index at = f.theta.size() - k;
         const double score = f.identifiable ? f.wald(at, k) - static_cast<double>(k + extra) * log_neff : -kInfinity;
-        if (!here || score > here->score)
+        // Settings whose fit is outside the physical range do not compete (unless none is inside).
+        const bool plausible = effects[i]->implausible(f.theta.segment(at, k)).empty();
+        const bool here_plausible = here && effects[i]->implausible(here->total).empty();
+        if (!here || (plausible && !here_plausible) || (plausible == here_plausible && score > here->score))
           here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score};
       }
       EffectReport& r = result_.effects[i];
@@ -394,6 +405,54 @@ void Diagnoser::refit(std::vector<Selection>& selected) {
   log("data corrections still moving after the last re-fit");
 }
 
+void Diagnoser::retest_direct(std::vector<Selection>& selected) {
+  const auto& effects = library_.effects();
+  bool any_refinement = false;
+  for (const auto& s : selected)
+    any_refinement = any_refinement || (effects[s.candidate]->test() == EffectTest::Regression &&
+                                        effects[s.candidate]->needs_friction_base());
+  if (!any_refinement) return;
+  bool changed = false;
+  for (std::size_t k = 0; k < selected.size();) {
+    if (effects[selected[k].candidate]->test() != EffectTest::Direct) {
+      ++k;
+      continue;
+    }
+    std::vector<Selection> others = selected;
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
+    rebuild_data(correction_of(others, false));
+    for (std::size_t p = 0; p < data_.size(); ++p) data_[p].friction_explained.setZero();
+    for (const auto& s : others) {
+      const auto& e = effects[s.candidate];
+      if (e->test() != EffectTest::Regression || !e->needs_friction_base() || e->corrects_data()) continue;
+      const EffectColumns cols = columns(s.candidate, s.setting);
+      for (std::size_t p = 0; p < data_.size(); ++p)
+        for (std::size_t j = 0; j < cols.size(); ++j) data_[p].friction_explained += s.total(j) * cols[j][p];
+    }
+    const auto& effect = effects[selected[k].candidate];
+    const DirectFit f = effect->fit_directly(data_);
+    EffectReport& r = result_.effects[selected[k].candidate];
+    log(effect->kind() + format(": tested again beside the friction law's refinements, score %.1f", f.score));
+    changed = true;
+    if (!(f.score > o_.bic_threshold) || !effect->implausible(f.theta).empty()) {
+      r.passed_test = false;
+      r.note = "dropped: with the friction law's refinements in the model it no longer passes";
+      r.score = f.score;
+      r.theta = f.theta;
+      r.theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+      log("  dropped");
+      selected = others;
+      continue;
+    }
+    selected[k].total = f.theta;
+    selected[k].std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+    selected[k].score = f.score;
+    ++k;
+  }
+  for (auto& d : data_) d.friction_explained.setZero();
+  if (changed) refit(selected);
+}
+
 DiagnosisResult Diagnoser::run() {
   const auto& effects = library_.effects();
   result_.effects.resize(effects.size());
@@ -489,6 +548,7 @@ DiagnosisResult Diagnoser::run() {
   if (any_regression()) refit(selected);
   greedy(selected, Relation::Friction, log_neff);
   if (any_regression()) refit(selected);
+  retest_direct(selected);
 
   // Step 5: prediction-structure effects, on the fit pushes' predictions. They interact (the quasi-static law
   // keeps a velocity only the observer can give), so every combination, at every setting, is tried; the best
@@ -607,11 +667,28 @@ DiagnosisResult Diagnoser::run() {
     double with_all = fit_metric(selected, nullptr);
     for (std::size_t k = 0; k < selected.size();) {
       const auto& effect = effects[selected[k].candidate];
-      if (effect->test() == EffectTest::Prediction) {
+      if (effect->test() == EffectTest::Prediction || !selected[k].in_prediction) {
         ++k;
         continue;
       }
       std::vector<Selection> without = selected;
+      if (effect->replaces_relation()) {
+        // The friction law leaves the prediction only: its refinements stay fitted against it.
+        without[k].in_prediction = false;
+        const double e = fit_metric(without, nullptr);
+        log(effect->kind() + format(": fit phases' normalised error %.3f with all selected, %.3f without it in the "
+                                    "prediction", with_all, e));
+        if (e <= with_all) {
+          result_.effects[selected[k].candidate].note =
+              "passed its test and stays the base of its refinements, but left out of the prediction: removing it did "
+              "not make the fit pushes' prediction error worse";
+          log("  left out of the prediction");
+          selected = without;
+          with_all = e;
+        }
+        ++k;
+        continue;
+      }
       without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
       const double e = fit_metric(without, nullptr);
       log(effect->kind() + format(": fit phases' normalised error %.3f with all selected, %.3f without it", with_all, e));
@@ -641,8 +718,8 @@ DiagnosisResult Diagnoser::run() {
   // The final model, its residual and its errors.
   for (const auto& s : selected) {
     EffectReport& r = result_.effects[s.candidate];
-    r.selected = true;
-    r.note.clear();
+    r.selected = s.in_prediction;
+    if (s.in_prediction) r.note.clear();
     if (s.total.size() > 0) {
       r.theta = s.total;
       r.theta_std = s.std;
@@ -700,7 +777,11 @@ DiagnosisResult Diagnoser::run() {
       for (const auto& c : friction_storage) fp.push_back(&c);
       const ResidualRegression friction(data_, Relation::Friction);
       Eigen::Vector3d f2 = Eigen::Vector3d::Zero();
-      for (const auto& r : friction.residuals(fp, friction_theta)) f2 += r.colwise().squaredNorm().transpose();
+      const std::vector<Eigen::MatrixX3d> fr = friction.residuals(fp, friction_theta);
+      for (std::size_t p = 0; p < fr.size(); ++p) {
+        f2 += fr[p].colwise().squaredNorm().transpose();
+        result_.residuals[p].friction = fr[p];
+      }
       result_.friction_residual_std = (f2 / rows).cwiseSqrt();
     }
   }
@@ -740,6 +821,7 @@ DiagnosisResult Diagnoser::run() {
   }
   // What each selected effect contributes on the test phases (reported only).
   for (std::size_t k = 0; k < selected.size(); ++k) {
+    if (!selected[k].in_prediction) continue;
     std::vector<Selection> without = selected;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
     if (const auto s = studies(tested, correction_of(without, true))) {

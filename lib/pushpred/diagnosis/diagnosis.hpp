@@ -88,6 +88,8 @@ struct ResidualTrace {
   std::string source;
   Eigen::VectorXd t_s;
   Eigen::MatrixX3d before, after;  ///< d_hat - beta Q u - eps (- effects) [N, N, N m]
+  /// Against the selected friction law and its refinements (empty when none; zero near stuck-sliding changes).
+  Eigen::MatrixX3d friction;
 };
 
 struct DiagnosisResult {

@@ -100,6 +100,7 @@ DiagnosisPush prepare_diagnosis_push(const SynchronisedPush& push, double t0, do
   d.stuck.resize(d.rows());
   for (Eigen::Index k = 0; k < d.rows(); ++k)
     d.stuck[k] = sliding_speed(d.smooth_velocity.row(k).transpose(), push.shape) < kStuckSpeed_m_s;
+  d.friction_explained = Eigen::MatrixX3d::Zero(d.rows(), 3);
   d.q_zeta = options.zeta;
   d.q_wn_rad_s = options.wn_rad_s;
   return d;

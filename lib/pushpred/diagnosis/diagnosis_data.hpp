@@ -24,6 +24,9 @@ struct DiagnosisPush {
   /// balances whatever acts, d = -u, so no effect is visible there.
   std::vector<char> stuck;
   double q_zeta = 0, q_wn_rad_s = 0;  ///< the observer's Q filter
+  /// What the selected refinements of the friction law explain (n x 3, as the observer sees it; zero until the
+  /// diagnosis sets it), for direct fits that work against the friction law (time_offset).
+  Eigen::MatrixX3d friction_explained;
 
   Eigen::Index rows() const { return estimate.t_s.size(); }
   /// The force-law state at estimate row `row`: smoothed pose and velocity, the measured input u (not filtered:

@@ -11,15 +11,27 @@
 
 namespace pushpred {
 
-Eigen::VectorXd RegressionFit::standard_error() const { return covariance.diagonal().cwiseMax(0.0).cwiseSqrt(); }
+Eigen::VectorXd RegressionFit::standard_error() const {
+  Eigen::VectorXd v = covariance.diagonal().cwiseMax(0.0);
+  if (clusters >= 3 && cluster_covariance.size() == covariance.size()) v = v.cwiseMax(cluster_covariance.diagonal());
+  return v.cwiseSqrt();
+}
+
+namespace {
+
+double wald_with(const Eigen::VectorXd& t, const Eigen::MatrixXd& V) {
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(V);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return 0.0;
+  return t.dot(ldlt.solve(t));
+}
+
+}  // namespace
 
 double RegressionFit::wald(Eigen::Index first, Eigen::Index count) const {
   if (!identifiable) return 0.0;
   const Eigen::VectorXd t = theta.segment(first, count);
-  const Eigen::MatrixXd V = covariance.block(first, first, count, count);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(V);
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return 0.0;
-  return t.dot(ldlt.solve(t));
+  double w = wald_with(t, covariance.block(first, first, count, count));
+  return w;
 }
 
 double lag1_autocorrelation(const Eigen::Ref<const Eigen::VectorXd>& r) {
@@ -179,13 +191,15 @@ RegressionFit ResidualRegression::fit(const std::vector<const EffectColumns*>& c
   f.bic = effective_samples_ * std::log(f.rss / static_cast<double>(N)) + penalty;
 
   // Newey-West: per push, the score of a sample time sums the three channels; Bartlett weights up to the lag.
-  Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(k, k);
+  Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(k, k), cluster = Eigen::MatrixXd::Zero(k, k);
   row = 0;
   for (const Block& b : blocks_) {
     const Eigen::Index n = b.residual.rows();
     Eigen::MatrixXd s = Eigen::MatrixXd::Zero(n, k);
     for (int c = 0; c < 3; ++c)
       s += (X.middleRows(row + c * n, n).array().colwise() * e.segment(row + c * n, n).array()).matrix();
+    const Eigen::VectorXd total = s.colwise().sum().transpose();
+    cluster += total * total.transpose();
     const Eigen::Index lag = std::min<Eigen::Index>(n - 1, static_cast<Eigen::Index>(std::lround(kHacLag_s * b.rate_hz)));
     omega += s.transpose() * s;
     for (Eigen::Index l = 1; l <= lag; ++l) {
@@ -198,6 +212,9 @@ RegressionFit ResidualRegression::fit(const std::vector<const EffectColumns*>& c
   const Eigen::MatrixXd information = X.transpose() * X;
   const Eigen::MatrixXd inverse = information.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
   f.covariance = inverse * omega * inverse;
+  f.clusters = static_cast<int>(blocks_.size());
+  const double P = static_cast<double>(blocks_.size());
+  f.cluster_covariance = P > 1 ? (inverse * cluster * inverse * (P / (P - 1))).eval() : f.covariance;
   return f;
 }
 

@@ -19,7 +19,10 @@
 // - Parameter covariance: heteroscedasticity-and-autocorrelation-consistent (Newey-West, Bartlett weights, lag
 //   kHacLag_s within each push, the three channels of a sample together). The observer's output is strongly
 //   autocorrelated (its Q filter is a 48 Hz low-pass of a 250 Hz signal, and model errors are slow), so the plain
-//   least-squares covariance would be far too small.
+//   least-squares covariance would be far too small. Beside it, the covariance clustered by push: an effect that
+//   differs mostly between pushes (a drag against the pushes' speeds) is only as certain as the pushes agree, which
+//   no within-push lag window sees. Tests use Newey-West (with few pushes the clustered one is too noisy to
+//   test with); reported standard errors are the larger of the two.
 // - Effective sample count N_eff = sum over push-channel blocks of n (1 - rho) / (1 + rho), rho the lag-1
 //   autocorrelation of the Linear base's residual (the AR(1) variance-inflation rule).
 // - Adding effects to a model (nested): the BIC drop is approximated by the robust Wald statistic of the added
@@ -47,13 +50,18 @@ enum class Relation { Linear, Friction };
 struct RegressionFit {
   Eigen::VectorXd theta;       ///< effect parameters, in the order of the columns given
   Eigen::MatrixXd covariance;  ///< Newey-West
+  /// Clustered by push (every sample of a push may correlate with every other), times P / (P - 1): the honest
+  /// uncertainty of a constant shared by the pushes when each push carries its own model error.
+  Eigen::MatrixXd cluster_covariance;
   double rss = 0;              ///< weighted residual sum of squares (dimensionless)
   double bic = 0;              ///< N_eff ln(RSS / N) + k ln(N_eff), k including the base's nuisance
   int parameters = 0;          ///< effect parameters (plus settings) counted in k
   bool identifiable = true;    ///< false when the columns are (numerically) dependent: bic is then +inf
+  /// The larger of the two covariances' standard errors.
   Eigen::VectorXd standard_error() const;
-  /// Robust Wald statistic of the parameters [first, first + count): theta^T V^-1 theta.
+  /// Robust Wald statistic of the parameters [first, first + count): theta^T V^-1 theta with Newey-West's V.
   double wald(Eigen::Index first, Eigen::Index count) const;
+  int clusters = 0;
 };
 
 class ResidualRegression {

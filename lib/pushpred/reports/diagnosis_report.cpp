@@ -8,6 +8,8 @@
 #include "pushpred/core/version.hpp"
 
 namespace pushpred {
+nlohmann::json error_summary_json(const ErrorSummary& e);
+
 namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
@@ -35,8 +37,14 @@ nlohmann::json effect_json(const EffectReport& r) {
         {"std", J < r.theta_std.size() ? number_or_null(r.theta_std(J)) : nlohmann::json(nullptr)},
         {"unit", r.parameter_info[j].unit}};
   }
-  nlohmann::json j = {{"kind", r.kind},     {"description", r.description}, {"test", effect_test_name(r.test)},
-                      {"selected", r.selected}, {"score", number_or_null(r.score)}, {"parameters", parameters}};
+  nlohmann::json j = {{"kind", r.kind},
+                      {"description", r.description},
+                      {"test", effect_test_name(r.test)},
+                      {"passed_test", r.passed_test},
+                      {"selected", r.selected},
+                      {"score", number_or_null(r.score)},
+                      {"parameters", parameters}};
+  if (r.has_ablation) j["held_out_without"] = error_summary_json(r.held_out_without);
   if (r.has_setting) j["setting"] = {{"name", r.setting_info.name}, {"value", r.setting}, {"unit", r.setting_info.unit}};
   if (!r.derived.empty()) {
     nlohmann::json d = nlohmann::json::object();
@@ -69,10 +77,27 @@ std::string error_row(const std::string& name, const ErrorSummary& e) {
 
 bool gnuplot_available() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
 
-std::string quoted(const std::filesystem::path& p) {
+/// Quoted for gnuplot (single quotes, a quote doubled).
+std::string gnuplot_quoted(const std::filesystem::path& p) {
   std::string s = "'";
   for (char c : p.string()) s += c == '\'' ? std::string("''") : std::string(1, c);
   return s + "'";
+}
+
+/// Quoted for the shell (single quotes, a quote closed, escaped and reopened).
+std::string shell_quoted(const std::filesystem::path& p) {
+  std::string s = "'";
+  for (char c : p.string()) s += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return s + "'";
+}
+
+/// Writes plots/NAME.gp (file names relative to the plots folder, so it can be rerun where it lands) and runs it.
+bool run_gnuplot(const StagedOutput& out, const std::string& name, const std::string& script) {
+  const auto path = out.path("plots/" + name + ".gp");
+  write_text_atomically(path, script);
+  const std::string command =
+      "cd " + shell_quoted(path.parent_path()) + " && gnuplot " + shell_quoted(path.filename()) + " > /dev/null 2>&1";
+  return std::system(command.c_str()) == 0;
 }
 
 /// Residual before/after of the first fit push: one panel per channel.
@@ -81,27 +106,32 @@ bool plot_residuals(const ResidualTrace& r, const StagedOutput& out, const std::
   data.precision(8);
   for (Eigen::Index k = 0; k < r.t_s.size(); ++k) {
     data << r.t_s(k);
-    for (int c = 0; c < 3; ++c) data << " " << r.before(k, c) << " " << r.after(k, c);
+    for (int c = 0; c < 3; ++c)
+      data << " " << r.before(k, c) << " " << r.after(k, c) << " " << (r.friction.rows() ? r.friction(k, c) : 0.0);
     data << "\n";
   }
   const auto data_path = out.path("plots/" + name + ".dat");
   write_text_atomically(data_path, data.str());
   std::ostringstream gp;
   gp << "set terminal svg size 900,800 dynamic font 'sans,11'\n"
-     << "set output " << quoted(out.path("plots/" + name + ".svg")) << "\n"
-     << "set multiplot layout 3,1 title " << quoted("Disturbance residual d_hat - beta Qu - eps of " +
-                                                     std::filesystem::path(r.source).filename().string()) << " noenhanced\n"
+     << "set output " << gnuplot_quoted(name + ".svg") << "\n"
+     << "set multiplot layout 3,1 title "
+     << gnuplot_quoted("Residual of the disturbance regression: " + std::filesystem::path(r.source).filename().string())
+     << " noenhanced font 'sans,9'\n"
      << "set grid\nset key top right\n";
   const char* labels[3] = {"x [N]", "y [N]", "rotation [N m]"};
   for (int c = 0; c < 3; ++c) {
     gp << "set ylabel '" << labels[c] << "'\n" << (c == 2 ? "set xlabel 't [s]'\n" : "unset xlabel\n");
-    gp << "plot " << quoted(data_path) << " using 1:" << 2 + 2 * c << " with lines lw 1 title 'before (paper)', "
-       << quoted(data_path) << " using 1:" << 3 + 2 * c << " with lines lw 1 title 'after (corrected)'\n";
+    gp << "plot " << gnuplot_quoted(name + ".dat") << " using 1:" << 2 + 3 * c
+       << " with lines lw 1 title 'paper relation', " << gnuplot_quoted(name + ".dat") << " using 1:" << 3 + 3 * c
+       << " with lines lw 1 title 'relation + effects'";
+    if (r.friction.rows())
+      gp << ", " << gnuplot_quoted(name + ".dat") << " using 1:" << 4 + 3 * c
+         << " with lines lw 1 title 'friction law + effects'";
+    gp << "\n";
   }
   gp << "unset multiplot\n";
-  const auto script = out.path("plots/" + name + ".gp");
-  write_text_atomically(script, gp.str());
-  return std::system(("gnuplot " + quoted(script) + " > /dev/null 2>&1").c_str()) == 0;
+  return run_gnuplot(out, name, gp.str());
 }
 
 /// Prediction errors over time of the test phases of the first test push.
@@ -127,22 +157,21 @@ bool plot_test_errors(const std::vector<PhaseTrace>& phases, const StagedOutput&
   write_text_atomically(data_path, data.str());
   std::ostringstream gp;
   gp << "set terminal svg size 900,600 dynamic font 'sans,11'\n"
-     << "set output " << quoted(out.path("plots/" + name + ".svg")) << "\n"
-     << "set multiplot layout 2,1 title " << quoted("Prediction error over the test phases of " +
-                                                     std::filesystem::path(source).filename().string()) << " noenhanced\n"
+     << "set output " << gnuplot_quoted(name + ".svg") << "\n"
+     << "set multiplot layout 2,1 title "
+     << gnuplot_quoted("Prediction error, test phases of " + std::filesystem::path(source).filename().string())
+     << " noenhanced font 'sans,9'\n"
      << "set grid\nset key top left\n";
   for (int panel = 0; panel < 2; ++panel) {
     gp << "set ylabel '" << (panel == 0 ? "position error [mm]" : "yaw error [deg]") << "'\n"
        << (panel == 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n") << "plot ";
     for (std::size_t m = 0; m < methods.size(); ++m)
-      gp << (m ? ", " : "") << quoted(data_path) << " using 1:" << 2 + 2 * m + panel << " with lines lw 1.5 title '"
+      gp << (m ? ", " : "") << gnuplot_quoted(name + ".dat") << " using 1:" << 2 + 2 * m + panel << " with lines lw 1.5 title '"
          << methods[m] << "' noenhanced";
     gp << "\n";
   }
   gp << "unset multiplot\n";
-  const auto script = out.path("plots/" + name + ".gp");
-  write_text_atomically(script, gp.str());
-  return std::system(("gnuplot " + quoted(script) + " > /dev/null 2>&1").c_str()) == 0;
+  return run_gnuplot(out, name, gp.str());
 }
 
 }  // namespace
@@ -194,7 +223,9 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
            {{"samples", r.samples},
             {"effective_samples", r.effective_samples},
             {"residual_std_before", channels(r.residual_std_before)},
-            {"residual_std_after", channels(r.residual_std_after)}}},
+            {"residual_std_after", channels(r.residual_std_after)},
+            {"friction_law_residual_std",
+             r.friction_residual_std.allFinite() ? channels(r.friction_residual_std) : nlohmann::json(nullptr)}}},
           {"failures", failures},
           {"log", r.log}};
 }
@@ -252,14 +283,22 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
   }
 
   md << "## Candidate effects\n\n"
-     << "| effect | test | selected | score | parameters (± 1 std) | note |\n|---|---|---|---|---|---|\n";
+     << "| effect | test | passed | selected | score | parameters (± 1 std) | held-out pos / yaw without it | note |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
   for (const auto& e : r.effects)
-    md << "| " << e.kind << " | " << effect_test_name(e.test) << " | " << (e.selected ? "**yes**" : "no") << " | "
-       << (std::isfinite(e.score) ? general(e.score) : std::string("—")) << " | " << effect_parameters_text(e) << " | "
-       << e.note << " |\n";
-  md << "\nScore: the BIC drop when the effect was last tried (regression, direct), or the relative drop of the fit "
-        "phases' normalised prediction error (prediction). Parameter uncertainty: regression covariance inflated "
-        "by N / N_eff.\n\n";
+    md << "| " << e.kind << " | " << effect_test_name(e.test) << " | " << (e.passed_test ? "yes" : "no") << " | "
+       << (e.selected ? "**yes**" : "no") << " | " << (std::isfinite(e.score) ? general(e.score) : std::string("—"))
+       << " | " << effect_parameters_text(e) << " | "
+       << (e.has_ablation ? fixed(e.held_out_without.pos_mm_mean) + " mm / " + fixed(e.held_out_without.theta_deg_mean) +
+                                " deg"
+                          : std::string("—"))
+       << " | " << e.note << " |\n";
+  md << "\nScore: for regression and direct effects the drop of the BIC when the effect joins (robust Wald "
+        "statistic minus k ln N_eff; direct effects: their own likelihood ratio), for prediction effects the relative "
+        "drop of the fit phases' normalised prediction error. Passed: its own test; selected: also kept by the "
+        "confirmation on the fit pushes' predictions. Uncertainty: the larger of the Newey-West and the "
+        "push-clustered standard errors (direct effects: their own). The held-out column is the corrected model "
+        "without that one effect, on the test phases (reported, never used to select).\n\n";
   md << "Correction applied:\n\n";
   const auto lines = r.correction.describe();
   if (lines.empty()) md << "- none\n";
@@ -271,7 +310,14 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
      << "| x [N] | " << general(r.residual_std_before(0)) << " | " << general(r.residual_std_after(0)) << " |\n"
      << "| y [N] | " << general(r.residual_std_before(1)) << " | " << general(r.residual_std_after(1)) << " |\n"
      << "| rotation [N m] | " << general(r.residual_std_before(2)) << " | " << general(r.residual_std_after(2))
-     << " |\n\n";
+     << " |\n\n"
+     << "Before: d_hat less the paper's relation beta Q u + eps per push; after: with the data corrections and the "
+        "effects tested against that relation.";
+  if (r.friction_residual_std.allFinite())
+    md << " Against the selected friction law and its refinements instead of the relation: x "
+       << general(r.friction_residual_std(0)) << " N, y " << general(r.friction_residual_std(1)) << " N, rotation "
+       << general(r.friction_residual_std(2)) << " N m (samples near a stuck-sliding change left out).";
+  md << "\n\n";
 
   md << "## In-sample: the fit pushes' phases\n\n"
      << "| method | pos [mm] | x [mm] | y [mm] | yaw [deg] | final pos [mm] | final yaw [deg] |\n"

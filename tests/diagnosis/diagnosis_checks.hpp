@@ -1,0 +1,73 @@
+#pragma once
+// Checks shared by the diagnosis tests on simulated pushes.
+#include <boost/test/unit_test.hpp>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "pushpred/diagnosis/diagnosis.hpp"
+
+namespace pushpred::testing {
+
+/// The effects the simulator can switch on.
+inline const std::vector<std::string> kSimulatorEffects{"time_offset",       "force_offset",      "viscous_friction",
+                                                 "stribeck_friction", "position_friction", "com_offset",
+                                                 "inertia_mismatch"};
+
+inline DiagnosisOptions fast_options() {
+  DiagnosisOptions o;
+  o.confirm_on_prediction = false;
+  return o;
+}
+
+inline const EffectReport& report(const DiagnosisResult& r, const std::string& kind) {
+  for (const auto& e : r.effects)
+    if (e.kind == kind) return e;
+  throw std::runtime_error("no effect " + kind + " in the result");
+}
+
+inline double draw(std::mt19937_64& rng, double lo, double hi, bool random_sign = false) {
+  std::uniform_real_distribution<double> u(lo, hi);
+  const double v = u(rng);
+  return random_sign && std::bernoulli_distribution(0.5)(rng) ? -v : v;
+}
+
+inline void log_result(const DiagnosisResult& r) {
+  for (const auto& line : r.log) BOOST_TEST_MESSAGE("  " << line);
+  for (const auto& e : r.effects) {
+    std::string p;
+    for (Eigen::Index j = 0; j < e.theta.size(); ++j)
+      p += " " + std::to_string(e.theta(j)) + " +- " + std::to_string(j < e.theta_std.size() ? e.theta_std(j) : 0.0);
+    BOOST_TEST_MESSAGE("  " << e.kind << (e.passed_test ? " PASSED" : "") << " score " << e.score << p);
+  }
+  BOOST_TEST_MESSAGE("  held out: before " << r.error_before.pos_mm_mean << " mm, after " << r.error_after.pos_mm_mean
+                                           << " mm (" << r.error_after.phases << " phases)");
+}
+
+/// Only `expected` of the simulator's effects passed its test.
+inline void check_only(const DiagnosisResult& r, const std::vector<std::string>& expected) {
+  for (const auto& kind : kSimulatorEffects) {
+    const bool want = std::find(expected.begin(), expected.end(), kind) != expected.end();
+    BOOST_TEST(report(r, kind).passed_test == want, kind << (want ? " should" : " should not") << " pass its test");
+  }
+}
+
+/// |fitted - truth| within three standard errors plus `model_share` of the truth (the effect's regressor is a
+/// model of the simulator's physics, not the physics itself).
+inline void check_near(double fitted, double fitted_std, double truth, double model_share, const std::string& what) {
+  const double allowed = 3 * fitted_std + model_share * std::abs(truth);
+  BOOST_TEST(std::abs(fitted - truth) <= allowed,
+             what << ": fitted " << fitted << " +- " << fitted_std << ", truth " << truth << ", allowed " << allowed);
+}
+
+inline void check_held_out_error_drops(const DiagnosisResult& r) {
+  BOOST_TEST(r.error_after.phases > 0);
+  BOOST_TEST(r.error_after.pos_mm_mean < r.error_before.pos_mm_mean,
+             "held-out position error: after " << r.error_after.pos_mm_mean << " mm, before "
+                                               << r.error_before.pos_mm_mean << " mm");
+}
+
+
+}  // namespace pushpred::testing
