@@ -1,6 +1,9 @@
 // `pushpred diagnose FILE... --out DIR`: finds what the paper's method leaves unexplained on pushes of one object,
 // tests a library of candidate physical effects against it, adds the selected ones and reports the prediction
-// error before and after on held-out phases (DIR/diagnosis.json, DIR/report.md, plots).
+// error before and after on held-out phases (DIR/diagnosis.json, DIR/report.md, plots). With --per-object, a batch
+// of several objects or surfaces is diagnosed one object at a time: DIR/<shape>_on_<surface>/ each, and
+// DIR/overview.md and DIR/overview.json side by side.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -10,6 +13,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/diagnosis/push_groups.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 
 namespace pushpred::app {
@@ -21,7 +25,7 @@ struct DiagnoseArgs {
   int intervals = 4;
   double plan_rate_hz = 10.0, bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
-  bool no_confirm = false, no_plots = false, no_structure = false;
+  bool per_object = false, no_confirm = false, no_plots = false, no_structure = false;
 };
 
 int run_diagnose(const DiagnoseArgs& a) {
@@ -42,22 +46,62 @@ int run_diagnose(const DiagnoseArgs& a) {
 
   const Batch<SynchronisedPush> loaded =
       run_batch(expand_inputs(a.files), [&](const std::filesystem::path& path) { return load_push(path, a.shape, pre); });
-  if (loaded.results.empty()) {
-    for (const auto& f : loaded.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
-    throw InputError("no push could be read");
+  for (const auto& f : loaded.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
+  if (loaded.results.empty()) throw InputError("no push could be read; nothing written");
+  const std::size_t loaded_count = loaded.results.size();
+  std::vector<PushGroup> groups = group_by_object(loaded.results);
+  if (groups.size() > 1 && !a.per_object) {
+    std::string names;
+    for (const auto& g : groups) names += (names.empty() ? "" : ", ") + g.name() + " (" + std::to_string(g.pushes.size()) + ")";
+    throw InputError("the pushes are of " + std::to_string(groups.size()) + " objects or surfaces: " + names +
+                     "; a diagnosis fits one object on one surface: give one, or pass --per-object");
   }
-  DiagnosisResult result = diagnose(loaded.results, library, o);
-  result.failures.insert(result.failures.begin(), loaded.failures.begin(), loaded.failures.end());
 
+  if (!a.per_object) {
+    DiagnosisResult result = diagnose(groups.front().pushes, library, o);
+    result.failures.insert(result.failures.begin(), loaded.failures.begin(), loaded.failures.end());
+    StagedOutput out(a.out);
+    write_diagnosis_report(result, o, out, !a.no_plots);
+    out.commit();
+    for (const auto& line : result.log) std::cout << line << "\n";
+    std::cout << diagnosis_summary_text(result);
+    std::cout << "report in " << a.out << "/report.md, data in " << a.out << "/diagnosis.json\n";
+    for (const auto& f : result.failures)
+      if (std::find_if(loaded.failures.begin(), loaded.failures.end(),
+                       [&](const BatchFailure& l) { return l.source == f.source; }) == loaded.failures.end())
+        std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
+    return result.failures.empty() ? 0 : 1;
+  }
+
+  // One diagnosis per object: a group that cannot be diagnosed is reported and the others go on.
   StagedOutput out(a.out);
-  write_diagnosis_report(result, o, out, !a.no_plots);
+  std::vector<DiagnosisGroupOutcome> outcomes;
+  std::size_t left_out = 0;
+  for (auto& g : groups) {
+    DiagnosisGroupOutcome outcome{g.name(), g.pushes.size(), std::nullopt, ""};
+    try {
+      DiagnosisResult result = diagnose(g.pushes, library, o);
+      write_diagnosis_report(result, o, out.path(g.name()), !a.no_plots);
+      std::cout << diagnosis_summary_text(result);
+      for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
+      left_out += result.failures.size();
+      outcome.result = std::move(result);
+    } catch (const InputError& e) {
+      outcome.error = e.what();
+      std::cerr << "FAILED " << g.name() << ": " << e.what() << "\n";
+    }
+    outcomes.push_back(std::move(outcome));
+  }
+  std::size_t failed_groups = 0;
+  for (const auto& g : outcomes) failed_groups += g.result ? 0 : 1;
+  if (failed_groups == outcomes.size()) throw InputError("no object could be diagnosed; nothing written");
+  write_text_atomically(out.path("overview.md"), diagnosis_overview_markdown(outcomes));
+  write_text_atomically(out.path("overview.json"), diagnosis_overview_json(outcomes).dump(2) + "\n");
   out.commit();
-
-  for (const auto& line : result.log) std::cout << line << "\n";
-  std::cout << diagnosis_summary_text(result);
-  std::cout << "report in " << a.out << "/report.md, data in " << a.out << "/diagnosis.json\n";
-  for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
-  return result.failures.empty() ? 0 : 1;
+  std::cout << outcomes.size() - failed_groups << " of " << outcomes.size() << " objects diagnosed (" << loaded_count
+            << " pushes read); overview in " << a.out << "/overview.md\n";
+  if (failed_groups > 0) std::cerr << failed_groups << " of " << outcomes.size() << " objects failed\n";
+  return failed_groups == 0 && left_out == 0 && loaded.failures.empty() ? 0 : 1;
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
@@ -77,6 +121,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--bic-threshold", a->bic_threshold, "BIC drop an effect needs to be selected (default 10)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--exclude", a->exclude, "Candidate effect kinds to leave out (repeatable)");
+  sub->add_flag("--per-object", a->per_object,
+                "Diagnose each object and surface of the batch on its own (DIR/<shape>_on_<surface>/, DIR/overview.md)");
   sub->add_flag("--no-confirm", a->no_confirm, "Skip the confirmation of selected effects on the fit pushes' predictions");
   sub->add_flag("--no-structure", a->no_structure, "Do not try the prediction-structure effects");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");

@@ -4,11 +4,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "pushpred/diagnosis/push_groups.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "test_support.hpp"
 
 using namespace pushpred;
 using pushpred::testing::TempFolder;
+using pushpred::testing::real_file;
 
 namespace {
 
@@ -78,6 +80,49 @@ BOOST_AUTO_TEST_CASE(the_report_is_written_together_and_says_who_wins) {
   md << in.rdbuf();
   BOOST_TEST(md.str().find("beats both naive references") != std::string::npos);
   BOOST_TEST(md.str().find("time_offset") != std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(structure_fixes_alone_are_reported_as_nothing_found) {
+  DiagnosisResult r = made_up_result();
+  BOOST_TEST(effects_found(r) == std::vector<std::string>{"time_offset"});
+  BOOST_TEST(findings_text(r).rfind("found: time_offset", 0) == 0u, findings_text(r));
+  r.effects[0].selected = false;     // the physical effect is gone;
+  r.effects[1].structural = true;    // the paper's structure is fixed (initial velocity)
+  r.effects[1].selected = true;
+  BOOST_TEST(effects_found(r).empty());
+  BOOST_TEST(findings_text(r).rfind("nothing found", 0) == 0u, findings_text(r));
+  BOOST_TEST(findings_text(r).find("model-structure fixes applied: initial_velocity") != std::string::npos);
+  const nlohmann::json j = diagnosis_json(r, DiagnosisOptions{});
+  BOOST_TEST(j["nothing_found"].get<bool>());
+  BOOST_TEST(j["found"].empty());
+}
+
+BOOST_AUTO_TEST_CASE(the_overview_lists_every_object_and_the_ones_not_diagnosed) {
+  std::vector<DiagnosisGroupOutcome> groups;
+  groups.push_back({"hex_on_abs", 4, made_up_result(), ""});
+  groups.push_back({"rect1_on_abs", 2, std::nullopt, "no usable push"});
+  const std::string md = diagnosis_overview_markdown(groups);
+  BOOST_TEST(md.find("[hex_on_abs](hex_on_abs/report.md) | 4 | 3 | time_offset | 5.00 / 0.00 | 1.00 / 0.50") !=
+                 std::string::npos,
+             md);
+  BOOST_TEST(md.find("rect1_on_abs (2 pushes): no usable push") != std::string::npos, md);
+  const nlohmann::json j = diagnosis_overview_json(groups);
+  BOOST_TEST(j["objects"][0]["after_beats_both_references"].get<bool>());
+  BOOST_TEST(j["objects"][1]["error"].get<std::string>() == "no usable push");
+}
+
+BOOST_AUTO_TEST_CASE(a_mixed_batch_is_grouped_by_object_and_surface) {
+  std::vector<SynchronisedPush> pushes;
+  pushes.push_back(load_push(real_file("shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.000")));
+  pushes.push_back(load_push(real_file("shape=ellip1_a=0_v=50_i=0.000_s=0.175_t=-0.349")));
+  pushes.push_back(load_push(real_file("shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.349")));
+  const std::vector<PushGroup> groups = group_by_object(pushes);
+  BOOST_TEST_REQUIRE(groups.size() == 2u);
+  BOOST_TEST(groups[0].name() == "ellip1_on_abs");
+  BOOST_TEST(groups[1].name() == "hex_on_abs");
+  BOOST_TEST_REQUIRE(groups[1].pushes.size() == 2u);
+  BOOST_TEST(groups[1].pushes[0].source == pushes[0].source);  // the given order is kept
+  BOOST_TEST(groups[1].pushes[1].source == pushes[2].source);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -129,7 +129,17 @@ void Diagnoser::split(const std::vector<SynchronisedPush>& input) {
       result_.failures.push_back({p.source, e.what()});
     }
   }
-  if (usable.empty()) throw InputError("diagnosis: no usable push (" + std::to_string(input.size()) + " given)");
+  if (usable.empty()) {
+    // Name the reasons, most common first: "13 with a frozen force sensor" says what to do, "no usable push" not.
+    std::map<std::string, int> reasons;
+    for (const auto& f : result_.failures) ++reasons[f.reason];
+    std::vector<std::pair<int, std::string>> ranked;
+    for (const auto& [why, n] : reasons) ranked.emplace_back(n, why);
+    std::sort(ranked.rbegin(), ranked.rend());
+    std::string why;
+    for (const auto& [n, reason] : ranked) why += (why.empty() ? "" : "; ") + std::to_string(n) + " x " + reason;
+    throw InputError("diagnosis: no usable push among the " + std::to_string(input.size()) + " given (" + why + ")");
+  }
   for (const auto& p : usable)
     if (p.shape.name != usable.front().shape.name || p.push.surface != usable.front().push.surface)
       throw InputError("diagnosis: pushes of different objects or surfaces (" + usable.front().shape.name + " on " +
@@ -461,6 +471,7 @@ DiagnosisResult Diagnoser::run() {
     r.kind = effects[i]->kind();
     r.description = effects[i]->description();
     r.test = effects[i]->test();
+    r.structural = effects[i]->test() == EffectTest::Prediction || effects[i]->replaces_relation();
     r.parameter_info = effects[i]->parameters();
     r.theta = r.theta_std = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(r.parameter_info.size()));
     r.has_setting = !effects[i]->settings().empty();

@@ -56,6 +56,9 @@ struct ErrorSummary {
 struct EffectReport {
   std::string kind, description;
   EffectTest test = EffectTest::Regression;
+  /// A fix of the paper's model structure (a friction law replacing the relation, a prediction-structure effect),
+  /// which may be selected on data without any hidden effect; the others are physical effects found in the data.
+  bool structural = false;
   bool passed_test = false;  ///< passed its own test (BIC drop above the threshold, or the prediction test)
   bool selected = false;     ///< in the final correction (passed, and not dropped by the confirmation)
   /// Regression and direct effects: the BIC drop when last tried (for a selected effect, when it joined);

@@ -1,11 +1,13 @@
 #include "pushpred/reports/diagnosis_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 #include "pushpred/core/version.hpp"
+#include "pushpred/reports/plotting.hpp"
 
 namespace pushpred {
 nlohmann::json error_summary_json(const ErrorSummary& e);
@@ -75,33 +77,31 @@ std::string error_row(const std::string& name, const ErrorSummary& e) {
          fixed(e.theta_deg_mean) + " | " + fixed(e.final_pos_mm) + " | " + fixed(e.final_theta_deg) + " |\n";
 }
 
-bool gnuplot_available() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
-
-/// Quoted for gnuplot (single quotes, a quote doubled).
-std::string gnuplot_quoted(const std::filesystem::path& p) {
-  std::string s = "'";
-  for (char c : p.string()) s += c == '\'' ? std::string("''") : std::string(1, c);
-  return s + "'";
+/// Writes plots/NAME.gp and runs gnuplot on it (file names relative to the plots folder, so it can be rerun where
+/// it lands); `note` gets why nothing was drawn.
+std::vector<std::string> kinds_of(const DiagnosisResult& r, bool structural) {
+  std::vector<std::string> out;
+  for (const auto& e : r.effects)
+    if (e.selected && e.structural == structural) out.push_back(e.kind);
+  return out;
 }
 
-/// Quoted for the shell (single quotes, a quote closed, escaped and reopened).
-std::string shell_quoted(const std::filesystem::path& p) {
-  std::string s = "'";
-  for (char c : p.string()) s += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return s + "'";
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
 }
 
-/// Writes plots/NAME.gp (file names relative to the plots folder, so it can be rerun where it lands) and runs it.
-bool run_gnuplot(const StagedOutput& out, const std::string& name, const std::string& script) {
-  const auto path = out.path("plots/" + name + ".gp");
+bool draw(const std::filesystem::path& folder, const std::string& name, const std::string& script, std::string& note) {
+  const auto path = folder / "plots" / (name + ".gp");
   write_text_atomically(path, script);
-  const std::string command =
-      "cd " + shell_quoted(path.parent_path()) + " && gnuplot " + shell_quoted(path.filename()) + " > /dev/null 2>&1";
-  return std::system(command.c_str()) == 0;
+  const PlotRun run = run_gnuplot(path);
+  if (!run.drawn) note = run.note;
+  return run.drawn;
 }
 
 /// Residual before/after of the first fit push: one panel per channel.
-bool plot_residuals(const ResidualTrace& r, const StagedOutput& out, const std::string& name) {
+bool plot_residuals(const ResidualTrace& r, const std::filesystem::path& folder, const std::string& name, std::string& note) {
   std::ostringstream data;
   data.precision(8);
   for (Eigen::Index k = 0; k < r.t_s.size(); ++k) {
@@ -110,11 +110,10 @@ bool plot_residuals(const ResidualTrace& r, const StagedOutput& out, const std::
       data << " " << r.before(k, c) << " " << r.after(k, c) << " " << (r.friction.rows() ? r.friction(k, c) : 0.0);
     data << "\n";
   }
-  const auto data_path = out.path("plots/" + name + ".dat");
+  const auto data_path = folder / "plots" / (name + ".dat");
   write_text_atomically(data_path, data.str());
   std::ostringstream gp;
-  gp << "set terminal svg size 900,800 dynamic font 'sans,11'\n"
-     << "set output " << gnuplot_quoted(name + ".svg") << "\n"
+  gp << png_terminal(name + ".png", 900, 800)
      << "set multiplot layout 3,1 title "
      << gnuplot_quoted("Residual of the disturbance regression: " + std::filesystem::path(r.source).filename().string())
      << " noenhanced font 'sans,9'\n"
@@ -131,11 +130,12 @@ bool plot_residuals(const ResidualTrace& r, const StagedOutput& out, const std::
     gp << "\n";
   }
   gp << "unset multiplot\n";
-  return run_gnuplot(out, name, gp.str());
+  return draw(folder, name, gp.str(), note);
 }
 
 /// Prediction errors over time of the test phases of the first test push.
-bool plot_test_errors(const std::vector<PhaseTrace>& phases, const StagedOutput& out, const std::string& name) {
+bool plot_test_errors(const std::vector<PhaseTrace>& phases, const std::filesystem::path& folder, const std::string& name,
+                      std::string& note) {
   if (phases.empty()) return false;
   const std::string source = phases.front().source;
   const std::vector<std::string> methods{"dob", kCorrectedMethod, "hold", "const_velocity"};
@@ -153,11 +153,10 @@ bool plot_test_errors(const std::vector<PhaseTrace>& phases, const StagedOutput&
     }
     data << "\n";  // a gap between phases
   }
-  const auto data_path = out.path("plots/" + name + ".dat");
+  const auto data_path = folder / "plots" / (name + ".dat");
   write_text_atomically(data_path, data.str());
   std::ostringstream gp;
-  gp << "set terminal svg size 900,600 dynamic font 'sans,11'\n"
-     << "set output " << gnuplot_quoted(name + ".svg") << "\n"
+  gp << png_terminal(name + ".png", 900, 600)
      << "set multiplot layout 2,1 title "
      << gnuplot_quoted("Prediction error, test phases of " + std::filesystem::path(source).filename().string())
      << " noenhanced font 'sans,9'\n"
@@ -171,10 +170,20 @@ bool plot_test_errors(const std::vector<PhaseTrace>& phases, const StagedOutput&
     gp << "\n";
   }
   gp << "unset multiplot\n";
-  return run_gnuplot(out, name, gp.str());
+  return draw(folder, name, gp.str(), note);
 }
 
 }  // namespace
+
+std::vector<std::string> effects_found(const DiagnosisResult& r) { return kinds_of(r, false); }
+
+std::string findings_text(const DiagnosisResult& r) {
+  const auto found = kinds_of(r, false), fixes = kinds_of(r, true);
+  std::string s = found.empty() ? "nothing found: no physical effect beyond the paper's model explains the residual"
+                                : "found: " + joined(found);
+  if (!fixes.empty()) s += "; model-structure fixes applied: " + joined(fixes);
+  return s;
+}
 
 nlohmann::json error_summary_json(const ErrorSummary& e) {
   return {{"phases", e.phases},
@@ -206,6 +215,9 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
           {"fit_pushes", r.fit_sources},
           {"test_pushes", r.test_sources},
           {"effects", effects},
+          {"found", effects_found(r)},
+          {"nothing_found", effects_found(r).empty()},
+          {"findings", findings_text(r)},
           {"correction", r.correction.describe()},
           {"initial_velocity_from_observer", r.correction.initial_velocity},
           {"error_before", error_summary_json(r.error_before)},
@@ -234,11 +246,9 @@ std::string diagnosis_summary_text(const DiagnosisResult& r) {
   std::ostringstream s;
   s << "diagnosis of " << r.fit_sources.size() << " fit and " << r.test_sources.size() << " test pushes (" << r.shape
     << " on " << r.surface << ")\n";
+  s << "  " << findings_text(r) << "\n";
   for (const auto& e : r.effects)
     if (e.selected) s << "  selected " << e.kind << ": " << effect_parameters_text(e) << "\n";
-  bool any = false;
-  for (const auto& e : r.effects) any = any || e.selected;
-  if (!any) s << "  no effect selected\n";
   char line[256];
   s << "held-out phases (" << r.error_after.phases << "):      pos mm   yaw deg\n";
   const std::pair<const char*, const ErrorSummary*> rows[] = {{"before (paper dob)", &r.error_before},
@@ -263,6 +273,7 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
      << "`. Selection: greedy BIC with the effective sample count, threshold " << general(o.bic_threshold)
      << (o.confirm_on_prediction ? ", each selected effect confirmed on the fit pushes' predictions" : "") << ".\n\n";
 
+  md << "**" << findings_text(r) << ".**\n\n";
   md << "## Prediction error on the held-out phases\n\n"
      << "Mean over " << r.error_after.phases << " phases of the per-phase mean error. `before` is the paper's method "
      << "(`dob`: relation identified online, initial velocity zero); `after` is the corrected model (initial velocity "
@@ -347,20 +358,89 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
 }
 
 void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o, const StagedOutput& out, bool plots) {
-  write_text_atomically(out.path("diagnosis.json"), diagnosis_json(r, o).dump(2) + "\n");
+  write_diagnosis_report(r, o, out.path("."), plots);
+}
+
+void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o, const std::filesystem::path& folder,
+                            bool plots) {
+  write_text_atomically(folder / "diagnosis.json", diagnosis_json(r, o).dump(2) + "\n");
   std::vector<std::string> drawn;
   std::string note;
   if (!plots) {
     note = "Plots were not asked for (--no-plots).";
-  } else if (!gnuplot_available()) {
-    note = "Plots left out: gnuplot was not found.";
   } else {
-    if (!r.residuals.empty() && plot_residuals(r.residuals.front(), out, "residuals"))
-      drawn.push_back("plots/residuals.svg");
-    if (plot_test_errors(r.test_phases, out, "test_errors")) drawn.push_back("plots/test_errors.svg");
-    if (drawn.empty()) note = "Plots left out: gnuplot failed.";
+    if (!r.residuals.empty() && plot_residuals(r.residuals.front(), folder, "residuals", note))
+      drawn.push_back("plots/residuals.png");
+    if (plot_test_errors(r.test_phases, folder, "test_errors", note)) drawn.push_back("plots/test_errors.png");
+    if (drawn.empty()) note = "Plots left out: " + note;
   }
-  write_text_atomically(out.path("report.md"), diagnosis_markdown(r, o, drawn, note));
+  write_text_atomically(folder / "report.md", diagnosis_markdown(r, o, drawn, note));
+}
+
+namespace {
+bool beats_both(const DiagnosisResult& r) {
+  return r.error_after.pos_mm_mean < std::min(r.hold.pos_mm_mean, r.const_velocity.pos_mm_mean) &&
+         r.error_after.theta_deg_mean < std::min(r.hold.theta_deg_mean, r.const_velocity.theta_deg_mean);
+}
+}  // namespace
+
+std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>& groups) {
+  std::ostringstream md;
+  md << "# Diagnosis per object\n\n"
+     << "pushpred " << kVersion << ". One diagnosis per object and surface; each has its own report in the folder "
+     << "named in the first column. Errors: mean over the held-out phases of the per-phase mean position error [mm] "
+     << "/ yaw error [deg].\n\n"
+     << "| object | pushes | held-out phases | found | before (paper `dob`) | after (corrected) | `hold` | "
+        "`const_velocity` | after beats both |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
+  const auto pair = [](const ErrorSummary& e) { return fixed(e.pos_mm_mean) + " / " + fixed(e.theta_deg_mean); };
+  for (const auto& g : groups) {
+    if (!g.result) continue;
+    const DiagnosisResult& r = *g.result;
+    const auto found = effects_found(r);
+    md << "| [" << g.name << "](" << g.name << "/report.md) | " << g.pushes << " | " << r.error_after.phases << " | "
+       << (found.empty() ? std::string("nothing") : joined(found)) << " | " << pair(r.error_before) << " | "
+       << pair(r.error_after) << " | " << pair(r.hold) << " | " << pair(r.const_velocity) << " | "
+       << (beats_both(r) ? "yes" : "**no**") << " |\n";
+  }
+  md << "\nModel-structure fixes selected per object:\n\n";
+  for (const auto& g : groups)
+    if (g.result) {
+      const auto fixes = kinds_of(*g.result, true);
+      md << "- " << g.name << ": " << (fixes.empty() ? std::string("none") : joined(fixes)) << "\n";
+    }
+  bool failed = false;
+  for (const auto& g : groups) failed = failed || !g.result;
+  if (failed) {
+    md << "\nNot diagnosed:\n\n";
+    for (const auto& g : groups)
+      if (!g.result) md << "- " << g.name << " (" << g.pushes << " pushes): " << g.error << "\n";
+  }
+  return md.str();
+}
+
+nlohmann::json diagnosis_overview_json(const std::vector<DiagnosisGroupOutcome>& groups) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& g : groups) {
+    nlohmann::json j = {{"name", g.name}, {"pushes", g.pushes}};
+    if (g.result) {
+      const DiagnosisResult& r = *g.result;
+      j["shape"] = r.shape;
+      j["surface"] = r.surface;
+      j["found"] = effects_found(r);
+      j["nothing_found"] = effects_found(r).empty();
+      j["structure_fixes"] = kinds_of(r, true);
+      j["error_before"] = error_summary_json(r.error_before);
+      j["error_after"] = error_summary_json(r.error_after);
+      j["error_references"] = {{"hold", error_summary_json(r.hold)},
+                               {"const_velocity", error_summary_json(r.const_velocity)}};
+      j["after_beats_both_references"] = beats_both(r);
+    } else {
+      j["error"] = g.error;
+    }
+    out.push_back(j);
+  }
+  return {{"pushpred_version", kVersion}, {"objects", out}};
 }
 
 }  // namespace pushpred

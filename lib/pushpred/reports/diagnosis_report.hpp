@@ -9,7 +9,9 @@
 //   note when gnuplot is not installed).
 // Millimetres and degrees here only; the library is SI.
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
@@ -17,6 +19,12 @@
 namespace pushpred {
 
 nlohmann::json error_summary_json(const ErrorSummary& e);
+/// The selected effects that are physical effects found in the data, not fixes of the model's structure
+/// (EffectReport::structural); empty: nothing found.
+std::vector<std::string> effects_found(const DiagnosisResult& result);
+/// One line: what was found ("nothing found: ..." when no physical effect was selected) and the structure fixes
+/// applied. Also diagnosis.json's `findings`, beside `found` and `nothing_found`.
+std::string findings_text(const DiagnosisResult& result);
 nlohmann::json diagnosis_json(const DiagnosisResult& result, const DiagnosisOptions& options);
 /// report.md; `plots` lists the plot files written beside it (empty: plots were not drawn), `plot_note` why not.
 std::string diagnosis_markdown(const DiagnosisResult& result, const DiagnosisOptions& options,
@@ -27,5 +35,21 @@ std::string diagnosis_summary_text(const DiagnosisResult& result);
 /// Writes diagnosis.json, report.md and (when `plots` and gnuplot is found) the plots into `out`.
 void write_diagnosis_report(const DiagnosisResult& result, const DiagnosisOptions& options, const StagedOutput& out,
                             bool plots = true);
+/// The same into `folder` (e.g. a subfolder of a staged output).
+void write_diagnosis_report(const DiagnosisResult& result, const DiagnosisOptions& options,
+                            const std::filesystem::path& folder, bool plots = true);
+
+/// One object's diagnosis in a run over several (`pushpred diagnose --per-object`): its result, or why it failed.
+struct DiagnosisGroupOutcome {
+  std::string name;  ///< PushGroup::name(), the subfolder of its report
+  std::size_t pushes = 0;
+  std::optional<DiagnosisResult> result;
+  std::string error;
+};
+/// overview.md: one row per object (findings, held-out errors before and after next to hold and const_velocity,
+/// whether the corrected model beats both) and the objects that failed.
+std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>& groups);
+/// overview.json: per object its `found`, `error_before`, `error_after` and `error_references`, or its `error`.
+nlohmann::json diagnosis_overview_json(const std::vector<DiagnosisGroupOutcome>& groups);
 
 }  // namespace pushpred

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# pushpred diagnose on real pushes: the outputs the issue names, --per-object over several objects, and every input
+# a user can get wrong.
+set -u
+bin=$1
+data=$2
+source "$(dirname "$0")/cli_support.sh"
+
+abs="$data/abs"
+hex=$(ls "$abs"/motion_surface=abs_shape=hex_a=0_v=50_*.h5)
+ellip=$(ls "$abs"/motion_surface=abs_shape=ellip1_a=0_v=50_*.h5)
+frozen=$(ls "$abs"/motion_surface=abs_shape=rect1_*.h5 | head -2)
+
+# shellcheck disable=SC2086
+expect_exit 0 "diagnose the hex pushes at 50 mm/s" -- "$bin" diagnose $hex --out "$tmp/hex"
+expect_in "$tmp/out" "held-out phases" "the terminal gets the before/after table"
+for key in '"effects"' '"kind": "time_offset"' '"kind": "force_offset"' '"kind": "viscous_friction"' \
+  '"kind": "stribeck_friction"' '"kind": "position_friction"' '"kind": "com_offset"' '"kind": "inertia_mismatch"' \
+  '"kind": "initial_velocity"' '"kind": "coulomb_friction"' '"selected"' '"score"' '"parameters"' \
+  '"error_before"' '"error_after"' '"error_references"' '"hold"' '"const_velocity"' '"pos_mm_mean"' \
+  '"theta_deg_mean"' '"nothing_found"' '"findings"'; do
+  expect_in "$tmp/hex/diagnosis.json" "$key" "diagnosis.json holds $key"
+done
+if grep -q "nan\|inf" "$tmp/hex/diagnosis.json"; then failed=$((failed + 1)); echo "FAIL: a non-finite number"; else
+  passed=$((passed + 1)); fi
+expect_in "$tmp/hex/report.md" "## Prediction error on the held-out phases" "report.md has the before/after table"
+expect_in "$tmp/hex/report.md" "## Candidate effects" "report.md lists every candidate"
+expect_in "$tmp/hex/report.md" "plots/residuals.png" "report.md shows the residual plot"
+[ -s "$tmp/hex/plots/residuals.png" ] && [ -s "$tmp/hex/plots/test_errors.png" ] && passed=$((passed + 1)) || {
+  failed=$((failed + 1)); echo "FAIL: the residual and error plots are drawn"; }
+
+# Several objects: refused without --per-object, diagnosed one by one with it.
+# shellcheck disable=SC2086
+expect_exit 2 "two objects without --per-object" -- "$bin" diagnose $hex $ellip --out "$tmp/mixed"
+expect_in "$tmp/err" "pass --per-object" "the user is told about --per-object"
+[ ! -e "$tmp/mixed" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: nothing written"; }
+# shellcheck disable=SC2086
+expect_exit 1 "--per-object with an object whose sensor is frozen" -- "$bin" diagnose $hex $ellip $frozen \
+  --per-object --no-plots --out "$tmp/objects"
+expect_in "$tmp/out" "2 of 3 objects diagnosed" "the diagnosed objects are counted"
+expect_in "$tmp/err" "FAILED rect1_on_abs: diagnosis: no usable push among the 2 given (2 x force sensor frozen" \
+  "the failed object is named with the reason"
+expect_in "$tmp/objects/overview.md" "[hex_on_abs](hex_on_abs/report.md)" "the overview links each object's report"
+expect_in "$tmp/objects/overview.md" "rect1_on_abs (2 pushes)" "the overview lists the object not diagnosed"
+expect_in "$tmp/objects/overview.json" '"after_beats_both_references"' "overview.json compares with the references"
+[ -s "$tmp/objects/ellip1_on_abs/diagnosis.json" ] && passed=$((passed + 1)) || {
+  failed=$((failed + 1)); echo "FAIL: each object gets its own diagnosis.json"; }
+
+# Inputs a user can get wrong: clear errors, non-zero exits, nothing written.
+# shellcheck disable=SC2086
+expect_exit 2 "only frozen sensors" -- "$bin" diagnose $frozen --out "$tmp/frozen"
+expect_in "$tmp/err" "force sensor frozen" "the reason is named"
+[ ! -e "$tmp/frozen" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: nothing written"; }
+# shellcheck disable=SC2086
+expect_exit 2 "an unknown effect to exclude" -- "$bin" diagnose $hex --exclude teapot_effect --out "$tmp/x1"
+expect_in "$tmp/err" "teapot_effect" "the unknown effect is named"
+# shellcheck disable=SC2086
+expect_exit 2 "an unknown relation estimator" -- "$bin" diagnose $hex --estimator magic --out "$tmp/x2"
+expect_in "$tmp/err" "magic" "the unknown estimator is named"
+expect_exit 109 "an unknown flag" -- "$bin" diagnose --frobnicate $hex --out "$tmp/x3"
+expect_exit 105 "too few intervals" -- "$bin" diagnose --intervals 2 $hex --out "$tmp/x4"
+printf 'not a recording' > "$tmp/junk.h5"
+expect_exit 2 "nothing readable" -- "$bin" diagnose "$tmp/junk.h5" "$tmp/missing.h5" --out "$tmp/x5"
+expect_in "$tmp/err" "FAILED $tmp/missing.h5: file does not exist" "the missing file is named"
+[ ! -e "$tmp/x5" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: nothing written"; }
+# shellcheck disable=SC2086
+expect_exit 1 "a bad file among good ones" -- "$bin" diagnose $hex "$tmp/junk.h5" --no-plots --out "$tmp/x6"
+expect_in "$tmp/err" "FAILED $tmp/junk.h5: neither an HDF5 nor a JSON recording" "the bad file is named"
+expect_in "$tmp/x6/diagnosis.json" '"error_after"' "the good files are still diagnosed"
+finish
