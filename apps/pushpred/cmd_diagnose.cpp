@@ -23,7 +23,7 @@ struct DiagnoseArgs {
   std::vector<std::string> files;
   std::string out, shape, span = "whole", estimator = "rls";
   int intervals = 4;
-  double plan_rate_hz = 10.0, bic_threshold = 10.0, rate_hz = 250.0;
+  double plan_rate_hz = 10.0, mu = -1.0, bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
   bool per_object = false, no_confirm = false, no_plots = false, no_structure = false;
 };
@@ -34,6 +34,7 @@ int run_diagnose(const DiagnoseArgs& a) {
   o.study.schedule.span = parse_schedule_span(a.span);
   o.study.plan_rate_hz = a.plan_rate_hz;
   o.study.estimator = a.estimator;
+  o.study.friction_coefficient = a.mu;
   o.bic_threshold = a.bic_threshold;
   o.confirm_on_prediction = !a.no_confirm;
   o.search_structure = !a.no_structure;
@@ -118,6 +119,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(CLI::IsMember({"whole", "contact"}));
   sub->add_option("--estimator", a->estimator, "Relation estimator of the paper's method (default rls)");
   sub->add_option("--plan-rate", a->plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_option("--mu", a->mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")
+      ->check(CLI::PositiveNumber);
   sub->add_option("--bic-threshold", a->bic_threshold, "BIC drop an effect needs to be selected (default 10)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--exclude", a->exclude, "Candidate effect kinds to leave out (repeatable)");

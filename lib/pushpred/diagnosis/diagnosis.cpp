@@ -502,7 +502,9 @@ DiagnosisResult Diagnoser::run() {
     } else {
       keep(test_raw_, nullptr);
     }
-    if (fit_raw_.empty()) throw InputError("diagnosis: the paper's method failed on every fit push");
+    if (fit_raw_.empty())
+      throw InputError("diagnosis: the paper's method failed on every fit push (" + result_.failures.back().source +
+                       ": " + result_.failures.back().reason + ")");
     if (test_raw_.empty()) throw InputError("diagnosis: the paper's method failed on every test push");
     result_.fit_sources.clear();
     result_.test_sources.clear();

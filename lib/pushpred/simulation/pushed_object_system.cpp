@@ -1,6 +1,7 @@
 #include "pushpred/simulation/pushed_object_system.hpp"
 
 #include <Eigen/LU>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -10,12 +11,7 @@
 namespace pushpred {
 namespace {
 
-Eigen::Matrix2d rotation(double yaw) {
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  Eigen::Matrix2d r;
-  r << c, -s, s, c;
-  return r;
-}
+Eigen::Matrix2d rotation(double yaw) { return Eigen::Rotation2Dd(yaw).toRotationMatrix(); }
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 

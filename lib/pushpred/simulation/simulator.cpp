@@ -1,5 +1,6 @@
 #include "pushpred/simulation/simulator.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,12 +14,7 @@
 namespace pushpred {
 namespace {
 
-Eigen::Matrix2d rotation(double yaw) {
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  Eigen::Matrix2d r;
-  r << c, -s, s, c;
-  return r;
-}
+Eigen::Matrix2d rotation(double yaw) { return Eigen::Rotation2Dd(yaw).toRotationMatrix(); }
 
 /// Yaw wrapped to (-pi, pi], as the dataset stores it.
 double wrap_angle(double a) {
