@@ -111,6 +111,37 @@ BOOST_AUTO_TEST_CASE(the_overview_lists_every_object_and_the_ones_not_diagnosed)
   BOOST_TEST(j["objects"][1]["error"].get<std::string>() == "no usable push");
 }
 
+BOOST_AUTO_TEST_CASE(the_report_traces_the_phases_where_the_corrected_model_loses) {
+  DiagnosisResult r = made_up_result();
+  // Two phases of constant errors: in the first the corrected model is best; in the second its yaw error is
+  // twice const_velocity's.
+  const auto phase = [](int k, double corrected_yaw_rad) {
+    PhaseTrace p;
+    p.source = "b.h5";
+    p.phase = k;
+    p.t0_s = 0.5 * k;
+    p.t_s = Eigen::VectorXd::LinSpaced(5, 0.0, 0.1);
+    const auto rows = [](double x_m, double yaw_rad) {
+      Eigen::MatrixX3d e(5, 3);
+      e.col(0).setConstant(x_m);
+      e.col(1).setZero();
+      e.col(2).setConstant(yaw_rad);
+      return e;
+    };
+    p.error["dob"] = rows(0.01, 0.1);
+    p.error[kCorrectedMethod] = rows(0.001, corrected_yaw_rad);
+    p.error["hold"] = rows(0.004, 0.05);
+    p.error["const_velocity"] = rows(0.002, 0.01);
+    return p;
+  };
+  r.test_phases = {phase(1, 0.005), phase(2, 0.02)};
+  const std::string md = diagnosis_markdown(r, DiagnosisOptions{}, {}, "");
+  BOOST_TEST(md.find("Of the 2 held-out phases, the corrected model beats `hold` in both position and yaw in 2 and "
+                     "`const_velocity` in 1. It loses to the better reference in 1 phase(s)") != std::string::npos,
+             md);
+  BOOST_TEST(md.find("| `b.h5` | 2 | 1.00 | 1.00 / 1.15 | 2.00 / 0.57 | yaw |") != std::string::npos, md);
+}
+
 BOOST_AUTO_TEST_CASE(a_mixed_batch_is_grouped_by_object_and_surface) {
   std::vector<SynchronisedPush> pushes;
   pushes.push_back(load_push(real_file("shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.000")));

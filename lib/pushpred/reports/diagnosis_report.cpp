@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 #include <sstream>
 
 #include "pushpred/core/version.hpp"
@@ -90,6 +91,65 @@ std::string joined(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
   return s;
+}
+
+/// Mean position [mm] and yaw [deg] error of `method` over one traced phase.
+std::pair<double, double> phase_means(const PhaseTrace& p, const std::string& method) {
+  const Eigen::MatrixX3d& e = p.error.at(method);
+  return {1e3 * e.leftCols<2>().rowwise().norm().mean(), kDeg * e.col(2).cwiseAbs().mean()};
+}
+
+/// The held-out phases one by one: how often the corrected model beats each reference, and the phases where it
+/// loses to the better of the two (the start of tracing why), worst first.
+std::string phase_by_phase(const DiagnosisResult& r) {
+  if (r.test_phases.empty()) return "";
+  int beats_hold = 0, beats_cv = 0, n = 0;
+  struct Loss {
+    const PhaseTrace* phase;
+    double corrected_pos, corrected_yaw, best_pos, best_yaw, excess;
+    std::string worse_in;
+  };
+  std::vector<Loss> losses;
+  for (const auto& p : r.test_phases) {
+    if (!p.error.count(kCorrectedMethod) || !p.error.count("hold") || !p.error.count("const_velocity")) continue;
+    const auto [cp, cy] = phase_means(p, kCorrectedMethod);
+    const auto [hp, hy] = phase_means(p, "hold");
+    const auto [vp, vy] = phase_means(p, "const_velocity");
+    ++n;
+    beats_hold += cp < hp && cy < hy;
+    beats_cv += cp < vp && cy < vy;
+    const double bp = std::min(hp, vp), by = std::min(hy, vy);
+    // Within 2 % (or 0.01 mm, 0.01 deg) of the reference is a tie: while the push goes on the corrected model and
+    // const_velocity both keep the observer's velocity and differ only in the last digits.
+    const bool worse_pos = cp > bp * 1.02 + 0.01, worse_yaw = cy > by * 1.02 + 0.01;
+    if (worse_pos || worse_yaw) {
+      std::string worse = worse_pos ? "position" : "";
+      if (worse_yaw) worse += std::string(worse.empty() ? "" : " and ") + "yaw";
+      // Excess in units of the phase's hold error, so millimetres and degrees weigh alike.
+      const double excess = std::max(0.0, cp - bp) / std::max(hp, 1e-9) + std::max(0.0, cy - by) / std::max(hy, 1e-9);
+      losses.push_back({&p, cp, cy, bp, by, excess, worse});
+    }
+  }
+  std::ostringstream md;
+  md << "## Phase by phase\n\n"
+     << "Of the " << n << " held-out phases, the corrected model beats `hold` in both position and yaw in " << beats_hold
+     << " and `const_velocity` in " << beats_cv << ".";
+  if (losses.empty()) {
+    md << " It loses to neither reference in any phase.\n\n";
+    return md.str();
+  }
+  std::sort(losses.begin(), losses.end(), [](const Loss& a, const Loss& b) { return a.excess > b.excess; });
+  md << " It loses to the better reference in " << losses.size()
+     << " phase(s) by more than 2 %; the worst (mean errors over the phase, pos [mm] / yaw [deg]):\n\n"
+     << "| push | phase | starts at [s] | corrected | better reference | worse in |\n|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < losses.size() && k < 10; ++k) {
+    const Loss& l = losses[k];
+    md << "| `" << std::filesystem::path(l.phase->source).filename().string() << "` | " << l.phase->phase << " | "
+       << fixed(l.phase->t0_s) << " | " << fixed(l.corrected_pos) << " / " << fixed(l.corrected_yaw) << " | "
+       << fixed(l.best_pos) << " / " << fixed(l.best_yaw) << " | " << l.worse_in << " |\n";
+  }
+  md << "\n";
+  return md.str();
 }
 
 bool draw(const std::filesystem::path& folder, const std::string& name, const std::string& script, std::string& note) {
@@ -329,6 +389,8 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
        << general(r.friction_residual_std(0)) << " N, y " << general(r.friction_residual_std(1)) << " N, rotation "
        << general(r.friction_residual_std(2)) << " N m (samples near a stuck-sliding change left out).";
   md << "\n\n";
+
+  md << phase_by_phase(r);
 
   md << "## In-sample: the fit pushes' phases\n\n"
      << "| method | pos [mm] | x [mm] | y [mm] | yaw [deg] | final pos [mm] | final yaw [deg] |\n"
