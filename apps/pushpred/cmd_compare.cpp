@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "study_arguments.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/reports/estimator_comparison.hpp"
 
@@ -12,19 +13,12 @@ namespace {
 struct CompareArgs {
   std::vector<std::string> files;
   std::vector<std::string> estimators{"rls", "rls_forget", "batch", "batch_huber", "batch_cauchy", "batch_joint"};
-  std::string out, shape, span = "whole", observer = "dob";
-  int intervals = 4;
-  double plan_rate_hz = 10.0, mu = -1.0;
+  std::string out, shape;
+  StudyArguments study;
 };
 
 int run_compare(const CompareArgs& a) {
-  StudyOptions o;
-  o.schedule.intervals = a.intervals;
-  o.schedule.span = parse_schedule_span(a.span);
-  o.plan_rate_hz = a.plan_rate_hz;
-  o.observer = a.observer;
-  o.friction_coefficient = a.mu;
-  make_disturbance_estimator(o.observer);
+  const StudyOptions o = a.study.options();
   StagedOutput out(a.out);
   const EstimatorComparison c = compare_estimators(a.files, a.estimators, o, a.shape);
   const std::string md = comparison_markdown(c);
@@ -41,12 +35,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
   sub->add_option("--out", a->out, "Output folder (compare.md)")->required();
   sub->add_option("--estimators", a->estimators, "Estimators to compare; the first is the reference")->delimiter(',');
-  sub->add_option("--observer", a->observer, "Disturbance estimator: dob or pid");
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
-  sub->add_option("--intervals", a->intervals, "Number of equal intervals")->check(CLI::Range(2, 100));
-  sub->add_option("--span", a->span, "whole or contact")->check(CLI::IsMember({"whole", "contact"}));
-  sub->add_option("--plan-rate", a->plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--mu", a->mu, "Friction coefficient for the simple baseline")->check(CLI::NonNegativeNumber);
+  a->study.add_to(*sub, {2, true, false, true});  // the estimators compared come from --estimators
   sub->callback([a, &run] { run = [a] { return run_compare(*a); }; });
 });
 

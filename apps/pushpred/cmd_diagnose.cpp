@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "study_arguments.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
@@ -21,25 +22,20 @@ namespace {
 
 struct DiagnoseArgs {
   std::vector<std::string> files;
-  std::string out, shape, span = "whole", estimator = "rls";
-  int intervals = 4;
-  double plan_rate_hz = 10.0, mu = -1.0, bic_threshold = 10.0, rate_hz = 250.0;
+  std::string out, shape;
+  StudyArguments study;
+  double bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
   bool per_object = false, no_confirm = false, no_plots = false, no_structure = false;
 };
 
 int run_diagnose(const DiagnoseArgs& a) {
   DiagnosisOptions o;
-  o.study.schedule.intervals = a.intervals;
-  o.study.schedule.span = parse_schedule_span(a.span);
-  o.study.plan_rate_hz = a.plan_rate_hz;
-  o.study.estimator = a.estimator;
-  o.study.friction_coefficient = a.mu;
+  o.study = a.study.options();
   o.bic_threshold = a.bic_threshold;
   o.confirm_on_prediction = !a.no_confirm;
   o.search_structure = !a.no_structure;
   o.validate();
-  make_relation_estimator(o.study.estimator);  // fail on a bad name before reading
   EffectLibrary library = EffectLibrary::standard();
   for (const auto& kind : a.exclude) library.remove(kind);
   PreprocessOptions pre;
@@ -113,14 +109,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->required();
   sub->add_option("--out", a->out, "Output folder (diagnosis.json, report.md, plots)")->required();
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
-  sub->add_option("--intervals", a->intervals, "Number of equal intervals (identify on the first)")
-      ->check(CLI::Range(3, 100));
-  sub->add_option("--span", a->span, "Split the whole recording or only the contact span")
-      ->check(CLI::IsMember({"whole", "contact"}));
-  sub->add_option("--estimator", a->estimator, "Relation estimator of the paper's method (default rls)");
-  sub->add_option("--plan-rate", a->plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--mu", a->mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")
-      ->check(CLI::PositiveNumber);
+  a->study.add_to(*sub, {3, false, true, true});  // the diagnosis runs the paper's observer
   sub->add_option("--bic-threshold", a->bic_threshold, "BIC drop an effect needs to be selected (default 10)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--exclude", a->exclude, "Candidate effect kinds to leave out (repeatable)");

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "study_arguments.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 
@@ -14,22 +15,13 @@ namespace {
 
 struct PredictArgs {
   std::vector<std::string> files;
-  std::string out, shape, span = "whole", observer = "dob", estimator = "rls";
-  int intervals = 4;
-  double plan_rate_hz = 10.0, mu = -1.0, rate_hz = 250.0;
+  std::string out, shape;
+  StudyArguments study;
+  double rate_hz = 250.0;
 };
 
 int run_predict(const PredictArgs& a) {
-  StudyOptions o;
-  o.schedule.intervals = a.intervals;
-  o.schedule.span = parse_schedule_span(a.span);
-  o.plan_rate_hz = a.plan_rate_hz;
-  o.observer = a.observer;
-  o.estimator = a.estimator;
-  o.friction_coefficient = a.mu;
-  // Fail on a bad name before any file is read.
-  make_disturbance_estimator(o.observer);
-  make_relation_estimator(o.estimator);
+  const StudyOptions o = a.study.options();
   PreprocessOptions pre;
   pre.rate_hz = a.rate_hz;
 
@@ -61,20 +53,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto* sub = app.add_subcommand("predict", "Identify and predict on each push as in the paper; write summary.json");
   sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
   sub->add_option("--out", a->out, "Output folder")->required();
-  sub->add_option("--estimator", a->estimator, "Relation estimator: " + [] {
-    std::string s;
-    for (const auto& n : relation_estimator_names()) s += (s.empty() ? "" : ", ") + n;
-    return s;
-  }());
-  sub->add_option("--observer", a->observer, "Disturbance estimator: dob or pid");
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
-  sub->add_option("--intervals", a->intervals, "Number of equal intervals (identify on the first)")
-      ->check(CLI::Range(2, 100));
-  sub->add_option("--span", a->span, "Split the whole recording or only the contact span")
-      ->check(CLI::IsMember({"whole", "contact"}));
-  sub->add_option("--plan-rate", a->plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--mu", a->mu, "Friction coefficient for the simple baseline (default: from the surface)")
-      ->check(CLI::NonNegativeNumber);
+  a->study.add_to(*sub);
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
   sub->callback([a, &run] { run = [a] { return run_predict(*a); }; });
 });

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "study_arguments.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/reports/paper_reproduction.hpp"
 
@@ -10,22 +11,15 @@ namespace pushpred::app {
 namespace {
 
 struct ReproduceArgs {
-  std::string data, out, span = "whole", observer = "dob", estimator = "rls";
+  std::string data, out;
   std::vector<std::string> cases;
-  int intervals = 4;
-  double plan_rate_hz = 10.0;
+  StudyArguments study;
   bool no_real = false;
 };
 
 int run_reproduce(const ReproduceArgs& a) {
   ReproductionOptions o;
-  o.study.schedule.intervals = a.intervals;
-  o.study.schedule.span = parse_schedule_span(a.span);
-  o.study.plan_rate_hz = a.plan_rate_hz;
-  o.study.observer = a.observer;
-  o.study.estimator = a.estimator;
-  make_disturbance_estimator(o.study.observer);
-  make_relation_estimator(o.study.estimator);
+  o.study = a.study.options();
   if (!a.no_real) o.data_folder = resolve_data_folder(a.data.empty() ? std::nullopt : std::optional<std::string>(a.data));
   for (const auto& c : a.cases) o.case_files.emplace_back(c);
   StagedOutput out(a.out);
@@ -45,11 +39,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_flag("--no-real", a->no_real, "Only the six paper cases, not the real pushes");
   sub->add_option("--cases", a->cases, "Six real rect2 recordings for cases 1-6 (default: simulate them)")
       ->expected(6);
-  sub->add_option("--intervals", a->intervals, "Number of equal intervals")->check(CLI::Range(2, 100));
-  sub->add_option("--span", a->span, "whole or contact")->check(CLI::IsMember({"whole", "contact"}));
-  sub->add_option("--plan-rate", a->plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--observer", a->observer, "Disturbance estimator: dob or pid");
-  sub->add_option("--estimator", a->estimator, "Relation estimator (see `pushpred predict --help`)");
+  a->study.add_to(*sub, {2, true, true, false});  // the simple baseline keeps the paper's abs value
   sub->callback([a, &run] { run = [a] { return run_reproduce(*a); }; });
 });
 

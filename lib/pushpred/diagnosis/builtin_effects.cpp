@@ -144,7 +144,41 @@ class TimeOffsetEffect final : public CandidateEffect {
   // tau on a 4 ms grid over +-kMaxDelay_s, refined on a 0.5 ms grid, and its minimum located by a parabola.
   // Score: the BIC drop N_eff ln(RSS(0) / RSS(tau)) - ln(N_eff); standard error from the parabola's curvature
   // (the profile likelihood with N_eff samples: RSS rises by RSS / N_eff one standard error away).
+  //
+  // The delay is a constant of the sensor chain, the same in every push. With three or more pushes each push's own
+  // delay is searched too, and when they disagree by more than the pooled standard error allows, the variance of
+  // their mean (their spread) replaces it and the score becomes the Wald statistic with it, less ln(N_eff), if that
+  // is lower: a friction effect read as a lag (a Stribeck rise in stick-slip, whose apparent lag depends on the push
+  // speed) gives each push its own "delay", a real lag the same one.
   DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
+    DirectFit fit = pooled_fit(pushes);
+    if (pushes.size() < 3) return fit;
+    std::vector<double> own;
+    for (const auto& d : pushes) own.push_back(pooled_fit({d}).theta(0));
+    double mean = 0;
+    for (double t : own) mean += t;
+    const double P = static_cast<double>(own.size());
+    mean /= P;
+    double spread = 0;
+    for (double t : own) spread += (t - mean) * (t - mean);
+    const double between = spread / (P - 1) / P;
+    if (between > fit.covariance(0, 0)) {
+      fit.covariance(0, 0) = between;
+      const double wald = fit.theta(0) * fit.theta(0) / between - std::log(fit.effective_samples);
+      if (wald < fit.score) {
+        fit.score = wald;
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "the pushes' own delays disagree (spread %.1f ms over %d pushes)",
+                      1e3 * std::sqrt(spread / (P - 1)), static_cast<int>(P));
+        fit.note = buf;
+      }
+    }
+    return fit;
+  }
+
+ private:
+  /// The search above over `pushes` together (one delay shared by all).
+  DirectFit pooled_fit(const std::vector<DiagnosisPush>& pushes) const {
     const ResidualRegression linear(pushes, Relation::Linear);
     const double neff = linear.effective_samples();
     const Eigen::Vector3d scale = linear.channel_scale();
@@ -235,7 +269,6 @@ class TimeOffsetEffect final : public CandidateEffect {
     return fit;
   }
 
- private:
   static constexpr double kMaxDelay_s = 0.1;
   static constexpr double kMinDelay_s = 0.002;
 };

@@ -8,8 +8,10 @@
 // which is Coulomb friction (magnitude mu m g, opposing the velocity) for translation and its counterpart for
 // rotation; v_reg (kFrictionRegularisation_m_s) keeps it smooth at rest, where the observer's velocity is noise.
 //
-// - time_offset [s] (regression; corrects data): the force stream lags the pose by tau, f_rec(t) = f(t - tau).
-//   Then d_hat carries Q(f - f_rec) ~ tau (Q u)'; regressor (Q u)'. Applied by reading the force stream tau later.
+// - time_offset [s] (direct; corrects data): the force stream lags the pose by tau, f_rec(t) = f(t - tau).
+//   Then d_hat carries Q(f - f_rec) ~ tau (Q u)'. Found by a search over tau against the Coulomb law (direct);
+//   with three or more pushes, the pushes' own delays must agree (their spread bounds the standard error and the
+//   score). Applied by reading the force stream tau later.
 // - force_offset [N] (direct; corrects data): the sensor's fx, fy read a bias b. Estimated from the samples
 //   before the tip moves (samples_before_tip_moves), where the true force is zero; scored by the same BIC on those
 //   samples (model: zero mean vs mean b). Applied by removing b.

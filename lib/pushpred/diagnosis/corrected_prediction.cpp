@@ -91,29 +91,38 @@ std::unique_ptr<DisturbanceEstimator> CorrectedPrediction::observer(const std::s
 }
 
 Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, const SynchronisedPush& push,
-                                       const DisturbanceEstimate& e) {
+                                       const DisturbanceEstimate& e, const QFilterObserverOptions& observer) {
   const Eigen::Index n = e.t_s.size();
   Eigen::MatrixX3d out = Eigen::MatrixX3d::Zero(n, 3);
   if (laws.empty() || n == 0) return out;
   const Eigen::Index first = push.index_at(e.t_s(0));
   if (first + n > push.size()) throw InputError(about(push.source, "an estimate does not belong to this push"));
-  const Eigen::MatrixX3d filtered_input = e.total - e.d_hat;
-  EffectState s;
-  s.start_pose = push.pose.row(0).transpose();
+  if (n < 2) return out;
+  // The same observation model as the diagnosis's regressors (diagnosis_data.hpp), on the interval just measured.
+  const DiagnosisPush d = diagnosis_push_from_estimate(push, e, observer);
+  Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(n, 3);
+  bool replaces_relation = false;
+  for (const auto& law : laws) replaces_relation = replaces_relation || law.effect->replaces_relation();
   for (Eigen::Index k = 0; k < n; ++k) {
-    s.pose = push.pose.row(first + k).transpose();
-    s.velocity = e.velocity.row(k).transpose();
-    s.input = filtered_input.row(k).transpose();
+    const EffectState s = d.state(k);
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
     for (const auto& law : laws) f += law.force(s, push.shape);
-    out.row(k) = f.transpose();
+    raw.row(k) = f.transpose();
+  }
+  out = d.as_observed(raw);
+  if (replaces_relation) {
+    // Where the object is stuck, static friction balances the push: d = -u (Relation::Friction).
+    Eigen::MatrixX3d stuck_input = Eigen::MatrixX3d::Zero(n, 3);
+    for (Eigen::Index k = 0; k < n; ++k)
+      if (d.stuck[k]) stuck_input.row(k) = e.u.row(k);
+    out -= q_filter(e.t_s, stuck_input, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
   }
   return out;
 }
 
 void CorrectedPrediction::remove_explained(const SynchronisedPush& push, DisturbanceEstimate& estimate) const {
   if (correction_.force_laws.empty()) return;
-  estimate.d_hat -= explained_disturbance(correction_.force_laws, push, estimate);
+  estimate.d_hat -= explained_disturbance(correction_.force_laws, push, estimate, observer_);
 }
 
 void CorrectedPrediction::adjust_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,

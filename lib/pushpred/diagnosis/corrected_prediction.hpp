@@ -76,9 +76,13 @@ class CorrectedPrediction final : public PredictionCorrection {
   QFilterObserverOptions observer_;
 };
 
-/// The force laws' share of `estimate.d_hat` (n x 3), at the estimate's rows of `push`: state from the measured
-/// pose, the estimate's velocity and its Q-filtered input (total - d_hat).
+/// The force laws' share of `estimate.d_hat` (n x 3), at the estimate's rows of `push`, seen as the diagnosis's
+/// regressors see it (DiagnosisPush::as_observed, with the Q filter of `observer`): the laws at the pose and
+/// velocity smoothed without lag over the estimate's span and the measured input, zero where the object is
+/// stuck, Q-filtered. When a law replaces the paper's relation (Coulomb friction), static friction balances the
+/// push where the object is stuck (d = -u, as in Relation::Friction), and that is explained too: what is left for
+/// the online relation estimator is then only what the laws do not explain, as in the diagnosis's regression.
 Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, const SynchronisedPush& push,
-                                       const DisturbanceEstimate& estimate);
+                                       const DisturbanceEstimate& estimate, const QFilterObserverOptions& observer = {});
 
 }  // namespace pushpred

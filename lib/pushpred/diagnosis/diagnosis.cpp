@@ -93,10 +93,12 @@ class Diagnoser {
   RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
                              std::vector<EffectColumns>& storage) const;
   void refit(std::vector<Selection>& selected);
-  /// Tests the selected direct effects again, each on data without its own correction and with what the selected
-  /// refinements of the friction law explain set aside: a lag found against a bare Coulomb law may be a friction
-  /// effect in disguise. Drops those that no longer pass; updates the others.
-  void retest_direct(std::vector<Selection>& selected);
+  /// Tests the selected direct effects that correct the data again, when a friction law is selected: a lag found
+  /// against a bare Coulomb law may be a friction effect in disguise (a Stribeck rise reads as a lag), and with the
+  /// lag applied the friction effect no longer shows. So, on the data without the effect's correction, the friction
+  /// law's refinements are searched again (greedy), and the effect is re-tested with what they explain set aside.
+  /// If it no longer passes, those refinements replace it; otherwise the selection stands.
+  void retest_direct(std::vector<Selection>& selected, double log_neff);
   /// Greedy forward selection over the regression effects of `group` (not yet in `selected`).
   void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
   double fit_metric(const std::vector<Selection>& selected, std::vector<double>* per_phase) const;
@@ -415,51 +417,66 @@ void Diagnoser::refit(std::vector<Selection>& selected) {
   log("data corrections still moving after the last re-fit");
 }
 
-void Diagnoser::retest_direct(std::vector<Selection>& selected) {
+void Diagnoser::retest_direct(std::vector<Selection>& selected, double log_neff) {
   const auto& effects = library_.effects();
-  bool any_refinement = false;
+  const auto law_selected = [&](const std::vector<Selection>& s) {
+    return std::any_of(s.begin(), s.end(), [&](const Selection& x) { return effects[x.candidate]->replaces_relation(); });
+  };
+  if (!law_selected(selected)) return;
+  std::vector<std::size_t> direct;
   for (const auto& s : selected)
-    any_refinement = any_refinement || (effects[s.candidate]->test() == EffectTest::Regression &&
-                                        effects[s.candidate]->needs_friction_base());
-  if (!any_refinement) return;
+    if (effects[s.candidate]->test() == EffectTest::Direct && effects[s.candidate]->corrects_data())
+      direct.push_back(s.candidate);
   bool changed = false;
-  for (std::size_t k = 0; k < selected.size();) {
-    if (effects[selected[k].candidate]->test() != EffectTest::Direct) {
-      ++k;
-      continue;
+  for (const std::size_t candidate : direct) {
+    const auto at = std::find_if(selected.begin(), selected.end(), [&](const Selection& s) { return s.candidate == candidate; });
+    if (at == selected.end()) continue;
+    const auto& effect = effects[candidate];
+    // Without the effect, and without the refinements found with its correction applied.
+    std::vector<Selection> trial;
+    for (const auto& s : selected) {
+      if (s.candidate == candidate) continue;
+      const auto& e = effects[s.candidate];
+      if (e->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction && !e->replaces_relation())
+        continue;
+      trial.push_back(s);
     }
-    std::vector<Selection> others = selected;
-    others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
-    rebuild_data(correction_of(others, false));
+    const std::vector<EffectReport> reports = result_.effects;
+    const std::size_t log_size = result_.log.size();
+    log(effect->kind() + ": tested again without its correction, beside the friction law's refinements searched anew");
+    rebuild_data(correction_of(trial, false));
+    greedy(trial, Relation::Friction, log_neff);
+    refit(trial);
     for (std::size_t p = 0; p < data_.size(); ++p) data_[p].friction_explained.setZero();
-    for (const auto& s : others) {
+    for (const auto& s : trial) {
       const auto& e = effects[s.candidate];
       if (e->test() != EffectTest::Regression || !e->needs_friction_base() || e->corrects_data()) continue;
       const EffectColumns cols = columns(s.candidate, s.setting);
       for (std::size_t p = 0; p < data_.size(); ++p)
         for (std::size_t j = 0; j < cols.size(); ++j) data_[p].friction_explained += s.total(j) * cols[j][p];
     }
-    const auto& effect = effects[selected[k].candidate];
     const DirectFit f = effect->fit_directly(data_);
-    EffectReport& r = result_.effects[selected[k].candidate];
-    log(effect->kind() + format(": tested again beside the friction law's refinements, score %.1f", f.score));
+    for (auto& d : data_) d.friction_explained.setZero();
+    log(effect->kind() + format(":   score %.1f beside them", f.score));
     changed = true;
     if (!(f.score > o_.bic_threshold) || !effect->implausible(f.theta).empty()) {
+      EffectReport& r = result_.effects[candidate];
       r.passed_test = false;
-      r.note = "dropped: with the friction law's refinements in the model it no longer passes";
+      r.note = "dropped: with the friction law's refinements found without it, it no longer passes";
       r.score = f.score;
       r.theta = f.theta;
       r.theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-      log("  dropped");
-      selected = others;
+      log("  dropped: the refinements explain it");
+      selected = trial;
       continue;
     }
-    selected[k].total = f.theta;
-    selected[k].std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-    selected[k].score = f.score;
-    ++k;
+    // The effect stands: the selection found with its correction applied is kept.
+    const std::vector<std::string> trial_log(result_.log.begin() + static_cast<std::ptrdiff_t>(log_size), result_.log.end());
+    result_.effects = reports;
+    result_.log.resize(log_size);
+    for (const auto& line : trial_log) log("  (trial) " + line);
+    log("  kept");
   }
-  for (auto& d : data_) d.friction_explained.setZero();
   if (changed) refit(selected);
 }
 
@@ -561,7 +578,7 @@ DiagnosisResult Diagnoser::run() {
   if (any_regression()) refit(selected);
   greedy(selected, Relation::Friction, log_neff);
   if (any_regression()) refit(selected);
-  retest_direct(selected);
+  retest_direct(selected, log_neff);
 
   // Step 5: prediction-structure effects, on the fit pushes' predictions. They interact (the quasi-static law
   // keeps a velocity only the observer can give), so every combination, at every setting, is tried; the best
@@ -768,7 +785,7 @@ DiagnosisResult Diagnoser::run() {
       before2 += residual_before[p].colwise().squaredNorm().transpose();
       after2 += residual_after[p].colwise().squaredNorm().transpose();
       rows += static_cast<double>(data_[p].rows());
-      result_.residuals.push_back({data_[p].push.source, data_[p].estimate.t_s, residual_before[p], residual_after[p]});
+      result_.residuals.push_back({data_[p].push.source, data_[p].estimate.t_s, residual_before[p], residual_after[p], {}});
     }
     result_.residual_std_before = (before2 / rows).cwiseSqrt();
     result_.residual_std_after = (after2 / rows).cwiseSqrt();

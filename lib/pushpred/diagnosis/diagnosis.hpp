@@ -16,6 +16,10 @@
 //    drop exceeds `bic_threshold` (residual_regression.hpp: BIC with the effective sample count).
 // 4. Effects that correct the data (time offset, inertia) are applied and the selected set re-fitted on the
 //    corrected data until their residual amounts vanish.
+//    Then each selected direct effect that corrects the data is tested again when a friction law is selected: on
+//    the data without its correction, the friction law's refinements are searched anew and the effect re-fitted
+//    with what they explain set aside; if it no longer passes, those refinements replace it (a lag found against a
+//    bare Coulomb law may be a friction effect in disguise).
 // 5. Prediction-structure effects (initial velocity) are scored on the fit pushes' prediction phases: selected
 //    when the mean normalised error drops by more than twice its standard error over phases.
 // 6. Confirmation: an effect selected in 2-4 whose removal does not make the fit phases' prediction error worse

@@ -78,12 +78,18 @@ Eigen::MatrixXd q_filter(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& valu
 
 DiagnosisPush prepare_diagnosis_push(const SynchronisedPush& push, double t0, double t1,
                                      const QFilterObserverOptions& options) {
-  DiagnosisPush d;
-  d.push = push;
   const QFilterObserver observer(options);
   // The exact discretisation: the same estimate as the CVODE path (the observer's tests hold them together),
   // many times faster for this linear system.
-  d.estimate = observer.estimate_exactly(push, t0, t1);
+  return diagnosis_push_from_estimate(push, observer.estimate_exactly(push, t0, t1), options);
+}
+
+DiagnosisPush diagnosis_push_from_estimate(const SynchronisedPush& push, DisturbanceEstimate estimate,
+                                           const QFilterObserverOptions& options) {
+  if (estimate.t_s.size() < 2) throw InputError(about(push.source, "diagnosis: an estimate of fewer than 2 samples"));
+  DiagnosisPush d;
+  d.push = push;
+  d.estimate = std::move(estimate);
   d.first = push.index_at(d.estimate.t_s(0));
   Eigen::MatrixXd rate;
   d.filtered_input =

@@ -47,6 +47,9 @@ inline constexpr double kStuckSpeed_m_s = 1.5e-3;
 /// span with fewer than two samples.
 DiagnosisPush prepare_diagnosis_push(const SynchronisedPush& push, double t0_s, double t1_s,
                                      const QFilterObserverOptions& observer = {});
+/// The same from an estimate already made by the observer of `observer` (its Q filter is read from there).
+DiagnosisPush diagnosis_push_from_estimate(const SynchronisedPush& push, DisturbanceEstimate estimate,
+                                           const QFilterObserverOptions& observer = {});
 
 /// How q_filter reports its output at the sample times.
 enum class FilterOutput {

@@ -1,0 +1,38 @@
+#include "study_arguments.hpp"
+
+#include "pushpred/estimators/relation_estimator.hpp"
+#include "pushpred/observers/disturbance_estimator.hpp"
+
+namespace pushpred::app {
+
+void StudyArguments::add_to(CLI::App& sub, Flags flags) {
+  sub.add_option("--intervals", intervals, "Number of equal intervals (identify on the first)")
+      ->check(CLI::Range(flags.min_intervals, 100));
+  sub.add_option("--span", span, "Split the whole recording or only the contact span")
+      ->check(CLI::IsMember({"whole", "contact"}));
+  sub.add_option("--plan-rate", plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
+  if (flags.observer) sub.add_option("--observer", observer, "Disturbance estimator: dob or pid");
+  if (flags.estimator) {
+    std::string names;
+    for (const auto& n : relation_estimator_names()) names += (names.empty() ? "" : ", ") + n;
+    sub.add_option("--estimator", estimator, "Relation estimator: " + names);
+  }
+  if (flags.mu)
+    sub.add_option("--mu", mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")
+        ->check(CLI::NonNegativeNumber);
+}
+
+StudyOptions StudyArguments::options() const {
+  StudyOptions o;
+  o.schedule.intervals = intervals;
+  o.schedule.span = parse_schedule_span(span);
+  o.plan_rate_hz = plan_rate_hz;
+  o.observer = observer;
+  o.estimator = estimator;
+  o.friction_coefficient = mu;
+  make_disturbance_estimator(o.observer);
+  make_relation_estimator(o.estimator);
+  return o;
+}
+
+}  // namespace pushpred::app

@@ -1,0 +1,30 @@
+#pragma once
+// The schedule and method options every study-running subcommand shares (predict, compare, reproduce, diagnose):
+// one place for their flags, defaults, checks and help text.
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "pushpred/prediction/prediction_study.hpp"
+
+namespace pushpred::app {
+
+struct StudyArguments {
+  int intervals = 4;
+  std::string span = "whole";
+  double plan_rate_hz = 10.0;
+  std::string observer = "dob";
+  std::string estimator = "rls";
+  double mu = -1.0;  ///< < 0: from the surface table
+
+  /// Which of the optional flags a subcommand offers.
+  struct Flags {
+    int min_intervals = 2;
+    bool observer = true, estimator = true, mu = true;
+  };
+  void add_to(CLI::App& sub, Flags flags);
+  void add_to(CLI::App& sub) { add_to(sub, Flags{}); }
+  /// The options, with estimator names checked, so a bad name fails before any file is read.
+  StudyOptions options() const;
+};
+
+}  // namespace pushpred::app
