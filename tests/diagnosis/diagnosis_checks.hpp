@@ -58,6 +58,8 @@ inline void check_only(const DiagnosisResult& r, const std::vector<std::string>&
 /// model of the simulator's physics, not the physics itself).
 inline void check_near(double fitted, double fitted_std, double truth, double model_share, const std::string& what) {
   const double allowed = 3 * fitted_std + model_share * std::abs(truth);
+  BOOST_TEST_MESSAGE("  " << what << ": fitted " << fitted << " +- " << fitted_std << ", truth " << truth << ", allowed "
+                          << allowed);
   BOOST_TEST(std::abs(fitted - truth) <= allowed,
              what << ": fitted " << fitted << " +- " << fitted_std << ", truth " << truth << ", allowed " << allowed);
 }

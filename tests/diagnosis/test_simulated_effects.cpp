@@ -14,6 +14,7 @@
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/reports/diagnosis_report.hpp"
 #include "diagnosis_checks.hpp"
 #include "simulated_pushes.hpp"
 
@@ -31,6 +32,8 @@ BOOST_AUTO_TEST_CASE(clean_pushes_show_none_of_the_simulators_effects) {
   const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
   log_result(r);
   check_only(r, {});
+  BOOST_TEST(effects_found(r).empty(), findings_text(r));
+  BOOST_TEST(findings_text(r).rfind("nothing found", 0) == 0u, findings_text(r));
   // The structure fix the paper's model lacks is found on clean data too: Coulomb friction at the simulated mu.
   BOOST_TEST(report(r, "coulomb_friction").passed_test);
   check_near(report(r, "coulomb_friction").theta(0), report(r, "coulomb_friction").theta_std(0), 0.47, 0.05, "mu");

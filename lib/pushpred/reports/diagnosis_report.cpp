@@ -465,6 +465,35 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
        << pair(r.error_after) << " | " << pair(r.hold) << " | " << pair(r.const_velocity) << " | "
        << (beats_both(r) ? "yes" : "**no**") << " |\n";
   }
+  // All objects: every held-out phase weighs alike.
+  ErrorSummary all[4];
+  const auto add = [](ErrorSummary& to, const ErrorSummary& e) {
+    to.pos_mm_mean += e.phases * e.pos_mm_mean;
+    to.theta_deg_mean += e.phases * e.theta_deg_mean;
+    to.phases += e.phases;
+  };
+  int objects = 0;
+  for (const auto& g : groups)
+    if (g.result) {
+      ++objects;
+      add(all[0], g.result->error_before);
+      add(all[1], g.result->error_after);
+      add(all[2], g.result->hold);
+      add(all[3], g.result->const_velocity);
+    }
+  if (objects > 1 && all[1].phases > 0) {
+    for (auto& e : all) {
+      e.pos_mm_mean /= e.phases;
+      e.theta_deg_mean /= e.phases;
+    }
+    DiagnosisResult pooled;
+    pooled.error_after = all[1];
+    pooled.hold = all[2];
+    pooled.const_velocity = all[3];
+    md << "| all " << objects << " objects (phases weighed alike) | | " << all[1].phases << " | | " << pair(all[0])
+       << " | " << pair(all[1]) << " | " << pair(all[2]) << " | " << pair(all[3]) << " | "
+       << (beats_both(pooled) ? "yes" : "**no**") << " |\n";
+  }
   md << "\nModel-structure fixes selected per object:\n\n";
   for (const auto& g : groups)
     if (g.result) {
