@@ -31,6 +31,11 @@
 //   torque). Applied by scaling the nominal mass and inertia; reported as the factor 1 + theta.
 // - initial_velocity (prediction): each prediction phase starts from the observer's velocity instead of rest
 //   (the paper starts at rest because velocity is not measured; the observer estimates it).
+// - quasi_static [N] (prediction): the quasi-static push law replaces the relation in the prediction
+//   (corrected_prediction.hpp, QuasiStaticPushTerm); the stop fraction is chosen on a grid.
+// - pusher_stop (prediction; refines quasi_static): the quasi-static push also needs the pusher to move, its
+//   planned tip speed (prediction/planned_force.hpp, PlannedTipVelocity) above a stop speed of 5 mm/s: a pusher
+//   that stops but keeps pressing with a force near the law's stop force no longer drives the object.
 #include <memory>
 
 #include "pushpred/diagnosis/candidate_effect.hpp"
@@ -51,6 +56,7 @@ std::unique_ptr<CandidateEffect> make_com_offset_effect();
 std::unique_ptr<CandidateEffect> make_inertia_mismatch_effect();
 std::unique_ptr<CandidateEffect> make_initial_velocity_effect();
 std::unique_ptr<CandidateEffect> make_quasi_static_effect();
+std::unique_ptr<CandidateEffect> make_pusher_stop_effect();
 
 /// Unit-coefficient Coulomb friction wrench of the object on the table (multiply by mu): force [N] and torque
 /// about the tracked centre [N m] when the tracked centre is at `pose` and moves with twist `velocity`. For a shape

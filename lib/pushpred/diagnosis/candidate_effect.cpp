@@ -56,6 +56,12 @@ std::vector<std::string> ModelCorrection::describe() const {
                     "the push's force level (%.3f m g before the push slides)",
                     quasi_static.stop_fraction, quasi_static.fallback_friction_coefficient);
     out.emplace_back(line);
+    if (quasi_static.pusher_stop_speed_m_s > 0) {
+      std::snprintf(line, sizeof line,
+                    "the push also needs the pusher to move: it ends while the planned tip speed is below %.1f mm/s",
+                    1e3 * quasi_static.pusher_stop_speed_m_s);
+      out.emplace_back(line);
+    }
   }
   for (const auto& law : force_laws) {
     std::string s = "force law " + law.effect->kind() + ":";

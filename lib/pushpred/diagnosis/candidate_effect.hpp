@@ -81,6 +81,11 @@ struct ModelCorrection {
     double fallback_push_force_N = 0;
     /// When fallback_push_force_N is 0: the fallback is this coefficient times the object's weight.
     double fallback_friction_coefficient = 0;
+    /// The pusher_stop effect: when positive, the push also needs the pusher to move. It counts as on only while
+    /// the planned tip speed (prediction/planned_force.hpp, PlannedTipVelocity) stays above this [m/s]: a pusher
+    /// that has stopped but still presses on the object does not drive it; static or kinetic friction takes over.
+    /// 0: the force criterion alone.
+    double pusher_stop_speed_m_s = 0;
   } quasi_static;
   std::vector<FittedForceLaw> force_laws;
 
@@ -119,6 +124,10 @@ class CandidateEffect {
   /// confounded with the relation's own misfit (a friction change is mirrored by the push force and absorbed;
   /// the relation's misfit at accelerations reads as a mass error).
   virtual bool needs_friction_base() const { return false; }
+  /// Prediction effects that only refine another prediction effect's law (its kind, e.g. pusher_stop refines
+  /// quasi_static): the structure search tries them only in combinations that hold that effect, since alone they
+  /// change nothing. Empty: a structure of its own.
+  virtual std::string refines() const { return ""; }
 
   /// A structural constant tried on a grid (e.g. the Stribeck speed); the diagnosis keeps the best and counts
   /// the choice as one more parameter. Empty: none.
@@ -166,7 +175,8 @@ class CandidateEffect {
 class EffectLibrary {
  public:
   /// Every effect the issue asks for: time_offset, force_offset, viscous_friction, stribeck_friction,
-  /// position_friction, com_offset, inertia_mismatch, initial_velocity, coulomb_friction.
+  /// position_friction, com_offset, inertia_mismatch, initial_velocity, coulomb_friction; and the prediction
+  /// structure quasi_static with its refinement pusher_stop.
   static EffectLibrary standard();
 
   /// Adds `effect`; throws InputError for a null effect, an empty kind or a kind already registered.

@@ -20,21 +20,55 @@ void ForceLawTerm::add(double, const PlanarState& state, const Eigen::Vector3d& 
 }
 
 QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
-                                         const Eigen::Vector3d& start_pose)
-    : stop_force_N_(stop_force_N), laws_(std::move(laws)), shape_(std::move(shape)), start_pose_(start_pose) {
+                                         const Eigen::Vector3d& start_pose,
+                                         std::optional<PusherStopCriterion> pusher_stop)
+    : stop_force_N_(stop_force_N),
+      laws_(std::move(laws)),
+      shape_(std::move(shape)),
+      start_pose_(start_pose),
+      pusher_stop_(std::move(pusher_stop)) {
   if (!(stop_force_N_ > 0) || !std::isfinite(stop_force_N_))
     throw InputError("quasi-static push law: the stop force must be positive");
   for (const auto& law : laws_)
     if (law.effect->replaces_relation()) coulomb_from_stop_force_ = false;
+  if (pusher_stop_) {
+    if (!(pusher_stop_->stop_speed_m_s > 0) || !std::isfinite(pusher_stop_->stop_speed_m_s))
+      throw InputError("quasi-static push law: the pusher's stop speed must be positive");
+    if (pusher_stop_->planned_tip.signal.channels() != 2)
+      throw InputError("quasi-static push law: the planned tip velocity must have 2 channels");
+    interval_lo_s_ = pusher_stop_->planned_tip.t0_s;
+    interval_hi_s_ = pusher_stop_->planned_tip.t1_s;
+  }
 }
 
-void QuasiStaticPushTerm::add(double, const PlanarState& x, const Eigen::Vector3d& u, Eigen::Vector3d& f) const {
+void QuasiStaticPushTerm::enter_interval(double t_lo_s, double t_hi_s) const {
+  interval_lo_s_ = t_lo_s;
+  interval_hi_s_ = t_hi_s;
+}
+
+double QuasiStaticPushTerm::pressing_weight(double applied) const {
+  return 1 - 1.0 / (1.0 + std::exp(std::clamp((applied - stop_force_N_) / (0.05 * stop_force_N_), -50.0, 50.0)));
+}
+
+double QuasiStaticPushTerm::moving_weight(double t_s) const {
+  if (!pusher_stop_) return 1;
+  Eigen::Vector2d tip_velocity;
+  pusher_stop_->planned_tip.signal.evaluate_within(t_s, interval_lo_s_, interval_hi_s_, tip_velocity);
+  const double v_stop = pusher_stop_->stop_speed_m_s;
+  return 1.0 / (1.0 + std::exp(std::clamp(-(tip_velocity.norm() - v_stop) / (0.05 * v_stop), -50.0, 50.0)));
+}
+
+double QuasiStaticPushTerm::push_weight(double t_s, double applied) const {
+  return pressing_weight(applied) * moving_weight(t_s);
+}
+
+void QuasiStaticPushTerm::add(double t_s, const PlanarState& x, const Eigen::Vector3d& u, Eigen::Vector3d& f) const {
   const Eigen::Vector3d v = x.tail<3>();
   const double s = sliding_speed(v, shape_);
   const double reg = std::sqrt(s * s + kFrictionRegularisation_m_s * kFrictionRegularisation_m_s);
   const double g = s / reg;
-  const double applied = u.head<2>().norm();
-  const double w = 1.0 / (1.0 + std::exp(std::clamp((applied - stop_force_N_) / (0.05 * stop_force_N_), -50.0, 50.0)));
+  const double pressing = pressing_weight(u.head<2>().norm());
+  const double moving = moving_weight(t_s);
   Eigen::Vector3d kinetic = Eigen::Vector3d::Zero();
   if (coulomb_from_stop_force_)
     kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
@@ -46,7 +80,10 @@ void QuasiStaticPushTerm::add(double, const PlanarState& x, const Eigen::Vector3
     st.start_pose = start_pose_;
     for (const auto& law : laws_) kinetic += law.force(st, shape_);
   }
-  f += -(1 - w) * u + w * (g * kinetic - (1 - g) * u);
+  // Pushed: the push balances the friction. Not pressing: the small force and friction act, at rest static
+  // friction holds. Pressing but the pusher stopped: its force is a reaction that does no work, friction alone
+  // stops a sliding object and at rest static friction holds it.
+  f += -pressing * moving * u + (1 - pressing) * (g * kinetic - (1 - g) * u) + pressing * (1 - moving) * (g * kinetic - u);
 }
 
 double push_force_level(const std::vector<DisturbanceEstimate>& identification, const ShapeInfo& shape,
@@ -127,6 +164,24 @@ void CorrectedPrediction::remove_explained(const SynchronisedPush& push, Disturb
 
 void CorrectedPrediction::adjust_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,
                                        PredictionModel& model) const {
+  build_model(push, identification, std::nullopt, model);
+}
+
+void CorrectedPrediction::adjust_phase_model(const SynchronisedPush& push,
+                                             const std::vector<DisturbanceEstimate>& identification,
+                                             const TimeInterval& phase, double plan_rate_hz,
+                                             PredictionModel& model) const {
+  std::optional<PusherStopCriterion> pusher_stop;
+  if (correction_.quasi_static.enabled && correction_.quasi_static.pusher_stop_speed_m_s > 0)
+    pusher_stop = PusherStopCriterion{plan_tip_velocity_from_measurement(push, phase.t0_s, phase.t1_s, plan_rate_hz),
+                                      correction_.quasi_static.pusher_stop_speed_m_s};
+  build_model(push, identification, pusher_stop, model);
+}
+
+void CorrectedPrediction::build_model(const SynchronisedPush& push,
+                                      const std::vector<DisturbanceEstimate>& identification,
+                                      const std::optional<PusherStopCriterion>& pusher_stop,
+                                      PredictionModel& model) const {
   model.mass_kg = push.shape.mass_kg;
   model.inertia_kgm2 = push.shape.inertia_kgm2;
   const Eigen::Vector3d start_pose = push.pose.row(0).transpose();
@@ -141,7 +196,7 @@ void CorrectedPrediction::adjust_model(const SynchronisedPush& push, const std::
     const double stop = correction_.quasi_static.stop_fraction * level;
     if (stop > 0)
       model.extra_terms.push_back(
-          std::make_shared<QuasiStaticPushTerm>(stop, correction_.force_laws, push.shape, start_pose));
+          std::make_shared<QuasiStaticPushTerm>(stop, correction_.force_laws, push.shape, start_pose, pusher_stop));
     return;
   }
   for (const auto& law : correction_.force_laws)

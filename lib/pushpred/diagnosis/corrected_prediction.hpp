@@ -4,6 +4,8 @@
 // before the paper's online relation estimator sees it, and the force laws added to the prediction model. The
 // relation d_hat = beta u + eps is still identified online per push, as in the paper: the correction only
 // changes what it is fitted to and what the model holds besides it.
+#include <optional>
+
 #include "pushpred/diagnosis/candidate_effect.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/prediction/prediction_study.hpp"
@@ -33,13 +35,31 @@ class ForceLawTerm final : public GeneralizedForceTerm {
 /// K the kinetic friction: the force laws, plus Coulomb friction of magnitude F_stop when none of them replaces
 /// the relation. So a pushed object keeps its velocity, an object no longer pushed slides to a stop, and a
 /// resting one stays.
+///
+/// With a PusherStopCriterion (the pusher_stop effect) the push needs the pusher to move as well: with
+/// m = 1 / (1 + exp(-(|v_tip| - v_stop) / (0.05 v_stop))) (1 while the planned tip speed |v_tip| is above v_stop),
+/// pushing = force above F_stop AND tip moving:
+///     generalized force = -(1 - w) m u + w (g K - (1 - g) u) + (1 - w) (1 - m) (g K - u).
+/// A pusher that has stopped but still presses on the object drives it no more: its force is then a reaction
+/// that does no work, so kinetic friction alone stops a sliding object and static friction holds a resting one.
+/// Without the criterion m = 1 and this is the law above.
+struct PusherStopCriterion {
+  PlannedTipVelocity planned_tip;  ///< the phase's planned tip velocity [m/s], on the planned force's times
+  double stop_speed_m_s = 0;       ///< v_stop, positive
+};
+
 class QuasiStaticPushTerm final : public GeneralizedForceTerm {
  public:
+  /// Throws InputError for a stop force or, with `pusher_stop`, a stop speed that is not positive.
   QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
-                      const Eigen::Vector3d& start_pose);
+                      const Eigen::Vector3d& start_pose, std::optional<PusherStopCriterion> pusher_stop = std::nullopt);
   std::string name() const override { return "quasi_static"; }
   void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
            Eigen::Vector3d& generalized_force) const override;
+  void enter_interval(double t_lo_s, double t_hi_s) const override;
+  /// The weight of "pushed", (1 - w) m above, for an applied force of magnitude `applied_force_N` at time t_s,
+  /// inside the interval last entered: the force criterion, times the pusher's motion criterion when there is one.
+  double push_weight(double t_s, double applied_force_N) const;
 
  private:
   double stop_force_N_;
@@ -47,6 +67,13 @@ class QuasiStaticPushTerm final : public GeneralizedForceTerm {
   ShapeInfo shape_;
   Eigen::Vector3d start_pose_;
   bool coulomb_from_stop_force_ = true;
+  std::optional<PusherStopCriterion> pusher_stop_;
+  // The interval between the plan's jumps being integrated (PredictionSystem::enter_interval), so that the held
+  // tip velocity is read as held inside it.
+  mutable double interval_lo_s_ = 0, interval_hi_s_ = 0;
+
+  double pressing_weight(double applied_force_N) const;  ///< 1 - w
+  double moving_weight(double t_s) const;                ///< m (1 without the criterion)
 };
 
 /// The push's force level for the quasi-static law: mean |f_C| over the samples of `identification` where the
@@ -65,13 +92,22 @@ class CorrectedPrediction final : public PredictionCorrection {
   std::unique_ptr<DisturbanceEstimator> observer(const std::string& name) const override;
   void remove_explained(const SynchronisedPush& push, DisturbanceEstimate& estimate) const override;
   /// Mass and inertia from the corrected push's shape; the quasi-static law (beta = eps = 0) or the force laws.
+  /// Without the phase it cannot read the planned tip motion: the pusher_stop criterion needs adjust_phase_model.
   void adjust_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,
                     PredictionModel& model) const override;
+  /// adjust_model, and with ModelCorrection::QuasiStatic::pusher_stop_speed_m_s the quasi-static law also reads
+  /// the phase's planned tip velocity (plan_tip_velocity_from_measurement over `phase` at `plan_rate_hz`).
+  void adjust_phase_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,
+                          const TimeInterval& phase, double plan_rate_hz, PredictionModel& model) const override;
   bool initial_velocity_from_observer() const override { return correction_.initial_velocity; }
 
   const ModelCorrection& correction() const { return correction_; }
 
  private:
+  /// The model of one phase; `pusher_stop` is given to the quasi-static law when set.
+  void build_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,
+                   const std::optional<PusherStopCriterion>& pusher_stop, PredictionModel& model) const;
+
   ModelCorrection correction_;
   QFilterObserverOptions observer_;
 };

@@ -614,6 +614,16 @@ DiagnosisResult Diagnoser::run() {
       std::vector<std::size_t> members;
       for (std::size_t m = 0; m < structural.size(); ++m)
         if (mask & (1u << m)) members.push_back(m);
+      // A refinement of another structure effect (pusher_stop of quasi_static) changes nothing without it.
+      const auto holds = [&](const std::string& kind) {
+        return std::any_of(members.begin(), members.end(),
+                           [&](std::size_t m) { return effects[structural[m]]->kind() == kind; });
+      };
+      if (std::any_of(members.begin(), members.end(), [&](std::size_t m) {
+            const std::string refined = effects[structural[m]]->refines();
+            return !refined.empty() && !holds(refined);
+          }))
+        continue;
       // The cartesian product of the members' settings.
       std::vector<std::vector<double>> grids;
       for (std::size_t m : members) {
@@ -662,10 +672,13 @@ DiagnosisResult Diagnoser::run() {
       const std::size_t i = structural[m];
       EffectReport& r = result_.effects[i];
       const bool in = std::find(chosen.begin(), chosen.end(), i) != chosen.end();
-      // Score: the relative drop of the best metric when this effect joins the rest of the chosen set.
+      // Score: the relative drop of the best metric when this effect joins the rest of the chosen set (without it,
+      // its refinements go too: alone they change nothing and were not tried).
       std::vector<std::size_t> with = chosen, without = chosen;
       if (in) {
-        without.erase(std::find(without.begin(), without.end(), i));
+        without.erase(std::remove_if(without.begin(), without.end(),
+                                     [&](std::size_t c) { return c == i || effects[c]->refines() == effects[i]->kind(); }),
+                      without.end());
       } else {
         with.push_back(i);
         std::sort(with.begin(), with.end());

@@ -20,8 +20,10 @@
 //    the data without its correction, the friction law's refinements are searched anew and the effect re-fitted
 //    with what they explain set aside; if it no longer passes, those refinements replace it (a lag found against a
 //    bare Coulomb law may be a friction effect in disguise).
-// 5. Prediction-structure effects (initial velocity) are scored on the fit pushes' prediction phases: selected
-//    when the mean normalised error drops by more than twice its standard error over phases.
+// 5. Prediction-structure effects (initial velocity, the quasi-static law, its pusher_stop refinement) are scored
+//    together, every combination at every setting, on the fit pushes' prediction phases: the best is selected when
+//    the mean normalised error drops by more than twice its standard error over phases. A refinement
+//    (CandidateEffect::refines) is tried only in combinations that hold the effect it refines.
 // 6. Confirmation: an effect selected in 2-4 whose removal does not make the fit phases' prediction error worse
 //    is dropped; the rest are re-fitted.
 // 7. Test phases: the paper's `dob`, the corrected model, `hold` and `const_velocity`.

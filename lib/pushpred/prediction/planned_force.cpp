@@ -1,5 +1,6 @@
 #include "pushpred/prediction/planned_force.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -24,6 +25,22 @@ PlannedForce plan_from_measurement(const SynchronisedPush& push, double t0, doub
   for (Eigen::Index k = 0; k < t_s.size(); ++k) {
     t_s(k) = times[static_cast<size_t>(k)];
     values.row(k) = u.row(push.index_at(t_s(k)));
+  }
+  return {SampledSignal(t_s, values, Hold::Zero), t0, t1, rate_hz};
+}
+
+PlannedTipVelocity plan_tip_velocity_from_measurement(const SynchronisedPush& push, double t0, double t1,
+                                                      double rate_hz) {
+  // The same sampling times and checks as the planned force.
+  const PlannedForce force = plan_from_measurement(push, t0, t1, rate_hz);
+  const Eigen::VectorXd& t_s = force.signal.times();
+  Eigen::MatrixXd values(t_s.size(), 2);
+  for (Eigen::Index k = 0; k < t_s.size(); ++k) {
+    const Eigen::Index a = push.index_at(t_s(k));
+    Eigen::Index b = push.index_at(std::min(t_s(k) + 1.0 / rate_hz, t1));
+    if (push.t_s(b) > t1 + 1e-9 && b > a) --b;  // stay within the phase's path
+    const double dt = push.t_s(b) - push.t_s(a);
+    values.row(k) = dt > 0 ? ((push.tip_m.row(b) - push.tip_m.row(a)) / dt).eval() : Eigen::RowVector2d::Zero().eval();
   }
   return {SampledSignal(t_s, values, Hold::Zero), t0, t1, rate_hz};
 }

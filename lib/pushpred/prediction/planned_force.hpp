@@ -19,4 +19,20 @@ struct PlannedForce {
 /// t1 <= t0, a span outside the push, or a rate that is not positive.
 PlannedForce plan_from_measurement(const SynchronisedPush& push, double t0_s, double t1_s, double rate_hz = 10.0);
 
+/// The planned motion of the pusher tip, the motion counterpart of PlannedForce: what a planner commands is a
+/// path of the tip, here the recorded tip path r_C of the phase (SynchronisedPush::tip_m, {R}) sampled at the
+/// same times as the planned force and held (zero-order). The value held from t_k on is the mean tip velocity
+/// over the plan step [t_k, min(t_k + 1/rate, t1)] [m/s]: the planned waypoints' difference, so it reads the tip
+/// path of [t0, t1] only, never the object's motion, and not the recording's sample-to-sample noise.
+struct PlannedTipVelocity {
+  SampledSignal signal;  ///< 2 channels (v_x, v_y [m/s], {R}), zero-order hold, samples at t0, t0 + 1/rate, ... < t1
+  double t0_s = 0, t1_s = 0;
+  double rate_hz = 0;
+};
+
+/// Samples the tip path of `push` at the planned force's times (plan_from_measurement) and holds the mean tip
+/// velocity of each plan step. Throws InputError as plan_from_measurement does.
+PlannedTipVelocity plan_tip_velocity_from_measurement(const SynchronisedPush& push, double t0_s, double t1_s,
+                                                      double rate_hz = 10.0);
+
 }  // namespace pushpred

@@ -132,7 +132,7 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
         corrected.beta = r.corrected_relation.beta;
         corrected.eps = r.corrected_relation.eps;
       }
-      o.correction->adjust_model(corrected_push, corrected_identification, corrected);
+      o.correction->adjust_phase_model(corrected_push, corrected_identification, phase, o.plan_rate_hz, corrected);
       const PlannedForce corrected_plan = plan_from_measurement(corrected_push, phase.t0_s, phase.t1_s, o.plan_rate_hz);
       r.predicted[kCorrectedMethod] =
           predict_poses(corrected, corrected_plan, pose0,

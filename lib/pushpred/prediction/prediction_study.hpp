@@ -56,6 +56,13 @@ class PredictionCorrection {
   /// interval identified so far (after remove_explained). Default: unchanged.
   virtual void adjust_model(const SynchronisedPush& /*push*/, const std::vector<DisturbanceEstimate>& /*identification*/,
                             PredictionModel& /*model*/) const {}
+  /// adjust_model for one prediction phase, for a correction that reads the plan of that phase beyond the
+  /// planned force (e.g. the planned pusher motion, planned_force.hpp): `phase` is the predicted interval and
+  /// `plan_rate_hz` the rate of the plan (StudyOptions::plan_rate_hz). Default: adjust_model.
+  virtual void adjust_phase_model(const SynchronisedPush& push, const std::vector<DisturbanceEstimate>& identification,
+                                  const TimeInterval& /*phase*/, double /*plan_rate_hz*/, PredictionModel& model) const {
+    adjust_model(push, identification, model);
+  }
   /// True: the phase starts from the observer's velocity estimate (as `dob_velinit`); false: at rest (as `dob`).
   virtual bool initial_velocity_from_observer() const { return false; }
 };

@@ -29,6 +29,10 @@ class GeneralizedForceTerm {
   virtual std::string name() const = 0;
   virtual void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
                    Eigen::Vector3d& generalized_force) const = 0;
+  /// Called with each interval between the plan's jumps before it is integrated (PredictionSystem::enter_interval),
+  /// for a term that holds a zero-order-held signal of its own on the plan's times and must read it as held
+  /// inside the interval, also at its end (SampledSignal::evaluate_within). Default: nothing.
+  virtual void enter_interval(double /*t_lo_s*/, double /*t_hi_s*/) const {}
 };
 
 struct PredictionModel {
@@ -58,6 +62,7 @@ class PredictionSystem final : public ContinuousSystem {
   void enter_interval(double t0, double t1) const override {
     lo_ = t0;
     hi_ = t1;
+    for (const auto& term : model_.extra_terms) term->enter_interval(t0, t1);
   }
 
  private:
