@@ -26,6 +26,7 @@ if grep -q "nan\|inf" "$tmp/hex/diagnosis.json"; then failed=$((failed + 1)); ec
 expect_in "$tmp/hex/report.md" "## Prediction error on the held-out phases" "report.md has the before/after table"
 expect_in "$tmp/hex/report.md" "## Candidate effects" "report.md lists every candidate"
 expect_in "$tmp/hex/report.md" "plots/residuals.png" "report.md shows the residual plot"
+expect_in "$tmp/hex/test_phase_errors.csv" "push,phase,t_s,dob_x_mm" "the errors over time are written"
 [ -s "$tmp/hex/plots/residuals.png" ] && [ -s "$tmp/hex/plots/test_errors.png" ] && passed=$((passed + 1)) || {
   failed=$((failed + 1)); echo "FAIL: the residual and error plots are drawn"; }
 

@@ -1,6 +1,7 @@
 // diagnosis.json carries every key the issue names, for every candidate; report.md is written beside it, and
 // nothing is left half-written.
 #include <boost/test/unit_test.hpp>
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -140,6 +141,13 @@ BOOST_AUTO_TEST_CASE(the_report_traces_the_phases_where_the_corrected_model_lose
                      "`const_velocity` in 1. It loses to the better reference in 1 phase(s)") != std::string::npos,
              md);
   BOOST_TEST(md.find("| `b.h5` | 2 | 1.00 | 1.00 / 1.15 | 2.00 / 0.57 | yaw |") != std::string::npos, md);
+  // The same phases over time, one row per sample.
+  const std::string csv = test_phase_errors_csv(r);
+  BOOST_TEST(csv.substr(0, csv.find('\n')) ==
+             "push,phase,t_s,dob_x_mm,dob_y_mm,dob_theta_deg,corrected_x_mm,corrected_y_mm,corrected_theta_deg,"
+             "hold_x_mm,hold_y_mm,hold_theta_deg,const_velocity_x_mm,const_velocity_y_mm,const_velocity_theta_deg");
+  BOOST_TEST(std::count(csv.begin(), csv.end(), '\n') == 1 + 2 * 5);
+  BOOST_TEST(csv.find("\nb.h5,2,1,10,0,5.72958,1,0,1.14592,4,0,2.86479,2,0,0.572958\n") != std::string::npos, csv);
 }
 
 BOOST_AUTO_TEST_CASE(a_mixed_batch_is_grouped_by_object_and_surface) {

@@ -245,6 +245,31 @@ std::string findings_text(const DiagnosisResult& r) {
   return s;
 }
 
+std::string test_phase_errors_csv(const DiagnosisResult& r) {
+  static const char* const methods[] = {"dob", kCorrectedMethod, "hold", "const_velocity"};
+  std::ostringstream csv;
+  csv.precision(6);
+  csv << "push,phase,t_s";
+  for (const char* m : methods) csv << "," << m << "_x_mm," << m << "_y_mm," << m << "_theta_deg";
+  csv << "\n";
+  for (const auto& p : r.test_phases) {
+    const std::string push = std::filesystem::path(p.source).filename().string();
+    for (Eigen::Index k = 0; k < p.t_s.size(); ++k) {
+      csv << push << "," << p.phase << "," << p.t0_s + p.t_s(k);
+      for (const char* m : methods) {
+        const auto it = p.error.find(m);
+        if (it == p.error.end()) {
+          csv << ",,,";
+          continue;
+        }
+        csv << "," << 1e3 * it->second(k, 0) << "," << 1e3 * it->second(k, 1) << "," << kDeg * it->second(k, 2);
+      }
+      csv << "\n";
+    }
+  }
+  return csv.str();
+}
+
 nlohmann::json error_summary_json(const ErrorSummary& e) {
   return {{"phases", e.phases},
           {"pos_mm_mean", e.pos_mm_mean},
@@ -426,6 +451,7 @@ void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o,
 void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o, const std::filesystem::path& folder,
                             bool plots) {
   write_text_atomically(folder / "diagnosis.json", diagnosis_json(r, o).dump(2) + "\n");
+  write_text_atomically(folder / "test_phase_errors.csv", test_phase_errors_csv(r));
   std::vector<std::string> drawn;
   std::string note;
   if (!plots) {

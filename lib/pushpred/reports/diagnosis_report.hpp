@@ -5,7 +5,8 @@
 //   `error_references` (`hold`, `const_velocity`), each with pos_mm_mean, x_mm_mean, y_mm_mean, theta_deg_mean,
 //   final_pos_mm, final_theta_deg and phases, all on the same held-out phases; the fit-phase (in-sample) errors;
 //   the regression's sample counts and residual spread; the correction; the pushes used and left out; the log.
-// - report.md: the same as tables, with residual and error plots before and after (gnuplot, SVG; left out with a
+// - test_phase_errors.csv: the prediction error over time in every held-out phase, per method.
+// - report.md: the same as tables, with residual and error plots before and after (gnuplot, PNG; left out with a
 //   note when gnuplot is not installed).
 // Millimetres and degrees here only; the library is SI.
 #include <nlohmann/json.hpp>
@@ -22,6 +23,10 @@ nlohmann::json error_summary_json(const ErrorSummary& e);
 /// The selected effects that are physical effects found in the data, not fixes of the model's structure
 /// (EffectReport::structural); empty: nothing found.
 std::vector<std::string> effects_found(const DiagnosisResult& result);
+/// The prediction error over time of every held-out phase, one row per sample: push, phase, t_s (the push's
+/// clock), then per method (dob, corrected, hold, const_velocity) predicted - measured x, y [mm] and yaw [deg].
+/// Written as test_phase_errors.csv beside report.md.
+std::string test_phase_errors_csv(const DiagnosisResult& result);
 /// One line: what was found ("nothing found: ..." when no physical effect was selected) and the structure fixes
 /// applied. Also diagnosis.json's `findings`, beside `found` and `nothing_found`.
 std::string findings_text(const DiagnosisResult& result);
