@@ -3,7 +3,6 @@
 // error before and after on held-out phases (DIR/diagnosis.json, DIR/report.md, plots). With --per-object, a batch
 // of several objects or surfaces is diagnosed one object at a time: DIR/<shape>_on_<surface>/ each, and
 // DIR/overview.md and DIR/overview.json side by side.
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -56,6 +55,8 @@ int run_diagnose(const DiagnoseArgs& a) {
 
   if (!a.per_object) {
     DiagnosisResult result = diagnose(groups.front().pushes, library, o);
+    // Pushes read but left out by the diagnosis; the unreadable ones were listed above.
+    for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
     result.failures.insert(result.failures.begin(), loaded.failures.begin(), loaded.failures.end());
     StagedOutput out(a.out);
     write_diagnosis_report(result, o, out, !a.no_plots);
@@ -63,10 +64,6 @@ int run_diagnose(const DiagnoseArgs& a) {
     for (const auto& line : result.log) std::cout << line << "\n";
     std::cout << diagnosis_summary_text(result);
     std::cout << "report in " << a.out << "/report.md, data in " << a.out << "/diagnosis.json\n";
-    for (const auto& f : result.failures)
-      if (std::find_if(loaded.failures.begin(), loaded.failures.end(),
-                       [&](const BatchFailure& l) { return l.source == f.source; }) == loaded.failures.end())
-        std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
     return result.failures.empty() ? 0 : 1;
   }
 

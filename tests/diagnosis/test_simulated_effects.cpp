@@ -19,9 +19,6 @@
 #include "simulated_pushes.hpp"
 
 using namespace pushpred;
-using pushpred::testing::DrawRanges;
-using pushpred::testing::draw_scenarios;
-using pushpred::testing::simulate_all;
 using namespace pushpred::testing;
 
 BOOST_AUTO_TEST_SUITE(simulated_effects)

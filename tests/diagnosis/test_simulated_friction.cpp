@@ -18,9 +18,6 @@
 #include "simulated_truth.hpp"
 
 using namespace pushpred;
-using pushpred::testing::DrawRanges;
-using pushpred::testing::draw_scenarios;
-using pushpred::testing::simulate_all;
 using namespace pushpred::testing;
 
 BOOST_AUTO_TEST_SUITE(simulated_friction)

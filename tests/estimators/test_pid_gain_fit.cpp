@@ -30,24 +30,9 @@ struct SyntheticSpec {
 };
 
 SynchronisedPush synthetic_push(const SyntheticSpec& s) {
-  SynchronisedPush p;
-  p.source = "synthetic";
-  p.shape = ShapeTable::published().find("rect2");
-  p.push.shape = p.shape.name;
-  p.rate_hz = s.rate_hz;
   const auto n = static_cast<Eigen::Index>(std::floor((s.rest_s + s.push_s) * s.rate_hz + 1e-9)) + 1;
-  p.t_s = Eigen::VectorXd::LinSpaced(n, 0.0, (n - 1) / s.rate_hz);
-  p.pose.resize(n, 3);
-  p.force_N.resize(n, 2);
-  p.torque_about_centre_Nm.resize(n);
-  p.tip_torque_Nm = Eigen::VectorXd::Zero(n);
-  p.lever_m = Eigen::MatrixX2d::Zero(n, 2);
-  p.tip_m = Eigen::MatrixX2d::Zero(n, 2);
-  p.tip_yaw_rad = Eigen::VectorXd::Zero(n);
-  p.in_contact.assign(static_cast<std::size_t>(n), 0);
-  p.has_contact = true;
-  p.contact_start_s = s.rest_s;
-  p.contact_end_s = p.duration_s();
+  SynchronisedPush p = pushpred::testing::synthetic_push_shell("rect2", s.rate_hz, n);
+  p.contact_start_s = s.rest_s;  // in_contact is set per sample below
   const double M[3] = {p.shape.mass_kg, p.shape.mass_kg, p.shape.inertia_kgm2};
   const double offset[3] = {0.4, -0.05, 0.3};
   const double pose_noise[3] = {s.pose_noise_m, s.pose_noise_m, s.yaw_noise_rad};

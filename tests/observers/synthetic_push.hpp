@@ -9,6 +9,7 @@
 
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/shape_table.hpp"
+#include "test_support.hpp"
 
 namespace pushpred::testing {
 
@@ -26,23 +27,8 @@ struct SyntheticPushSpec {
 };
 
 inline SynchronisedPush synthetic_push(const SyntheticPushSpec& spec) {
-  SynchronisedPush p;
-  p.source = "synthetic";
-  p.shape = ShapeTable::published().find(spec.shape);
-  p.push.shape = p.shape.name;
-  p.rate_hz = spec.rate_hz;
   const auto n = static_cast<Eigen::Index>(std::floor(spec.duration_s * spec.rate_hz + 1e-9)) + 1;
-  p.t_s = Eigen::VectorXd::LinSpaced(n, 0.0, (n - 1) / spec.rate_hz);
-  p.pose.resize(n, 3);
-  p.force_N.resize(n, 2);
-  p.torque_about_centre_Nm.resize(n);
-  p.tip_torque_Nm = Eigen::VectorXd::Zero(n);
-  p.lever_m = Eigen::MatrixX2d::Zero(n, 2);
-  p.tip_m = Eigen::MatrixX2d::Zero(n, 2);
-  p.tip_yaw_rad = Eigen::VectorXd::Zero(n);
-  p.in_contact.assign(n, 1);
-  p.has_contact = true;
-  p.contact_end_s = p.duration_s();
+  SynchronisedPush p = synthetic_push_shell(spec.shape, spec.rate_hz, n);
   const double M[3] = {p.shape.mass_kg, p.shape.mass_kg, p.shape.inertia_kgm2};
   for (Eigen::Index k = 0; k < n; ++k) {
     const double t = p.t_s(k);
