@@ -25,15 +25,16 @@ struct DiagnoseArgs {
   StudyArguments study;
   double bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
-  bool per_object = false, no_confirm = false, no_plots = false, no_structure = false;
+  bool per_object = false, no_plots = false, quick_base = false;
+  double relevance_fraction = 0.05;
 };
 
 int run_diagnose(const DiagnoseArgs& a) {
   DiagnosisOptions o;
   o.study = a.study.options();
   o.bic_threshold = a.bic_threshold;
-  o.confirm_on_prediction = !a.no_confirm;
-  o.search_structure = !a.no_structure;
+  o.relevance_fraction = a.relevance_fraction;
+  o.fit_base_settings = !a.quick_base;
   o.validate();
   EffectLibrary library = EffectLibrary::standard();
   for (const auto& kind : a.exclude) library.remove(kind);
@@ -112,8 +113,11 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--exclude", a->exclude, "Candidate effect kinds to leave out (repeatable)");
   sub->add_flag("--per-object", a->per_object,
                 "Diagnose each object and surface of the batch on its own (DIR/<shape>_on_<surface>/, DIR/overview.md)");
-  sub->add_flag("--no-confirm", a->no_confirm, "Skip the confirmation of selected effects on the fit pushes' predictions");
-  sub->add_flag("--no-structure", a->no_structure, "Do not try the prediction-structure effects");
+  sub->add_option("--relevance", a->relevance_fraction,
+                  "Share of the support friction force below which an effect is negligible (default 0.05)")
+      ->check(CLI::Range(1e-6, 0.999999));
+  sub->add_flag("--quick-base", a->quick_base,
+                "Do not fit the base model's settings (quasi-static stop fraction) on the fit phases: faster");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
   sub->callback([a, &run] { run = [a] { return run_diagnose(*a); }; });

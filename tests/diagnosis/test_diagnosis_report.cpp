@@ -92,10 +92,39 @@ BOOST_AUTO_TEST_CASE(structure_fixes_alone_are_reported_as_nothing_found) {
   r.effects[1].selected = true;
   BOOST_TEST(effects_found(r).empty());
   BOOST_TEST(findings_text(r).rfind("nothing found", 0) == 0u, findings_text(r));
-  BOOST_TEST(findings_text(r).find("model-structure fixes applied: initial_velocity") != std::string::npos);
+  BOOST_TEST(findings_text(r).find("base model: initial_velocity") != std::string::npos);
   const nlohmann::json j = diagnosis_json(r, DiagnosisOptions{});
   BOOST_TEST(j["nothing_found"].get<bool>());
   BOOST_TEST(j["found"].empty());
+}
+
+BOOST_AUTO_TEST_CASE(a_significant_but_negligible_effect_is_reported_as_such_and_not_found) {
+  DiagnosisResult r = made_up_result();
+  r.effects[0].selected = false;
+  r.effects[0].passed_test = true;
+  r.effects[0].negligible = true;
+  r.effects[0].amount = 0.003;
+  r.effects[0].amount_unit = "s";
+  r.effects[0].floor = {0.008, "two force samples"};
+  BOOST_TEST(effects_found(r).empty());
+  BOOST_TEST(findings_text(r).rfind("nothing found", 0) == 0u, findings_text(r));
+  BOOST_TEST(findings_text(r).find("significant but negligible: time_offset") != std::string::npos, findings_text(r));
+  const nlohmann::json j = diagnosis_json(r, DiagnosisOptions{});
+  BOOST_TEST(j["effects"][0]["negligible"].get<bool>());
+  BOOST_TEST(j["effects"][0]["amount"]["floor"].get<double>() == 0.008);
+}
+
+BOOST_AUTO_TEST_CASE(a_found_effect_that_does_not_help_prediction_is_reported_with_its_held_out_change) {
+  DiagnosisResult r = made_up_result();
+  r.effects[0].amount = 0.02;
+  r.effects[0].amount_unit = "s";
+  r.effects[0].has_ablation = true;
+  r.error_after.pos_mm_mean = 2.0;
+  r.effects[0].held_out_without.pos_mm_mean = 1.9;  // the model is better without it
+  const std::string text = findings_text(r);
+  BOOST_TEST(text.rfind("found: time_offset 0.02 s", 0) == 0u, text);
+  BOOST_TEST(text.find("held-out change +0.10 mm") != std::string::npos, text);
+  BOOST_TEST(text.find("does not help prediction") != std::string::npos, text);
 }
 
 BOOST_AUTO_TEST_CASE(the_overview_lists_every_object_and_the_ones_not_diagnosed) {

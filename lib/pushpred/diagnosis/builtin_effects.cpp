@@ -113,7 +113,28 @@ double sliding_speed(const Eigen::Vector3d& v, const ShapeInfo& shape) {
 
 namespace {
 
+std::string printed(const char* fmt, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+/// "kappa of the friction force mu m g = F N" for floors.
+std::string friction_basis(const FloorContext& c) {
+  return printed("%.0f %% of the friction force mu m g = %.2f N", 100 * c.relevance_fraction, c.friction_force_N());
+}
+/// A floor that cannot be stated (a quantity it needs was not measured): infinite, so nothing is found on it.
+EffectFloor unknown_floor(const std::string& what) {
+  return {std::numeric_limits<double>::infinity(), "no floor: " + what + " unknown"};
+}
+
 class TimeOffsetEffect final : public CandidateEffect {
+  double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
+  /// Two samples of the force stream: the rig's three streams are put on one grid only to about a sample (clock
+  /// jitter, sample-and-hold), so a shorter lag is not distinguishable from the synchronisation itself.
+  EffectFloor floor(const FloorContext& c) const override {
+    if (!(c.sample_period_s > 0)) return unknown_floor("the sample period");
+    return {2 * c.sample_period_s, printed("two force samples (%.1f ms each)", 1e3 * c.sample_period_s)};
+  }
  public:
   std::string kind() const override { return "time_offset"; }
   std::string description() const override {
@@ -274,6 +295,12 @@ class TimeOffsetEffect final : public CandidateEffect {
 };
 
 class ForceOffsetEffect final : public CandidateEffect {
+  /// |b|: the bias's magnitude; a bias below kappa of the friction force shifts the push force less than the
+  /// friction itself varies.
+  EffectFloor floor(const FloorContext& c) const override {
+    if (!(c.friction_force_N() > 0)) return unknown_floor("the friction force");
+    return {c.relevance_fraction * c.friction_force_N(), friction_basis(c)};
+  }
  public:
   std::string kind() const override { return "force_offset"; }
   std::string description() const override {
@@ -344,6 +371,12 @@ class ForceOffsetEffect final : public CandidateEffect {
 };
 
 class ViscousFrictionEffect final : public CandidateEffect {
+  /// The drag c m v at the typical sliding speed against kappa mu m g: c >= kappa mu g / v.
+  EffectFloor floor(const FloorContext& c) const override {
+    if (!(c.sliding_speed_m_s > 0) || !(c.friction_force_N() > 0)) return unknown_floor("the sliding speed");
+    return {c.relevance_fraction * c.friction_coefficient * kStandardGravity_m_s2 / c.sliding_speed_m_s,
+            friction_basis(c) + printed(" at the typical sliding speed %.1f mm/s", 1e3 * c.sliding_speed_m_s)};
+  }
  public:
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return theta(0) >= 0 ? "" : "negative drag";
@@ -380,6 +413,14 @@ class CoulombFrictionEffect final : public CandidateEffect {
 };
 
 class StribeckFrictionEffect final : public CandidateEffect {
+  /// The extra coefficient mu_s against kappa mu, or the surface's own push-to-push spread of mu if larger.
+  EffectFloor floor(const FloorContext& c) const override {
+    if (!(c.friction_coefficient > 0)) return unknown_floor("the friction coefficient");
+    const double kappa_mu = c.relevance_fraction * c.friction_coefficient;
+    if (c.friction_spread > kappa_mu)
+      return {c.friction_spread, printed("the push-to-push spread of mu (%.3f)", c.friction_spread)};
+    return {kappa_mu, printed("%.0f %% of mu = %.3f", 100 * c.relevance_fraction, c.friction_coefficient)};
+  }
  public:
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return theta(0) >= 0 && theta(0) < 1 ? "" : "friction at rest below the sliding friction, or above 1";
@@ -399,6 +440,15 @@ class StribeckFrictionEffect final : public CandidateEffect {
 };
 
 class PositionFrictionEffect final : public CandidateEffect {
+  double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
+  /// The relative friction change over the typical travel, g L, against kappa (or the push-to-push spread of mu
+  /// relative to mu, if larger): g >= kappa / L.
+  EffectFloor floor(const FloorContext& c) const override {
+    if (!(c.travel_m > 0) || !(c.friction_coefficient > 0)) return unknown_floor("the travel");
+    const double share = std::max(c.relevance_fraction, c.friction_spread / c.friction_coefficient);
+    return {share / c.travel_m, printed("a friction change of %.0f %% over the typical travel %.1f mm", 100 * share,
+                                        1e3 * c.travel_m)};
+  }
  public:
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return std::abs(theta(0)) < 5 ? "" : "a friction change of more than 1 per 20 cm";
@@ -417,6 +467,13 @@ class PositionFrictionEffect final : public CandidateEffect {
 };
 
 class ComOffsetEffect final : public CandidateEffect {
+  /// |delta| f against kappa of the friction torque mu m g rho (f about mu m g while pushed): |delta| >= kappa rho.
+  EffectFloor floor(const FloorContext& c) const override {
+    if (!(c.radius_of_gyration_m > 0)) return unknown_floor("the radius of gyration");
+    return {c.relevance_fraction * c.radius_of_gyration_m,
+            printed("%.0f %% of the friction torque's lever, the radius of gyration %.1f mm", 100 * c.relevance_fraction,
+                    1e3 * c.radius_of_gyration_m)};
+  }
  public:
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return theta.norm() < 0.05 ? "" : "a mass centre 5 cm or more from the tracked centre";
@@ -436,6 +493,13 @@ class ComOffsetEffect final : public CandidateEffect {
 };
 
 class InertiaMismatchEffect final : public CandidateEffect {
+  double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
+  /// The inertial force error |factor - 1| m a at the typical large acceleration against kappa mu m g.
+  EffectFloor floor(const FloorContext& c) const override {
+    if (!(c.acceleration_m_s2 > 0) || !(c.friction_coefficient > 0)) return unknown_floor("the acceleration");
+    return {c.relevance_fraction * c.friction_coefficient * kStandardGravity_m_s2 / c.acceleration_m_s2,
+            friction_basis(c) + printed(" at the typical large acceleration %.2f m/s^2", c.acceleration_m_s2)};
+  }
  public:
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return 1 + theta(0) > 0.2 && 1 + theta(0) < 5 ? "" : "a mass factor outside 0.2 to 5";

@@ -7,6 +7,8 @@
 
 namespace pushpred {
 
+double FloorContext::friction_force_N() const { return friction_coefficient * mass_kg * 9.81; }
+
 const char* effect_test_name(EffectTest test) {
   switch (test) {
     case EffectTest::Regression: return "regression";

@@ -104,6 +104,31 @@ struct DirectFit {
   std::string note;
 };
 
+/// What an effect's size floor is derived from: the physics of the object and surface and the data being
+/// diagnosed (diagnosis/effect_floor.hpp measures it on the fit pushes; validation computes it from a scenario).
+/// The common yardstick is the support friction: a term whose force stays below `relevance_fraction` of the
+/// friction force mu m g (torque: mu m g rho) changes the object's motion less than the surface's own variation.
+struct FloorContext {
+  double mass_kg = 0, inertia_kgm2 = 0;
+  double radius_of_gyration_m = 0;       ///< sqrt(I / m)
+  double friction_coefficient = 0;       ///< Coulomb mu of the support (fitted on the data, or the scenario's)
+  /// Spread of mu from push to push (standard deviation of the per-push fits; 0 when unknown): the surface's own
+  /// variation, below which a friction change is not a distinct effect.
+  double friction_spread = 0;
+  double relevance_fraction = 0.05;      ///< kappa: the share of the friction force that matters
+  double sample_period_s = 0.004;        ///< of the force stream
+  double sliding_speed_m_s = 0;          ///< typical (RMS) speed while the object slides
+  double acceleration_m_s2 = 0;          ///< typical large acceleration (95th percentile of |a| in contact)
+  double travel_m = 0;                   ///< mean distance an object travels in a push
+  double friction_force_N() const;       ///< mu m g
+};
+
+/// The smallest amount of an effect that matters, in the unit of CandidateEffect::amount(), and why.
+struct EffectFloor {
+  double amount = 0;
+  std::string basis;  ///< e.g. "5 % of the friction force mu m g = 4.8 N"
+};
+
 enum class EffectTest { Regression, Direct, Prediction };
 const char* effect_test_name(EffectTest test);  ///< "regression", "direct", "prediction"
 
@@ -163,6 +188,20 @@ class CandidateEffect {
   /// Empty when `theta` is physically possible for this effect; otherwise why not (e.g. a negative drag). A fit
   /// outside the physical range is not taken as this effect, whatever its score.
   virtual std::string implausible(const Eigen::VectorXd& /*theta*/) const { return ""; }
+  /// The effect's size as one non-negative number (its unit: amount_unit()), compared with floor(): e.g. |delay|,
+  /// |bias|, |offset|, |mass factor - 1|. Default: the norm of theta.
+  virtual double amount(const Eigen::VectorXd& theta) const { return theta.size() ? theta.norm() : 0.0; }
+  virtual std::string amount_unit() const {
+    const auto p = parameters();
+    return p.empty() ? "-" : p.front().unit;
+  }
+  /// The smallest amount that matters physically (see FloorContext). An effect that passes its test below it is
+  /// "significant, negligible": reported, not found. Default: 0 (no floor).
+  virtual EffectFloor floor(const FloorContext& /*context*/) const { return {0.0, "no floor stated"}; }
+  /// Part of the corrected base model (diagnosis.hpp): a fix of the paper's model structure that is always in the
+  /// corrected model, not a physical effect to be found. Default: prediction effects and friction laws that
+  /// replace the relation.
+  virtual bool in_base_model() const { return test() == EffectTest::Prediction || replaces_relation(); }
   /// Amounts for reports derived from the parameters (e.g. an inertia factor), as name, unit, value.
   struct Derived {
     std::string name, unit;

@@ -7,28 +7,27 @@
 //   Effect parameters are physical constants fitted on the fit pushes and applied to the test pushes, where the
 //   paper's online relation estimator still runs per push as before;
 // - one push: the fit data are all intervals but the last; the test phase is the last prediction phase.
-// Steps:
+// Steps (diagnosis_run.hpp runs them one by one):
 // 1. The residuals of the paper's method: the observer's d_hat on the fit data less the relation beta Q u + eps
 //    (per push and channel), and the prediction errors of every phase (`dob`).
-// 2. Direct effects (force offset) are estimated and scored; if selected, the data are corrected.
-// 3. Greedy forward selection over the regression effects: at each step every remaining candidate (at each of
-//    its settings) is fitted jointly with those already selected; the one with the largest BIC drop joins if the
-//    drop exceeds `bic_threshold` (residual_regression.hpp: BIC with the effective sample count).
-// 4. Effects that correct the data (time offset, inertia) are applied and the selected set re-fitted on the
-//    corrected data until their residual amounts vanish.
-//    Then each selected direct effect that corrects the data is tested again when a friction law is selected: on
-//    the data without its correction, the friction law's refinements are searched anew and the effect re-fitted
-//    with what they explain set aside; if it no longer passes, those refinements replace it (a lag found against a
-//    bare Coulomb law may be a friction effect in disguise).
-// 5. Prediction-structure effects (initial velocity, the quasi-static law, its pusher_stop refinement) are scored
-//    together, every combination at every setting, on the fit pushes' prediction phases: the best is selected when
-//    the mean normalised error drops by more than twice its standard error over phases. A refinement
-//    (CandidateEffect::refines) is tried only in combinations that hold the effect it refines.
-// 6. Confirmation: an effect selected in 2-4 whose removal does not make the fit phases' prediction error worse
-//    is dropped; the rest are re-fitted.
-// 7. Test phases: the paper's `dob`, the corrected model, `hold` and `const_velocity`.
-// The normalised prediction error of a phase is pos_mm_mean / H_pos + theta_deg_mean / H_theta, H the mean `hold`
-// errors over the phases compared (so millimetres and degrees weigh alike).
+// 2. The base model's friction law (Coulomb friction of the footprint, which stops the object when the push ends)
+//    is fitted on the fit pushes; it is always in the corrected model. The effect-size floors are measured
+//    (FloorContext, candidate_effect.hpp): each candidate states the smallest amount that matters.
+// 3. Direct effects (force offset, time offset) are estimated on data of their own and scored.
+// 4. Greedy forward selection of the physical force laws against the base friction law: at each step every
+//    remaining candidate (at each of its settings) is fitted jointly with those already found; the best joins when
+//    its BIC drop exceeds `bic_threshold` (residual_regression.hpp). Data corrections (delay, bias, mass) are
+//    applied and the found set re-fitted until their residual amounts vanish; a delay found against a bare Coulomb
+//    law is re-tested beside the friction refinements found without it.
+//    Evidence decides: an effect is FOUND when its test passes and its amount is at or above its floor. One that
+//    passes below its floor is reported as "significant, negligible" and not found. Nothing found on the fit
+//    pushes' predictions can drop a found effect.
+// 5. The base model's structure is fixed, whatever the data: predictions start from the observer's velocity,
+//    the quasi-static push law replaces the relation and ends when the pusher stops, and the friction law stops the
+//    object. Only its stop fraction is fitted, on the fit pushes' prediction phases.
+// 6. Test phases: the paper's `dob`, the base model, the base model plus the found effects (`corrected`), `hold`
+//    and `const_velocity`; for each found effect, the corrected model without it (its held-out contribution,
+//    reported, never used to decide).
 #include <Eigen/Core>
 #include <limits>
 #include <string>
@@ -44,10 +43,13 @@ namespace pushpred {
 struct DiagnosisOptions {
   StudyOptions study;                ///< the paper's method (schedule, plan rate, relation estimator); no correction
   QFilterObserverOptions observer;   ///< the disturbance observer
-  double bic_threshold = 10;         ///< an effect joins when it lowers the BIC by more than this
+  double bic_threshold = 10;         ///< an effect passes its test when it lowers the BIC by more than this
   int max_refits = 4;                ///< re-fits after applying data corrections
-  bool search_structure = true;      ///< step 5 (off: prediction-structure effects are not tried)
-  bool confirm_on_prediction = true; ///< step 6
+  /// kappa of FloorContext: the share of the support friction force below which a term is negligible.
+  double relevance_fraction = 0.05;
+  /// Step 5: fit the base model's settings (the quasi-static stop fraction) on the fit phases; off: each part's
+  /// middle setting (faster, for tests and quick looks).
+  bool fit_base_settings = true;
   void validate() const;
 };
 
@@ -62,11 +64,16 @@ struct ErrorSummary {
 struct EffectReport {
   std::string kind, description;
   EffectTest test = EffectTest::Regression;
-  /// A fix of the paper's model structure (a friction law replacing the relation, a prediction-structure effect),
-  /// which may be selected on data without any hidden effect; the others are physical effects found in the data.
+  /// Part of the base model (a fix of the paper's model structure: the friction law, the prediction structure),
+  /// always in the corrected model; the others are physical effects to be found in the data.
   bool structural = false;
-  bool passed_test = false;  ///< passed its own test (BIC drop above the threshold, or the prediction test)
-  bool selected = false;     ///< in the final correction (passed, and not dropped by the confirmation)
+  bool passed_test = false;  ///< significant: passed its own test (BIC drop above the threshold)
+  /// Significant but below its floor: reported as "significant, negligible", not found.
+  bool negligible = false;
+  bool selected = false;     ///< in the corrected model: found (significant, above the floor), or part of the base
+  double amount = 0;         ///< CandidateEffect::amount() of theta, in amount_unit
+  std::string amount_unit;
+  EffectFloor floor;         ///< the smallest amount that matters (infinite: could not be stated)
   /// Regression and direct effects: the BIC drop when last tried (for a selected effect, when it joined);
   /// prediction effects: the relative drop of the fit phases' normalised error.
   double score = 0;
@@ -107,10 +114,17 @@ struct DiagnosisResult {
   std::vector<std::string> fit_sources, test_sources;
   std::vector<EffectReport> effects;  ///< every candidate, in library order
   ModelCorrection correction;         ///< the selected effects together
-  /// On the test phases: the paper's `dob`, the corrected model, and the references.
-  ErrorSummary error_before, error_after, hold, const_velocity, dob_velinit;
+  /// On the test phases: the paper's `dob`, the base model, the base model plus the found effects (corrected),
+  /// and the references.
+  ErrorSummary error_before, error_base, error_after, hold, const_velocity, dob_velinit;
   /// The same on the fit pushes' phases (in-sample), for comparison.
   ErrorSummary fit_before, fit_after, fit_hold, fit_const_velocity;
+  FloorContext floor_context;  ///< what the floors were derived from
+  /// A step that failed (diagnosis_run.hpp) and why; the diagnosis went on without what it would have given.
+  struct StepFailure {
+    std::string step, what;
+  };
+  std::vector<StepFailure> step_failures;
   // The disturbance regression on the fit data.
   long samples = 0;
   double effective_samples = 0;

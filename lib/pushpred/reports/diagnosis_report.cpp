@@ -43,11 +43,18 @@ nlohmann::json effect_json(const EffectReport& r) {
   nlohmann::json j = {{"kind", r.kind},
                       {"description", r.description},
                       {"test", effect_test_name(r.test)},
+                      {"base_model", r.structural},
                       {"passed_test", r.passed_test},
+                      {"negligible", r.negligible},
                       {"selected", r.selected},
                       {"score", number_or_null(r.score)},
                       {"parameters", parameters}};
   if (r.has_ablation) j["held_out_without"] = error_summary_json(r.held_out_without);
+  if (!r.structural)
+    j["amount"] = {{"value", number_or_null(r.amount)},
+                   {"unit", r.amount_unit},
+                   {"floor", number_or_null(r.floor.amount)},
+                   {"floor_basis", r.floor.basis}};
   if (r.has_setting) j["setting"] = {{"name", r.setting_info.name}, {"value", r.setting}, {"unit", r.setting_info.unit}};
   if (!r.derived.empty()) {
     nlohmann::json d = nlohmann::json::object();
@@ -248,11 +255,33 @@ bool plot_test_errors(const std::vector<PhaseTrace>& phases, const std::filesyst
 
 std::vector<std::string> effects_found(const DiagnosisResult& r) { return kinds_of(r, false); }
 
+namespace {
+/// "force_offset 0.40 ± 0.01 N (held-out change +0.1 mm)": a found effect's amount and what it changes on the test
+/// phases (the corrected model with it, less the model without it).
+std::string found_effect_text(const DiagnosisResult& r, const EffectReport& e) {
+  std::string s = e.kind + " " + general(e.amount) + (e.amount_unit == "-" ? "" : " " + e.amount_unit);
+  if (e.theta_std.size() == 1) s += " ± " + general(e.theta_std(0)) + (e.amount_unit == "-" ? "" : " " + e.amount_unit);
+  if (e.has_ablation) {
+    const double change = r.error_after.pos_mm_mean - e.held_out_without.pos_mm_mean;
+    s += " (held-out change " + std::string(change >= 0 ? "+" : "") + fixed(change) + " mm";
+    s += change >= 0 ? ": found, but it does not help prediction)" : ")";
+  }
+  return s;
+}
+}  // namespace
+
 std::string findings_text(const DiagnosisResult& r) {
-  const auto found = kinds_of(r, false), fixes = kinds_of(r, true);
-  std::string s = found.empty() ? "nothing found: no physical effect beyond the paper's model explains the residual"
+  std::vector<std::string> found, negligible;
+  for (const auto& e : r.effects) {
+    if (e.structural) continue;
+    if (e.selected) found.push_back(found_effect_text(r, e));
+    else if (e.negligible) negligible.push_back(e.kind);
+  }
+  std::string s = found.empty() ? "nothing found: no physical effect beyond the base model explains the residual"
                                 : "found: " + joined(found);
-  if (!fixes.empty()) s += "; model-structure fixes applied: " + joined(fixes);
+  if (!negligible.empty()) s += "; significant but negligible: " + joined(negligible);
+  const auto fixes = kinds_of(r, true);
+  if (!fixes.empty()) s += "; base model: " + joined(fixes);
   return s;
 }
 
@@ -297,6 +326,8 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
   for (const auto& e : r.effects) effects.push_back(effect_json(e));
   nlohmann::json failures = nlohmann::json::array();
   for (const auto& f : r.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
+  nlohmann::json step_failures = nlohmann::json::array();
+  for (const auto& f : r.step_failures) step_failures.push_back({{"step", f.step}, {"what", f.what}});
   const auto channels = [](const Eigen::Vector3d& v) { return nlohmann::json{{"x_N", v(0)}, {"y_N", v(1)}, {"rotation_Nm", v(2)}}; };
   return {{"pushpred_version", kVersion},
           {"shape", r.shape},
@@ -307,7 +338,8 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
             {"plan_rate_hz", o.study.plan_rate_hz},
             {"estimator", o.study.estimator},
             {"bic_threshold", o.bic_threshold},
-            {"confirm_on_prediction", o.confirm_on_prediction}}},
+            {"relevance_fraction", o.relevance_fraction},
+            {"fit_base_settings", o.fit_base_settings}}},
           {"held_out", r.held_out},
           {"fit_pushes", r.fit_sources},
           {"test_pushes", r.test_sources},
@@ -318,6 +350,7 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
           {"correction", r.correction.describe()},
           {"initial_velocity_from_observer", r.correction.initial_velocity},
           {"error_before", error_summary_json(r.error_before)},
+          {"error_base", error_summary_json(r.error_base)},
           {"error_after", error_summary_json(r.error_after)},
           {"error_references",
            {{"hold", error_summary_json(r.hold)},
@@ -335,6 +368,17 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
             {"residual_std_after", channels(r.residual_std_after)},
             {"friction_law_residual_std",
              r.friction_residual_std.allFinite() ? channels(r.friction_residual_std) : nlohmann::json(nullptr)}}},
+          {"floor_context",
+           {{"friction_coefficient", r.floor_context.friction_coefficient},
+            {"friction_spread", r.floor_context.friction_spread},
+            {"friction_force_N", r.floor_context.friction_force_N()},
+            {"relevance_fraction", r.floor_context.relevance_fraction},
+            {"sample_period_s", r.floor_context.sample_period_s},
+            {"sliding_speed_m_s", r.floor_context.sliding_speed_m_s},
+            {"acceleration_m_s2", r.floor_context.acceleration_m_s2},
+            {"travel_m", r.floor_context.travel_m},
+            {"radius_of_gyration_m", r.floor_context.radius_of_gyration_m}}},
+          {"step_failures", step_failures},
           {"failures", failures},
           {"log", r.log}};
 }
@@ -345,11 +389,13 @@ std::string diagnosis_summary_text(const DiagnosisResult& r) {
     << " on " << r.surface << ")\n";
   s << "  " << findings_text(r) << "\n";
   for (const auto& e : r.effects)
-    if (e.selected) s << "  selected " << e.kind << ": " << effect_parameters_text(e) << "\n";
+    if (e.selected) s << "  " << (e.structural ? "base " : "found ") << e.kind << ": " << effect_parameters_text(e) << "\n";
+  for (const auto& f : r.step_failures) s << "  step " << f.step << " failed: " << f.what << "\n";
   char line[256];
   s << "held-out phases (" << r.error_after.phases << "):      pos mm   yaw deg\n";
   const std::pair<const char*, const ErrorSummary*> rows[] = {{"before (paper dob)", &r.error_before},
-                                                             {"after (corrected)", &r.error_after},
+                                                             {"base model", &r.error_base},
+                                                             {"after (base + found)", &r.error_after},
                                                              {"hold", &r.hold},
                                                              {"const_velocity", &r.const_velocity}};
   for (const auto& [name, e] : rows) {
@@ -367,19 +413,26 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
      << " test push(es); held out: " << r.held_out << ". Schedule: " << o.study.schedule.intervals
      << " intervals over the " << schedule_span_name(o.study.schedule.span) << " span, plan at "
      << general(o.study.plan_rate_hz) << " Hz, relation estimator `" << o.study.estimator
-     << "`. Selection: greedy BIC with the effective sample count, threshold " << general(o.bic_threshold)
-     << (o.confirm_on_prediction ? ", each selected effect confirmed on the fit pushes' predictions" : "") << ".\n\n";
+     << "`. An effect is found when its test passes (greedy BIC with the effective sample count, threshold "
+     << general(o.bic_threshold) << ") and its amount is at or above its floor (" << fixed(100 * o.relevance_fraction, 0)
+     << " % of the support friction, scaled per effect; docs/diagnosis.md).\n\n";
+  if (!r.step_failures.empty()) {
+    md << "**Steps that failed** (the diagnosis went on without them):\n\n";
+    for (const auto& f : r.step_failures) md << "- " << f.step << ": " << f.what << "\n";
+    md << "\n";
+  }
 
   md << "**" << findings_text(r) << ".**\n\n";
   md << "## Prediction error on the held-out phases\n\n"
      << "Mean over " << r.error_after.phases << " phases of the per-phase mean error. `before` is the paper's method "
-     << "(`dob`: relation identified online, initial velocity zero); `after` is the corrected model (initial velocity "
-     << (r.correction.initial_velocity ? "from the observer" : "zero") << ").\n\n"
+     << "(`dob`: relation identified online, initial velocity zero); `base` is the corrected base model (initial "
+     << "velocity from the observer, quasi-static push that ends when the pusher stops, friction that stops the "
+     << "object); `after` is the base model plus the effects found.\n\n"
      << "| method | pos [mm] | x [mm] | y [mm] | yaw [deg] | final pos [mm] | final yaw [deg] |\n"
      << "|---|---|---|---|---|---|---|\n"
-     << error_row("before (paper `dob`)", r.error_before) << error_row("after (corrected)", r.error_after)
-     << error_row("`hold`", r.hold) << error_row("`const_velocity`", r.const_velocity)
-     << error_row("`dob_velinit`", r.dob_velinit) << "\n";
+     << error_row("before (paper `dob`)", r.error_before) << error_row("base model", r.error_base)
+     << error_row("after (base + found)", r.error_after) << error_row("`hold`", r.hold)
+     << error_row("`const_velocity`", r.const_velocity) << error_row("`dob_velinit`", r.dob_velinit) << "\n";
   const BeatsReferences beats = beats_references(r.error_after, r.hold, r.const_velocity);
   const bool beats_pos = beats.pos, beats_yaw = beats.yaw;
   if (beats_pos && beats_yaw) {
@@ -391,20 +444,25 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
   }
 
   md << "## Candidate effects\n\n"
-     << "| effect | test | passed | selected | score | parameters (± 1 std) | held-out pos / yaw without it | note |\n"
-     << "|---|---|---|---|---|---|---|---|\n";
+     << "| effect | test | significant | amount / floor | in the model | score | parameters (± 1 std) | held-out pos / yaw without it | note |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& e : r.effects)
-    md << "| " << e.kind << " | " << effect_test_name(e.test) << " | " << (e.passed_test ? "yes" : "no") << " | "
-       << (e.selected ? "**yes**" : "no") << " | " << (std::isfinite(e.score) ? general(e.score) : std::string("—"))
-       << " | " << effect_parameters_text(e) << " | "
+    md << "| " << e.kind << " | " << effect_test_name(e.test) << " | " << (e.structural ? "—" : e.passed_test ? "yes" : "no")
+       << " | "
+       << (e.structural ? std::string("base model")
+                        : general(e.amount) + " / " + general(e.floor.amount) + " " + e.amount_unit +
+                              (e.negligible ? " (negligible)" : ""))
+       << " | " << (e.selected ? (e.structural ? "base" : "**found**") : "no") << " | "
+       << (std::isfinite(e.score) ? general(e.score) : std::string("—")) << " | " << effect_parameters_text(e) << " | "
        << (e.has_ablation ? fixed(e.held_out_without.pos_mm_mean) + " mm / " + fixed(e.held_out_without.theta_deg_mean) +
                                 " deg"
                           : std::string("—"))
        << " | " << e.note << " |\n";
   md << "\nScore: for regression and direct effects the drop of the BIC when the effect joins (robust Wald "
         "statistic minus k ln N_eff; direct effects: their own likelihood ratio), for prediction effects the relative "
-        "drop of the fit phases' normalised prediction error. Passed: its own test; selected: also kept by the "
-        "confirmation on the fit pushes' predictions. Uncertainty: the larger of the Newey-West and the "
+        "drop of the fit phases' normalised prediction error. Significant: its own test passed; found: significant and "
+        "its amount at or above its floor (the smallest amount that matters; its basis is in diagnosis.json). "
+        "Uncertainty: the larger of the Newey-West and the "
         "push-clustered standard errors (direct effects: their own). The held-out column is the corrected model "
         "without that one effect, on the test phases (reported, never used to select).\n\n";
   md << "Correction applied:\n\n";

@@ -1,0 +1,397 @@
+// The shared state of the diagnosis steps and the helpers they share; the steps themselves are in step_*.cpp.
+#include "pushpred/diagnosis/diagnosis_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <optional>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/corrected_prediction.hpp"
+#include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
+
+namespace pushpred {
+
+std::string diagnosis_format(const char* fmt, double a, double b, double c) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const EffectLibrary& library,
+                           const DiagnosisOptions& o)
+    : library_(library), o_(o) {
+  o.validate();
+  const auto& effects = library_.effects();
+  result_.effects.resize(effects.size());
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    EffectReport& r = result_.effects[i];
+    r.kind = effects[i]->kind();
+    r.description = effects[i]->description();
+    r.test = effects[i]->test();
+    r.structural = effects[i]->in_base_model();
+    r.parameter_info = effects[i]->parameters();
+    r.theta = r.theta_std = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(r.parameter_info.size()));
+    r.has_setting = !effects[i]->settings().empty();
+    r.setting_info = effects[i]->setting_name();
+    r.amount_unit = effects[i]->amount_unit();
+  }
+
+  std::vector<SynchronisedPush> usable;
+  for (const auto& p : input) {
+    if (p.flags.frozen_force_sensor) {
+      result_.failures.push_back({p.source, "force sensor frozen: its force cannot be trusted"});
+      continue;
+    }
+    try {
+      split_into_intervals(p, o_.study.schedule);
+      usable.push_back(p);
+    } catch (const std::exception& e) {
+      result_.failures.push_back({p.source, e.what()});
+    }
+  }
+  if (usable.empty()) {
+    // Name the reasons, most common first: "13 with a frozen force sensor" says what to do, "no usable push" not.
+    std::map<std::string, int> reasons;
+    for (const auto& f : result_.failures) ++reasons[f.reason];
+    std::vector<std::pair<int, std::string>> ranked;
+    for (const auto& [why, n] : reasons) ranked.emplace_back(n, why);
+    std::sort(ranked.rbegin(), ranked.rend());
+    std::string why;
+    for (const auto& [n, reason] : ranked) why += (why.empty() ? "" : "; ") + std::to_string(n) + " x " + reason;
+    throw InputError("diagnosis: no usable push among the " + std::to_string(input.size()) + " given (" + why + ")");
+  }
+  for (const auto& p : usable)
+    if (p.shape.name != usable.front().shape.name || p.push.surface != usable.front().push.surface)
+      throw InputError("diagnosis: pushes of different objects or surfaces (" + usable.front().shape.name + " on " +
+                       usable.front().push.surface + ", " + p.shape.name + " on " + p.push.surface +
+                       "): diagnose one object on one surface at a time");
+  std::sort(usable.begin(), usable.end(), [](const auto& a, const auto& b) { return a.source < b.source; });
+  result_.shape = usable.front().shape.name;
+  result_.surface = usable.front().push.surface;
+  single_ = usable.size() == 1;
+  if (single_) {
+    fit_raw_ = usable;
+    test_raw_ = usable;
+    const auto intervals = split_into_intervals(usable.front(), o_.study.schedule);
+    if (intervals.size() < 3)
+      throw InputError("diagnosis: one push needs at least 3 intervals (fit on all but the last, test on the last)");
+    fit_end_s_.push_back(intervals.back().t0_s);
+    result_.held_out = "one push: fitted on all intervals but the last; tested on the last prediction phase";
+  } else {
+    for (std::size_t k = 0; k < usable.size(); ++k) {
+      (k % 2 == 0 ? fit_raw_ : test_raw_).push_back(usable[k]);
+      if (k % 2 == 0) fit_end_s_.push_back(usable[k].duration_s());
+    }
+    result_.held_out = "alternate pushes (sorted by name): the 1st, 3rd, ... fit; the 2nd, 4th, ... test";
+  }
+  for (const auto& p : fit_raw_) result_.fit_sources.push_back(p.source);
+  for (const auto& p : test_raw_) result_.test_sources.push_back(p.source);
+}
+
+void DiagnosisRun::fail(const std::string& step, const std::string& what) {
+  result_.step_failures.push_back({step, what});
+  log("step " + step + " failed: " + what);
+}
+
+bool DiagnosisRun::is_base(std::size_t candidate) const { return library_.effects()[candidate]->in_base_model(); }
+
+void DiagnosisRun::rebuild_data(const ModelCorrection& c) {
+  data_.clear();
+  for (std::size_t p = 0; p < fit_raw_.size(); ++p) {
+    const SynchronisedPush corrected = apply_data_correction(fit_raw_[p], c);
+    QFilterObserverOptions obs = o_.observer;
+    obs.mass_kg = 0;  // from the corrected shape
+    obs.inertia_kgm2 = 0;
+    data_.push_back(prepare_diagnosis_push(corrected, 0.0, fit_end_s_[p], obs));
+  }
+}
+
+EffectColumns DiagnosisRun::columns(std::size_t candidate, double setting) const {
+  const auto& effect = library_.effects()[candidate];
+  const std::size_t k = effect->parameters().size();
+  EffectColumns out(k, std::vector<Eigen::MatrixX3d>(data_.size()));
+  for (std::size_t p = 0; p < data_.size(); ++p) {
+    std::vector<Eigen::MatrixX3d> r = effect->regressors(data_[p], setting);
+    if (r.size() != k)
+      throw InputError("effect " + effect->kind() + ": regressors() gave " + std::to_string(r.size()) +
+                       " columns for " + std::to_string(k) + " parameters");
+    for (std::size_t j = 0; j < k; ++j) out[j][p] = std::move(r[j]);
+  }
+  return out;
+}
+
+ModelCorrection DiagnosisRun::correction_of(const std::vector<Selection>& selected, bool for_prediction) const {
+  ModelCorrection c;
+  for (const auto& s : selected) {
+    const auto& effect = library_.effects()[s.candidate];
+    if (!for_prediction && effect->test() == EffectTest::Prediction) continue;
+    effect->apply(s.total, s.setting, effect, c);
+  }
+  return c;
+}
+
+std::vector<PushStudy> DiagnosisRun::studies(const std::vector<const SynchronisedPush*>& pushes,
+                                             const ModelCorrection& correction) const {
+  StudyOptions so = o_.study;
+  so.correction = std::make_shared<CorrectedPrediction>(correction, o_.observer);
+  std::vector<PushStudy> out;
+  for (const auto* p : pushes) {
+    try {
+      out.push_back(run_prediction_study(*p, so));
+    } catch (const std::exception& e) {
+      throw InputError(p->source + ": " + e.what());
+    }
+  }
+  return out;
+}
+
+std::vector<StudyPhase> DiagnosisRun::fit_phases(const std::vector<PushStudy>& s) const {
+  std::vector<StudyPhase> out;
+  for (const auto& study : s) {
+    const std::size_t n = single_ ? study.phases.size() - 1 : study.phases.size();
+    for (std::size_t k = 0; k < n; ++k) out.push_back({&study, k});
+  }
+  return out;
+}
+
+std::vector<StudyPhase> DiagnosisRun::test_phases(const std::vector<PushStudy>& s) const {
+  std::vector<StudyPhase> out;
+  for (const auto& study : s) {
+    if (single_) {
+      out.push_back({&study, study.phases.size() - 1});
+    } else {
+      for (std::size_t k = 0; k < study.phases.size(); ++k) out.push_back({&study, k});
+    }
+  }
+  return out;
+}
+
+std::vector<double> DiagnosisRun::normalised(const std::vector<StudyPhase>& phases, const std::string& method) const {
+  std::vector<double> out;
+  for (const auto& sp : phases) {
+    const ErrorSummary e = summarise_errors({sp}, method);
+    out.push_back(e.pos_mm_mean / hold_pos_ + e.theta_deg_mean / hold_theta_);
+  }
+  return out;
+}
+
+Relation DiagnosisRun::group_of(std::size_t candidate) const {
+  const auto& e = library_.effects()[candidate];
+  return e->replaces_relation() || e->needs_friction_base() ? Relation::Friction : Relation::Linear;
+}
+
+RegressionFit DiagnosisRun::fit_selected(const std::vector<Selection>& selected, Relation group,
+                                         std::vector<EffectColumns>& storage) const {
+  storage.clear();
+  storage.reserve(selected.size());
+  int extra = 0;
+  for (const auto& s : selected) {
+    if (library_.effects()[s.candidate]->test() != EffectTest::Regression || group_of(s.candidate) != group) continue;
+    storage.push_back(columns(s.candidate, s.setting));
+    extra += s.extra_parameters;
+  }
+  std::vector<const EffectColumns*> pointers;
+  for (const auto& c : storage) pointers.push_back(&c);
+  const ResidualRegression regression(data_, group);
+  return regression.fit(pointers, extra);
+}
+
+bool DiagnosisRun::above_floor(std::size_t i, const Eigen::VectorXd& theta) {
+  const auto& effect = library_.effects()[i];
+  EffectReport& r = result_.effects[i];
+  r.amount = effect->amount(theta);
+  r.floor = effect->floor(result_.floor_context);
+  return r.amount >= r.floor.amount;
+}
+
+void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, double log_neff) {
+  const auto& effects = library_.effects();
+  const char* base_name = group == Relation::Linear ? "linear relation" : "friction law";
+  std::vector<std::size_t> negligible;  // significant but below the floor: not tried again in this search
+  const auto law_selected = [&] {
+    return std::any_of(selected.begin(), selected.end(),
+                       [&](const Selection& s) { return effects[s.candidate]->replaces_relation(); });
+  };
+  while (true) {
+    std::vector<EffectColumns> storage;
+    int current_extra = 0;
+    for (const auto& s : selected)
+      if (effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == group) {
+        storage.push_back(columns(s.candidate, s.setting));
+        current_extra += s.extra_parameters;
+      }
+    std::vector<const EffectColumns*> pointers;
+    for (const auto& c : storage) pointers.push_back(&c);
+    const ResidualRegression regression(data_, group);
+    std::optional<Selection> best;
+    for (std::size_t i = 0; i < effects.size(); ++i) {
+      if (effects[i]->test() != EffectTest::Regression || group_of(i) != group || is_base(i)) continue;
+      if (std::any_of(selected.begin(), selected.end(), [&](const Selection& s) { return s.candidate == i; })) continue;
+      if (std::find(negligible.begin(), negligible.end(), i) != negligible.end()) continue;
+      if (group == Relation::Friction && !law_selected()) {
+        result_.effects[i].note = "not tested: it refines a friction law, and none is in the base model";
+        continue;
+      }
+      std::vector<double> settings = effects[i]->settings();
+      const int extra = settings.size() > 1 ? 1 : 0;
+      if (settings.empty()) settings.push_back(0.0);
+      std::optional<Selection> here;
+      std::string unidentifiable;
+      for (double setting : settings) {
+        const EffectColumns cols = columns(i, setting);
+        std::vector<const EffectColumns*> with = pointers;
+        with.push_back(&cols);
+        const RegressionFit f = regression.fit(with, current_extra + extra);
+        const auto k = static_cast<Eigen::Index>(cols.size());
+        const Eigen::Index at = f.theta.size() - k;
+        if (!f.identifiable) {
+          // Not a score of minus infinity: a regressor the data cannot tell from the others is reported as such.
+          unidentifiable = "its regressor is not identifiable beside the model's on these data";
+          continue;
+        }
+        const double score = f.wald(at, k) - static_cast<double>(k + extra) * log_neff;
+        // Settings whose fit is outside the physical range do not compete (unless none is inside).
+        const bool plausible = effects[i]->implausible(f.theta.segment(at, k)).empty();
+        const bool here_plausible = here && effects[i]->implausible(here->total).empty();
+        if (!here || (plausible && !here_plausible) || (plausible == here_plausible && score > here->score))
+          here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score};
+      }
+      EffectReport& r = result_.effects[i];
+      if (!here) {
+        r.note = "not tested: " + unidentifiable;
+        continue;
+      }
+      r.score = here->score;
+      r.theta = here->total;
+      r.theta_std = here->std;
+      r.setting = here->setting;
+      r.note.clear();
+      const std::string why = effects[i]->implausible(here->total);
+      if (!why.empty()) {
+        r.note = "fitted outside the physical range (" + why + "): not this effect";
+        continue;
+      }
+      if (!best || here->score > best->score) best = here;
+    }
+    if (!best) break;
+    if (!(best->score > o_.bic_threshold)) {
+      log(std::string("greedy (against the ") + base_name + "): best remaining " + effects[best->candidate]->kind() +
+          diagnosis_format(" scores only %.1f (robust Wald minus BIC penalty): stop", best->score));
+      break;
+    }
+    EffectReport& r = result_.effects[best->candidate];
+    r.passed_test = true;
+    if (!above_floor(best->candidate, best->total)) {
+      r.negligible = true;
+      r.note = "significant, negligible: " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit + " is below its floor " +
+               diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit + " (" + r.floor.basis + ")";
+      log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
+          diagnosis_format(" scores %.1f but its amount is below its floor: negligible", best->score));
+      negligible.push_back(best->candidate);
+      continue;
+    }
+    r.negligible = false;
+    log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
+        diagnosis_format(" joins, score %.1f", best->score));
+    selected.push_back(*best);
+  }
+}
+
+// Applies the data corrections of the selected effects, re-runs the observer and re-fits the regression effects
+// jointly, until the residual amounts of the data corrections are negligible against their standard errors.
+void DiagnosisRun::refit(std::vector<Selection>& selected) {
+  for (int iteration = 0; iteration <= o_.max_refits; ++iteration) {
+    rebuild_data(correction_of(selected, false));
+    bool converged = true;
+    for (const Relation group : {Relation::Linear, Relation::Friction}) {
+      std::vector<EffectColumns> storage;
+      const RegressionFit fit = fit_selected(selected, group, storage);
+      int j = 0;
+      for (auto& s : selected) {
+        const auto& effect = library_.effects()[s.candidate];
+        if (effect->test() != EffectTest::Regression || group_of(s.candidate) != group) continue;
+        const int k = static_cast<int>(effect->parameters().size());
+        const Eigen::VectorXd theta = fit.theta.segment(j, k);
+        s.std = fit.standard_error().segment(j, k);
+        if (effect->corrects_data()) {
+          s.total = effect->compose(s.total, theta);
+          if ((theta.array().abs() > 0.25 * s.std.array()).any()) converged = false;
+        } else {
+          s.total = theta;
+        }
+        j += k;
+      }
+    }
+    // A data correction the data cannot carry (e.g. a mass factor at or below zero) is not a finding: drop it.
+    bool dropped = false;
+    for (std::size_t k = 0; k < selected.size();) {
+      const auto& effect = library_.effects()[selected[k].candidate];
+      ModelCorrection probe;
+      bool plausible = selected[k].total.allFinite();
+      try {
+        if (plausible) effect->apply(selected[k].total, selected[k].setting, effect, probe);
+        if (plausible) apply_data_correction(fit_raw_.front(), probe);
+      } catch (const std::exception&) {
+        plausible = false;
+      }
+      if (!plausible) {
+        result_.effects[selected[k].candidate].note = "dropped: its re-fit left the plausible range";
+        log(effect->kind() + ": re-fit left the plausible range; dropped");
+        selected.erase(selected.begin() + static_cast<std::ptrdiff_t>(k));
+        dropped = true;
+        continue;
+      }
+      ++k;
+    }
+    if (dropped) continue;
+    if (converged) {
+      rebuild_data(correction_of(selected, false));
+      return;
+    }
+  }
+  rebuild_data(correction_of(selected, false));
+  log("data corrections still moving after the last re-fit");
+}
+
+std::vector<Selection> DiagnosisRun::base_selections() const {
+  std::vector<Selection> out;
+  for (const auto& s : selected_)
+    if (is_base(s.candidate)) out.push_back(s);
+  for (const auto& s : base_) out.push_back(s);
+  return out;
+}
+
+std::vector<const SynchronisedPush*> DiagnosisRun::fit_pointers() const {
+  std::vector<const SynchronisedPush*> out;
+  for (const auto& p : fit_raw_) out.push_back(&p);
+  return out;
+}
+
+std::vector<const SynchronisedPush*> DiagnosisRun::test_pointers() const {
+  std::vector<const SynchronisedPush*> out;
+  for (const auto& p : test_raw_) out.push_back(&p);
+  return out;
+}
+
+DiagnosisResult DiagnosisRun::run() {
+  // Essential steps throw; the others report their failure and the diagnosis goes on without them.
+  paper_method();
+  const auto step = [&](const char* name, void (DiagnosisRun::*f)()) {
+    try {
+      (this->*f)();
+    } catch (const std::exception& e) {
+      fail(name, e.what());
+    }
+  };
+  step("friction_base", &DiagnosisRun::friction_base);
+  step("direct_effects", &DiagnosisRun::direct_effects);
+  step("force_laws", &DiagnosisRun::force_laws);
+  step("base_structure", &DiagnosisRun::base_structure);
+  held_out();
+  return result_;
+}
+
+}  // namespace pushpred

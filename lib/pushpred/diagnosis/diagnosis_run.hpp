@@ -1,0 +1,102 @@
+#pragma once
+// The diagnosis (diagnosis.hpp) as named steps over one shared state, so that each step can be run and tested
+// alone. diagnose() runs them in order:
+//   1. paper_method      the paper's method on every push; the disturbance residual of the fit pushes
+//   2. friction_base     the base model's friction law (Coulomb, always in) fitted; the effect-size floors measured
+//   3. direct_effects    effects with a test of their own (force offset, time offset): found when the test passes
+//                        and the amount is above its floor; found data corrections are applied
+//   4. force_laws        greedy forward selection of the physical force laws against the base friction law, each
+//                        joining only when significant and above its floor; data corrections iterated
+//   5. base_structure    the prediction structure of the base model: the quasi-static push's stop fraction fitted on
+//                        the fit phases (the structure itself is fixed, never re-selected)
+//   6. held_out          the test phases: the paper's `dob`, the base model, the base model plus what was found, the
+//                        references; what each found effect contributes there (the model without it)
+// A step that fails reports the failure (DiagnosisResult::step_failures) instead of scoring anything as infinite;
+// steps 1 and 6 are essential and their failure ends the diagnosis with an InputError.
+#include <string>
+#include <vector>
+
+#include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+#include "pushpred/diagnosis/residual_regression.hpp"
+
+namespace pushpred {
+
+/// One effect in the model being built: a library candidate, its setting and amounts.
+struct Selection {
+  std::size_t candidate = 0;  ///< index into the library
+  double setting = 0;
+  int extra_parameters = 0;   ///< 1 when the setting was chosen on a grid
+  Eigen::VectorXd total;      ///< amount applied so far (data corrections) or fitted (force laws)
+  Eigen::VectorXd std;
+  double score = 0;
+};
+
+class DiagnosisRun {
+ public:
+  /// Validates the options, splits the pushes into fit and test pushes (diagnosis.hpp). Throws InputError as
+  /// diagnose() does.
+  DiagnosisRun(const std::vector<SynchronisedPush>& pushes, const EffectLibrary& library,
+               const DiagnosisOptions& options);
+
+  // The steps, in order (see above). Each may throw; diagnose() reports a throw as a step failure.
+  void paper_method();
+  void friction_base();
+  void direct_effects();
+  void force_laws();
+  void base_structure();
+  void held_out();
+
+  /// Runs every step, reporting failures; returns the result.
+  DiagnosisResult run();
+
+  DiagnosisResult& result() { return result_; }
+  const std::vector<Selection>& selected() const { return selected_; }
+  const std::vector<DiagnosisPush>& data() const { return data_; }
+
+ private:
+  friend struct DiagnosisRunAccess;
+  void rebuild_data(const ModelCorrection& data_correction);
+  EffectColumns columns(std::size_t candidate, double setting) const;
+  /// The correction of `selected`: data corrections only, or the whole model for the prediction.
+  ModelCorrection correction_of(const std::vector<Selection>& selected, bool for_prediction) const;
+  /// Studies of `pushes` with `correction` as the `corrected` method. Throws what the study throws.
+  std::vector<PushStudy> studies(const std::vector<const SynchronisedPush*>& pushes,
+                                 const ModelCorrection& correction) const;
+  std::vector<StudyPhase> fit_phases(const std::vector<PushStudy>& s) const;
+  std::vector<StudyPhase> test_phases(const std::vector<PushStudy>& s) const;
+  std::vector<double> normalised(const std::vector<StudyPhase>& phases, const std::string& method) const;
+  Relation group_of(std::size_t candidate) const;
+  RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
+                             std::vector<EffectColumns>& storage) const;
+  void refit(std::vector<Selection>& selected);
+  void retest_direct(std::vector<Selection>& selected, double log_neff);
+  void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
+  /// Records effect i's floor and amount; true when the amount is at or above the floor.
+  bool above_floor(std::size_t i, const Eigen::VectorXd& theta);
+  /// The base model's selections: the friction law and the prediction structure.
+  std::vector<Selection> base_selections() const;
+  std::vector<const SynchronisedPush*> fit_pointers() const;
+  std::vector<const SynchronisedPush*> test_pointers() const;
+  void measure_floors(bool add_law);
+  void log(const std::string& line) { result_.log.push_back(line); }
+  void fail(const std::string& step, const std::string& what);
+  bool is_base(std::size_t candidate) const;
+
+  const EffectLibrary& library_;
+  DiagnosisOptions o_;
+  DiagnosisResult result_;
+  bool single_ = false;
+  std::vector<SynchronisedPush> fit_raw_, test_raw_;
+  std::vector<double> fit_end_s_;
+  std::vector<DiagnosisPush> data_;
+  std::vector<PushStudy> base_fit_studies_;
+  std::vector<Eigen::MatrixX3d> residual_before_;
+  double hold_pos_ = 1, hold_theta_ = 1;  ///< normalisers: mean hold errors on the fit phases
+  double log_neff_ = 0;
+  /// Physical effects found so far (data corrections and force laws), and the base model's parts.
+  std::vector<Selection> selected_;
+  std::vector<Selection> base_;
+};
+
+}  // namespace pushpred

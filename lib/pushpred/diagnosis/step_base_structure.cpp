@@ -1,0 +1,86 @@
+// Step 5: the prediction structure of the base model. Its parts are fixed (every prediction effect the library
+// marks as base: the observer's initial velocity, the quasi-static push, the pusher's stop); only their settings
+// (the quasi-static law's stop fraction) are fitted, on the fit pushes' prediction phases, by the mean normalised
+// error. A setting whose study fails is reported and skipped.
+#include <cmath>
+#include <limits>
+
+#include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
+
+namespace pushpred {
+
+void DiagnosisRun::base_structure() {
+  const auto& effects = library_.effects();
+  base_.clear();
+  std::vector<std::size_t> parts;
+  std::vector<std::vector<double>> grids;
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    if (effects[i]->test() != EffectTest::Prediction || !is_base(i)) continue;
+    Eigen::VectorXd t(0), sd(0);
+    if (!effects[i]->parameters().empty()) {
+      const DirectFit f = effects[i]->fit_directly(data_);
+      t = f.theta;
+      sd = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+      if (!f.note.empty()) result_.effects[i].note = f.note;
+    }
+    std::vector<double> grid = effects[i]->settings();
+    if (grid.empty()) grid.push_back(0.0);
+    if (!o_.fit_base_settings) grid = {grid[grid.size() / 2]};
+    parts.push_back(i);
+    grids.push_back(grid);
+    base_.push_back({i, grid[grid.size() / 2], grid.size() > 1 ? 1 : 0, t, sd, 0.0});
+  }
+  // Every combination of the parts' settings, scored on the fit phases (the parts themselves are not chosen).
+  std::vector<std::size_t> at(parts.size(), 0);
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<Selection> best_base = base_;
+  int tried = 0, failed = 0;
+  while (true) {
+    std::vector<Selection> trial = base_;
+    for (std::size_t q = 0; q < parts.size(); ++q) trial[q].setting = grids[q][at[q]];
+    std::vector<Selection> model = selected_;
+    model.insert(model.end(), trial.begin(), trial.end());
+    // The search reads only the fit pushes; skip it when there is a single combination.
+    bool single = true;
+    for (const auto& g : grids) single = single && g.size() == 1;
+    if (single) break;
+    ++tried;
+    try {
+      const auto s = studies(fit_pointers(), correction_of(model, true));
+      const std::vector<double> e = normalised(fit_phases(s), kCorrectedMethod);
+      double mean = 0;
+      for (double v : e) mean += v;
+      mean = e.empty() ? std::numeric_limits<double>::infinity() : mean / static_cast<double>(e.size());
+      if (mean < best) {
+        best = mean;
+        best_base = trial;
+      }
+    } catch (const std::exception& e) {
+      ++failed;
+      fail("base_structure", std::string("a setting's prediction failed: ") + e.what());
+    }
+    std::size_t q = 0;
+    while (q < at.size() && ++at[q] == grids[q].size()) at[q++] = 0;
+    if (q == at.size()) break;
+  }
+  base_ = best_base;
+  std::string names;
+  for (const auto& s : base_) {
+    EffectReport& r = result_.effects[s.candidate];
+    r.selected = true;
+    r.setting = s.setting;
+    r.theta = s.total;
+    r.theta_std = s.std;
+    names += (names.empty() ? "" : " + ") + effects[s.candidate]->kind() +
+             (effects[s.candidate]->settings().size() > 1
+                  ? " (" + effects[s.candidate]->setting_name().name + diagnosis_format(" %.3g)", s.setting)
+                  : std::string());
+  }
+  log("base model structure: " + (names.empty() ? std::string("none in the library") : names) +
+      (tried > 0 ? diagnosis_format(" (settings chosen on the fit phases: normalised error %.3f; %.0f of %.0f settings failed)",
+                                    best, failed, tried)
+                 : std::string()));
+}
+
+}  // namespace pushpred

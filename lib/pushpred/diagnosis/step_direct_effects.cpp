@@ -1,0 +1,48 @@
+// Step 3: effects with a test of their own (force offset from the samples before contact, time offset by a
+// search against the friction law). Found when the test passes and the amount is at or above the floor; a found
+// data correction is applied before the next effect is tested.
+#include <cmath>
+
+#include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
+
+namespace pushpred {
+
+void DiagnosisRun::direct_effects() {
+  const auto& effects = library_.effects();
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    if (effects[i]->test() != EffectTest::Direct || is_base(i)) continue;
+    const DirectFit f = effects[i]->fit_directly(data_);
+    EffectReport& r = result_.effects[i];
+    r.score = f.score;
+    r.theta = f.theta;
+    r.theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+    r.note = f.note;
+    log(effects[i]->kind() + diagnosis_format(": direct fit on %.0f samples (effective %.1f), score %.1f",
+                                              static_cast<double>(f.samples), f.effective_samples, f.score));
+    if (!std::isfinite(f.score)) {
+      if (r.note.empty()) r.note = "its test could not be made on these data";
+      continue;
+    }
+    const std::string why = effects[i]->implausible(f.theta);
+    if (!why.empty()) {
+      r.note = "fitted outside the physical range (" + why + "): not this effect";
+      continue;
+    }
+    if (!(f.score > o_.bic_threshold)) continue;
+    r.passed_test = true;
+    if (!above_floor(i, f.theta)) {
+      r.negligible = true;
+      r.note = "significant, negligible: " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit +
+               " is below its floor " + diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit + " (" +
+               r.floor.basis + ")";
+      log("  significant, but below its floor: negligible");
+      continue;
+    }
+    selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, f.score});
+    log("  found");
+    rebuild_data(correction_of(selected_, false));
+  }
+}
+
+}  // namespace pushpred

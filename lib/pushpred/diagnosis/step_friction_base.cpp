@@ -1,0 +1,81 @@
+// Step 2: the base model's friction law, fitted on the fit pushes, and the floors measured with it.
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
+#include "pushpred/diagnosis/effect_floor.hpp"
+
+namespace pushpred {
+
+void DiagnosisRun::friction_base() { measure_floors(true); }
+
+// Fits the base friction law on the current data (so after the direct effects' corrections the floors use the
+// corrected friction) and measures the floors; `add_law` also puts the law into the model.
+void DiagnosisRun::measure_floors(bool add_law) {
+  const auto& effects = library_.effects();
+  std::optional<std::size_t> law;
+  for (std::size_t i = 0; i < effects.size() && !law; ++i)
+    if (effects[i]->replaces_relation() && effects[i]->test() == EffectTest::Regression) law = i;
+  double mu = 0, spread = 0;
+  if (!law) {
+    fail("friction_base", "the library has no friction law that replaces the relation (coulomb_friction): physical "
+                          "effects that need one are not tested, and the floors use no friction force");
+  } else {
+    const std::size_t i = *law;
+    const EffectColumns cols = columns(i, 0.0);
+    const ResidualRegression regression(data_, Relation::Friction);
+    const RegressionFit f = regression.fit({&cols});
+    if (!f.identifiable || !f.theta.allFinite())
+      throw InputError("the friction law " + effects[i]->kind() + " is not identifiable on the fit pushes (the object "
+                       "hardly slides)");
+    const Eigen::Index k = f.theta.size();
+    EffectReport& r = result_.effects[i];
+    r.theta = f.theta;
+    r.theta_std = f.standard_error();
+    r.score = f.wald(0, k) - static_cast<double>(k) * log_neff_;
+    r.passed_test = r.score > o_.bic_threshold;
+    if (add_law) selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score});
+    log(effects[i]->kind() + diagnosis_format(" (base model): %.4g +- %.2g, score %.1f", f.theta(0), r.theta_std(0),
+                                              r.score));
+    mu = f.theta(0);
+    // The surface's own variation: the law fitted on each push alone.
+    if (data_.size() >= 3) {
+      std::vector<double> own;
+      for (const auto& d : data_) {
+        try {
+          const std::vector<DiagnosisPush> one{d};
+          const EffectColumns c1 = [&] {
+            EffectColumns out(cols.size(), std::vector<Eigen::MatrixX3d>(1));
+            for (std::size_t j = 0; j < cols.size(); ++j) out[j][0] = cols[j][&d - data_.data()];
+            return out;
+          }();
+          const RegressionFit g = ResidualRegression(one, Relation::Friction).fit({&c1});
+          if (g.identifiable && g.theta.allFinite()) own.push_back(g.theta(0));
+        } catch (const std::exception&) {
+          // A push too short or stuck throughout says nothing about the spread.
+        }
+      }
+      if (own.size() >= 3) {
+        double m = 0, v = 0;
+        for (double x : own) m += x;
+        m /= static_cast<double>(own.size());
+        for (double x : own) v += (x - m) * (x - m);
+        spread = std::sqrt(v / static_cast<double>(own.size() - 1));
+      }
+    }
+  }
+  result_.floor_context = measure_floor_context(data_, mu, spread, o_.relevance_fraction);
+  const FloorContext& c = result_.floor_context;
+  log(diagnosis_format("floors: friction force mu m g = %.2f N (mu %.3f, push-to-push spread %.3f), ", c.friction_force_N(),
+                       c.friction_coefficient, c.friction_spread) +
+      diagnosis_format("sliding speed %.1f mm/s, large acceleration %.2f m/s^2, ", 1e3 * c.sliding_speed_m_s,
+                       c.acceleration_m_s2) +
+      diagnosis_format("travel %.1f mm", 1e3 * c.travel_m));
+  for (std::size_t i = 0; i < effects.size(); ++i)
+    if (!is_base(i)) result_.effects[i].floor = effects[i]->floor(c);
+}
+
+}  // namespace pushpred

@@ -1,0 +1,179 @@
+// Step 6: the final model's residual on the fit data, and its prediction errors on the test phases beside the
+// paper's method, the base model and the references; each found effect's held-out contribution.
+#include <functional>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/corrected_prediction.hpp"
+#include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
+
+namespace pushpred {
+
+namespace {
+
+/// The regression effects of `selected` in `group` and their amounts as the residual sees them (data corrections
+/// are applied to the data: their residual share is zero).
+Eigen::VectorXd residual_amounts(const std::vector<Selection>& selected, const EffectLibrary& library,
+                                 const std::function<bool(std::size_t)>& in_group) {
+  Eigen::VectorXd theta(0);
+  for (const auto& s : selected) {
+    if (!in_group(s.candidate)) continue;
+    const Eigen::Index n = theta.size();
+    theta.conservativeResize(n + s.total.size());
+    theta.segment(n, s.total.size()) =
+        library.effects()[s.candidate]->corrects_data() ? Eigen::VectorXd::Zero(s.total.size()) : s.total;
+  }
+  return theta;
+}
+
+}  // namespace
+
+void DiagnosisRun::held_out() {
+  const auto& effects = library_.effects();
+  // The reports of what was found.
+  for (const auto& s : selected_) {
+    EffectReport& r = result_.effects[s.candidate];
+    r.selected = true;
+    r.note.clear();
+    if (s.total.size() > 0) {
+      r.theta = s.total;
+      r.theta_std = s.std;
+    }
+    r.setting = s.setting;
+    r.score = s.score;
+    if (!is_base(s.candidate)) {
+      r.amount = effects[s.candidate]->amount(s.total);
+      r.floor = effects[s.candidate]->floor(result_.floor_context);
+    }
+  }
+  for (std::size_t i = 0; i < effects.size(); ++i)
+    if (result_.effects[i].theta.size() > 0) result_.effects[i].derived = effects[i]->derived(result_.effects[i].theta);
+  std::vector<Selection> model = selected_;
+  model.insert(model.end(), base_.begin(), base_.end());
+  result_.correction = correction_of(model, true);
+
+  // The residual on the fit data: against the linear relation, and against the friction law.
+  {
+    const auto linear = [&](std::size_t c) {
+      return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Linear;
+    };
+    const auto friction = [&](std::size_t c) {
+      return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Friction;
+    };
+    std::vector<EffectColumns> storage;
+    std::vector<Selection> linear_only;
+    for (const auto& s : selected_)
+      if (linear(s.candidate)) linear_only.push_back(s);
+    for (const auto& s : linear_only) storage.push_back(columns(s.candidate, s.setting));
+    std::vector<const EffectColumns*> pointers;
+    for (const auto& c : storage) pointers.push_back(&c);
+    const ResidualRegression final_regression(data_, Relation::Linear);
+    const std::vector<Eigen::MatrixX3d> residual_after =
+        final_regression.residuals(pointers, residual_amounts(linear_only, library_, linear));
+    Eigen::Vector3d before2 = Eigen::Vector3d::Zero(), after2 = Eigen::Vector3d::Zero();
+    double rows = 0;
+    result_.residuals.clear();
+    for (std::size_t p = 0; p < data_.size(); ++p) {
+      if (p < residual_before_.size() && residual_before_[p].rows() == residual_after[p].rows())
+        before2 += residual_before_[p].colwise().squaredNorm().transpose();
+      after2 += residual_after[p].colwise().squaredNorm().transpose();
+      rows += static_cast<double>(data_[p].rows());
+      result_.residuals.push_back({data_[p].push.source, data_[p].estimate.t_s,
+                                   p < residual_before_.size() ? residual_before_[p] : residual_after[p],
+                                   residual_after[p], {}});
+    }
+    result_.residual_std_before = (before2 / rows).cwiseSqrt();
+    result_.residual_std_after = (after2 / rows).cwiseSqrt();
+    std::vector<EffectColumns> friction_storage;
+    std::vector<Selection> friction_only;
+    bool law = false;
+    for (const auto& s : selected_)
+      if (friction(s.candidate)) {
+        law = law || effects[s.candidate]->replaces_relation();
+        friction_only.push_back(s);
+        friction_storage.push_back(columns(s.candidate, s.setting));
+      }
+    if (law) {
+      std::vector<const EffectColumns*> fp;
+      for (const auto& c : friction_storage) fp.push_back(&c);
+      const ResidualRegression against_friction(data_, Relation::Friction);
+      Eigen::Vector3d f2 = Eigen::Vector3d::Zero();
+      const std::vector<Eigen::MatrixX3d> fr =
+          against_friction.residuals(fp, residual_amounts(friction_only, library_, friction));
+      for (std::size_t p = 0; p < fr.size(); ++p) {
+        f2 += fr[p].colwise().squaredNorm().transpose();
+        result_.residuals[p].friction = fr[p];
+      }
+      result_.friction_residual_std = (f2 / rows).cwiseSqrt();
+    }
+  }
+
+  // The test phases: the corrected model (base + found), and the base model alone.
+  StudyOptions so = o_.study;
+  so.correction = std::make_shared<CorrectedPrediction>(result_.correction, o_.observer);
+  std::vector<PushStudy> test_studies;
+  std::vector<const SynchronisedPush*> tested;
+  for (const auto* p : test_pointers()) {
+    try {
+      test_studies.push_back(run_prediction_study(*p, so));
+      tested.push_back(p);
+    } catch (const std::exception& e) {
+      result_.failures.push_back({p->source, std::string("corrected model: ") + e.what()});
+    }
+  }
+  if (test_studies.empty()) throw InputError("diagnosis: the corrected model failed on every test push");
+  const auto tp = test_phases(test_studies);
+  result_.error_before = summarise_errors(tp, "dob");
+  result_.error_after = summarise_errors(tp, kCorrectedMethod);
+  result_.hold = summarise_errors(tp, "hold");
+  result_.const_velocity = summarise_errors(tp, "const_velocity");
+  result_.dob_velinit = summarise_errors(tp, "dob_velinit");
+  result_.test_phases.clear();
+  for (const auto& sp : tp) {
+    const PhaseResult& r = sp.study->phases[sp.phase];
+    PhaseTrace trace;
+    trace.source = sp.study->source;
+    trace.phase = r.phase;
+    trace.t0_s = r.interval.t0_s;
+    trace.t_s = (r.t_s.array() - r.interval.t0_s).matrix();
+    for (const char* m : {"dob", kCorrectedMethod, "hold", "const_velocity"})
+      trace.error[m] = r.predicted.at(m) - r.measured;
+    result_.test_phases.push_back(std::move(trace));
+  }
+  const std::vector<Selection> base = base_selections();
+  const bool found_any = base.size() < model.size();
+  if (!found_any) {
+    result_.error_base = result_.error_after;
+  } else {
+    try {
+      result_.error_base = summarise_errors(test_phases(studies(tested, correction_of(base, true))), kCorrectedMethod);
+    } catch (const std::exception& e) {
+      fail("held_out", std::string("the base model's prediction failed: ") + e.what());
+    }
+  }
+  // What each found effect contributes on the test phases (reported only, never used to decide).
+  for (std::size_t k = 0; k < selected_.size(); ++k) {
+    if (is_base(selected_[k].candidate)) continue;
+    std::vector<Selection> without = model;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
+    try {
+      EffectReport& r = result_.effects[selected_[k].candidate];
+      r.held_out_without = summarise_errors(test_phases(studies(tested, correction_of(without, true))), kCorrectedMethod);
+      r.has_ablation = true;
+    } catch (const std::exception& e) {
+      fail("held_out", effects[selected_[k].candidate]->kind() + " left out: " + e.what());
+    }
+  }
+  try {
+    const auto fit = studies(fit_pointers(), result_.correction);
+    const auto fp = fit_phases(fit);
+    result_.fit_before = summarise_errors(fp, "dob");
+    result_.fit_after = summarise_errors(fp, kCorrectedMethod);
+    result_.fit_hold = summarise_errors(fp, "hold");
+    result_.fit_const_velocity = summarise_errors(fp, "const_velocity");
+  } catch (const std::exception& e) {
+    fail("held_out", std::string("the corrected model on the fit pushes: ") + e.what());
+  }
+}
+
+}  // namespace pushpred
