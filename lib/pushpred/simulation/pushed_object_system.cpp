@@ -55,6 +55,19 @@ PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectPrope
   const Footprint footprint = make_footprint(outline_);
   const Eigen::Vector2d g =
       footprint.total_area_m2 * footprint.second_moment_m4.inverse() * (object.mass_centre_m - footprint.centroid_m);
+  // The radial shape about the centroid (symmetric footprints keep their centre of pressure there).
+  std::vector<double> radial(footprint.area_m2.size(), 1.0);
+  if (support.pressure_rim_weight != 0) {
+    if (!(support.pressure_rim_weight >= -0.5 && support.pressure_rim_weight <= 1))
+      throw InputError("pressure rim weight must be in [-0.5, 1]");
+    double mean_r2 = 0;
+    for (size_t i = 0; i < radial.size(); ++i)
+      mean_r2 += footprint.area_m2[i] * (footprint.centre_m[i] - footprint.centroid_m).squaredNorm();
+    mean_r2 /= footprint.total_area_m2;
+    for (size_t i = 0; i < radial.size(); ++i)
+      radial[i] = std::max(0.0, 1 + support.pressure_rim_weight *
+                          ((footprint.centre_m[i] - footprint.centroid_m).squaredNorm() / mean_r2 - 1));
+  }
   double total = 0;
   load_.resize(footprint.area_m2.size());
   for (size_t i = 0; i < load_.size(); ++i) {
@@ -64,7 +77,7 @@ PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectPrope
                        std::to_string(object.mass_centre_m.y()) +
                        ") m is too far from the footprint's centroid: the pressure under the object would turn "
                        "negative");
-    load_[i] = p * footprint.area_m2[i];
+    load_[i] = p * footprint.area_m2[i] * radial[i];
     total += load_[i];
   }
   for (auto& l : load_) l *= object.mass_kg * support.gravity_m_s2 / total;

@@ -51,6 +51,8 @@ struct SupportFriction {
   double patch_radius_m = 0.02;
   double patch_edge_m = 0.002;  ///< width of the smooth step at the patch rim
   double viscous_per_kg = 0;    ///< extra drag -c m v and -c I omega [1/s = N s/m per kg]
+  /// Radial shape of the pressure (PushScenario::pressure_rim_weight): p ~ 1 + w (|r - c|^2 / <|r - c|^2> - 1).
+  double pressure_rim_weight = 0;
 };
 
 struct RodContact {

@@ -140,6 +140,8 @@ void PushScenario::validate() const {
       "surface name '" + surface + "' must be letters and digits (it goes into the file name)");
   require(surface_friction > 0 && std::isfinite(surface_friction), "surface friction must be positive");
   require(contact_friction >= 0 && std::isfinite(contact_friction), "contact friction must not be negative");
+  require(contact_stiffness_N_m >= 1e3 && contact_stiffness_N_m <= 1e6, "contact stiffness must be in [1e3, 1e6] N/m");
+  require(pressure_rim_weight >= -0.5 && pressure_rim_weight <= 1, "pressure rim weight must be in [-0.5, 1]");
   if (motion.profile == PusherMotion::Profile::ConstantSpeed)
     require(motion.speed_m_s > 0 && motion.speed_m_s <= 2.0, "push speed must be in (0, 2] m/s");
   else
@@ -165,6 +167,7 @@ void PushScenario::validate() const {
 PushScenario scenario_from_json(const nlohmann::json& j, const std::string& source) {
   static const std::set<std::string> known = {
       "name",           "comment",           "shape",         "surface",       "surface_friction", "contact_friction",
+      "contact_stiffness_N_m", "pressure_rim_weight",
       "speed_m_s",      "acceleration_m_s2", "push_length_m", "ramp_s",        "contact_side",     "contact_position",
       "push_angle_rad", "approach_gap_m",    "initial_pose",  "rest_before_s", "rest_after_s",     "start_unix_s",
       "seed",           "effects",           "sensors"};
@@ -192,6 +195,8 @@ PushScenario scenario_from_json(const nlohmann::json& j, const std::string& sour
     s.surface = text("surface", s.surface);
     s.surface_friction = number("surface_friction", s.surface_friction);
     s.contact_friction = number("contact_friction", s.contact_friction);
+    s.contact_stiffness_N_m = number("contact_stiffness_N_m", s.contact_stiffness_N_m);
+    s.pressure_rim_weight = number("pressure_rim_weight", s.pressure_rim_weight);
     const bool has_speed = j.contains("speed_m_s"), has_accel = j.contains("acceleration_m_s2");
     const double speed = number("speed_m_s", 0.0), accel = number("acceleration_m_s2", 0.0);
     require(!(has_speed && has_accel && speed > 0 && accel > 0),
@@ -271,6 +276,8 @@ nlohmann::json scenario_to_json(const PushScenario& s) {
   j["surface"] = s.surface;
   j["surface_friction"] = s.surface_friction;
   j["contact_friction"] = s.contact_friction;
+  j["contact_stiffness_N_m"] = s.contact_stiffness_N_m;
+  j["pressure_rim_weight"] = s.pressure_rim_weight;
   if (s.motion.profile == PusherMotion::Profile::ConstantAcceleration)
     j["acceleration_m_s2"] = s.motion.acceleration_m_s2;
   else

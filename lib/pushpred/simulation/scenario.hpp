@@ -69,6 +69,12 @@ struct PushScenario {
   /// their measured force level (docs/simulator.md); the paper quotes 0.13-0.15 for abs.
   double surface_friction = 0.47;
   double contact_friction = 0.25;  ///< Coulomb mu, rod on object
+  /// Stiffness of the rod contact (arm, sensor and contact together) [N/m]; docs/simulator.md.
+  double contact_stiffness_N_m = 1e4;
+  /// Shape of the support pressure: 0 uniform (then tilted under the mass centre); w > 0 loads the rim more (a
+  /// slightly concave base), w < 0 the middle (a convex one): p ~ 1 + w (|r - c|^2 / <|r - c|^2> - 1). Range
+  /// [-0.5, 1]. It changes the friction torque for a given force, which real objects show.
+  double pressure_rim_weight = 0;
   PusherMotion motion;             ///< speed or acceleration, length, ramp
   int contact_side = 0;
   double contact_position = 0.5;  ///< 0..1 along the side

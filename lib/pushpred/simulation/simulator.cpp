@@ -51,6 +51,7 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
   const Outline::Closest side = outline.point_on_side(scenario.contact_side, scenario.contact_position);
   RodContact contact;
   contact.friction = scenario.contact_friction;
+  contact.stiffness_N_m = scenario.contact_stiffness_N_m;
   const Eigen::Vector2d start_body = side.point_m + (contact.rod_radius_m + scenario.approach_gap_m) * side.normal;
   const Eigen::Vector2d direction_body = rotation(scenario.push_angle_rad) * (-side.normal);
   const Eigen::Vector3d pose0(scenario.initial_x_m, scenario.initial_y_m, scenario.initial_yaw_rad);
@@ -62,6 +63,7 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
   SupportFriction support;
   support.coefficient = scenario.surface_friction;
   support.viscous_per_kg = fx.viscous_per_kg;
+  support.pressure_rim_weight = scenario.pressure_rim_weight;
   support.stribeck_excess = fx.stribeck_excess;
   support.patch_excess = fx.position_friction_excess;
   // The patch lies on the push line, kPatchAlongPath_m beyond the object's leading point at the start: the object

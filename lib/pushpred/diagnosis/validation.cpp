@@ -1,0 +1,240 @@
+#include "pushpred/diagnosis/validation.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <thread>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/simulation/outline.hpp"
+#include "pushpred/simulation/simulator.hpp"
+
+namespace pushpred {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+const std::vector<std::string> kShapes{"rect1", "rect2", "rect3", "ellip1", "ellip2", "ellip3", "hex"};
+const std::vector<double> kSpeeds_m_s{0.01, 0.02, 0.05, 0.075, 0.1, 0.15};
+const std::vector<double> kAccelerations_m_s2{0.2, 0.5, 1.0, 2.5};
+
+template <class T>
+const T& pick(std::mt19937_64& rng, const std::vector<T>& v) {
+  return v[std::uniform_int_distribution<std::size_t>(0, v.size() - 1)(rng)];
+}
+
+double uniform(std::mt19937_64& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
+
+/// The peak acceleration of the pusher on a push: the raised-cosine ramp's pi v / (2 ramp), or the constant one.
+double push_acceleration(const PusherMotion& m) {
+  if (m.profile == PusherMotion::Profile::ConstantAcceleration) return m.acceleration_m_s2;
+  return M_PI * m.speed_m_s / (2 * m.ramp_s);
+}
+
+/// The typical speed while sliding: the cruise speed, or for an acceleration push the mean speed sqrt(a L / 2).
+double push_speed(const PusherMotion& m) {
+  if (m.profile == PusherMotion::Profile::ConstantAcceleration) return std::sqrt(m.acceleration_m_s2 * m.length_m / 2);
+  return m.speed_m_s;
+}
+
+}  // namespace
+
+void ValidationOptions::validate() const {
+  if (trials_per_kind < 1) throw InputError("validation: at least one trial per kind");
+  if (min_pushes < 2 || max_pushes < min_pushes)
+    throw InputError("validation: pushes per trial must be at least 2, and the maximum not below the minimum");
+  if (!(min_floor_multiple > 0) || !(max_floor_multiple >= min_floor_multiple))
+    throw InputError("validation: floor multiples must be positive, the maximum not below the minimum");
+  if (jobs < 1) throw InputError("validation: --jobs must be at least 1");
+  for (const auto& k : kinds)
+    if (k != "none") effect_info(k);  // throws for an unknown kind, naming the known ones
+  diagnosis.validate();
+}
+
+std::vector<std::string> default_validation_kinds() {
+  std::vector<std::string> out{"none"};
+  for (const auto& e : effect_catalogue()) out.push_back(e.name);
+  return out;
+}
+
+FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, double relevance_fraction) {
+  if (scenarios.empty()) throw InputError("validation: no scenario");
+  const ShapeInfo& shape = ShapeTable::published().find(scenarios.front().shape);
+  FloorContext c;
+  c.mass_kg = shape.mass_kg;
+  c.inertia_kgm2 = shape.inertia_kgm2;
+  c.radius_of_gyration_m = std::sqrt(shape.inertia_kgm2 / shape.mass_kg);
+  c.friction_coefficient = scenarios.front().surface_friction;
+  c.relevance_fraction = relevance_fraction;
+  c.sample_period_s = 0.004;  // the rig's force stream, 250 Hz (docs/data.md)
+  double v2 = 0, travel = 0, accel = 0;
+  for (const auto& s : scenarios) {
+    v2 += push_speed(s.motion) * push_speed(s.motion);
+    travel += s.motion.length_m;
+    accel = std::max(accel, push_acceleration(s.motion));
+  }
+  const double n = static_cast<double>(scenarios.size());
+  c.sliding_speed_m_s = std::sqrt(v2 / n);
+  c.travel_m = travel / n;
+  c.acceleration_m_s2 = accel;
+  return c;
+}
+
+double simulator_floor(const std::string& kind, const FloorContext& c) {
+  const auto effect = EffectLibrary::standard().find(kind);
+  if (!effect) throw InputError("validation: no candidate effect for the simulator's '" + kind + "'");
+  const double floor = effect->floor(c).amount;
+  if (kind == "force_offset") return floor / std::sqrt(2.0);             // the sim's amount is per axis
+  if (kind == "stribeck_friction") return floor / c.friction_coefficient;  // the sim's is relative to mu
+  if (kind == "position_friction") return c.relevance_fraction;          // the patch's relative excess
+  return floor;  // time_offset [s], viscous_friction [1/s], com_offset [m], inertia_mismatch |factor - 1|
+}
+
+std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int index, const std::string& kind,
+                                                ValidationTrial& trial) {
+  const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(index);
+  std::mt19937_64 rng(seed);
+  trial.index = index;
+  trial.seed = seed;
+  trial.true_kind = kind;
+  trial.shape = pick(rng, kShapes);
+  trial.surface_friction = uniform(rng, 0.2, 0.6);
+  trial.contact_friction = uniform(rng, 0.1, 0.4);
+  trial.contact_stiffness_N_m = std::exp(uniform(rng, std::log(5e3), std::log(3e4)));
+  trial.pressure_rim_weight = uniform(rng, -0.3, 0.6);
+  trial.pushes = std::uniform_int_distribution<int>(o.min_pushes, o.max_pushes)(rng);
+  const int sides = Outline(ShapeTable::published().find(trial.shape)).side_count();
+  std::vector<PushScenario> out;
+  for (int k = 0; k < trial.pushes; ++k) {
+    PushScenario s;
+    s.name = "validation trial " + std::to_string(index) + " push " + std::to_string(10 + k);
+    s.shape = trial.shape;
+    s.surface_friction = trial.surface_friction;
+    s.contact_friction = trial.contact_friction;
+    s.contact_stiffness_N_m = trial.contact_stiffness_N_m;
+    s.pressure_rim_weight = trial.pressure_rim_weight;
+    if (uniform(rng, 0, 1) < 0.3) {
+      s.motion.profile = PusherMotion::Profile::ConstantAcceleration;
+      s.motion.acceleration_m_s2 = pick(rng, kAccelerations_m_s2);
+    } else {
+      s.motion.speed_m_s = pick(rng, kSpeeds_m_s);
+    }
+    s.motion.length_m = uniform(rng, 0.025, 0.05);
+    s.contact_side = std::uniform_int_distribution<int>(0, sides - 1)(rng);
+    s.contact_position = uniform(rng, 0.25, 0.75);
+    s.push_angle_rad = uniform(rng, -0.35, 0.35);
+    s.initial_yaw_rad = uniform(rng, -M_PI, M_PI);
+    s.seed = rng();
+    out.push_back(s);
+  }
+  if (kind != "none") {
+    trial.floor = simulator_floor(kind, scenario_floor_context(out, o.diagnosis.relevance_fraction));
+    trial.floor_multiple = uniform(rng, o.min_floor_multiple, o.max_floor_multiple);
+    const double sign = kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch"
+                            ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
+                            : 1.0;
+    double size = trial.floor_multiple * trial.floor;
+    if (kind == "inertia_mismatch" && sign < 0) size = std::min(size, 0.5);  // a factor of 0.5 at the least
+    trial.amount = kind == "inertia_mismatch" ? 1 + sign * size : sign * size;
+    if (kind == "inertia_mismatch") trial.floor_multiple = std::abs(trial.amount - 1) / trial.floor;
+    for (auto& s : out) s.effects.set(kind, trial.amount);
+  }
+  return out;
+}
+
+namespace {
+
+/// The diagnosis's amount of `kind` in the simulator's unit.
+double fitted_in_simulator_units(const EffectReport& e, const std::string& kind, double mu) {
+  if (e.theta.size() == 0) return kNaN;
+  if (kind == "force_offset") return e.theta.size() >= 2 ? 0.5 * (e.theta(0) + e.theta(1)) : kNaN;
+  if (kind == "stribeck_friction") return e.theta(0) / mu;
+  if (kind == "position_friction") return kNaN;  // a step patch against a linear gradient: not comparable
+  if (kind == "inertia_mismatch") return 1 + e.theta(0);
+  return e.theta(0);  // time_offset, viscous_friction, com_offset (delta_x)
+}
+
+void run_trial(const ValidationOptions& o, ValidationTrial& trial, const std::string& kind) {
+  try {
+    const std::vector<PushScenario> scenarios = draw_validation_trial(o, trial.index, kind, trial);
+    std::vector<SynchronisedPush> pushes;
+    const ShapeInfo& shape = ShapeTable::published().find(trial.shape);
+    for (const auto& s : scenarios) pushes.push_back(synchronise(as_read(simulate_push(s).recording), shape));
+    const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), o.diagnosis);
+    trial.fitted_amount = kNaN;
+    for (const auto& e : r.effects) {
+      if (e.structural) continue;
+      if (e.selected) trial.named.push_back(e.kind);
+      if (e.negligible) trial.negligible.push_back(e.kind);
+      if (e.kind == kind && e.selected) trial.fitted_amount = fitted_in_simulator_units(e, kind, trial.surface_friction);
+    }
+    trial.true_named = kind == "none" ? trial.named.empty()
+                                      : std::find(trial.named.begin(), trial.named.end(), kind) != trial.named.end();
+    trial.before = r.error_before;
+    trial.base = r.error_base;
+    trial.after = r.error_after;
+    trial.hold = r.hold;
+    trial.const_velocity = r.const_velocity;
+  } catch (const std::exception& e) {
+    trial.failure = e.what();
+  }
+}
+
+}  // namespace
+
+ValidationResult validate_diagnosis(const ValidationOptions& options, const std::function<void(int, int)>& progress) {
+  options.validate();
+  ValidationResult result;
+  result.options = options;
+  if (result.options.kinds.empty()) result.options.kinds = default_validation_kinds();
+  const auto& kinds = result.options.kinds;
+  const int total = options.trials_per_kind * static_cast<int>(kinds.size());
+  result.trials.resize(static_cast<std::size_t>(total));
+  // Trials interleave the kinds (index k draws kinds[k % K]), so a run cut short still covers every kind.
+  std::atomic<int> next{0}, done{0};
+  std::mutex progress_mutex;
+  const auto worker = [&] {
+    for (int k = next++; k < total; k = next++) {
+      ValidationTrial& t = result.trials[static_cast<std::size_t>(k)];
+      t.index = k;
+      run_trial(result.options, t, kinds[static_cast<std::size_t>(k) % kinds.size()]);
+      const int d = ++done;
+      if (progress) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        progress(d, total);
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < options.jobs; ++j) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  return result;
+}
+
+ValidationSummary summarise_validation(const ValidationResult& r) {
+  ValidationSummary s;
+  for (const auto& t : r.trials) {
+    ++s.trials;
+    if (!t.failure.empty()) {
+      ++s.failed;
+      continue;
+    }
+    if (t.true_kind == "none") {
+      ++s.clean_trials;
+      s.clean_nothing_named += t.named.empty();
+    } else if (t.floor_multiple >= 2) {
+      ++s.effect_trials_at_twice_floor;
+      s.named_at_twice_floor += t.true_named;
+    }
+    ++s.compared;
+    s.after_below_paper += t.after.pos_mm_mean < t.before.pos_mm_mean;
+    s.after_below_const_velocity += t.after.pos_mm_mean < t.const_velocity.pos_mm_mean;
+  }
+  return s;
+}
+
+}  // namespace pushpred

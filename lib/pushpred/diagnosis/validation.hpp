@@ -1,0 +1,88 @@
+#pragma once
+// Blind validation of the diagnosis over randomized physics (`pushpred validate-diagnosis`). Each trial draws a
+// scenario from ranges wider than the simulator's defaults: one of the dataset's objects with an outline, support
+// friction 0.2-0.6, pusher-object friction 0.1-0.4, contact stiffness 5e3-3e4 N/m, a support pressure loading the
+// rim or the middle (rim weight -0.3 to 0.6), push speeds of the dataset (10-150 mm/s) or accelerations
+// (0.2-2.5 m/s^2), sides, contact positions and angles, sensor noise seeds; one effect kind (or none) at an amount
+// drawn between `min_floor_multiple` and `max_floor_multiple` times its floor; 4-8 pushes; then the diagnosis,
+// which is told nothing of the draw.
+//
+// The floor of a trial's effect is the candidate's own floor (candidate_effect.hpp) evaluated on a FloorContext
+// made from the scenario's physics (scenario_floor_context), then put into the simulator's units
+// (simulation/scenario.hpp): the force offset's sim amount is per axis (|b| = sqrt 2 x amount), Stribeck's is
+// relative to mu, the friction patch's relative excess is floored at the relevance fraction itself.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/simulation/scenario.hpp"
+
+namespace pushpred {
+
+struct ValidationOptions {
+  int trials_per_kind = 20;
+  std::uint64_t seed = 1;  ///< trial k of the whole run uses seed + k: any trial can be re-run alone
+  /// Kinds to draw, "none" for clean trials; empty: "none" and every simulator effect.
+  std::vector<std::string> kinds;
+  int min_pushes = 4, max_pushes = 8;
+  double min_floor_multiple = 1, max_floor_multiple = 5;
+  DiagnosisOptions diagnosis;
+  int jobs = 1;  ///< trials run in parallel (results do not depend on it)
+  void validate() const;
+};
+
+/// The kinds drawn by default: "none" and every effect of the simulator's catalogue.
+std::vector<std::string> default_validation_kinds();
+
+struct ValidationTrial {
+  int index = 0;
+  std::uint64_t seed = 0;
+  std::string true_kind;  ///< "none" for a clean trial
+  double amount = 0;      ///< drawn, in the simulator's unit (signed)
+  double floor = 0;       ///< the effect's floor in the simulator's unit (0 for none)
+  double floor_multiple = 0;
+  std::string shape;
+  double surface_friction = 0, contact_friction = 0, contact_stiffness_N_m = 0, pressure_rim_weight = 0;
+  int pushes = 0;
+  std::vector<std::string> named;       ///< the physical effects the diagnosis found
+  std::vector<std::string> negligible;  ///< significant but below their floor
+  bool true_named = false;              ///< the true kind is among `named` (for none: nothing named)
+  /// The diagnosis's amount of the true kind in the simulator's unit (NaN when not found or not comparable).
+  double fitted_amount = 0;
+  ErrorSummary before, base, after, hold, const_velocity;
+  std::string failure;  ///< why the trial could not be diagnosed (empty: it was)
+};
+
+struct ValidationResult {
+  ValidationOptions options;
+  std::vector<ValidationTrial> trials;
+};
+
+/// A FloorContext from the physics of `scenarios` (one trial's pushes, sharing object and surface): mass and inertia
+/// of the shape table, the scenario's mu, the pushes' speeds, ramp or push accelerations and lengths.
+FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, double relevance_fraction);
+
+/// The floor of simulator effect `kind` in the simulator's units for `context`. Throws InputError for an unknown kind.
+double simulator_floor(const std::string& kind, const FloorContext& context);
+
+/// The pushes of trial `index` (kind and amount drawn inside): deterministic in (options.seed + index, kind).
+std::vector<PushScenario> draw_validation_trial(const ValidationOptions& options, int index, const std::string& kind,
+                                                ValidationTrial& trial);
+
+/// Runs every trial; `progress(done, total)` after each (from the calling thread's view: may be called from
+/// worker threads, one at a time).
+ValidationResult validate_diagnosis(const ValidationOptions& options,
+                                    const std::function<void(int, int)>& progress = {});
+
+/// Summary numbers of a validation, as the report states them.
+struct ValidationSummary {
+  int trials = 0, failed = 0;
+  int effect_trials_at_twice_floor = 0, named_at_twice_floor = 0;
+  int clean_trials = 0, clean_nothing_named = 0;
+  int after_below_paper = 0, after_below_const_velocity = 0, compared = 0;
+};
+ValidationSummary summarise_validation(const ValidationResult& result);
+
+}  // namespace pushpred

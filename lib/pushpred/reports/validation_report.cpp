@@ -1,0 +1,199 @@
+#include "pushpred/reports/validation_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "pushpred/core/version.hpp"
+
+namespace pushpred {
+
+nlohmann::json error_summary_json(const ErrorSummary& e);
+
+namespace {
+
+std::string fixed(double v, int digits = 2) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string percent(int a, int b) { return b > 0 ? fixed(100.0 * a / b, 0) + " % (" + std::to_string(a) + "/" + std::to_string(b) + ")" : "—"; }
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+nlohmann::json validation_json(const ValidationResult& r) {
+  const ValidationSummary s = summarise_validation(r);
+  nlohmann::json trials = nlohmann::json::array();
+  for (const auto& t : r.trials) {
+    nlohmann::json j = {{"index", t.index},
+                        {"seed", t.seed},
+                        {"true_kind", t.true_kind},
+                        {"amount", t.amount},
+                        {"floor", t.floor},
+                        {"floor_multiple", t.floor_multiple},
+                        {"shape", t.shape},
+                        {"surface_friction", t.surface_friction},
+                        {"contact_friction", t.contact_friction},
+                        {"contact_stiffness_N_m", t.contact_stiffness_N_m},
+                        {"pressure_rim_weight", t.pressure_rim_weight},
+                        {"pushes", t.pushes}};
+    if (!t.failure.empty()) {
+      j["failure"] = t.failure;
+    } else {
+      j["named"] = t.named;
+      j["negligible"] = t.negligible;
+      j["true_named"] = t.true_named;
+      j["fitted_amount"] = number_or_null(t.fitted_amount);
+      j["errors"] = {{"before", error_summary_json(t.before)},
+                     {"base", error_summary_json(t.base)},
+                     {"after", error_summary_json(t.after)},
+                     {"hold", error_summary_json(t.hold)},
+                     {"const_velocity", error_summary_json(t.const_velocity)}};
+    }
+    trials.push_back(j);
+  }
+  const auto& o = r.options;
+  return {{"pushpred_version", kVersion},
+          {"options",
+           {{"trials_per_kind", o.trials_per_kind},
+            {"seed", o.seed},
+            {"kinds", o.kinds},
+            {"pushes", {o.min_pushes, o.max_pushes}},
+            {"floor_multiples", {o.min_floor_multiple, o.max_floor_multiple}},
+            {"relevance_fraction", o.diagnosis.relevance_fraction},
+            {"bic_threshold", o.diagnosis.bic_threshold}}},
+          {"summary",
+           {{"trials", s.trials},
+            {"failed", s.failed},
+            {"effect_trials_at_twice_floor", s.effect_trials_at_twice_floor},
+            {"named_at_twice_floor", s.named_at_twice_floor},
+            {"clean_trials", s.clean_trials},
+            {"clean_nothing_named", s.clean_nothing_named},
+            {"after_below_paper", s.after_below_paper},
+            {"after_below_const_velocity", s.after_below_const_velocity},
+            {"compared", s.compared}}},
+          {"trials", trials}};
+}
+
+std::string validation_markdown(const ValidationResult& r) {
+  const ValidationSummary s = summarise_validation(r);
+  const auto& o = r.options;
+  std::ostringstream md;
+  md << "# Blind validation of the diagnosis\n\n"
+     << "pushpred " << kVersion << ". " << s.trials << " trials (" << o.trials_per_kind << " per kind), seeds "
+     << o.seed << " to " << o.seed + static_cast<std::uint64_t>(std::max(0, s.trials - 1)) << ", " << o.min_pushes
+     << "-" << o.max_pushes << " pushes each, effect amounts " << fixed(o.min_floor_multiple, 1) << "-"
+     << fixed(o.max_floor_multiple, 1) << " times their floor; relevance fraction "
+     << fixed(o.diagnosis.relevance_fraction, 3) << ", BIC threshold " << fixed(o.diagnosis.bic_threshold, 1)
+     << ". Scenarios and ranges: lib/pushpred/diagnosis/validation.hpp.";
+  if (s.failed > 0) md << " " << s.failed << " trial(s) could not be diagnosed (listed at the end).";
+  md << "\n\n## Targets\n\n| target | result | met |\n|---|---|---|\n";
+  const auto row = [&](const std::string& what, int a, int b, double need) {
+    const bool met = b > 0 && a >= need * b;
+    md << "| " << what << " | " << percent(a, b) << " | " << (met ? "yes" : "**no**") << " |\n";
+  };
+  row("right kind named, amount at least twice its floor (>= 90 %)", s.named_at_twice_floor,
+      s.effect_trials_at_twice_floor, 0.9);
+  row("nothing named on clean trials (>= 95 %)", s.clean_nothing_named, s.clean_trials, 0.95);
+  row("corrected below the paper's method, held out (every trial)", s.after_below_paper, s.compared, 1.0);
+  row("corrected below `const_velocity`, held out (>= 90 %)", s.after_below_const_velocity, s.compared, 0.9);
+
+  // Confusion matrix: rows true kind, columns named kinds (a trial naming two counts in both) and "nothing".
+  std::vector<std::string> columns = o.kinds;
+  columns.erase(std::remove(columns.begin(), columns.end(), "none"), columns.end());
+  for (const auto& t : r.trials)
+    for (const auto& n : t.named)
+      if (std::find(columns.begin(), columns.end(), n) == columns.end()) columns.push_back(n);
+  md << "\n## Confusion matrix\n\nRows: the kind the simulator carried; columns: what the diagnosis named (a trial "
+        "naming two kinds counts in both columns).\n\n| true \\ named | nothing";
+  for (const auto& c : columns) md << " | " << c;
+  md << " | trials |\n|---|---";
+  for (std::size_t k = 0; k <= columns.size(); ++k) md << "|---";
+  md << "|\n";
+  for (const auto& kind : o.kinds) {
+    int n = 0, nothing = 0;
+    std::map<std::string, int> named;
+    for (const auto& t : r.trials) {
+      if (t.true_kind != kind || !t.failure.empty()) continue;
+      ++n;
+      nothing += t.named.empty();
+      for (const auto& x : t.named) ++named[x];
+    }
+    md << "| " << kind << " | " << nothing;
+    for (const auto& c : columns) md << " | " << (c == kind ? "**" + std::to_string(named[c]) + "**" : std::to_string(named[c]));
+    md << " | " << n << " |\n";
+  }
+
+  md << "\n## Detection rate against the amount\n\nShare of trials naming the true kind, by the drawn amount in "
+        "floors; median relative amount error |fitted - truth| / |truth| where the diagnosis found it and the "
+        "amounts are comparable.\n\n| kind | 1-2 floors | 2-3 | 3-5 | median amount error |\n|---|---|---|---|---|\n";
+  for (const auto& kind : o.kinds) {
+    if (kind == "none") continue;
+    int hit[3] = {0, 0, 0}, all[3] = {0, 0, 0};
+    std::vector<double> errors;
+    for (const auto& t : r.trials) {
+      if (t.true_kind != kind || !t.failure.empty()) continue;
+      const int bin = t.floor_multiple < 2 ? 0 : t.floor_multiple < 3 ? 1 : 2;
+      ++all[bin];
+      hit[bin] += t.true_named;
+      if (std::isfinite(t.fitted_amount)) {
+        const double truth = kind == "inertia_mismatch" ? t.amount - 1 : t.amount;
+        const double fitted = kind == "inertia_mismatch" ? t.fitted_amount - 1 : t.fitted_amount;
+        if (truth != 0) errors.push_back(std::abs(fitted - truth) / std::abs(truth));
+      }
+    }
+    std::string median = "—";
+    if (!errors.empty()) {
+      std::sort(errors.begin(), errors.end());
+      median = fixed(100 * errors[errors.size() / 2], 0) + " %";
+    }
+    md << "| " << kind << " | " << percent(hit[0], all[0]) << " | " << percent(hit[1], all[1]) << " | "
+       << percent(hit[2], all[2]) << " | " << median << " |\n";
+  }
+
+  md << "\n## False findings on clean trials\n\n";
+  int clean_false = 0;
+  for (const auto& t : r.trials) {
+    if (t.true_kind != "none" || !t.failure.empty() || t.named.empty()) continue;
+    ++clean_false;
+    std::string names;
+    for (const auto& n : t.named) names += (names.empty() ? "" : ", ") + n;
+    md << "- trial " << t.index << " (seed " << t.seed << ", " << t.shape << ", mu " << fixed(t.surface_friction)
+       << "): " << names << "\n";
+  }
+  if (clean_false == 0) md << "None.\n";
+
+  md << "\n## Held-out prediction error\n\nMean over trials of each trial's mean per-phase error, pos [mm] / yaw "
+        "[deg]. `base`: the corrected base model; `after`: the base model plus what was found.\n\n"
+        "| true kind | paper `dob` | base | after | `hold` | `const_velocity` |\n|---|---|---|---|---|---|\n";
+  for (const auto& kind : o.kinds) {
+    double sums[5][2] = {};
+    int n = 0;
+    for (const auto& t : r.trials) {
+      if (t.true_kind != kind || !t.failure.empty()) continue;
+      ++n;
+      const ErrorSummary* e[5] = {&t.before, &t.base, &t.after, &t.hold, &t.const_velocity};
+      for (int m = 0; m < 5; ++m) {
+        sums[m][0] += e[m]->pos_mm_mean;
+        sums[m][1] += e[m]->theta_deg_mean;
+      }
+    }
+    if (n == 0) continue;
+    md << "| " << kind;
+    for (int m = 0; m < 5; ++m) md << " | " << fixed(sums[m][0] / n) << " / " << fixed(sums[m][1] / n);
+    md << " |\n";
+  }
+  if (s.failed > 0) {
+    md << "\n## Trials that could not be diagnosed\n\n";
+    for (const auto& t : r.trials)
+      if (!t.failure.empty()) md << "- trial " << t.index << " (seed " << t.seed << ", " << t.true_kind << "): " << t.failure << "\n";
+  }
+  return md.str();
+}
+
+}  // namespace pushpred
