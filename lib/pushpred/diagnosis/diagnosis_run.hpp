@@ -83,7 +83,7 @@ class DiagnosisRun {
   void fail(const std::string& step, const std::string& what);
   bool is_base(std::size_t candidate) const;
 
-  const EffectLibrary& library_;
+  EffectLibrary library_;  // a copy: shared effects, so a temporary library may be passed
   DiagnosisOptions o_;
   DiagnosisResult result_;
   bool single_ = false;

@@ -160,30 +160,40 @@ double fitted_in_simulator_units(const EffectReport& e, const std::string& kind,
 void run_trial(const ValidationOptions& o, ValidationTrial& trial, const std::string& kind) {
   try {
     const std::vector<PushScenario> scenarios = draw_validation_trial(o, trial.index, kind, trial);
-    std::vector<SynchronisedPush> pushes;
-    const ShapeInfo& shape = ShapeTable::published().find(trial.shape);
-    for (const auto& s : scenarios) pushes.push_back(synchronise(as_read(simulate_push(s).recording), shape));
-    const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), o.diagnosis);
-    trial.fitted_amount = kNaN;
-    for (const auto& e : r.effects) {
-      if (e.structural) continue;
-      if (e.selected) trial.named.push_back(e.kind);
-      if (e.negligible) trial.negligible.push_back(e.kind);
-      if (e.kind == kind && e.selected) trial.fitted_amount = fitted_in_simulator_units(e, kind, trial.surface_friction);
-    }
-    trial.true_named = kind == "none" ? trial.named.empty()
-                                      : std::find(trial.named.begin(), trial.named.end(), kind) != trial.named.end();
-    trial.before = r.error_before;
-    trial.base = r.error_base;
-    trial.after = r.error_after;
-    trial.hold = r.hold;
-    trial.const_velocity = r.const_velocity;
+    score_trial(diagnose(simulate_trial(scenarios), EffectLibrary::standard(), o.diagnosis), trial);
   } catch (const std::exception& e) {
     trial.failure = e.what();
   }
 }
 
 }  // namespace
+
+std::vector<SynchronisedPush> simulate_trial(const std::vector<PushScenario>& scenarios) {
+  std::vector<SynchronisedPush> pushes;
+  for (const auto& s : scenarios)
+    pushes.push_back(synchronise(as_read(simulate_push(s).recording), ShapeTable::published().find(s.shape)));
+  return pushes;
+}
+
+void score_trial(const DiagnosisResult& r, ValidationTrial& trial) {
+  const std::string& kind = trial.true_kind;
+  trial.named.clear();
+  trial.negligible.clear();
+  trial.fitted_amount = kNaN;
+  for (const auto& e : r.effects) {
+    if (e.structural) continue;
+    if (e.selected) trial.named.push_back(e.kind);
+    if (e.negligible) trial.negligible.push_back(e.kind);
+    if (e.kind == kind && e.selected) trial.fitted_amount = fitted_in_simulator_units(e, kind, trial.surface_friction);
+  }
+  trial.true_named = kind == "none" ? trial.named.empty()
+                                    : std::find(trial.named.begin(), trial.named.end(), kind) != trial.named.end();
+  trial.before = r.error_before;
+  trial.base = r.error_base;
+  trial.after = r.error_after;
+  trial.hold = r.hold;
+  trial.const_velocity = r.const_velocity;
+}
 
 ValidationResult validate_diagnosis(const ValidationOptions& options, const std::function<void(int, int)>& progress) {
   options.validate();

@@ -71,6 +71,11 @@ double simulator_floor(const std::string& kind, const FloorContext& context);
 std::vector<PushScenario> draw_validation_trial(const ValidationOptions& options, int index, const std::string& kind,
                                                 ValidationTrial& trial);
 
+/// The trial's pushes simulated and synchronised as load_push would read them from files.
+std::vector<SynchronisedPush> simulate_trial(const std::vector<PushScenario>& scenarios);
+/// Fills trial's outcome (named, negligible, true_named, fitted_amount, errors) from the diagnosis of its pushes.
+void score_trial(const DiagnosisResult& result, ValidationTrial& trial);
+
 /// Runs every trial; `progress(done, total)` after each (from the calling thread's view: may be called from
 /// worker threads, one at a time).
 ValidationResult validate_diagnosis(const ValidationOptions& options,
