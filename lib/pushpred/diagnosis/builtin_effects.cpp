@@ -413,15 +413,23 @@ class CoulombFrictionEffect final : public CandidateEffect {
 };
 
 class StribeckFrictionEffect final : public CandidateEffect {
-  /// The extra coefficient mu_s against kappa mu, or the surface's own push-to-push spread of mu if larger.
+  /// The extra friction mu_s m g e, e the RMS share of the low-speed term over the data's sliding speeds at the
+  /// typical Stribeck speed 10 mm/s (FloorContext::low_speed_exposure), against kappa mu m g, or against the
+  /// surface's push-to-push spread of mu if larger: mu_s >= max(kappa mu, spread) / e. Fast pushes spend little
+  /// time at low speed, so there the term cannot matter.
   EffectFloor floor(const FloorContext& c) const override {
     if (!(c.friction_coefficient > 0)) return unknown_floor("the friction coefficient");
+    const double exposure = c.low_speed_exposure(kTypicalStribeckSpeed_m_s);
+    if (!(exposure > 1e-6)) return {std::numeric_limits<double>::infinity(), "the object never slides slowly"};
     const double kappa_mu = c.relevance_fraction * c.friction_coefficient;
-    if (c.friction_spread > kappa_mu)
-      return {c.friction_spread, printed("the push-to-push spread of mu (%.3f)", c.friction_spread)};
-    return {kappa_mu, printed("%.0f %% of mu = %.3f", 100 * c.relevance_fraction, c.friction_coefficient)};
+    const double level = std::max(kappa_mu, c.friction_spread);
+    return {level / exposure,
+            (c.friction_spread > kappa_mu ? printed("the push-to-push spread of mu (%.3f)", c.friction_spread)
+                                          : printed("%.0f %% of mu = %.3f", 100 * c.relevance_fraction,
+                                                    c.friction_coefficient)) +
+                printed(" over the share of the data at low speed (%.2f)", exposure)};
   }
- public:
+  static constexpr double kTypicalStribeckSpeed_m_s = 0.01;
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return theta(0) >= 0 && theta(0) < 1 ? "" : "friction at rest below the sliding friction, or above 1";
   }

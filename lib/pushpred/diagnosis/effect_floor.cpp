@@ -28,6 +28,7 @@ FloorContext measure_floor_context(const std::vector<DiagnosisPush>& data, doubl
     for (Eigen::Index k = 0; k < d.rows(); ++k) {
       if (d.stuck[static_cast<std::size_t>(k)]) continue;
       speed2 += d.smooth_velocity.row(k).head<2>().squaredNorm();
+      c.sliding_speeds_m_s.push_back(d.smooth_velocity.row(k).head<2>().norm());
       accelerations.push_back(d.smooth_acceleration.row(k).head<2>().norm());
       ++sliding;
     }
@@ -44,6 +45,13 @@ FloorContext measure_floor_context(const std::vector<DiagnosisPush>& data, doubl
     c.acceleration_m_s2 = *at;
   }
   c.travel_m = travel / static_cast<double>(data.size());
+  // Keep a sample of at most 4000 speeds: enough for the shares the floors need.
+  if (c.sliding_speeds_m_s.size() > 4000) {
+    const std::size_t stride = c.sliding_speeds_m_s.size() / 4000 + 1;
+    std::vector<double> kept;
+    for (std::size_t k = 0; k < c.sliding_speeds_m_s.size(); k += stride) kept.push_back(c.sliding_speeds_m_s[k]);
+    c.sliding_speeds_m_s = std::move(kept);
+  }
   return c;
 }
 

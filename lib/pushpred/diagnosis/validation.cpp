@@ -72,6 +72,12 @@ FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, 
   c.sample_period_s = 0.004;  // the rig's force stream, 250 Hz (docs/data.md)
   double v2 = 0, travel = 0, accel = 0;
   for (const auto& s : scenarios) {
+    // The pusher's speed over the push, sampled like the rig: the object's while it is pushed.
+    const PusherPath path(Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitX(), 0.0, s.motion);
+    for (double t = 0; t < path.end_time_s(); t += c.sample_period_s) {
+      const double v = path.speed_m_s(t);
+      if (v > 1.5e-3) c.sliding_speeds_m_s.push_back(v);
+    }
     v2 += push_speed(s.motion) * push_speed(s.motion);
     travel += s.motion.length_m;
     accel = std::max(accel, push_acceleration(s.motion));
@@ -83,13 +89,20 @@ FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, 
   return c;
 }
 
-double simulator_floor(const std::string& kind, const FloorContext& c) {
+double simulator_floor(const std::string& kind, const FloorContext& c, const std::string& shape_name) {
   const auto effect = EffectLibrary::standard().find(kind);
   if (!effect) throw InputError("validation: no candidate effect for the simulator's '" + kind + "'");
   const double floor = effect->floor(c).amount;
   if (kind == "force_offset") return floor / std::sqrt(2.0);             // the sim's amount is per axis
   if (kind == "stribeck_friction") return floor / c.friction_coefficient;  // the sim's is relative to mu
-  if (kind == "position_friction") return c.relevance_fraction;          // the patch's relative excess
+  if (kind == "position_friction") {
+    // The patch (a disk of radius kFrictionPatchRadius_m) carries at most its share of the footprint's load: its relative
+    // excess must be kappa over that share to change the friction force by kappa.
+    const ShapeInfo& shape = ShapeTable::published().find(shape_name);
+    const double area = make_footprint(Outline(shape)).total_area_m2;
+    const double share = std::min(1.0, M_PI * kFrictionPatchRadius_m * kFrictionPatchRadius_m / area);
+    return c.relevance_fraction / share;
+  }
   return floor;  // time_offset [s], viscous_friction [1/s], com_offset [m], inertia_mismatch |factor - 1|
 }
 
@@ -131,7 +144,7 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     out.push_back(s);
   }
   if (kind != "none") {
-    trial.floor = simulator_floor(kind, scenario_floor_context(out, o.diagnosis.relevance_fraction));
+    trial.floor = simulator_floor(kind, scenario_floor_context(out, o.diagnosis.relevance_fraction), trial.shape);
     trial.floor_multiple = uniform(rng, o.min_floor_multiple, o.max_floor_multiple);
     const double sign = kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch"
                             ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)

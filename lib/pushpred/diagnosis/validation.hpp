@@ -10,7 +10,7 @@
 // The floor of a trial's effect is the candidate's own floor (candidate_effect.hpp) evaluated on a FloorContext
 // made from the scenario's physics (scenario_floor_context), then put into the simulator's units
 // (simulation/scenario.hpp): the force offset's sim amount is per axis (|b| = sqrt 2 x amount), Stribeck's is
-// relative to mu, the friction patch's relative excess is floored at the relevance fraction itself.
+// relative to mu, the friction patch's relative excess is kappa over the patch's share of the footprint's area.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -64,8 +64,9 @@ struct ValidationResult {
 /// of the shape table, the scenario's mu, the pushes' speeds, ramp or push accelerations and lengths.
 FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, double relevance_fraction);
 
-/// The floor of simulator effect `kind` in the simulator's units for `context`. Throws InputError for an unknown kind.
-double simulator_floor(const std::string& kind, const FloorContext& context);
+/// The floor of simulator effect `kind` in the simulator's units for `context` and the object `shape`. Throws
+/// InputError for an unknown kind.
+double simulator_floor(const std::string& kind, const FloorContext& context, const std::string& shape);
 
 /// The pushes of trial `index` (kind and amount drawn inside): deterministic in (options.seed + index, kind).
 std::vector<PushScenario> draw_validation_trial(const ValidationOptions& options, int index, const std::string& kind,

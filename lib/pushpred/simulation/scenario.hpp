@@ -26,6 +26,11 @@
 
 namespace pushpred {
 
+/// The position_friction patch: a disk of this radius on the push line, its centre this far beyond the object's
+/// leading point at the start [m].
+inline constexpr double kFrictionPatchRadius_m = 0.02;
+inline constexpr double kFrictionPatchAhead_m = 0.025;
+
 struct EffectInfo {
   std::string name;
   std::string unit;

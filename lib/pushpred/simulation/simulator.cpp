@@ -31,8 +31,8 @@ TimedStream make_stream(const Eigen::VectorXd& t, const Eigen::MatrixX3d& values
 }
 
 // Where the position-friction patch sits, from the effect's definition (scenario.hpp).
-constexpr double kPatchRadius_m = 0.02;
-constexpr double kPatchAlongPath_m = 0.025;
+constexpr double kPatchRadius_m = kFrictionPatchRadius_m;
+constexpr double kPatchAlongPath_m = kFrictionPatchAhead_m;
 
 }  // namespace
 
