@@ -63,8 +63,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_flag("--quick-base", [a](std::int64_t) { a->options.diagnosis.fit_base_settings = false; },
                 "Do not fit the base model's settings on the fit phases: faster");
   sub->callback([a, &run] {
-    a->options.validate();
-    run = [a] { return run_validate(*a); };
+    run = [a] {
+      a->options.validate();  // before any work: a bad kind or range is an input error (exit 2), nothing written
+      return run_validate(*a);
+    };
   });
 });
 

@@ -18,7 +18,8 @@ for key in '"effects"' '"kind": "time_offset"' '"kind": "force_offset"' '"kind":
   '"kind": "stribeck_friction"' '"kind": "position_friction"' '"kind": "com_offset"' '"kind": "inertia_mismatch"' \
   '"kind": "initial_velocity"' '"kind": "coulomb_friction"' '"selected"' '"score"' '"parameters"' \
   '"error_before"' '"error_after"' '"error_references"' '"hold"' '"const_velocity"' '"pos_mm_mean"' \
-  '"theta_deg_mean"' '"nothing_found"' '"findings"'; do
+  '"theta_deg_mean"' '"nothing_found"' '"findings"' '"error_base"' '"base_model"' '"negligible"' \
+  '"floor"' '"floor_basis"' '"floor_context"' '"step_failures"'; do
   expect_in "$tmp/hex/diagnosis.json" "$key" "diagnosis.json holds $key"
 done
 if grep -q "nan\|inf" "$tmp/hex/diagnosis.json"; then failed=$((failed + 1)); echo "FAIL: a non-finite number"; else

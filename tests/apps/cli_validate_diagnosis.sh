@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# pushpred validate-diagnosis: a tiny blind validation writes its report and JSON with the issue's keys; bad
+# arguments give a clear error, exit 2 and no output.
+set -u
+bin=$1
+source "$(dirname "$0")/cli_support.sh"
+
+expect_exit 0 "a tiny validation" -- "$bin" validate-diagnosis --trials 1 --kinds none,force_offset --min-pushes 4 \
+  --max-pushes 4 --quick-base --seed 9000 --jobs 2 --out "$tmp/v"
+expect_in "$tmp/out" "nothing named on clean" "the terminal gets the summary"
+for key in '"trials"' '"true_kind": "none"' '"true_kind": "force_offset"' '"named"' '"negligible"' '"floor"' \
+  '"floor_multiple"' '"fitted_amount"' '"before"' '"base"' '"after"' '"hold"' '"const_velocity"' '"summary"' \
+  '"clean_nothing_named"' '"named_at_twice_floor"'; do
+  expect_in "$tmp/v/validation.json" "$key" "validation.json holds $key"
+done
+for section in "## Targets" "## Confusion matrix" "## Detection rate against the amount" \
+  "## False findings on clean trials" "## Held-out prediction error"; do
+  expect_in "$tmp/v/validation.md" "$section" "validation.md has $section"
+done
+
+expect_exit 2 "an unknown kind" -- "$bin" validate-diagnosis --trials 1 --kinds bogus --out "$tmp/bad1"
+expect_in "$tmp/err" "unknown effect 'bogus'" "the error names the kind"
+[ ! -e "$tmp/bad1" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written for a bad kind"; }
+expect_exit 2 "too few pushes" -- "$bin" validate-diagnosis --trials 1 --min-pushes 1 --out "$tmp/bad2"
+[ ! -e "$tmp/bad2" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written for bad pushes"; }
+finish
