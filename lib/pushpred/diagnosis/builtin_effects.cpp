@@ -412,6 +412,28 @@ class CoulombFrictionEffect final : public CandidateEffect {
   }
 };
 
+/// Part of the base model's friction law: the friction torque of a real support differs from uniform pressure's
+/// (a base that loads its rim or its middle more, a slightly uneven table), which no physical effect of the
+/// library describes; fitted as a nuisance beside mu when the data resolve it, so the torque channel's misfit is not
+/// read as a mass-centre offset or a low-speed friction.
+class FrictionTorqueEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "friction_torque"; }
+  std::string description() const override {
+    return "the support's friction torque k x the Coulomb law's torque beyond mu's (non-uniform pressure)";
+  }
+  std::vector<EffectParameter> parameters() const override { return {{"torque_excess", "-"}}; }
+  bool needs_friction_base() const override { return true; }
+  bool in_base_model() const override { return true; }
+  std::string implausible(const Eigen::VectorXd& theta) const override {
+    return std::abs(theta(0)) < 1 ? "" : "a friction torque coefficient change of 1 or more";
+  }
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
+    return {0.0, 0.0, coulomb_friction_wrench(s.pose, s.velocity, shape)(2)};
+  }
+};
+
 class StribeckFrictionEffect final : public CandidateEffect {
   /// The extra friction mu_s m g e, e the RMS share of the low-speed term over the data's sliding speeds at the
   /// typical Stribeck speed 10 mm/s (FloorContext::low_speed_exposure), against kappa mu m g, or against the
@@ -642,6 +664,7 @@ std::unique_ptr<CandidateEffect> make_time_offset_effect() { return std::make_un
 std::unique_ptr<CandidateEffect> make_force_offset_effect() { return std::make_unique<ForceOffsetEffect>(); }
 std::unique_ptr<CandidateEffect> make_viscous_friction_effect() { return std::make_unique<ViscousFrictionEffect>(); }
 std::unique_ptr<CandidateEffect> make_coulomb_friction_effect() { return std::make_unique<CoulombFrictionEffect>(); }
+std::unique_ptr<CandidateEffect> make_friction_torque_effect() { return std::make_unique<FrictionTorqueEffect>(); }
 std::unique_ptr<CandidateEffect> make_stribeck_friction_effect() { return std::make_unique<StribeckFrictionEffect>(); }
 std::unique_ptr<CandidateEffect> make_position_friction_effect() { return std::make_unique<PositionFrictionEffect>(); }
 std::unique_ptr<CandidateEffect> make_com_offset_effect() { return std::make_unique<ComOffsetEffect>(); }
@@ -658,6 +681,7 @@ EffectLibrary EffectLibrary::standard() {
   library.register_effect(make_com_offset_effect());
   library.register_effect(make_inertia_mismatch_effect());
   library.register_effect(make_coulomb_friction_effect());
+  library.register_effect(make_friction_torque_effect());
   library.register_effect(make_initial_velocity_effect());
   library.register_effect(make_quasi_static_effect());
   library.register_effect(make_pusher_stop_effect());

@@ -18,6 +18,9 @@
 // - viscous_friction [1/s]: drag -c (m v, I omega) (uniform drag per unit mass over the footprint).
 // - coulomb_friction [-]: the limit-surface friction above with coefficient mu: friction that opposes the
 //   velocity, so the object slows and stops when the push ends, where beta u + eps would not stop it.
+// - friction_torque [-] (base model): the support's friction torque scaled by (mu + k) / mu, a pressure that
+//   loads the rim or the middle more than a uniform one; a nuisance of the friction base, fitted beside mu when
+//   the data resolve it.
 // - stribeck_friction [-]: extra friction at low speed, mu_s exp(-(s / v_s)^2) times the Coulomb shape; v_s is
 //   chosen on a grid (5, 10, 20, 40 mm/s).
 // - position_friction [1/m]: friction coefficient changing along the way: g |r - r0| times the Coulomb law, |r - r0|
@@ -50,6 +53,7 @@ std::unique_ptr<CandidateEffect> make_time_offset_effect();
 std::unique_ptr<CandidateEffect> make_force_offset_effect();
 std::unique_ptr<CandidateEffect> make_viscous_friction_effect();
 std::unique_ptr<CandidateEffect> make_coulomb_friction_effect();
+std::unique_ptr<CandidateEffect> make_friction_torque_effect();
 std::unique_ptr<CandidateEffect> make_stribeck_friction_effect();
 std::unique_ptr<CandidateEffect> make_position_friction_effect();
 std::unique_ptr<CandidateEffect> make_com_offset_effect();

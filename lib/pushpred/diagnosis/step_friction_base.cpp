@@ -37,10 +37,42 @@ void DiagnosisRun::measure_floors(bool add_law) {
     r.theta_std = f.standard_error();
     r.score = f.wald(0, k) - static_cast<double>(k) * log_neff_;
     r.passed_test = r.score > o_.bic_threshold;
-    if (add_law) selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score});
+    mu = f.theta(0);
+    if (add_law) {
+      selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score});
+      // The law's own refinements in the base model (friction_torque), fitted with it when the data resolve them.
+      for (std::size_t j = 0; j < effects.size(); ++j) {
+        if (j == i || !is_base(j) || effects[j]->test() != EffectTest::Regression || group_of(j) != Relation::Friction)
+          continue;
+        std::vector<EffectColumns> storage;
+        std::vector<Selection> trial = selected_;
+        trial.push_back({j, 0.0, 0, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(effects[j]->parameters().size())),
+                         Eigen::VectorXd(), 0.0});
+        const RegressionFit g = fit_selected(trial, Relation::Friction, storage);
+        const Eigen::Index kj = static_cast<Eigen::Index>(effects[j]->parameters().size());
+        const Eigen::VectorXd tj = g.theta.tail(kj);
+        if (!g.identifiable || !g.theta.allFinite() || !effects[j]->implausible(tj).empty()) {
+          result_.effects[j].note = "not in the base model here: the fit pushes do not resolve it";
+          log(effects[j]->kind() + " (base model): not resolved by the fit pushes; left out");
+          continue;
+        }
+        trial.back().total = tj;
+        trial.back().std = g.standard_error().tail(kj);
+        for (auto& t : trial)
+          if (t.candidate == i) t.total = g.theta.head(k);  // the law's own parameters come first in the fit
+        result_.effects[j].theta = tj;
+        result_.effects[j].theta_std = trial.back().std;
+        selected_ = trial;
+        log(effects[j]->kind() + diagnosis_format(" (base model): %.4g +- %.2g", tj(0), trial.back().std(0)));
+      }
+      for (const auto& t : selected_)
+        if (t.candidate == i) {
+          mu = t.total(0);
+          r.theta = t.total;
+        }
+    }
     log(effects[i]->kind() + diagnosis_format(" (base model): %.4g +- %.2g, score %.1f", f.theta(0), r.theta_std(0),
                                               r.score));
-    mu = f.theta(0);
     // The surface's own variation: the law fitted on each push alone.
     if (data_.size() >= 3) {
       std::vector<double> own;
