@@ -46,8 +46,15 @@ void DiagnosisRun::held_out() {
       r.floor = effects[s.candidate]->floor(result_.floor_context);
     }
   }
-  for (std::size_t i = 0; i < effects.size(); ++i)
-    if (result_.effects[i].theta.size() > 0) result_.effects[i].derived = effects[i]->derived(result_.effects[i].theta);
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    EffectReport& r = result_.effects[i];
+    if (r.theta.size() > 0) r.derived = effects[i]->derived(r.theta);
+    // Every physical candidate's amount (as last fitted) against its floor, tested or not.
+    if (!is_base(i) && r.theta.size() > 0 && r.theta.allFinite()) {
+      r.amount = effects[i]->amount(r.theta);
+      r.floor = effects[i]->floor(result_.floor_context);
+    }
+  }
   std::vector<Selection> model = selected_;
   model.insert(model.end(), base_.begin(), base_.end());
   result_.correction = correction_of(model, true);
