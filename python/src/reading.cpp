@@ -112,7 +112,7 @@ negative of the sensor reading). t_s counts from t0_unix_s.)doc")
 
   m.def(
       "load_push",
-      [](const std::string& path, const std::string& shape, double rate_hz) {
+      [](const std::filesystem::path& path, const std::string& shape, double rate_hz) {
         PreprocessOptions options;
         options.rate_hz = rate_hz;
         return without_gil([&] { return load_push(path, shape, options); });
@@ -124,7 +124,7 @@ Raises InputError naming the file and the problem for anything malformed.)doc");
 
   m.def(
       "read_recording",
-      [](const std::string& path) {
+      [](const std::filesystem::path& path) {
         const Recording r = without_gil([&] { return read_recording(path); });
         py::dict d;
         d["source"] = r.source;
@@ -173,22 +173,24 @@ empty when source is a dataset file name. The streams are checked, repaired and 
 
   m.def(
       "parse_push_filename",
-      [](const std::string& name) -> py::object {
-        const auto p = parse_push_filename(name);
+      [](const std::filesystem::path& name) -> py::object {
+        const auto p = parse_push_filename(name.string());
         return p ? py::object(parameters_dict(*p)) : py::none();
       },
       py::arg("filename"), "the push parameters of an MCube file name, or None when it does not follow the pattern");
 
   m.def(
       "data_folder",
-      [](std::optional<std::string> folder) { return resolve_data_folder(folder).string(); },
+      [](std::optional<std::filesystem::path> folder) {
+        return resolve_data_folder(folder ? std::optional<std::string>(folder->string()) : std::nullopt).string();
+      },
       py::arg("folder") = py::none(), R"doc(
 The real-recordings folder: folder when given, else $PUSHPRED_DATA, else the folder fixed at build time
 (../shared/data/mcube beside the source tree). Raises InputError naming every place tried when none exists.)doc");
 
   m.def(
       "list_recordings",
-      [](const std::string& folder, const std::string& surface) {
+      [](const std::filesystem::path& folder, const std::string& surface) {
         std::vector<std::string> out;
         for (const auto& p : list_recordings(folder, surface)) out.push_back(p.string());
         return out;

@@ -45,7 +45,7 @@ void bind_simulation(py::module_& m) {
   m.def(
       "simulate",
       [](std::optional<int> paper_case, const py::object& scenario, const py::dict& effects,
-         std::optional<std::uint64_t> seed, std::optional<std::string> out) {
+         std::optional<std::uint64_t> seed, std::optional<std::filesystem::path> out) {
         const PushScenario s = scenario_from(paper_case, scenario, effects, seed);
         struct Output {
           SimulatedPush sim;
