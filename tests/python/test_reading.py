@@ -82,7 +82,3 @@ def _streams_of_a_real_push():
         out.append(np.column_stack([raw[name]["t_s"]] + [raw[name][c] for c in cols]))
     return out
 
-
-def test_version_matches_the_cli(executable):
-    proc = run_cli(executable, "--version")
-    assert proc.stdout.strip() == "pushpred " + pushpred.__version__
