@@ -39,15 +39,12 @@ void bind_estimators(py::module_& m) {
   py::class_<RelationEstimator, std::unique_ptr<RelationEstimator>>(m, "RelationEstimator", R"doc(
 An estimator of the relation d_hat = beta u + eps, fed one identification interval at a time. Make one with
 relation_estimator(name), RecursiveLeastSquares(...) or BatchLeastSquaresFit(...).)doc")
-      .def_property_readonly("name", &RelationEstimator::name)
+      .def_property_readonly("name", &RelationEstimator::name, "the estimator's name (relation_estimator_names())")
       .def(
           "add_interval",
           [](RelationEstimator& e, const Eigen::MatrixXd& u, const Eigen::MatrixXd& d_hat) {
             const Eigen::MatrixX3d u3 = channels(u, "u"), d3 = channels(d_hat, "d_hat");
-            without_gil([&] {
-              e.add_interval(u3, d3);
-              return 0;
-            });
+            without_gil([&] { e.add_interval(u3, d3); });
           },
           py::arg("u"), py::arg("d_hat"), R"doc(
 Feeds one identification interval: u, the applied input, and d_hat, the estimated disturbance, both n x 3
@@ -55,20 +52,17 @@ Feeds one identification interval: u, the applied input, and d_hat, the estimate
       .def(
           "add_estimate",
           [](RelationEstimator& e, const py::dict& estimate) {
-            const auto [u, d] = input_and_disturbance(estimate);
-            without_gil([&] {
-              e.add_interval(u, d);
-              return 0;
-            });
+            const auto input = input_and_disturbance(estimate);  // (u, d_hat)
+            without_gil([&] { e.add_interval(input.first, input.second); });
           },
           py::arg("estimate"), "Feeds an observer's output over one interval (a dict from estimate_disturbance()).")
-      .def_property_readonly("ready", &RelationEstimator::ready)
+      .def_property_readonly("ready", &RelationEstimator::ready, "True once parameters() can be asked")
       .def_property_readonly("not_ready_reason", &RelationEstimator::not_ready_reason,
                              "why parameters() cannot be asked yet; empty when it can")
       .def(
           "parameters", [](const RelationEstimator& e) { return relation_dict(e.parameters()); }, kParametersDoc)
       .def("reset", &RelationEstimator::reset, "forgets every interval fed so far; the options stay")
-      .def("clone", &RelationEstimator::clone);
+      .def("clone", &RelationEstimator::clone, "an independent copy, with the intervals fed so far");
 
   py::class_<RecursiveLeastSquares, RelationEstimator, std::unique_ptr<RecursiveLeastSquares>>(
       m, "RecursiveLeastSquares",

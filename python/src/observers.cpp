@@ -135,7 +135,8 @@ ki [N/(m s)], kd [N s/m] for translation, lp [N m/rad], li [N m/(rad s)], ld [N 
            py::arg("lp") = PidGains{}.lp, py::arg("li") = PidGains{}.li, py::arg("ld") = PidGains{}.ld,
            py::arg("mass_kg") = 0.0, py::arg("inertia_kgm2") = 0.0)
       .def_property_readonly("name", &PidForceReconstruction::name)
-      .def_property_readonly("gains", [](const PidForceReconstruction& p) { return gains_dict(p.gains()); })
+      .def_property_readonly("gains", [](const PidForceReconstruction& p) { return gains_dict(p.gains()); },
+                             "kp, ki, kd (translation) and lp, li, ld (rotation), units as in the class docstring")
       .def(
           "estimate",
           [](const PidForceReconstruction& p, const SynchronisedPush& push, double t_start_s,

@@ -107,11 +107,11 @@ below coulomb_speed_scale_m_s). With beta = eps = 0 and no friction it is Newton
            py::arg("mass_kg"), py::arg("inertia_kgm2"), py::arg("beta") = Eigen::Vector3d::Zero().eval(),
            py::arg("eps") = Eigen::Vector3d::Zero().eval(), py::arg("coulomb_force_N") = 0.0,
            py::arg("coulomb_speed_scale_m_s") = 1e-3)
-      .def_readonly("mass_kg", &PredictionModel::mass_kg)
-      .def_readonly("inertia_kgm2", &PredictionModel::inertia_kgm2)
-      .def_readonly("beta", &PredictionModel::beta)
-      .def_readonly("eps", &PredictionModel::eps)
-      .def_readonly("coulomb_force_N", &PredictionModel::coulomb_force_N)
+      .def_readonly("mass_kg", &PredictionModel::mass_kg, "m [kg]")
+      .def_readonly("inertia_kgm2", &PredictionModel::inertia_kgm2, "I [kg m^2]")
+      .def_readonly("beta", &PredictionModel::beta, "beta per channel (x, y, rotation) [-]")
+      .def_readonly("eps", &PredictionModel::eps, "eps per channel [N, N, N m]")
+      .def_readonly("coulomb_force_N", &PredictionModel::coulomb_force_N, "Coulomb friction force [N] (0: none)")
       .def_static(
           "from_relation",
           [](const SynchronisedPush& push, const py::dict& relation) {
