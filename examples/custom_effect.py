@@ -52,7 +52,7 @@ else:
 
 library = pushpred.EffectLibrary.standard()
 library.register(QuadraticDrag())
-result = pushpred.diagnose(pushes, library, confirm_on_prediction=False)
+result = pushpred.diagnose(pushes, library)
 for effect in result["effects"]:
     if effect["kind"] in ("quadratic_drag", "viscous_friction"):
         c = effect["parameters"]["c"]

@@ -127,6 +127,47 @@ py::dict summary_arrays(const DiagnosisResult& r) {
   return d;
 }
 
+/// DiagnosisOptions fields a Python caller may set by name (diagnose(..., name=value)); the one place to update
+/// when the options change.
+const std::vector<std::pair<const char*, double DiagnosisOptions::*>>& number_options() {
+  static const std::vector<std::pair<const char*, double DiagnosisOptions::*>> options{
+      {"bic_threshold", &DiagnosisOptions::bic_threshold}};
+  return options;
+}
+const std::vector<std::pair<const char*, bool DiagnosisOptions::*>>& flag_options() {
+  static const std::vector<std::pair<const char*, bool DiagnosisOptions::*>> options{
+      {"search_structure", &DiagnosisOptions::search_structure},
+      {"confirm_on_prediction", &DiagnosisOptions::confirm_on_prediction}};
+  return options;
+}
+
+DiagnosisOptions diagnosis_options_from(const py::kwargs& given) {
+  DiagnosisOptions o;
+  for (const auto& [key, value] : given) {
+    const std::string name = py::str(key);
+    bool known = true;
+    if (name == "estimator") {
+      o.study.estimator = value.cast<std::string>();
+    } else if (name == "intervals") {
+      o.study.schedule.intervals = value.cast<int>();
+    } else {
+      known = false;
+      for (const auto& [option, field] : number_options())
+        if (name == option) o.*field = value.cast<double>(), known = true;
+      for (const auto& [option, field] : flag_options())
+        if (name == option) o.*field = value.cast<bool>(), known = true;
+    }
+    if (!known) {
+      std::string names = "estimator, intervals";
+      for (const auto& option : number_options()) names += std::string(", ") + option.first;
+      for (const auto& option : flag_options()) names += std::string(", ") + option.first;
+      throw InputError("diagnose: unknown option '" + name + "' (known: " + names + ")");
+    }
+  }
+  o.validate();
+  return o;
+}
+
 }  // namespace
 
 void bind_diagnosis(py::module_& m) {
@@ -167,17 +208,20 @@ constant), setting_name() ((name, unit)), needs_friction_base() (bool). See push
           },
           "kind, description, test and parameters of every effect, in library order");
 
+  m.def("diagnosis_options", [] {
+    const DiagnosisOptions defaults;
+    py::dict d;
+    d["estimator"] = defaults.study.estimator;
+    d["intervals"] = defaults.study.schedule.intervals;
+    for (const auto& [name, field] : number_options()) d[py::str(name)] = defaults.*field;
+    for (const auto& [name, field] : flag_options()) d[py::str(name)] = defaults.*field;
+    return d;
+  }, "the options diagnose() takes, with their defaults");
+
   m.def(
       "diagnose",
-      [](const std::vector<SynchronisedPush>& pushes, const EffectLibrary* library, const std::string& estimator,
-         int intervals, double bic_threshold, bool search_structure, bool confirm_on_prediction) {
-        DiagnosisOptions o;
-        o.study.estimator = estimator;
-        o.study.schedule.intervals = intervals;
-        o.bic_threshold = bic_threshold;
-        o.search_structure = search_structure;
-        o.confirm_on_prediction = confirm_on_prediction;
-        o.validate();
+      [](const std::vector<SynchronisedPush>& pushes, const EffectLibrary* library, const py::kwargs& options) {
+        const DiagnosisOptions o = diagnosis_options_from(options);
         const EffectLibrary standard = library ? EffectLibrary() : EffectLibrary::standard();
         const EffectLibrary& effects = library ? *library : standard;
         auto result = std::make_unique<DiagnosisResult>(without_gil([&] { return diagnose(pushes, effects, o); }));
@@ -186,16 +230,17 @@ constant), setting_name() ((name, unit)), needs_friction_base() (bool). See push
         d["traces"] = summary_arrays(*result);
         return d;
       },
-      py::arg("pushes"), py::arg("library") = nullptr, py::arg("estimator") = "rls", py::arg("intervals") = 4,
-      py::arg("bic_threshold") = 10.0, py::arg("search_structure") = true, py::arg("confirm_on_prediction") = true,
-      R"doc(
+      py::arg("pushes"), py::arg("library") = nullptr, R"doc(
 Diagnoses `pushes` (one object on one surface) as `pushpred diagnose` does: finds what the paper's method leaves
 unexplained, tests the candidate effects of `library` (None: EffectLibrary.standard()), and reports the
-prediction error before and after on held-out phases. search_structure: try the prediction-structure effects;
-confirm_on_prediction: drop a selected effect whose removal does not worsen the fit phases' predictions. Returns the content of diagnosis.json as a dict (effects,
-error_before, error_after, error_references, ... in mm and degrees), plus findings (one line) and traces:
-residuals (per fit push: t_s [s], before/after/friction, n x 3 [N, N, N m]) and test_phases (per held-out
-phase: t_s [s] since its start, error {method: predicted - measured, n x 3 [m, m, rad]}).)doc");
+prediction error before and after on held-out phases. Keyword options (diagnosis_options() lists them with their
+defaults): estimator (the paper's relation estimator), intervals (of the schedule), and the diagnosis' own
+(bic_threshold, ...).
+
+Returns the content of diagnosis.json as a dict (effects, error_before, error_after, error_references, ... in mm
+and degrees), plus findings (one line) and traces: residuals (per fit push: t_s [s], before/after/friction,
+n x 3 [N, N, N m]) and test_phases (per held-out phase: t_s [s] since its start, error {method: predicted -
+measured, n x 3 [m, m, rad]}).)doc");
 }
 
 }  // namespace pushpred::python

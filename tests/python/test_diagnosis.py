@@ -7,6 +7,11 @@ import pushpred
 from conftest import read_json, run_cli
 
 
+# The diagnosis' slower refinements, off where a test is about the Python path and not about them (whichever of
+# them this version of the library has).
+FAST = {name: False for name in ("confirm_on_prediction", "fit_base_settings") if name in pushpred.diagnosis_options()}
+
+
 def hex_files(data_dir, count):
     return [str(p) for p in sorted((data_dir / "abs").glob("*shape=hex_a=0_v=50*.h5"))[:count]]
 
@@ -63,14 +68,14 @@ def test_an_effect_written_in_python_is_found():
     library.remove("viscous_friction")
     library.register(PythonViscousFriction())
     assert "python_viscous" in library.kinds()
-    result = pushpred.diagnose(pushes, library, confirm_on_prediction=False)
+    result = pushpred.diagnose(pushes, library, **FAST)
     found = {e["kind"]: e for e in result["effects"]}["python_viscous"]
     assert found["selected"], result["log"]
     assert found["parameters"]["c"]["unit"] == "1/s"
     assert result["error_after"]["pos_mm_mean"] < result["error_before"]["pos_mm_mean"]
     # The same law in C++ (the library's viscous_friction) gives the same fit: the Python path changes nothing but
     # the language. (How close the fit comes to the hidden amount is the library's own test's business.)
-    builtin = pushpred.diagnose(pushes, pushpred.EffectLibrary.standard(), confirm_on_prediction=False)
+    builtin = pushpred.diagnose(pushes, pushpred.EffectLibrary.standard(), **FAST)
     reference = {e["kind"]: e for e in builtin["effects"]}["viscous_friction"]
     assert reference["selected"]
     for key in ("value", "std"):
@@ -84,6 +89,12 @@ def test_library_errors(data_dir):
         library.register(PythonViscousFriction()) or library.register(PythonViscousFriction())
     with pytest.raises(pushpred.InputError):
         library.remove("no_such_effect")
+    options = pushpred.diagnosis_options()
+    assert options["estimator"] == "rls" and options["bic_threshold"] > 0
+    with pytest.raises(pushpred.InputError, match="unknown option 'no_such_option'"):
+        pushpred.diagnose([], library, no_such_option=1)
+    with pytest.raises(pushpred.InputError):
+        pushpred.diagnose([], library)  # no usable push
 
     class Broken(pushpred.ForceLawEffect):
         def kind(self):
