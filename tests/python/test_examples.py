@@ -13,8 +13,10 @@ EXAMPLES = Path(os.environ.get("PUSHPRED_SOURCE_DIR", Path(__file__).resolve().p
 
 
 def run_example(script, *args, cwd):
+    # The example imports the module these tests import, wherever the test runs from.
+    env = dict(os.environ, PYTHONPATH=str(Path(pushpred.__file__).resolve().parents[1]))
     proc = subprocess.run([sys.executable, str(EXAMPLES / script), *map(str, args)], capture_output=True, text=True,
-                          cwd=cwd)
+                          cwd=cwd, env=env)
     assert proc.returncode == 0, f"{script}: exit {proc.returncode}\n{proc.stderr}"
     return proc
 
