@@ -82,3 +82,15 @@ def _streams_of_a_real_push():
         out.append(np.column_stack([raw[name]["t_s"]] + [raw[name][c] for c in cols]))
     return out
 
+
+
+def test_recordings_and_batches(data_dir, tmp_path):
+    files = pushpred.recordings(surface="abs")
+    assert files == sorted(str(p) for p in (data_dir / "abs").glob("*.h5"))
+    missing = tmp_path / "missing.h5"
+    calls = []
+    results, failures = pushpred.run_batch([files[0], missing], pushpred.load_push,
+                                           progress=lambda i, n, path, error: calls.append((i, n, error is None)))
+    assert [p for p, _ in results] == [files[0]] and len(results[0][1]) > 0
+    assert failures[0][0] == str(missing) and "missing.h5" in failures[0][1]
+    assert calls == [(1, 2, True), (2, 2, False)]
