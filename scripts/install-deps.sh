@@ -6,6 +6,7 @@ packages=(
   cmake g++ make pkg-config
   libsundials-dev libceres-dev libeigen3-dev libboost-test-dev libhdf5-dev
   nlohmann-json3-dev libcli11-dev libbenchmark-dev gnuplot-nox
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -13,4 +13,18 @@ cmake --build "$prefix/consumer-build" >/dev/null
 file=$(ls "$data"/abs/*shape=hex*.h5 | head -1)
 LD_LIBRARY_PATH="$prefix/usr/lib:$prefix/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
   "$prefix/consumer-build/consumer" "$file"
-echo "1 passed, 0 failed"
+passed=1
+# The C++ examples build on their own against the installed package.
+cmake -S "$source_dir/examples/cpp" -B "$prefix/examples-build" -DCMAKE_PREFIX_PATH="$prefix/usr" \
+  -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$prefix/examples-build" >/dev/null
+passed=$((passed + 1))
+# The Python module, when built, is installed beside the library and finds it without LD_LIBRARY_PATH.
+python=${4:-}
+if [ -n "$python" ]; then
+  module_dir=$(dirname "$(find "$prefix/usr" -name '__init__.py' -path '*/pushpred/*' | head -1)")
+  PYTHONPATH="$(dirname "$module_dir")" "$python" -c "import sys, pushpred; p = pushpred.load_push(sys.argv[1]); \
+print('python: pushpred', pushpred.__version__, 'read', len(p), 'samples of', p.shape['name'])" "$file"
+  passed=$((passed + 1))
+fi
+echo "$passed passed, 0 failed"

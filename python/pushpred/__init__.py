@@ -1,0 +1,84 @@
+"""pushpred: predict where an object pushed by a robot will go, and explain why predictions miss.
+
+Python bindings of the pushpred C++ library (J. Kim, "Position prediction using disturbance observer for planar
+pushing"). Read a push with load_push(); run the disturbance observer (estimate_disturbance, QFilterObserver) and
+the PID reconstruction (PidForceReconstruction); fit the relation d_hat = beta u + eps (RecursiveLeastSquares,
+BatchLeastSquaresFit); run the paper's prediction study (run_prediction_study); simulate pushes (simulate); and
+diagnose what the model lacks (diagnose, EffectLibrary).
+
+Units and frames, everywhere: SI inside (metres, radians, newtons, newton metres, seconds), in the reference
+frame {R} of the recordings; names carry their unit (t_s, force_N, ...). Poses are n x 3 arrays (x [m], y [m],
+yaw [rad]); channels of forces are (x [N], y [N], torque about the object centre [N m]). Prediction errors are
+reported in millimetres and degrees, as the library reports them. Results are numpy arrays and plain dicts;
+errors are InputError (a ValueError) or SolverError (a RuntimeError) with the library's message. Long calls
+release the GIL.
+"""
+import sys as _sys
+
+from ._core import *  # noqa: F401,F403
+from ._core import __version__, InputError, SolverError, load_push  # noqa: F401
+
+class ForceLawEffect:
+    """Base for a candidate effect written in Python, registered with EffectLibrary.register().
+
+    A force law adds to the object's generalized force a term linear in its parameters theta:
+    f(state) = sum_j theta_j * unit_force(j, setting, state, shape). The diagnosis fits theta on the residual
+    the paper's method leaves, keeps the effect when it explains enough of it, and adds it to the prediction.
+    Override kind(), description(), parameters() and unit_force(); the rest is optional.
+    """
+
+    def kind(self):
+        """Short identifier, unique within a library."""
+        raise NotImplementedError
+
+    def description(self):
+        """One line: the physical term."""
+        return self.kind()
+
+    def parameters(self):
+        """[(name, unit), ...], one pair per parameter."""
+        raise NotImplementedError
+
+    def unit_force(self, parameter, setting, state, shape):
+        """[f_x [N], f_y [N], torque [N m]] per unit of parameter `parameter`.
+
+        state: dict of 3-vectors pose (x [m], y [m], theta [rad]), velocity (m/s, m/s, rad/s), input (the
+        applied force [N, N] and torque about the centre [N m]) and start_pose; shape: dict with mass_kg,
+        inertia_kgm2 and the outline's dimensions [m]."""
+        raise NotImplementedError
+
+    def needs_friction_base(self):
+        """True: tested only against a friction law (as the library's friction refinements are)."""
+        return False
+
+
+def run_batch(paths, job, progress=True):
+    """Calls job(path) for every path; a failing path does not stop the batch.
+
+    Returns (results, failures): results as a list of (path, job's result), failures as a list of
+    (path, message). progress: True prints one line per file to stderr ("[3/90] name: ok"), a callable is
+    called as progress(index, total, path, error_or_None), False is silent."""
+    paths = [str(p) for p in paths]
+    results, failures = [], []
+    for i, path in enumerate(paths, start=1):
+        error = None
+        try:
+            results.append((path, job(path)))
+        except (InputError, SolverError) as e:
+            error = str(e)
+            failures.append((path, error))
+        if callable(progress):
+            progress(i, len(paths), path, error)
+        elif progress:
+            name = path.rsplit("/", 1)[-1]
+            print(f"[{i}/{len(paths)}] {name}: {'ok' if error is None else 'failed: ' + error}",
+                  file=_sys.stderr, flush=True)
+    return results, failures
+
+
+def recordings(folder=None, surface=""):
+    """The recordings below `folder` (default: data_folder()) and `surface` (e.g. "abs"), sorted by name."""
+    return list_recordings(data_folder(folder), surface)  # noqa: F405
+
+
+__all__ = [name for name in dir() if not name.startswith("_")]

@@ -1,0 +1,107 @@
+#include "conversions.hpp"
+
+#include <string>
+
+namespace pushpred::python {
+
+py::array bool_array(const std::vector<char>& flags) {
+  py::array_t<bool> out(static_cast<py::ssize_t>(flags.size()));
+  auto view = out.mutable_unchecked<1>();
+  for (std::size_t k = 0; k < flags.size(); ++k) view(static_cast<py::ssize_t>(k)) = flags[k] != 0;
+  return std::move(out);
+}
+
+py::object from_json(const nlohmann::json& json) {
+  // Through Python's own json module: one well-tested mapping of JSON onto Python values.
+  return py::module_::import("json").attr("loads")(json.dump());
+}
+
+nlohmann::json to_json(const py::handle& object) {
+  const std::string text = py::str(py::module_::import("json").attr("dumps")(object));
+  return nlohmann::json::parse(text);
+}
+
+py::dict estimate_dict(const DisturbanceEstimate& e) {
+  py::dict d;
+  d["estimator"] = e.estimator;
+  d["t_s"] = array(e.t_s);
+  d["u"] = array(e.u);
+  d["d_hat"] = array(e.d_hat);
+  d["velocity"] = array(e.velocity);
+  d["total"] = array(e.total);
+  d["nominal_inertia"] = array(e.nominal_inertia);
+  return d;
+}
+
+py::dict relation_dict(const RelationParameters& p) {
+  py::dict d;
+  d["estimator"] = p.estimator;
+  d["beta"] = array(p.beta);
+  d["eps"] = array(p.eps);
+  py::list cov;
+  for (int c = 0; c < 3; ++c) cov.append(array(p.covariance[static_cast<std::size_t>(c)]));
+  d["covariance"] = cov;
+  d["beta_std"] = array(p.beta_std());
+  d["eps_std"] = array(p.eps_std());
+  d["residual_std"] = array(p.residual_std);
+  d["samples"] = p.samples;
+  d["effective_samples"] = p.effective_samples;
+  d["intervals"] = p.intervals;
+  d["loss_scale"] = array(p.loss_scale);
+  return d;
+}
+
+py::dict errors_dict(const PredictionErrors& e) {
+  py::dict d;
+  d["x_mm_mean"] = e.x_mm_mean;
+  d["x_mm_std"] = e.x_mm_std;
+  d["y_mm_mean"] = e.y_mm_mean;
+  d["y_mm_std"] = e.y_mm_std;
+  d["theta_deg_mean"] = e.theta_deg_mean;
+  d["theta_deg_std"] = e.theta_deg_std;
+  d["final_pos_mm"] = e.final_pos_mm;
+  d["final_theta_deg"] = e.final_theta_deg;
+  return d;
+}
+
+py::dict study_dict(const PushStudy& s) {
+  py::dict d;
+  d["source"] = s.source;
+  d["span"] = s.span;
+  py::list intervals;
+  for (const auto& iv : s.intervals) intervals.append(py::make_tuple(iv.t0_s, iv.t1_s));
+  d["intervals_s"] = intervals;
+  py::list phases;
+  for (const auto& ph : s.phases) {
+    py::dict p;
+    p["phase"] = ph.phase;
+    p["t0_s"] = ph.interval.t0_s;
+    p["t1_s"] = ph.interval.t1_s;
+    p["relation"] = relation_dict(ph.relation);
+    p["note"] = ph.note;
+    p["t_s"] = array(ph.t_s);
+    p["measured"] = array(ph.measured);
+    py::dict predicted, errors;
+    for (const auto& [method, pose] : ph.predicted) predicted[py::str(method)] = array(pose);
+    for (const auto& [method, e] : ph.errors) errors[py::str(method)] = errors_dict(e);
+    p["predicted"] = predicted;
+    p["errors"] = errors;
+    p["initial_velocity"] = array(ph.initial_velocity);
+    if (!ph.corrected_relation.estimator.empty()) p["corrected_relation"] = relation_dict(ph.corrected_relation);
+    phases.append(p);
+  }
+  d["phases"] = phases;
+  py::list identification;
+  for (const auto& e : s.identification) identification.append(estimate_dict(e));
+  d["identification"] = identification;
+  d["estimator_seconds"] = s.estimator_seconds;
+  return d;
+}
+
+std::pair<Eigen::MatrixX3d, Eigen::MatrixX3d> input_and_disturbance(const py::dict& estimate) {
+  if (!estimate.contains("u") || !estimate.contains("d_hat"))
+    throw py::key_error("an estimate needs the keys 'u' and 'd_hat' (n x 3 arrays)");
+  return {estimate["u"].cast<Eigen::MatrixX3d>(), estimate["d_hat"].cast<Eigen::MatrixX3d>()};
+}
+
+}  // namespace pushpred::python
