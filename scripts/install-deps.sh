@@ -6,6 +6,7 @@ packages=(
   cmake g++ make pkg-config
   libsundials-dev libceres-dev libeigen3-dev libboost-test-dev libhdf5-dev
   nlohmann-json3-dev libcli11-dev libbenchmark-dev gnuplot-nox
+  clang-14 libclang-rt-14-dev jq
 )
 missing=()
 for p in "${packages[@]}"; do
