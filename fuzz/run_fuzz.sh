@@ -30,14 +30,17 @@ find "$data" -name '*.h5' | sort | awk 'NR % 30 == 1' | while read -r f; do cp "
 find "$data" -name '*.h5' -o -name '*.json' | head -20 | while read -r f; do
   basename "$f" | tr -d '\n' > "$corpus/filename/$(basename "$f" | md5sum | cut -c1-8)"; done
 
+# libhdf5 asks malloc for what a corrupt size field says (hundreds of GB): the allocator returns NULL as it does
+# outside the fuzzer, and libhdf5 reports an error, which pushpred turns into an InputError. So a huge single
+# request is not a finding (allocator_may_return_null, malloc_limit_mb); a process growing past 2 GB still is.
 status=0
 for target in fuzz_json_reader fuzz_hdf5_reader fuzz_filename; do
   kind=${target#fuzz_}
   kind=${kind%_reader}
   [ "$kind" = hdf5 ] || [ "$kind" = json ] || kind=filename
   echo "fuzz: $target for $seconds s"
-  (cd "$build" && ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$here/../scripts/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 \
-     "./$target" "$corpus/$kind" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  (cd "$build" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 LSAN_OPTIONS=suppressions=$here/../scripts/lsan.supp:print_suppressions=0 UBSAN_OPTIONS=print_stacktrace=1 \
+     "./$target" "$corpus/$kind" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1000000 -print_final_stats=1 \
      -close_fd_mask=3 >"$build/$target.log" 2>&1) || { status=1; echo "fuzz: $target FOUND A PROBLEM"; tail -40 "$build/$target.log"; }
   grep -E "^stat::number_of_executed_units|^stat::new_units_added" "$build/$target.log" | tr '\n' ' '
   echo
