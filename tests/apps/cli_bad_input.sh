@@ -33,12 +33,16 @@ expect_no_staging() {
     ls -a "$1" | grep '\.staging-\|\.replaced-' | head -3; else passed=$((passed + 1)); fi
 }
 
-# Each class alone: inspect names the file and the problem, exits 2 (nothing usable), within the time limit.
+# Each class alone: inspect and predict name the file and the problem, exit 2 (nothing usable) within the time
+# limit, and predict writes nothing.
 check_class() {  # check_class CLASS EXT EXPECTED_TEXT
   local f="$bad/$1/$stem$2"
   expect_exit 2 "inspect on $1" -- limit "$bin" inspect "$f"
   expect_in "$tmp/err" "FAILED $f: $3" "$1: the file and the reason are named"
   expect_plain "$tmp/err"
+  expect_exit 2 "predict on $1" -- limit "$bin" predict "$f" --out "$tmp/class_out"
+  expect_in "$tmp/err" "FAILED $f: $3" "$1: predict names the file and the reason"
+  expect_absent "$tmp/class_out" "$1: predict writes nothing"
 }
 check_class garbage .json "malformed JSON: parse error"
 check_class overflow .json "malformed JSON: number overflow parsing '1e400'"
