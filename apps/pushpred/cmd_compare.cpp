@@ -21,12 +21,13 @@ int run_compare(const CompareArgs& a) {
   const StudyOptions o = a.study.options();
   StagedOutput out(a.out);
   const EstimatorComparison c = compare_estimators(a.files, a.estimators, o, a.shape);
+  const std::size_t used = c.rows.empty() ? 0 : static_cast<std::size_t>(c.rows.front().pushes);
+  if (used == 0) return report_failures(c.failures, 0);  // nothing written
   const std::string md = comparison_markdown(c);
   write_text_atomically(out.path("compare.md"), md);
   out.commit();
   std::cout << md;
-  for (const auto& f : c.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
-  return c.failures.empty() ? 0 : 1;
+  return report_failures(c.failures, used);
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {

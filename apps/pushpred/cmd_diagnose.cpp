@@ -91,7 +91,7 @@ int run_diagnose(const DiagnoseArgs& a) {
   for (const auto& g : outcomes) failed_groups += g.result ? 0 : 1;
   if (failed_groups == outcomes.size()) throw InputError("no object could be diagnosed; nothing written");
   write_text_atomically(out.path("overview.md"), diagnosis_overview_markdown(outcomes));
-  write_text_atomically(out.path("overview.json"), diagnosis_overview_json(outcomes).dump(2) + "\n");
+  write_text_atomically(out.path("overview.json"), json_text(diagnosis_overview_json(outcomes)));
   out.commit();
   std::cout << outcomes.size() - failed_groups << " of " << outcomes.size() << " objects diagnosed (" << loaded_count
             << " pushes read); overview in " << a.out << "/overview.md\n";

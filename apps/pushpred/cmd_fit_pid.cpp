@@ -65,7 +65,7 @@ int run_fit_pid(const FitPidArgs& a) {
   study.skipped = skipped;
   study.failed.insert(study.failed.begin(), batch.failures.begin(), batch.failures.end());
   StagedOutput out(a.out);
-  write_text_atomically(out.path("pid_gains.json"), pid_fit_json(study).dump(2) + "\n");
+  write_text_atomically(out.path("pid_gains.json"), json_text(pid_fit_json(study)));
   write_text_atomically(out.path("pid_fit.md"), pid_fit_markdown(study));
   for (const PidFitPush& p : pushes)
     write_text_atomically(out.path("forces/" + std::filesystem::path(p.push.source).stem().string() + ".csv"),

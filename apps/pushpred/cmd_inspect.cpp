@@ -20,11 +20,8 @@ int run_inspect(const InspectArgs& a) {
   options.shape_override = a.shape;
   options.preprocess.rate_hz = a.rate_hz;
   const InspectionBatch batch = inspect_files(a.files, options);
-  std::cout << (a.json ? inspection_json(batch).dump(2) + "\n" : inspection_table(batch));
-  for (const auto& f : batch.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
-  if (!batch.failures.empty())
-    std::cerr << batch.failures.size() << " of " << a.files.size() << " files failed\n";
-  return batch.failures.empty() ? 0 : 1;
+  std::cout << (a.json ? json_text(inspection_json(batch)) : inspection_table(batch));
+  return report_failures(batch.failures, batch.results.size());
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {

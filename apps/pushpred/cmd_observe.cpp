@@ -29,8 +29,7 @@ int run_observe(const ObserveArgs& a) {
   options.observer.zeta = a.zeta;
   options.observer.hold = a.hold == "zero" ? Hold::Zero : Hold::First;
   StagedOutput out(a.out);  // checks the destination before any work
-  const SynchronisedPush push = load_push(a.file, a.shape);
-  const Observation observation = observe_push(push, options);
+  const Observation observation = on_file(a.file, [&] { return observe_push(load_push(a.file, a.shape), options); });
   for (const auto& f : observation_files(observation)) write_text_atomically(out.path(f.name), f.text);
   std::vector<std::string> notes;
   if (!a.no_plots)

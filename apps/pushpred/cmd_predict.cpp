@@ -31,8 +31,9 @@ int run_predict(const PredictArgs& a) {
     write_text_atomically(out.path("predictions/" + path.stem().string() + ".csv"), predictions_csv(s));
     return s;
   });
+  if (batch.results.empty()) return report_failures(batch.failures, 0);  // nothing written
   const nlohmann::json summary = prediction_summary_json(batch, o);
-  write_text_atomically(out.path("summary.json"), summary.dump(2) + "\n");
+  write_text_atomically(out.path("summary.json"), json_text(summary));
   out.commit();
 
   std::cout << "predicted " << batch.results.size() << " pushes (" << o.schedule.intervals << " intervals over the "
@@ -43,9 +44,7 @@ int run_predict(const PredictArgs& a) {
     std::printf("  %-15s x %7.2f mm  y %7.2f mm  theta %7.2f deg\n", name.c_str(), e["x_mm_mean"].get<double>(),
                 e["y_mm_mean"].get<double>(), e["theta_deg_mean"].get<double>());
   }
-  for (const auto& f : batch.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
-  if (!batch.failures.empty()) std::cerr << batch.failures.size() << " of " << batch.failures.size() + batch.results.size() << " files failed\n";
-  return batch.failures.empty() ? 0 : 1;
+  return report_failures(batch.failures, batch.results.size());
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {

@@ -3,8 +3,13 @@
 // CLI11 subcommand and, when that subcommand is chosen, sets the runner; a static `CommandRegistration`
 // puts it on the list. Adding a command touches no other file.
 #include <CLI/CLI.hpp>
+#include <cstddef>
 #include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
+
+#include "pushpred/core/batch.hpp"
 
 namespace pushpred::app {
 
@@ -17,5 +22,30 @@ int run_selected(CLI::App& app);
 struct CommandRegistration {
   explicit CommandRegistration(AddCommand add);
 };
+
+// Exit codes every subcommand keeps (README): 0 every input used; 1 some inputs failed, the others' results written
+// and the failures listed; 2 nothing done: a bad argument or output folder, or no input usable, nothing written.
+inline constexpr int kExitSomeFailed = 1;
+inline constexpr int kExitNothingDone = 2;
+
+/// Lists each failure as "FAILED source: reason" on stderr, then "N of M inputs failed"; returns the exit code for
+/// a batch of `inputs` items with `used` of them giving results.
+int report_failures(const std::vector<BatchFailure>& failures, std::size_t used, const std::string& label = "FAILED");
+
+/// Runs `job` on one input file; any failure becomes an InputError that names the file (once) and says why in plain
+/// text, for the commands that read a single file (a solver failure on a file is a problem of that file).
+template <class Job>
+auto on_file(const std::string& file, Job&& job) -> decltype(job()) {
+  try {
+    return job();
+  } catch (const std::exception& e) {
+    std::string reason = e.what();
+    if (reason.rfind(file + ": ", 0) == 0) reason = reason.substr(file.size() + 2);
+    throw InputError(about(plain_text(file), plain_text(reason)));
+  }
+}
+
+/// JSON text for an output file: invalid UTF-8 (from a file name) replaced rather than aborting the run.
+std::string json_text(const nlohmann::json& doc);
 
 }  // namespace pushpred::app

@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/output_files.hpp"
 #include "pushpred/core/version.hpp"
 
 int main(int argc, char** argv) {
@@ -17,13 +18,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  // A run stopped by a signal removes its half-written output (core/output_files.hpp).
+  pushpred::install_output_cleanup_on_signals();
   try {
     return pushpred::app::run_selected(app);
   } catch (const pushpred::InputError& e) {
-    std::cerr << "pushpred: error: " << e.what() << "\n";
-    return 2;
+    std::cerr << "pushpred: error: " << pushpred::plain_text(e.what()) << "\n";
+    return pushpred::app::kExitNothingDone;
   } catch (const std::exception& e) {
-    std::cerr << "pushpred: error: " << e.what() << "\n";
+    std::cerr << "pushpred: error: " << pushpred::plain_text(e.what()) << "\n";
     return 1;
   }
 }

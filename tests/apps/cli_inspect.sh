@@ -27,12 +27,12 @@ expect_exit 1 "a batch with bad files" -- "$bin" inspect "$tmp/missing.h5" "$goo
 expect_in "$tmp/out" "1 files read, 2 failed" "the good file is still inspected"
 expect_in "$tmp/err" "FAILED $tmp/missing.h5: file does not exist" "the missing file is named"
 expect_in "$tmp/err" "FAILED $tmp/junk.h5: neither an HDF5 nor a JSON recording" "the junk file is named"
-expect_in "$tmp/err" "2 of 3 files failed" "the failures are counted"
+expect_in "$tmp/err" "2 of 3 inputs failed" "the failures are counted"
 
 cp "$good" "$tmp/push.h5"
-expect_exit 1 "a file name without the shape" -- "$bin" inspect "$tmp/push.h5"
+expect_exit 2 "a file name without the shape (no input usable)" -- "$bin" inspect "$tmp/push.h5"
 expect_in "$tmp/err" "give the shape with --shape" "the user is told to give --shape"
 expect_exit 0 "the shape from a flag" -- "$bin" inspect --shape butter "$tmp/push.h5"
-expect_exit 1 "an unknown shape from a flag" -- "$bin" inspect --shape teapot "$tmp/push.h5"
+expect_exit 2 "an unknown shape from a flag" -- "$bin" inspect --shape teapot "$tmp/push.h5"
 expect_in "$tmp/err" "unknown shape 'teapot'" "the unknown shape is named"
 finish

@@ -1,11 +1,13 @@
 // Every way a user's file can be wrong gives one InputError naming the file and the problem.
 #include <hdf5.h>
+#include <sys/stat.h>
 
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <limits>
 #include <map>
 
+#include "pushpred/core/batch.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/recording.hpp"
@@ -188,6 +190,112 @@ BOOST_AUTO_TEST_CASE(a_file_name_that_does_not_parse_needs_the_shape_from_a_flag
   const SynchronisedPush p = load_push(path, "rect1");
   BOOST_TEST(p.shape.name == "rect1");
   BOOST_TEST(p.push.surface == "unknown");
+}
+
+BOOST_AUTO_TEST_CASE(only_regular_files_are_opened) {
+  TempFolder tmp;
+  BOOST_REQUIRE(mkfifo((tmp / "fifo.h5").c_str(), 0600) == 0);
+  expect_read_error(tmp / "fifo.h5", "is a FIFO; only regular files are read");  // would block for ever if opened
+  std::filesystem::create_symlink(tmp / "loop.h5", tmp / "loop.h5");
+  expect_read_error(tmp / "loop.h5", "cannot be read: Too many levels of symbolic links");
+  std::filesystem::create_directories(tmp / "empty");
+  expect_read_error(tmp / "empty", "is a folder holding no recordings (*.h5, *.json)");
+  std::filesystem::create_directories(tmp / (kName + ".h5"));
+  expect_read_error(tmp / (kName + ".h5"), "is a folder holding no recordings");
+  expect_read_error("/dev/null", "is a character device; only regular files are read");
+}
+
+BOOST_AUTO_TEST_CASE(folders_expand_to_their_recordings_and_keep_what_cannot_be_read_by_name) {
+  TempFolder tmp;
+  std::filesystem::create_directories(tmp / "data" / "sub");
+  write_h5(tmp / "data" / "sub" / "a.h5", good_arrays());
+  write_text(tmp / "data" / "notes.txt", "not a recording, not listed");
+  std::filesystem::create_symlink(tmp / "data" / "loop.h5", tmp / "data" / "loop.h5");
+  std::filesystem::create_directories(tmp / "empty");
+  const auto inputs = expand_inputs({(tmp / "data").string(), (tmp / "empty").string(), (tmp / "gone.h5").string()});
+  BOOST_REQUIRE_EQUAL(inputs.size(), 4u);
+  BOOST_TEST(inputs[0] == tmp / "data" / "loop.h5");
+  BOOST_TEST(inputs[1] == tmp / "data" / "sub" / "a.h5");
+  BOOST_TEST(inputs[2] == tmp / "empty");
+  BOOST_TEST(inputs[3] == tmp / "gone.h5");
+  const auto batch = run_batch(inputs, [](const std::filesystem::path& p) { return read_recording(p).source; });
+  BOOST_TEST(batch.results.size() == 1u);
+  BOOST_TEST(batch.failures.size() == 3u);
+}
+
+BOOST_AUTO_TEST_CASE(json_errors_name_the_file_in_plain_text) {
+  TempFolder tmp;
+  std::string garbage = "{";
+  for (int c = 1; c < 256; c += 7) garbage += static_cast<char>(c);
+  write_text(tmp / "garbage.json", garbage);
+  expect_read_error(tmp / "garbage.json", "malformed JSON: parse error");
+  try {
+    read_recording(tmp / "garbage.json");
+  } catch (const InputError& e) {
+    for (const unsigned char c : std::string(e.what())) BOOST_TEST((c >= 0x20 && c < 0x7F));
+  }
+  write_text(tmp / "overflow.json", "{\"tip_pose\": [[1e400, 0, 0, 0]]}");
+  expect_read_error(tmp / "overflow.json", "malformed JSON: number overflow parsing '1e400'");
+  write_text(tmp / "array.json", "[[1, 2, 3, 4]]");
+  expect_read_error(tmp / "array.json", "must be an object of three arrays (tip_pose, object_pose, ft_wrench), not an array");
+  write_text(tmp / "ints.json",
+             "{\"tip_pose\": [[1, 2, 3, 4],[2, 2, 3, 4]], \"object_pose\": [], \"ft_wrench\": []}");
+  expect_read_error(tmp / "ints.json", "array 'tip_pose' holds only integers in columns 1 and 2");
+}
+
+BOOST_AUTO_TEST_CASE(a_byte_order_mark_is_skipped) {
+  TempFolder tmp;
+  std::string json = "\xEF\xBB\xBF{";
+  for (const char* name : {"tip_pose", "object_pose", "ft_wrench"}) {
+    json += std::string(name[0] == 't' ? "" : ",") + "\"" + name + "\": [";
+    for (int i = 0; i < 50; ++i) json += (i ? ",[" : "[") + std::to_string(1.5e9 + 0.004 * i) + ", 0.31, 0.02, 0.1]";
+    json += "]";
+  }
+  write_text(tmp / "bom.json", json + "}");
+  BOOST_TEST(read_recording(tmp / "bom.json").object_pose.size() == 50);
+}
+
+BOOST_AUTO_TEST_CASE(only_64_bit_floats_and_bounded_sizes_are_read_from_hdf5) {
+  TempFolder tmp;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const auto write_typed = [&](const std::filesystem::path& path, hid_t type, hsize_t rows, bool chunked) {
+    write_h5(path, {{"tip_pose", good_rows(50)}, {"ft_wrench", good_rows(50)}});
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hsize_t dims[2] = {rows, 4}, chunk[2] = {64, 4};
+    const hid_t s = H5Screate_simple(2, dims, nullptr);
+    const hid_t p = H5Pcreate(H5P_DATASET_CREATE);
+    if (chunked) H5Pset_chunk(p, 2, chunk);
+    const hid_t d = H5Dcreate2(f, "object_pose", type, s, H5P_DEFAULT, p, H5P_DEFAULT);
+    H5Dclose(d);
+    H5Pclose(p);
+    H5Sclose(s);
+    H5Fclose(f);
+  };
+  write_typed(tmp / "int.h5", H5T_STD_I64LE, 50, false);
+  expect_read_error(tmp / "int.h5", "array 'object_pose' holds 64-bit integers; the format stores 64-bit floats");
+  write_typed(tmp / "float32.h5", H5T_IEEE_F32LE, 50, false);
+  expect_read_error(tmp / "float32.h5", "array 'object_pose' holds 32-bit floats; the format stores 64-bit floats");
+  write_typed(tmp / "huge.h5", H5T_IEEE_F64LE, 100'000'000, true);
+  BOOST_TEST(std::filesystem::file_size(tmp / "huge.h5") < 100'000u);  // declared, not held
+  expect_read_error(tmp / "huge.h5", "array 'object_pose' declares 100000000 rows, more than the 2000000");
+}
+
+BOOST_AUTO_TEST_CASE(arrays_must_be_stored_in_the_file_itself) {
+  TempFolder tmp;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  write_h5(tmp / "other.h5", good_arrays());
+  write_h5(tmp / "linked.h5", {{"tip_pose", good_rows(50)}, {"ft_wrench", good_rows(50)}});
+  const hid_t f = H5Fopen((tmp / "linked.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  H5Lcreate_external((tmp / "other.h5").c_str(), "object_pose", f, "object_pose", H5P_DEFAULT, H5P_DEFAULT);
+  H5Fclose(f);
+  expect_read_error(tmp / "linked.h5", "array 'object_pose' is a link, not a dataset stored in the file");
+}
+
+BOOST_AUTO_TEST_CASE(plain_text_escapes_raw_bytes_and_keeps_utf8) {
+  BOOST_TEST(plain_text("a\x01" "b\xFF\n") == "a\\x01b\\xFF ");
+  BOOST_TEST(plain_text("caf\xC3\xA9") == "caf\xC3\xA9");          // valid UTF-8 kept
+  BOOST_TEST(plain_text("\xC3") == "\\xC3");                         // a truncated sequence escaped
+  BOOST_TEST(plain_text("\xED\xA0\x80") == "\\xED\\xA0\\x80");       // a UTF-16 surrogate is not UTF-8
 }
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -30,15 +30,42 @@ fs::path resolve_data_folder(const std::optional<std::string>& explicit_folder) 
   throw InputError("no data folder found (tried " + list + "); give one with --data or PUSHPRED_DATA");
 }
 
+namespace {
+
+/// Recordings below `folder`, by hand rather than by recursive_directory_iterator so that one unreadable
+/// subfolder does not hide the rest: it is listed itself and fails by name when read. Symbolic links to folders
+/// are not followed (no loops); anything else named *.h5 or *.json is listed, regular or not, so that a FIFO, a
+/// broken link or a link loop is a named failure rather than silently skipped.
+void collect_recordings(const fs::path& folder, std::vector<fs::path>& files, int depth) {
+  std::error_code ec;
+  fs::directory_iterator it(folder, ec);
+  if (ec || depth > 32) {
+    files.push_back(folder);
+    return;
+  }
+  for (; it != fs::directory_iterator(); it.increment(ec)) {
+    if (ec) {
+      files.push_back(folder);
+      return;
+    }
+    std::error_code ec_status;
+    const fs::file_status link = it->symlink_status(ec_status);
+    const auto ext = it->path().extension();
+    if (fs::is_directory(link)) collect_recordings(it->path(), files, depth + 1);
+    else if (ext == ".h5" || ext == ".json") files.push_back(it->path());
+  }
+}
+
+}  // namespace
+
 std::vector<fs::path> list_recordings(const fs::path& folder, const std::string& surface) {
   const fs::path root = surface.empty() ? folder : folder / surface;
-  if (!fs::is_directory(root)) throw InputError(about(root.string(), "folder does not exist"));
+  std::error_code ec;
+  if (!fs::is_directory(root, ec)) throw InputError(about(root.string(), "folder does not exist"));
   std::vector<fs::path> files;
-  for (const auto& entry : fs::recursive_directory_iterator(root)) {
-    const auto ext = entry.path().extension();
-    if (entry.is_regular_file() && (ext == ".h5" || ext == ".json")) files.push_back(entry.path());
-  }
+  collect_recordings(root, files, 0);
   std::sort(files.begin(), files.end());
+  files.erase(std::unique(files.begin(), files.end()), files.end());
   return files;
 }
 

@@ -13,6 +13,8 @@ namespace pushpred {
 std::filesystem::path resolve_data_folder(const std::optional<std::string>& explicit_folder = std::nullopt);
 
 /// Recordings (*.h5, *.json) below `folder`/`surface` (or below `folder` when surface is empty), sorted by name.
+/// Entries so named that are not regular files (a FIFO, a broken link, a link loop), and subfolders that cannot be
+/// listed, are listed too, so that reading them fails by name; links to folders are not followed.
 std::vector<std::filesystem::path> list_recordings(const std::filesystem::path& folder,
                                                    const std::string& surface = "");
 

@@ -18,6 +18,11 @@ class SolverError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// `text` made safe to print and to store in JSON: printable ASCII and valid UTF-8 kept, every other byte (raw
+/// binary from a corrupt file, invalid UTF-8 in a file name, control characters) written as \xNN, newlines as
+/// spaces, so that a message stays one line of plain text.
+std::string plain_text(const std::string& text);
+
 /// Prefixes an error message with the input it is about: "source: what".
 inline std::string about(const std::string& source, const std::string& what) {
   return source.empty() ? what : source + ": " + what;

@@ -1,7 +1,13 @@
 #pragma once
-// Output that is never half-written: files are written into a hidden staging folder beside the destination and
-// moved into place only when the whole job succeeded. If the job throws, the staging folder is removed and the
-// destination is left as it was.
+// Output that is never half-written: files are written into a hidden staging folder beside the destination,
+// `.NAME.staging-PID-N`, and the whole folder is renamed into place only when the job succeeded; an existing
+// destination is replaced as a whole (atomically where the file system allows), so no file of an earlier run is
+// left beside the new ones. If the job throws, the staging folder is removed and the destination is left as it
+// was. A run stopped by SIGINT, SIGTERM or SIGHUP removes its staging folders (install_output_cleanup_on_signals);
+// a run killed outright leaves one, which the next run into the same destination removes.
+//
+// An existing destination is replaced only when it is empty or was written by pushpred (it holds the marker file
+// `.pushpred-output`), so that `--out .` or `--out ~` can never wipe a user's folder.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -11,13 +17,18 @@ namespace pushpred {
 /// Writes `text` to `path` through a temporary file in the same folder and a rename.
 void write_text_atomically(const std::filesystem::path& path, const std::string& text);
 
+/// The name of the marker file every StagedOutput folder holds.
+inline constexpr const char* kOutputMarker = ".pushpred-output";
+
 /// A folder of outputs that appear together or not at all.
 ///
 ///   StagedOutput out("results/run1");
 ///   write_text_atomically(out.path("summary.json"), json);
-///   out.commit();            // now results/run1/summary.json exists
+///   out.commit();            // now results/run1 holds summary.json and nothing else
 class StagedOutput {
  public:
+  /// Checks the destination (throws InputError when it is a file, or a folder pushpred did not write) and creates
+  /// the staging folder, after removing stale staging folders of dead pushpred processes for this destination.
   explicit StagedOutput(std::filesystem::path destination);
   ~StagedOutput();
   StagedOutput(const StagedOutput&) = delete;
@@ -28,13 +39,20 @@ class StagedOutput {
   const std::filesystem::path& staging_folder() const { return staging_; }
   const std::filesystem::path& destination() const { return destination_; }
 
-  /// Moves every staged file into the destination (creating it), replacing files of the same name.
+  /// Renames the staging folder into place, replacing the destination's earlier contents as a whole.
   void commit();
 
  private:
-  std::filesystem::path destination_;
+  std::filesystem::path destination_;  ///< as given, for messages
+  std::filesystem::path target_;       ///< absolute, normalised
   std::filesystem::path staging_;
+  int slot_ = -1;  ///< in the signal clean-up registry
   bool committed_ = false;
 };
+
+/// Installs handlers for SIGINT, SIGTERM and SIGHUP (unless ignored) that remove the staging folders of every
+/// live StagedOutput and then let the signal end the process as it would have. For programs, not libraries: call
+/// once at the start of main.
+void install_output_cleanup_on_signals();
 
 }  // namespace pushpred

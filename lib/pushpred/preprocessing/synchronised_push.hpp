@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pushpred/preprocessing/plausibility.hpp"
 #include "pushpred/reading/recording.hpp"
 #include "pushpred/reading/shape_table.hpp"
 
@@ -31,6 +32,7 @@ struct PreprocessOptions {
   double contact_force_N = 0.25;        ///< |f_C| above this means contact (noise at rest: 0.04 N fx, 0.10 N fy std)
   double contact_gap_m = 2e-3;          ///< geometric contact: tip surface within this of the outline
   double barely_moves_m = 2e-3;         ///< object travel below this flags the push
+  PlausibilityLimits limits;            ///< checked before any work (see plausibility.hpp)
 };
 
 /// Flags a push can carry; they never stop preprocessing, later stages decide what to do with them.
@@ -78,7 +80,8 @@ struct SynchronisedPush {
 
 /// Synchronises the three streams of `recording` onto a uniform grid over their common span, with yaw
 /// unwrapping, single-sample glitch rejection and contact detection. `shape` supplies mass, inertia, outline.
-/// Throws InputError when the streams do not overlap or the span is shorter than two grid samples.
+/// Throws InputError when the recording is not plausible (check_plausible), the streams do not overlap or the span
+/// is shorter than two grid samples.
 SynchronisedPush synchronise(const Recording& recording, const ShapeInfo& shape, const PreprocessOptions& options = {});
 
 /// The shape named by the file name, or `shape_override` when given; throws InputError when neither

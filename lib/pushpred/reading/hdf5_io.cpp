@@ -38,28 +38,56 @@ void silence_hdf5_errors() {
   (void)done;
 }
 
-Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* name) {
-  if (H5Lexists(file, name, H5P_DEFAULT) <= 0)
-    throw InputError(about(source, std::string("array '") + name + "' is missing"));
+std::string type_description(hid_t type) {
+  const size_t bits = 8 * H5Tget_size(type);
+  switch (H5Tget_class(type)) {
+    case H5T_INTEGER: return std::to_string(bits) + "-bit integers";
+    case H5T_FLOAT: return std::to_string(bits) + "-bit floats";
+    case H5T_STRING: return "strings";
+    case H5T_COMPOUND: return "compound records";
+    default: return "non-numeric data";
+  }
+}
+
+Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* name, long long max_rows) {
+  const std::string where = std::string("array '") + name + "'";
+  if (H5Lexists(file, name, H5P_DEFAULT) <= 0) throw InputError(about(source, where + " is missing"));
+  // Only a dataset stored in this file: a soft or external link, or external or virtual storage, would make the
+  // reader open other files.
+  H5L_info_t link{};
+  if (H5Lget_info(file, name, &link, H5P_DEFAULT) < 0 || link.type != H5L_TYPE_HARD)
+    throw InputError(about(source, where + " is a link, not a dataset stored in the file"));
+  H5O_info_t object{};
+  if (H5Oget_info_by_name2(file, name, &object, H5O_INFO_BASIC, H5P_DEFAULT) < 0 || object.type != H5O_TYPE_DATASET)
+    throw InputError(about(source, std::string("'") + name + "' is not a dataset"));
   Handle dataset(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
   if (!dataset.valid()) throw InputError(about(source, std::string("'") + name + "' is not a dataset"));
+  Handle plist(H5Dget_create_plist(dataset.get()), H5Pclose);
+  if (!plist.valid() || H5Pget_external_count(plist.get()) != 0 || H5Pget_layout(plist.get()) == H5D_VIRTUAL)
+    throw InputError(about(source, where + " is stored outside the file (external or virtual storage)"));
   Handle type(H5Dget_type(dataset.get()), H5Tclose);
-  if (H5Tget_class(type.get()) != H5T_FLOAT && H5Tget_class(type.get()) != H5T_INTEGER)
-    throw InputError(about(source, std::string("array '") + name + "' is not numeric"));
+  // The format stores 64-bit floats. Integers would be converted exactly but a pose in metres stored as integers
+  // has already lost everything below a metre, and 32-bit floats cannot hold Unix time to the millisecond.
+  if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT || H5Tget_size(type.get()) != 8)
+    throw InputError(about(source, where + " holds " + (type.valid() ? type_description(type.get()) : "unreadable data") +
+                                       "; the format stores 64-bit floats"));
   Handle space(H5Dget_space(dataset.get()), H5Sclose);
-  const int rank = H5Sget_simple_extent_ndims(space.get());
+  const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
   if (rank != 2)
-    throw InputError(about(source, std::string("array '") + name + "' has rank " + std::to_string(rank) +
-                                       ", expected n x 4"));
+    throw InputError(about(source, where + " has rank " + std::to_string(rank) + ", expected n x 4"));
   hsize_t dims[2] = {0, 0};
   H5Sget_simple_extent_dims(space.get(), dims, nullptr);
   if (dims[1] != 4)
-    throw InputError(about(source, std::string("array '") + name + "' has shape (" + std::to_string(dims[0]) + ", " +
+    throw InputError(about(source, where + " has shape (" + std::to_string(dims[0]) + ", " +
                                        std::to_string(dims[1]) + "), expected (n, 4)"));
+  // Checked before allocating: a file may declare far more rows than it holds.
+  if (dims[0] > static_cast<hsize_t>(max_rows))
+    throw InputError(about(source, where + " declares " + std::to_string(dims[0]) + " rows, more than the " +
+                                       std::to_string(max_rows) + " a recording may hold"));
   // HDF5 stores row-major; read into a row-major buffer and copy into Eigen's column-major matrix.
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> buffer(static_cast<Eigen::Index>(dims[0]), 4);
   if (dims[0] > 0 && H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
-    throw InputError(about(source, std::string("array '") + name + "' cannot be read"));
+    throw InputError(about(source, where + " cannot be read"));
   return buffer;
 }
 
@@ -81,17 +109,17 @@ void write_rows(hid_t file, const std::string& target, const char* name, const T
 Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptions& options) {
   silence_hdf5_errors();
   const std::string source = path.string();
-  if (!std::filesystem::exists(path)) throw InputError(about(source, "file does not exist"));
+  check_readable_file(path);
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw InputError(about(source, "cannot open HDF5 file"));
   Recording r;
   r.source = source;
   r.push = parse_push_filename(source);
-  r.tip_pose = condition_stream(source, "tip_pose", read_rows(file.get(), source, "tip_pose"), options, r.repairs);
-  r.object_pose =
-      condition_stream(source, "object_pose", read_rows(file.get(), source, "object_pose"), options, r.repairs);
-  r.ft_wrench = condition_stream(source, "ft_wrench", read_rows(file.get(), source, "ft_wrench"), options, r.repairs);
+  const auto rows = [&](const char* name) { return read_rows(file.get(), source, name, options.max_rows); };
+  r.tip_pose = condition_stream(source, "tip_pose", rows("tip_pose"), options, r.repairs);
+  r.object_pose = condition_stream(source, "object_pose", rows("object_pose"), options, r.repairs);
+  r.ft_wrench = condition_stream(source, "ft_wrench", rows("ft_wrench"), options, r.repairs);
   return r;
 }
 

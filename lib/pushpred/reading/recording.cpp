@@ -6,6 +6,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "pushpred/core/data_folder.hpp"
 #include "pushpred/core/error.hpp"
 
 namespace pushpred {
@@ -27,6 +28,9 @@ TimedStream condition_stream(const std::string& source, const std::string& name,
     throw InputError(about(source, where + " has " + std::to_string(rows.cols()) + " columns, expected 4 [t, a, b, c]"));
   if (rows.rows() == 0) throw InputError(about(source, where + " is empty"));
   if (rows.rows() < 2) throw InputError(about(source, where + " has one sample; need at least two"));
+  if (rows.rows() > options.max_rows)
+    throw InputError(about(source, where + " has " + std::to_string(rows.rows()) + " rows, more than the " +
+                                       std::to_string(options.max_rows) + " a recording may hold"));
   for (Eigen::Index i = 0; i < rows.rows(); ++i)
     for (Eigen::Index j = 0; j < 4; ++j)
       if (!std::isfinite(rows(i, j)))
@@ -88,20 +92,49 @@ TimedStream condition_stream(const std::string& source, const std::string& name,
   return s;
 }
 
+void check_readable_file(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  const std::string source = path.string();
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) throw InputError(about(source, "file does not exist"));
+  if (ec) throw InputError(about(source, "cannot be read: " + ec.message()));
+  if (status.type() == fs::file_type::directory) {
+    std::vector<fs::path> inside;
+    try {
+      inside = list_recordings(path);
+    } catch (const std::exception&) {
+    }
+    fs::directory_iterator it(path, ec);
+    if (ec) throw InputError(about(source, "is a folder that cannot be listed: " + ec.message()));
+    if (inside.empty()) throw InputError(about(source, "is a folder holding no recordings (*.h5, *.json)"));
+    throw InputError(about(source, "is a folder, not a recording"));
+  }
+  if (status.type() != fs::file_type::regular) {
+    const char* kind = status.type() == fs::file_type::fifo      ? "a FIFO"
+                       : status.type() == fs::file_type::socket  ? "a socket"
+                       : status.type() == fs::file_type::block   ? "a block device"
+                       : status.type() == fs::file_type::character ? "a character device"
+                                                                   : "not a regular file";
+    throw InputError(about(source, std::string("is ") + kind + "; only regular files are read"));
+  }
+}
+
 Recording read_recording(const std::filesystem::path& path, const ReadOptions& options) {
-  if (!std::filesystem::exists(path)) throw InputError(about(path.string(), "file does not exist"));
-  if (std::filesystem::is_directory(path)) throw InputError(about(path.string(), "is a folder, not a recording"));
+  check_readable_file(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(about(path.string(), "cannot open file"));
-  char head[8] = {};
-  in.read(head, 8);
+  char head[16] = {};
+  in.read(head, sizeof head);
   const std::streamsize got = in.gcount();
   static const char kHdf5Signature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
-  if (got == 8 && std::equal(head, head + 8, kHdf5Signature)) return read_recording_hdf5(path, options);
-  for (std::streamsize i = 0; i < got; ++i) {
+  if (got >= 8 && std::equal(head, head + 8, kHdf5Signature)) return read_recording_hdf5(path, options);
+  std::streamsize i = 0;
+  if (got >= 3 && head[0] == '\xEF' && head[1] == '\xBB' && head[2] == '\xBF') i = 3;  // UTF-8 byte-order mark
+  for (; i < got; ++i) {
     const char c = head[i];
     if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
-    if (c == '{') return read_recording_json(path, options);
+    if (c == '{' || c == '[') return read_recording_json(path, options);
     break;
   }
   if (got == 0) throw InputError(about(path.string(), "file is empty"));

@@ -61,11 +61,20 @@ struct ReadOptions {
   /// A time stamp may run back by at most this many median sample periods before the file is rejected;
   /// smaller disorder (real files: up to 1.4 ms) is sorted and reported.
   double max_backstep_periods = 3.0;
+  /// Bounds checked before anything is allocated, so that a file declaring a huge array is refused at once. A
+  /// real push holds about 1,500 rows per stream; 2e6 rows is over two hours at 250 Hz.
+  long long max_rows = 2'000'000;
+  long long max_json_bytes = 256LL << 20;  ///< the real JSON file is 94 kB
 };
 
-/// Reads an HDF5 or JSON recording, chosen by content (not by extension). Throws InputError naming the file
-/// and the problem for anything malformed.
+/// Reads an HDF5 or JSON recording, chosen by content (not by extension). Only regular files are opened (a FIFO
+/// or device would block or never end). Throws InputError naming the file and the problem, in plain text, for
+/// anything malformed: see docs/robustness.md. Plausibility of the values (rates, ranges) is checked later, by
+/// check_plausible in preprocessing/.
 Recording read_recording(const std::filesystem::path& path, const ReadOptions& options = {});
+/// Throws InputError unless `path` is a regular file (following links): says what it is instead (missing, a
+/// folder and whether it holds recordings, a FIFO, a device, a link loop).
+void check_readable_file(const std::filesystem::path& path);
 Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptions& options = {});
 Recording read_recording_json(const std::filesystem::path& path, const ReadOptions& options = {});
 
@@ -73,7 +82,7 @@ Recording read_recording_json(const std::filesystem::path& path, const ReadOptio
 /// doubles), through a temporary file, so that a failed write leaves nothing behind.
 void write_recording_hdf5(const Recording& recording, const std::filesystem::path& path);
 
-/// Checks one stream as read (n x 4 rows, finite, at least two samples), sorts small time-stamp disorder,
+/// Checks one stream as read (n x 4 rows, finite, at least two, at most options.max_rows samples), sorts small time-stamp disorder,
 /// drops repeated stamps, and reports each repair. Exposed for readers of other formats.
 TimedStream condition_stream(const std::string& source, const std::string& name, const Eigen::MatrixXd& rows,
                              const ReadOptions& options, std::vector<StreamRepair>& repairs);

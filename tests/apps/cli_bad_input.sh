@@ -1,0 +1,142 @@
+#!/usr/bin/env bash
+# Issue 13: every class of bad input gives a clear per-file error naming the file, the batch goes on, the good
+# files' results are those of a run without the bad ones, no command hangs, and nothing is left behind (no
+# output on failure, no staging folder after a signal, no stale file in a re-used output folder).
+set -u
+bin=$1
+data=$2
+make_bad=$3
+source "$(dirname "$0")/cli_support.sh"
+
+good1=$(ls "$data"/abs/*shape=hex_a=0_v=50*.h5 | head -1)
+good2=$(ls "$data"/abs/*shape=ellip1_a=0_v=20*.h5 | head -1)
+name=$(basename "$good1")
+bad="$tmp/bad"
+"$make_bad" "$good1" "$bad" >/dev/null || { echo "FAIL: make_bad_inputs"; exit 1; }
+stem=${name%.h5}
+
+# No command may hang on a bad file: each run gets 30 s (a good push takes well under 5 s).
+limit() { timeout 30 "$@"; }
+
+# expect_plain FILE: no raw bytes (only printable ASCII, tabs and newlines) in FILE.
+expect_plain() {
+  if LC_ALL=C grep -q '[^[:print:][:space:]]' "$1"; then failed=$((failed + 1)); echo "FAIL: raw bytes in $(basename "$1")"
+    LC_ALL=C grep -n '[^[:print:][:space:]]' "$1" | head -3 | cat -v; else passed=$((passed + 1)); fi
+}
+# expect_absent PATH DESCRIPTION
+expect_absent() {
+  if [ -e "$1" ]; then failed=$((failed + 1)); echo "FAIL: $2: $1 exists"; else passed=$((passed + 1)); fi
+}
+# expect_no_staging FOLDER: no hidden staging or replaced folder left in FOLDER.
+expect_no_staging() {
+  if ls -a "$1" | grep -q '\.staging-\|\.replaced-'; then failed=$((failed + 1)); echo "FAIL: $2: staging left in $1"
+    ls -a "$1" | grep '\.staging-\|\.replaced-' | head -3; else passed=$((passed + 1)); fi
+}
+
+# Each class alone: inspect and predict name the file and the problem, exit 2 (nothing usable) within the time
+# limit, and predict writes nothing.
+check_class() {  # check_class CLASS EXT EXPECTED_TEXT
+  local f="$bad/$1/$stem$2"
+  expect_exit 2 "inspect on $1" -- limit "$bin" inspect "$f"
+  expect_in "$tmp/err" "FAILED $f: $3" "$1: the file and the reason are named"
+  expect_plain "$tmp/err"
+  expect_exit 2 "predict on $1" -- limit "$bin" predict "$f" --out "$tmp/class_out"
+  expect_in "$tmp/err" "FAILED $f: $3" "$1: predict names the file and the reason"
+  expect_absent "$tmp/class_out" "$1: predict writes nothing"
+}
+check_class garbage .json "malformed JSON: parse error"
+check_class overflow .json "malformed JSON: number overflow parsing '1e400'"
+check_class array .json "JSON recording must be an object of three arrays (tip_pose, object_pose, ft_wrench), not an array"
+check_class milliseconds .h5 "stream 'tip_pose' has time stamps near 1.46e+12, which are not Unix seconds (milliseconds?)"
+check_class relative_milliseconds .h5 "stream 'tip_pose' runs at 0.227 Hz (median step 4.4 s), outside 25 to 2.5e+03 Hz"
+check_class late_stamp .h5 "stream 'tip_pose' has a gap of 1e+05 s between rows 370 and 371"
+check_class declared_rows .h5 "array 'tip_pose' declares 100000000 rows"
+check_class integer_pose .h5 "array 'object_pose' holds 64-bit integers; the format stores 64-bit floats"
+check_class huge_force .h5 "stream 'ft_wrench' has fx 1e+300 N at row 0, beyond the plausible 1e+03 N"
+check_class far_away .h5 "stream 'object_pose' has x 1e+03 m at row"
+
+# Good data behind a byte-order mark, and the same data as JSON and HDF5 under the real name, are read.
+for f in "$bad/bom_good/$stem.json" "$bad/good/$stem.json" "$bad/good/$stem.h5"; do
+  expect_exit 0 "inspect $(basename "$(dirname "$f")")/$(basename "$f")" -- limit "$bin" inspect "$f"
+done
+
+# Things that are not files.
+mkdir -p "$tmp/odd/empty" "$tmp/odd/named/$name" "$tmp/odd/loopdir"
+mkfifo "$tmp/odd/fifo.h5"
+ln -s "$tmp/odd/loop.h5" "$tmp/odd/loop.h5"
+ln -s "$tmp/odd/loopdir/x.h5" "$tmp/odd/loopdir/x.h5"
+expect_exit 2 "a FIFO" -- limit "$bin" inspect "$tmp/odd/fifo.h5"
+expect_in "$tmp/err" "FAILED $tmp/odd/fifo.h5: is a FIFO; only regular files are read" "the FIFO is refused by name"
+expect_exit 2 "a symbolic-link loop" -- limit "$bin" inspect "$tmp/odd/loop.h5"
+expect_in "$tmp/err" "FAILED $tmp/odd/loop.h5: cannot be read: Too many levels of symbolic links" "the loop is named"
+expect_exit 2 "an empty folder" -- limit "$bin" inspect "$tmp/odd/empty"
+expect_in "$tmp/err" "FAILED $tmp/odd/empty: is a folder holding no recordings (*.h5, *.json)" "the empty folder is named"
+expect_exit 2 "a folder named like a recording" -- limit "$bin" inspect "$tmp/odd/named/$name"
+expect_in "$tmp/err" "is a folder holding no recordings" "the folder is named"
+expect_exit 2 "predict on an empty folder" -- limit "$bin" predict "$tmp/odd/empty" --out "$tmp/empty_out"
+expect_absent "$tmp/empty_out" "nothing written when no input is usable"
+expect_no_staging "$tmp" "predict on an empty folder"
+
+# A batch of good and bad files: exit 1, every failure listed, the good results identical to a run without them.
+expect_exit 0 "predict on the good files alone" -- limit "$bin" predict "$good1" "$good2" --out "$tmp/alone"
+expect_exit 1 "predict on good and bad files" -- limit "$bin" predict "$bad/garbage/$stem.json" "$good1" \
+  "$tmp/odd/loop.h5" "$tmp/odd/fifo.h5" "$bad/late_stamp/$stem.h5" "$bad/milliseconds/$stem.h5" \
+  "$bad/declared_rows/$stem.h5" "$bad/integer_pose/$stem.h5" "$bad/huge_force/$stem.h5" "$bad/overflow/$stem.json" \
+  "$tmp/odd/empty" "$tmp/odd/loopdir" "$good2" --out "$tmp/mixed"
+expect_in "$tmp/err" "11 of 13 inputs failed" "every failure is counted"
+expect_plain "$tmp/err"
+for f in "$bad/garbage/$stem.json" "$tmp/odd/loop.h5" "$tmp/odd/fifo.h5" "$tmp/odd/loopdir/x.h5" "$tmp/odd/empty"; do
+  expect_in "$tmp/err" "FAILED $f: " "the failure of $f is listed"
+done
+if jq -e '.failures | length == 11' "$tmp/mixed/summary.json" >/dev/null; then passed=$((passed + 1)); else
+  failed=$((failed + 1)); echo "FAIL: summary.json does not list the 11 failures as valid JSON"; fi
+if diff <(jq 'del(.failures)' "$tmp/alone/summary.json") <(jq 'del(.failures)' "$tmp/mixed/summary.json") >/dev/null &&
+  diff -r "$tmp/alone/predictions" "$tmp/mixed/predictions" >/dev/null; then passed=$((passed + 1)); else
+  failed=$((failed + 1)); echo "FAIL: the good files' results differ from a run of the good files alone"; fi
+
+# A file name that is not UTF-8 still gives valid JSON.
+odd_folder=$(printf '%s/name\377' "$tmp")
+mkdir -p "$odd_folder" && cp "$good1" "$odd_folder/"
+expect_exit 0 "predict on a file below a non-UTF-8 folder name" -- limit "$bin" predict "$odd_folder" --out "$tmp/utf"
+if jq -e '.' "$tmp/utf/summary.json" >/dev/null; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: invalid JSON"; fi
+expect_exit 0 "inspect --json on it" -- limit "$bin" inspect --json "$odd_folder"
+if jq -e '.files | length == 1' "$tmp/out" >/dev/null; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: inspect JSON"; fi
+
+# observe (one file): exit 2 with the file named, nothing written, in time.
+for class in garbage late_stamp relative_milliseconds huge_force; do
+  f=$(ls "$bad/$class/$stem".*)
+  expect_exit 2 "observe on $class" -- limit "$bin" observe "$f" --out "$tmp/obs_$class" --no-plots
+  expect_in "$tmp/err" "pushpred: error: $f: " "observe names the $class file"
+  expect_absent "$tmp/obs_$class" "observe writes nothing on $class"
+done
+expect_no_staging "$tmp" "observe on bad files"
+
+# Output folders: a re-used one is replaced as a whole; one pushpred did not write is refused and left alone.
+expect_exit 0 "predict again into the same folder, on one push" -- limit "$bin" predict "$good1" --out "$tmp/alone"
+count=$(ls "$tmp/alone/predictions" | wc -l)
+if [ "$count" -eq 1 ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $count per-push CSVs, not 1"; fi
+mkdir -p "$tmp/mine" && echo keep > "$tmp/mine/notes.txt"
+expect_exit 2 "an output folder pushpred did not write" -- limit "$bin" predict "$good1" --out "$tmp/mine"
+expect_in "$tmp/err" "was not written by pushpred" "the user is told why"
+expect_in "$tmp/mine/notes.txt" "keep" "the user's file is untouched"
+echo x > "$tmp/afile"
+expect_exit 2 "an output path that is a file" -- limit "$bin" predict "$good1" --out "$tmp/afile"
+expect_in "$tmp/err" "exists and is not a folder" "the output file is named"
+
+# A run stopped by SIGTERM or SIGINT removes its staging folder; a stale one of a dead run is removed by the next.
+mkdir -p "$tmp/sig"
+for signal in TERM INT; do
+  # timeout runs pushpred in the foreground (a background job of a script would ignore SIGINT) and signals it.
+  timeout -s "$signal" 3 "$bin" predict "$data/abs" --out "$tmp/sig/run" >/dev/null 2>&1
+  code=$?
+  if [ "$code" -eq 124 ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: SIG$signal: exit $code"; fi
+  expect_absent "$tmp/sig/run" "no output after SIG$signal"
+  expect_no_staging "$tmp/sig" "SIG$signal"
+done
+sleep 0 &
+dead=$!
+wait "$dead"
+mkdir -p "$tmp/sig/.run.staging-$dead-1/predictions" && touch "$tmp/sig/.run.staging-$dead-1/.pushpred-output"
+expect_exit 0 "a run after a killed one" -- limit "$bin" predict "$good1" --out "$tmp/sig/run"
+expect_no_staging "$tmp/sig" "the stale staging folder of a dead run"
+finish

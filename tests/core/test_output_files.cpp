@@ -1,0 +1,144 @@
+#define BOOST_TEST_MODULE core
+// Output folders appear whole or not at all, replace an earlier run as a whole, never replace a folder pushpred did
+// not write, and leave nothing behind when a run fails or is stopped by a signal.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/test/unit_test.hpp>
+#include <csignal>
+#include <fstream>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/output_files.hpp"
+#include "test_support.hpp"
+
+using namespace pushpred;
+using pushpred::testing::TempFolder;
+using pushpred::testing::write_text;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Names in `folder` (hidden ones too), sorted.
+std::vector<std::string> names_in(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(folder)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_SUITE(staged_output)
+
+BOOST_AUTO_TEST_CASE(a_committed_output_appears_whole_and_a_failed_one_not_at_all) {
+  TempFolder tmp;
+  {
+    StagedOutput out(tmp / "run");
+    write_text_atomically(out.path("a/summary.json"), "{}");
+    BOOST_TEST(!fs::exists(tmp / "run"));
+    out.commit();
+  }
+  BOOST_TEST(fs::exists(tmp / "run" / "a" / "summary.json"));
+  BOOST_TEST(fs::exists(tmp / "run" / kOutputMarker));
+  try {
+    StagedOutput out(tmp / "run2");
+    write_text_atomically(out.path("half.csv"), "1,2");
+    throw std::runtime_error("the job failed");
+  } catch (const std::runtime_error&) {
+  }
+  BOOST_TEST(!fs::exists(tmp / "run2"));
+  BOOST_TEST((names_in(tmp.path()) == std::vector<std::string>{"run"}));  // no staging folder left
+}
+
+BOOST_AUTO_TEST_CASE(a_reused_output_folder_is_replaced_as_a_whole) {
+  TempFolder tmp;
+  {
+    StagedOutput out(tmp / "run");
+    write_text_atomically(out.path("predictions/p1.csv"), "old");
+    write_text_atomically(out.path("predictions/p2.csv"), "old");
+    out.commit();
+  }
+  {
+    StagedOutput out(tmp / "run");
+    write_text_atomically(out.path("predictions/p1.csv"), "new");
+    out.commit();
+  }
+  BOOST_TEST((names_in(tmp / "run" / "predictions") == std::vector<std::string>{"p1.csv"}));
+  std::ifstream in(tmp / "run" / "predictions" / "p1.csv");
+  std::string text;
+  in >> text;
+  BOOST_TEST(text == "new");
+  BOOST_TEST((names_in(tmp.path()) == std::vector<std::string>{"run"}));
+}
+
+BOOST_AUTO_TEST_CASE(a_folder_pushpred_did_not_write_is_never_replaced) {
+  TempFolder tmp;
+  fs::create_directories(tmp / "mine");
+  write_text(tmp / "mine" / "thesis.tex", "years of work");
+  BOOST_CHECK_THROW(StagedOutput(tmp / "mine"), InputError);
+  BOOST_CHECK_THROW(StagedOutput(tmp.path()), InputError);
+  BOOST_TEST(fs::exists(tmp / "mine" / "thesis.tex"));
+  write_text(tmp / "file", "x");
+  BOOST_CHECK_THROW(StagedOutput(tmp / "file"), InputError);
+  fs::create_directories(tmp / "empty");
+  StagedOutput out(tmp / "empty");  // an empty folder is fine
+  write_text_atomically(out.path("x.txt"), "x");
+  out.commit();
+  BOOST_TEST(fs::exists(tmp / "empty" / "x.txt"));
+}
+
+BOOST_AUTO_TEST_CASE(stale_staging_folders_of_dead_runs_are_removed) {
+  TempFolder tmp;
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);  // `child` is now a process id that no process has
+  const fs::path stale = tmp / (".run.staging-" + std::to_string(child) + "-7");
+  fs::create_directories(stale / "predictions");
+  write_text(stale / kOutputMarker, "");
+  const fs::path foreign = tmp / (".run.staging-" + std::to_string(child) + "-8");  // no marker: not ours
+  fs::create_directories(foreign);
+  const fs::path live = tmp / (".run.staging-" + std::to_string(getpid()) + "-9");  // a live process's
+  fs::create_directories(live);
+  write_text(live / kOutputMarker, "");
+  StagedOutput out(tmp / "run");
+  BOOST_TEST(!fs::exists(stale));
+  BOOST_TEST(fs::exists(foreign));
+  BOOST_TEST(fs::exists(live));
+}
+
+BOOST_AUTO_TEST_CASE(a_run_stopped_by_a_signal_removes_its_staging_folder) {
+  for (const int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    TempFolder tmp;
+    int ready[2];
+    BOOST_REQUIRE(pipe(ready) == 0);
+    const pid_t child = fork();
+    if (child == 0) {
+      for (const int s : {SIGTERM, SIGINT, SIGHUP}) std::signal(s, SIG_DFL);  // as a fresh program starts
+      install_output_cleanup_on_signals();
+      StagedOutput out(tmp / "run");
+      write_text_atomically(out.path("predictions/p1.csv"), "written before the signal");
+      if (write(ready[1], "x", 1) != 1) _exit(3);
+      pause();
+      _exit(4);  // not reached: the signal ends the process
+    }
+    char c;
+    BOOST_REQUIRE(read(ready[0], &c, 1) == 1);
+    BOOST_TEST(names_in(tmp.path()).size() == 1u);  // the staging folder, while the run lasts
+    kill(child, sig);
+    int status = 0;
+    waitpid(child, &status, 0);
+    BOOST_TEST(WIFSIGNALED(status));
+    BOOST_TEST(WTERMSIG(status) == sig);  // ended by the signal, as without the handler
+    BOOST_TEST(names_in(tmp.path()).empty());
+    close(ready[0]);
+    close(ready[1]);
+  }
+}
+
+BOOST_AUTO_TEST_SUITE_END()
+
+BOOST_AUTO_TEST_CASE(plain_text_keeps_one_line) {
+  BOOST_TEST(plain_text("line one\nline two\r\t") == "line one line two  ");
+  BOOST_TEST(plain_text(std::string("nul\0byte", 8)) == "nul\\x00byte");
+}
