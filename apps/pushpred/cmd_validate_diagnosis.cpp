@@ -19,6 +19,7 @@ struct ValidateArgs {
 };
 
 int run_validate(const ValidateArgs& a) {
+  StagedOutput out(a.out);  // checks the destination before the long run
   const bool terminal = isatty(STDERR_FILENO) != 0;
   const ValidationResult r = validate_diagnosis(a.options, [&](int done, int total) {
     if (terminal)
@@ -27,7 +28,6 @@ int run_validate(const ValidateArgs& a) {
       std::cerr << "trials " << done << " / " << total << "\n";
   });
   if (terminal) std::cerr << "\n";
-  StagedOutput out(a.out);
   write_text_atomically(out.path("validation.json"), validation_json(r).dump(2) + "\n");
   write_text_atomically(out.path("validation.md"), validation_markdown(r));
   out.commit();
