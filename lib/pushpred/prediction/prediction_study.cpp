@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/prediction/quasi_static_identification.hpp"
 
 namespace pushpred {
 
@@ -13,7 +14,8 @@ double surface_friction_coefficient(const std::string& surface) {
 }
 
 const std::vector<std::string>& prediction_method_names() {
-  static const std::vector<std::string> names{"dob", "dob_velinit", "simple", "hold", "const_velocity"};
+  static const std::vector<std::string> names{"dob", "dob_velinit", "simple", "hold", "const_velocity",
+                                                  "quasi_static"};
   return names;
 }
 
@@ -63,6 +65,8 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     corrected_estimator = make_relation_estimator(o.estimator);
   }
 
+  QuasiStaticEstimator quasi_static;
+  quasi_static.reset(push);
   for (size_t k = 1; k < study.intervals.size(); ++k) {
     const TimeInterval& previous = study.intervals[k - 1];
     const TimeInterval& phase = study.intervals[k];
@@ -118,6 +122,11 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     }
     r.predicted["hold"] = hold;
     r.predicted["const_velocity"] = constant;
+    quasi_static.add_interval(previous);
+    const std::vector<TimeInterval> identified(study.intervals.begin(), study.intervals.begin() + static_cast<long>(k));
+    r.predicted["quasi_static"] = predict_quasi_static_phase(push, identified, phase, o.plan_rate_hz, r.initial_velocity,
+                                                             r.t_s, o.integrator, &quasi_static)
+                                      .poses;
     if (o.correction) {
       DisturbanceEstimate cid = corrected_observer->estimate(corrected_push, previous.t0_s, previous.t1_s);
       const Eigen::Vector3d velocity0 = cid.velocity.row(cid.velocity.rows() - 1).transpose();

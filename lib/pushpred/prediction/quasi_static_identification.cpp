@@ -1,0 +1,352 @@
+#include "pushpred/prediction/quasi_static_identification.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+namespace {
+
+Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+
+Eigen::Vector2d body_tip(const SynchronisedPush& push, Eigen::Index i) {
+  return Eigen::Rotation2Dd(push.pose(i, 2)).inverse() *
+         (push.tip_m.row(i).transpose() - push.pose.row(i).head<2>().transpose());
+}
+
+bool has_outline(const ShapeInfo& shape) {
+  try {
+    Outline o(shape);
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+/// Outward normal (body frame) of an unknown outline at sample i: along the tip's slide over the object where it
+/// slides, else the plan's direction turned back by the push angle.
+Eigen::Vector2d local_outward_normal(const SynchronisedPush& push, Eigen::Index i, const Eigen::Vector2d& plan_direction,
+                                     Eigen::Index lookback) {
+  const Eigen::Rotation2Dd R(push.pose(i, 2));
+  const Eigen::Vector2d push_body = R.inverse() * plan_direction;
+  Eigen::Index j = std::max<Eigen::Index>(0, i - lookback);
+  while (j < i && !push.in_contact[static_cast<size_t>(j)]) ++j;
+  const Eigen::Vector2d slide = body_tip(push, i) - body_tip(push, j);
+  Eigen::Vector2d normal;
+  if (push.in_contact[static_cast<size_t>(i)] && slide.norm() > 1.5e-3) {
+    normal = perp(slide.normalized());
+  } else {
+    normal = -(Eigen::Rotation2Dd(-push.push.angle_rad) * push_body);
+  }
+  if (normal.dot(push_body) > 0) normal = -normal;
+  return normal.normalized();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(m), v.end());
+  return v[m];
+}
+
+struct KinematicResidual {
+  Eigen::Vector2d rc, n, tip_velocity, velocity;
+  double omega = 0, c0 = 0, sigma = 1;
+  bool operator()(const double* mu_p, const double* c, double* r) const {
+    const QuasiStaticMotion m = quasi_static_motion(rc, n, tip_velocity, mu_p[0], c[0]);
+    r[0] = (velocity.x() - m.velocity_m_s.x()) / sigma;
+    r[1] = (velocity.y() - m.velocity_m_s.y()) / sigma;
+    r[2] = c0 * (omega - m.omega_rad_s) / sigma;
+    return true;
+  }
+};
+
+struct ForceResidual {
+  double force = 0, torque = 0, weight = 0, sigma = 1;
+  template <typename T>
+  bool operator()(const T* c, const T* mu_s, T* r) const {
+    const T m = T(torque) / c[0];
+    r[0] = (ceres::sqrt(T(force * force) + m * m) - mu_s[0] * T(weight)) / T(sigma);
+    return true;
+  }
+};
+
+}  // namespace
+
+const std::array<const char*, 4>& QuasiStaticIdentification::names() {
+  static const std::array<const char*, 4> n{"pusher_friction", "torque_ratio_m", "support_friction", "contact_offset_m"};
+  return n;
+}
+
+std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush& push, double t_s,
+                                                          const Eigen::Vector2d& plan_direction) {
+  if (has_outline(push.shape)) return shape_outline(push.shape);
+  const Eigen::Index i = push.index_at(t_s);
+  const Eigen::Vector2d direction = plan_direction.norm() > 0 ? plan_direction.normalized() : Eigen::Vector2d::UnitX();
+  const Eigen::Vector2d normal =
+      local_outward_normal(push, i, direction, static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz)));
+  return straight_edge(body_tip(push, i) - kPusherRadius_m * normal, normal);
+}
+
+QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_ptr<const ContactOutline> outline) {
+  QuasiStaticObject o;
+  o.mass_kg = push.shape.mass_kg;
+  o.inertia_kgm2 = push.shape.inertia_kgm2;
+  o.centre_of_friction_m = push.shape.centroid_m;
+  o.outline = std::move(outline);
+  return o;
+}
+
+QuasiStaticEstimator::QuasiStaticEstimator(QuasiStaticIdentificationOptions options) : options_(std::move(options)) {
+  if (!(options_.difference_half_window_s > 0) || !(options_.velocity_noise_m_s > 0) || !(options_.force_noise_N > 0) ||
+      !(options_.min_tip_speed_m_s >= 0) || !(options_.min_object_speed_m_s >= 0) || options_.min_samples < 1)
+    throw InputError("quasi-static identification: windows, noise levels and sample counts must be positive");
+}
+
+void QuasiStaticEstimator::reset(const SynchronisedPush& push) {
+  push_ = &push;
+  samples_.clear();
+  gaps_m_.clear();
+  intervals_ = 0;
+  defaults_ = options_.defaults;
+  const bool outline_known = has_outline(push.shape);
+  outline_ = outline_known ? shape_outline(push.shape) : nullptr;
+  if (!(defaults_.torque_ratio_m > 0) || defaults_.torque_ratio_m == QuasiStaticParameters().torque_ratio_m) {
+    defaults_.torque_ratio_m =
+        outline_known ? uniform_pressure_torque_ratio(make_footprint(Outline(push.shape)), push.shape.centroid_m)
+                      : 0.94 * std::sqrt(push.shape.inertia_kgm2 / push.shape.mass_kg);
+  }
+}
+
+void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
+  if (!push_) throw InputError("quasi-static identification: reset with a push before adding intervals");
+  const SynchronisedPush& push = *push_;
+  if (!(interval.t1_s > interval.t0_s) || interval.t0_s < -1e-9 || interval.t1_s > push.duration_s() + 1e-9)
+    throw InputError(about(push.source, "quasi-static identification: interval outside the push"));
+  ++intervals_;
+  const Eigen::Index h = std::max<Eigen::Index>(1, std::lround(options_.difference_half_window_s * push.rate_hz));
+  const Eigen::Index lookback = static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz));
+  Eigen::Index i0 = push.index_at(interval.t0_s), i1 = push.index_at(interval.t1_s);
+  if (push.t_s(i1) > interval.t1_s + 1e-9) --i1;
+  const double weight = push.shape.mass_kg * defaults_.gravity_m_s2;
+  for (Eigen::Index i = i0; i <= i1; ++i) {
+    if (!push.in_contact[static_cast<size_t>(i)]) continue;
+    // Central differences inside the interval only: identification never reads beyond what has been measured.
+    const Eigen::Index a = std::max(i0, i - h), b = std::min(i1, i + h);
+    if (b <= a) continue;
+    const double dt = push.t_s(b) - push.t_s(a);
+    const Eigen::Vector2d tip_velocity = (push.tip_m.row(b) - push.tip_m.row(a)).transpose() / dt;
+    const Eigen::Rotation2Dd R(push.pose(i, 2));
+    Sample s;
+    s.omega_rad_s = (push.pose(b, 2) - push.pose(a, 2)) / dt;
+    const Eigen::Vector2d centre_velocity = (push.pose.row(b) - push.pose.row(a)).head<2>().transpose() / dt;
+    s.object_velocity_m_s = centre_velocity + s.omega_rad_s * perp(R * push.shape.centroid_m);
+    s.tip_velocity_m_s = tip_velocity;
+    Eigen::Vector2d point_body, normal_out_body;
+    if (outline_) {
+      const Outline::Closest c = outline_->closest(body_tip(push, i));
+      gaps_m_.push_back(c.signed_distance_m - kPusherRadius_m);
+      point_body = c.point_m;
+      normal_out_body = c.normal;
+    } else {
+      if (!(tip_velocity.norm() > 0)) continue;
+      normal_out_body = local_outward_normal(push, i, tip_velocity.normalized(), lookback);
+      point_body = body_tip(push, i) - kPusherRadius_m * normal_out_body;
+    }
+    s.inward_normal = -(R * normal_out_body);
+    s.contact_from_cof_m = R * (point_body - push.shape.centroid_m);
+    s.moving = s.object_velocity_m_s.norm() > options_.min_object_speed_m_s;
+    s.force_N = push.force_N.row(i).norm();
+    // Torque about the CoF: the recorded torque is about the tracked centre.
+    s.torque_about_cof_Nm = push.torque_about_centre_Nm(i) -
+                            perp(R * push.shape.centroid_m).dot(push.force_N.row(i).transpose());
+    (void)weight;
+    samples_.push_back(s);
+  }
+}
+
+QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) const {
+  QuasiStaticIdentification id;
+  id.parameters = defaults_;
+  id.intervals = intervals_;
+  for (auto& s : id.sources) s = "default: no contact sample identified yet";
+  if (!push_) return id;
+  const SynchronisedPush& push = *push_;
+
+  // The contact offset: measured at the phase's start when the sensor reports contact there.
+  const Eigen::Index start = push.index_at(phase_start_s);
+  if (outline_ && !gaps_m_.empty()) {
+    id.parameters.contact_offset_m = median(gaps_m_);
+    std::vector<double> dev;
+    for (double g : gaps_m_) dev.push_back(std::abs(g - id.parameters.contact_offset_m));
+    id.std(3) = 1.4826 * median(dev) / std::sqrt(static_cast<double>(gaps_m_.size()));
+    id.sources[3] = "identified";
+  }
+  (void)start;
+
+  double mu_p = defaults_.pusher_friction, c = defaults_.torque_ratio_m, mu_s = defaults_.support_friction;
+  const double c0 = defaults_.torque_ratio_m;
+  const double weight = push.shape.mass_kg * defaults_.gravity_m_s2;
+  ceres::Problem::Options problem_options;
+  ceres::Problem problem(problem_options);
+  problem.AddParameterBlock(&mu_p, 1);
+  problem.AddParameterBlock(&c, 1);
+  problem.AddParameterBlock(&mu_s, 1);
+  for (const Sample& s : samples_) {
+    if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
+    auto* k = new KinematicResidual{s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, s.object_velocity_m_s,
+                                    s.omega_rad_s, c0, options_.velocity_noise_m_s};
+    problem.AddResidualBlock(new ceres::NumericDiffCostFunction<KinematicResidual, ceres::CENTRAL, 3, 1, 1>(k),
+                             new ceres::HuberLoss(1.0), &mu_p, &c);
+    ++id.kinematic_samples;
+    if (s.moving) {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1>(
+                                   new ForceResidual{s.force_N, s.torque_about_cof_Nm, weight, options_.force_noise_N}),
+                               new ceres::HuberLoss(1.0), &c, &mu_s);
+      ++id.force_samples;
+    }
+  }
+  if (id.kinematic_samples < options_.min_samples) {
+    char why[160];
+    std::snprintf(why, sizeof why, "default: %ld contact samples with a moving tip, fewer than %d",
+                  id.kinematic_samples, options_.min_samples);
+    for (int p = 0; p < 3; ++p) id.sources[static_cast<size_t>(p)] = why;
+    return id;
+  }
+  if (id.force_samples == 0) problem.SetParameterBlockConstant(&mu_s);
+  problem.SetParameterLowerBound(&mu_p, 0, 0.02);
+  problem.SetParameterUpperBound(&mu_p, 0, 1.5);
+  problem.SetParameterLowerBound(&c, 0, 0.3 * c0);
+  problem.SetParameterUpperBound(&c, 0, 3.0 * c0);
+  problem.SetParameterLowerBound(&mu_s, 0, 0.02);
+  problem.SetParameterUpperBound(&mu_s, 0, 1.5);
+
+  double* blocks[3] = {&mu_p, &c, &mu_s};
+  const double defaults[3] = {defaults_.pusher_friction, defaults_.torque_ratio_m, defaults_.support_friction};
+  bool fixed[3] = {false, false, id.force_samples == 0};
+  std::string reason[3] = {"", "", "default: the object never slid while the sensor read contact"};
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 100;
+  solver.num_threads = 1;
+  solver.logging_type = ceres::SILENT;
+  Eigen::Vector3d stdev = Eigen::Vector3d::Zero();
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    // Which parameters the data determine: the covariance of the free ones must exist and be tight.
+    std::vector<const double*> free;
+    for (int p = 0; p < 3; ++p)
+      if (!fixed[p]) free.push_back(blocks[p]);
+    if (free.empty()) break;
+    ceres::Covariance::Options co;
+    co.algorithm_type = ceres::DENSE_SVD;
+    co.null_space_rank = 0;
+    co.min_reciprocal_condition_number = 1e-12;
+    ceres::Covariance covariance(co);
+    std::vector<std::pair<const double*, const double*>> pairs;
+    for (const double* b : free) pairs.emplace_back(b, b);
+    int worst = -1;
+    double worst_ratio = 0.5;
+    if (covariance.Compute(pairs, &problem)) {
+      for (int p = 0; p < 3; ++p) {
+        if (fixed[p]) continue;
+        double var = 0;
+        covariance.GetCovarianceBlock(blocks[p], blocks[p], &var);
+        stdev(p) = std::sqrt(std::max(0.0, var));
+        const double ratio = stdev(p) / std::max(std::abs(*blocks[p]), 1e-12);
+        if (!std::isfinite(ratio) || ratio > worst_ratio) {
+          worst = p;
+          worst_ratio = std::isfinite(ratio) ? ratio : 1e300;
+        }
+      }
+      if (worst < 0) break;
+      char why[160];
+      std::snprintf(why, sizeof why, "default: the data do not determine it (fit %.3g, std %.2g)", *blocks[worst],
+                    stdev(worst));
+      reason[worst] = why;
+    } else {
+      // Rank-deficient: drop the parameter whose Jacobian column is smallest relative to its value; with every
+      // sample sticking that is mu_p, which the data only bound from below.
+      ceres::CRSMatrix jacobian;
+      ceres::Problem::EvaluateOptions eo;
+      for (const double* b : free) eo.parameter_blocks.push_back(const_cast<double*>(b));
+      problem.Evaluate(eo, nullptr, nullptr, nullptr, &jacobian);
+      Eigen::VectorXd norm = Eigen::VectorXd::Zero(jacobian.num_cols);
+      for (int r = 0; r < jacobian.num_rows; ++r)
+        for (int k = jacobian.rows[static_cast<size_t>(r)]; k < jacobian.rows[static_cast<size_t>(r) + 1]; ++k)
+          norm(jacobian.cols[static_cast<size_t>(k)]) += std::pow(jacobian.values[static_cast<size_t>(k)], 2);
+      double smallest = 1e300;
+      int col = 0;
+      for (int p = 0; p < 3; ++p) {
+        if (fixed[p]) continue;
+        const double scaled = std::sqrt(norm(col)) * std::abs(*blocks[p]);
+        if (scaled < smallest) {
+          smallest = scaled;
+          worst = p;
+        }
+        ++col;
+      }
+      reason[worst] = worst == 0 ? "default: every contact sample stuck, so mu_p is only bounded below"
+                                 : "default: the data do not determine it (singular covariance)";
+    }
+    fixed[worst] = true;
+    *blocks[worst] = defaults[worst];
+    stdev(worst) = 0;
+    problem.SetParameterBlockConstant(blocks[worst]);
+  }
+  id.parameters.pusher_friction = mu_p;
+  id.parameters.torque_ratio_m = c;
+  id.parameters.support_friction = mu_s;
+  for (int p = 0; p < 3; ++p) {
+    id.std(p) = fixed[p] ? 0.0 : stdev(p);
+    id.sources[static_cast<size_t>(p)] = fixed[p] ? reason[p] : "identified";
+  }
+  for (const Sample& s : samples_) {
+    if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s) continue;
+    const QuasiStaticMotion m = quasi_static_motion(s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, mu_p, c);
+    if (m.mode == ContactMode::SlidingLeft || m.mode == ContactMode::SlidingRight) ++id.sliding_samples;
+  }
+  return id;
+}
+
+QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
+                                            const TimeInterval& phase, double plan_rate_hz,
+                                            const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
+                                            const IntegratorOptions& integrator,
+                                            const QuasiStaticEstimator* fed_estimator) {
+  QuasiStaticEstimator own;
+  if (!fed_estimator) {
+    own.reset(push);
+    for (const auto& interval : identified) own.add_interval(interval);
+    fed_estimator = &own;
+  }
+  QuasiStaticPhase out;
+  out.identification = fed_estimator->identify(phase.t0_s);
+  PlannedTipVelocity plan = plan_tip_velocity_from_measurement(push, phase.t0_s, phase.t1_s, plan_rate_hz);
+  Eigen::Vector2d direction = Eigen::Vector2d::Zero();
+  for (Eigen::Index k = 0; k < plan.signal.samples(); ++k) direction += plan.signal.values().row(k).transpose();
+  const Eigen::Index i0 = push.index_at(phase.t0_s);
+  const auto outline = contact_outline_for(push, phase.t0_s, direction);
+  // Start in contact exactly when the data do: the rod-outline distance measured at the phase's start.
+  QuasiStaticParameters& p = out.identification.parameters;
+  const Eigen::Vector3d pose0 = push.pose.row(i0).transpose();
+  if (push.in_contact[static_cast<size_t>(i0)]) {
+    const Outline::Closest c = outline->closest(body_tip(push, i0));
+    p.contact_offset_m = c.signed_distance_m - p.rod_radius_m + p.contact_band_m;
+    out.identification.sources[3] = "measured at the phase's start (in contact)";
+    out.identification.std(3) = 0;
+  }
+  out.note = has_outline(push.shape) ? "" : "outline not known: straight edge at the contact";
+  const PlannedTipPath path(std::move(plan), push.tip_m.row(i0).transpose());
+  out.poses = predict_quasi_static_poses(quasi_static_object(push, outline), p, path, pose0, velocity0, output_times_s,
+                                         integrator);
+  return out;
+}
+
+}  // namespace pushpred
