@@ -86,8 +86,41 @@ const std::array<const char*, 4>& QuasiStaticIdentification::names() {
 std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush& push, double t_s,
                                                           const Eigen::Vector2d& plan_direction) {
   if (has_outline(push.shape)) return shape_outline(push.shape);
-  const Eigen::Index i = push.index_at(t_s);
+  // The outline is known only where the rod touched it: at the last contact sample up to t_s.
+  Eigen::Index i = push.index_at(t_s);
+  while (i > 0 && !push.in_contact[static_cast<size_t>(i)]) --i;
+  if (!push.in_contact[static_cast<size_t>(i)]) i = push.index_at(t_s);
   const Eigen::Vector2d direction = plan_direction.norm() > 0 ? plan_direction.normalized() : Eigen::Vector2d::UnitX();
+  const Eigen::Vector2d push_body = Eigen::Rotation2Dd(push.pose(i, 2)).inverse() * direction;
+  // The rod centre's trace over the object while in contact, back from t_s: a circle (of the outline's radius
+  // plus the rod's) where it has slid far enough to show the outline's curvature.
+  std::vector<Eigen::Vector2d> trace;
+  double arc = 0;
+  for (Eigen::Index j = i; j >= 0 && push.in_contact[static_cast<size_t>(j)] && arc < 0.015; --j) {
+    const Eigen::Vector2d q = body_tip(push, j);
+    if (trace.empty() || (q - trace.back()).norm() >= 1e-3) {
+      if (!trace.empty()) arc += (q - trace.back()).norm();
+      trace.push_back(q);
+    }
+  }
+  if (arc >= 0.004 && trace.size() >= 4) {
+    Eigen::MatrixXd A(static_cast<Eigen::Index>(trace.size()), 3);
+    Eigen::VectorXd b(A.rows());
+    for (Eigen::Index k = 0; k < A.rows(); ++k) {
+      const Eigen::Vector2d& q = trace[static_cast<size_t>(k)];
+      A.row(k) << q.x(), q.y(), 1.0;
+      b(k) = -q.squaredNorm();
+    }
+    const Eigen::Vector3d def = A.colPivHouseholderQr().solve(b);
+    const Eigen::Vector2d centre = -0.5 * def.head<2>();
+    const double r2 = centre.squaredNorm() - def(2);
+    if (r2 > 0) {
+      const double trace_radius = std::sqrt(r2);
+      const Eigen::Vector2d outward = (trace.front() - centre).normalized();
+      if (trace_radius > kPusherRadius_m + 0.005 && trace_radius < 1.0 && outward.dot(push_body) < 0)
+        return circular_edge(centre, trace_radius - kPusherRadius_m);
+    }
+  }
   const Eigen::Vector2d normal =
       local_outward_normal(push, i, direction, static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz)));
   return straight_edge(body_tip(push, i) - kPusherRadius_m * normal, normal);

@@ -56,10 +56,12 @@ struct QuasiStaticIdentification {
   static const std::array<const char*, 4>& names();  ///< "pusher_friction", "torque_ratio_m", "support_friction", "contact_offset_m"
 };
 
-/// The outline the model pushes on for `push`: the shape table's where it lists one; otherwise (butter) a straight
-/// edge through the tip's contact point at `t_s` (measured), normal to the plan's push direction turned back by the
-/// push angle of the file name (the planner's angle to the normal), or, where the tip has slid along the object in
-/// the measured data before t_s, normal to that slide. `plan_direction` is the planned tip direction ({R}).
+/// The outline the model pushes on for `push`: the shape table's where it lists one; otherwise (butter) a local
+/// outline at the last measured contact up to `t_s`: a circle fitted to the rod centre's trace over the object
+/// where the rod has slid at least 4 mm along it (and the circle is convex towards the push), else a straight
+/// edge through the contact point, normal to the last 0.1 s of slide, or, where the rod has not slid, to the
+/// plan's push direction turned back by the push angle of the file name (the planner's angle to the normal).
+/// `plan_direction` is the planned tip direction ({R}).
 std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush& push, double t_s,
                                                           const Eigen::Vector2d& plan_direction);
 

@@ -42,6 +42,24 @@ class StraightEdge final : public ContactOutline {
   Eigen::Vector2d point_, normal_;
 };
 
+class CircularEdge final : public ContactOutline {
+ public:
+  CircularEdge(const Eigen::Vector2d& centre, double radius) : centre_(centre), radius_(radius) {}
+  Outline::Closest closest(const Eigen::Vector2d& q) const override {
+    Outline::Closest c;
+    const Eigen::Vector2d away = q - centre_;
+    const double distance = away.norm();
+    c.normal = distance > 0 ? (away / distance).eval() : Eigen::Vector2d::UnitX().eval();
+    c.point_m = centre_ + radius_ * c.normal;
+    c.signed_distance_m = distance - radius_;
+    return c;
+  }
+
+ private:
+  Eigen::Vector2d centre_;
+  double radius_;
+};
+
 }  // namespace
 
 void QuasiStaticParameters::validate() const {
@@ -132,6 +150,12 @@ std::shared_ptr<const ContactOutline> straight_edge(const Eigen::Vector2d& point
   if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0))
     throw InputError("straight edge: point and normal must be finite and the normal non-zero");
   return std::make_shared<StraightEdge>(point, normal);
+}
+
+std::shared_ptr<const ContactOutline> circular_edge(const Eigen::Vector2d& centre, double radius) {
+  if (!centre.allFinite() || !(radius > 0) || !std::isfinite(radius))
+    throw InputError("circular edge: centre must be finite and the radius positive");
+  return std::make_shared<CircularEdge>(centre, radius);
 }
 
 PlannedTipPath::PlannedTipPath(PlannedTipVelocity velocity, const Eigen::Vector2d& start)

@@ -113,6 +113,9 @@ std::shared_ptr<const ContactOutline> shape_outline(const ShapeInfo& shape);
 std::shared_ptr<const ContactOutline> straight_edge(const Eigen::Vector2d& point_body_m,
                                                     const Eigen::Vector2d& outward_normal_body);
 
+/// A circle of `radius_m` about `centre_body_m` (body frame), the object inside: a convex local outline.
+std::shared_ptr<const ContactOutline> circular_edge(const Eigen::Vector2d& centre_body_m, double radius_m);
+
 /// The planned tip path: the planned tip velocity (planned_force.hpp) integrated from the tip's position at its
 /// start; piecewise linear, exact for the held velocity.
 class PlannedTipPath {
