@@ -277,56 +277,67 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
     for (int p = 0; p < 3; ++p)
       if (!fixed[p]) free.push_back(blocks[p]);
     if (free.empty()) break;
-    ceres::Covariance::Options co;
-    co.algorithm_type = ceres::DENSE_SVD;
-    co.null_space_rank = 0;
-    co.min_reciprocal_condition_number = 1e-12;
-    ceres::Covariance covariance(co);
-    std::vector<std::pair<const double*, const double*>> pairs;
-    for (const double* b : free) pairs.emplace_back(b, b);
+    // The information J^T J of the free parameters, scaled by their values: a (near) singular one means the data
+    // leave a parameter undetermined (with every sample sticking, mu_p is only bounded below).
+    ceres::CRSMatrix jacobian;
+    ceres::Problem::EvaluateOptions eo;
+    for (const double* b : free) eo.parameter_blocks.push_back(const_cast<double*>(b));
+    problem.Evaluate(eo, nullptr, nullptr, nullptr, &jacobian);
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jacobian.num_rows, jacobian.num_cols);
+    for (int r = 0; r < jacobian.num_rows; ++r)
+      for (int k = jacobian.rows[static_cast<size_t>(r)]; k < jacobian.rows[static_cast<size_t>(r) + 1]; ++k)
+        J(r, jacobian.cols[static_cast<size_t>(k)]) = jacobian.values[static_cast<size_t>(k)];
+    int col = 0;
+    for (int p = 0; p < 3; ++p)
+      if (!fixed[p]) J.col(col++) *= std::max(std::abs(*blocks[p]), 1e-12);
+    const Eigen::VectorXd column_norm = J.colwise().norm();
+    const double largest = column_norm.maxCoeff();
     int worst = -1;
-    double worst_ratio = 0.5;
-    if (covariance.Compute(pairs, &problem)) {
-      for (int p = 0; p < 3; ++p) {
-        if (fixed[p]) continue;
-        double var = 0;
-        covariance.GetCovarianceBlock(blocks[p], blocks[p], &var);
-        stdev(p) = std::sqrt(std::max(0.0, var));
-        const double ratio = stdev(p) / std::max(std::abs(*blocks[p]), 1e-12);
-        if (!std::isfinite(ratio) || ratio > worst_ratio) {
-          worst = p;
-          worst_ratio = std::isfinite(ratio) ? ratio : 1e300;
-        }
+    double smallest = 1e-6 * largest;
+    col = 0;
+    for (int p = 0; p < 3; ++p) {
+      if (fixed[p]) continue;
+      if (!(column_norm(col) > smallest)) {
+        worst = p;
+        smallest = column_norm(col);
       }
-      if (worst < 0) break;
-      char why[160];
-      std::snprintf(why, sizeof why, "default: the data do not determine it (fit %.3g, std %.2g)", *blocks[worst],
-                    stdev(worst));
-      reason[worst] = why;
-    } else {
-      // Rank-deficient: drop the parameter whose Jacobian column is smallest relative to its value; with every
-      // sample sticking that is mu_p, which the data only bound from below.
-      ceres::CRSMatrix jacobian;
-      ceres::Problem::EvaluateOptions eo;
-      for (const double* b : free) eo.parameter_blocks.push_back(const_cast<double*>(b));
-      problem.Evaluate(eo, nullptr, nullptr, nullptr, &jacobian);
-      Eigen::VectorXd norm = Eigen::VectorXd::Zero(jacobian.num_cols);
-      for (int r = 0; r < jacobian.num_rows; ++r)
-        for (int k = jacobian.rows[static_cast<size_t>(r)]; k < jacobian.rows[static_cast<size_t>(r) + 1]; ++k)
-          norm(jacobian.cols[static_cast<size_t>(k)]) += std::pow(jacobian.values[static_cast<size_t>(k)], 2);
-      double smallest = 1e300;
-      int col = 0;
-      for (int p = 0; p < 3; ++p) {
-        if (fixed[p]) continue;
-        const double scaled = std::sqrt(norm(col)) * std::abs(*blocks[p]);
-        if (scaled < smallest) {
-          smallest = scaled;
-          worst = p;
-        }
-        ++col;
-      }
+      ++col;
+    }
+    if (worst >= 0) {
       reason[worst] = worst == 0 ? "default: every contact sample stuck, so mu_p is only bounded below"
-                                 : "default: the data do not determine it (singular covariance)";
+                                 : "default: the data do not determine it (no sensitivity)";
+    } else {
+      ceres::Covariance::Options co;
+      co.algorithm_type = ceres::DENSE_SVD;
+      co.null_space_rank = 0;
+      co.min_reciprocal_condition_number = 1e-14;
+      ceres::Covariance covariance(co);
+      std::vector<std::pair<const double*, const double*>> pairs;
+      for (const double* b : free) pairs.emplace_back(b, b);
+      double worst_ratio = 0.5;
+      if (covariance.Compute(pairs, &problem)) {
+        for (int p = 0; p < 3; ++p) {
+          if (fixed[p]) continue;
+          double var = 0;
+          covariance.GetCovarianceBlock(blocks[p], blocks[p], &var);
+          stdev(p) = std::sqrt(std::max(0.0, var));
+          const double ratio = stdev(p) / std::max(std::abs(*blocks[p]), 1e-12);
+          if (!std::isfinite(ratio) || ratio > worst_ratio) {
+            worst = p;
+            worst_ratio = std::isfinite(ratio) ? ratio : 1e300;
+          }
+        }
+        if (worst < 0) break;
+        char why[160];
+        std::snprintf(why, sizeof why, "default: the data do not determine it (fit %.3g, std %.2g)", *blocks[worst],
+                      stdev(worst));
+        reason[worst] = why;
+      } else {
+        worst = 0;
+        for (int p = 0; p < 3; ++p)
+          if (!fixed[p]) worst = p;
+        reason[worst] = "default: the data do not determine it (singular covariance)";
+      }
     }
     fixed[worst] = true;
     *blocks[worst] = defaults[worst];

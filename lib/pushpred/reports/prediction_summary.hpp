@@ -20,6 +20,11 @@ std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushS
 
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& options);
 
+/// Markdown tables of the mean over phases of each method's per-phase mean position error [mm] / yaw error [deg]:
+/// per object, per pusher speed (or acceleration), and over all phases, for `studies` (shape and speed from the
+/// file names; "unknown" for other names). Every phase weighs alike. Empty for no studies.
+std::string grouped_errors_markdown(const std::vector<PushStudy>& studies);
+
 /// Per-phase predictions of one push as CSV: phase, t_s, measured x, y [mm], theta [deg], then each method's.
 std::string predictions_csv(const PushStudy& study);
 
