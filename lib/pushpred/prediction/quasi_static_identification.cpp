@@ -92,6 +92,18 @@ std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush
   if (!push.in_contact[static_cast<size_t>(i)]) i = push.index_at(t_s);
   const Eigen::Vector2d direction = plan_direction.norm() > 0 ? plan_direction.normalized() : Eigen::Vector2d::UnitX();
   const Eigen::Vector2d push_body = Eigen::Rotation2Dd(push.pose(i, 2)).inverse() * direction;
+  // Stuck: over the last 0.1 s in contact the rod pushed (moved at least 2 mm) without sliding over the object (under
+  // 0.5 mm). The contact is then taken as a rounded vertex ahead of the rod along the push, so the push stays on
+  // its normal while the object turns (a rod stuck at a corner rolls around it).
+  {
+    const Eigen::Index back = static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz));
+    const Eigen::Index j = i - back;
+    if (j >= 0 && push.in_contact[static_cast<size_t>(j)] &&
+        (push.tip_m.row(i) - push.tip_m.row(j)).norm() >= 2e-3 && (body_tip(push, i) - body_tip(push, j)).norm() < 5e-4) {
+      constexpr double kVertexRadius_m = 5e-4;
+      return circular_edge(body_tip(push, i) + (kPusherRadius_m + kVertexRadius_m) * push_body, kVertexRadius_m);
+    }
+  }
   // The rod centre's trace over the object while in contact, back from t_s: a circle (of the outline's radius
   // plus the rod's) where it has slid far enough to show the outline's curvature.
   std::vector<Eigen::Vector2d> trace;
