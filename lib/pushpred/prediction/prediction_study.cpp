@@ -150,6 +150,7 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
                                                  std::to_string(r.t_s.size()) + " times, or non-finite ones"));
       r.predicted[p->name()] = std::move(prediction.poses);
       if (!prediction.note.empty()) r.method_notes[p->name()] = prediction.note;
+      if (!prediction.parameters.empty()) r.method_parameters[p->name()] = std::move(prediction.parameters);
     }
     if (corrected) r.corrected_relation = corrected->last_relation();
     for (const auto& [method, poses] : r.predicted) r.errors[method] = prediction_errors(poses, r.measured);

@@ -126,6 +126,7 @@ struct PhaseResult {
   std::map<std::string, Eigen::MatrixX3d> predicted;  ///< per method, pose at t_s
   std::map<std::string, PredictionErrors> errors;     ///< per method
   std::map<std::string, std::string> method_notes;    ///< per method, what it says about this phase (if anything)
+  std::map<std::string, std::vector<PredictorParameter>> method_parameters;  ///< per method that reports any
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();  ///< observer's estimate at the phase start
   RelationParameters corrected_relation;  ///< used by `corrected`, when StudyOptions::correction is set
 };

@@ -26,6 +26,7 @@ class RelationPredictor final : public Predictor {
     const PlannedForce plan = plan_from_measurement(c.push, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
     return {predict_poses(model, plan, c.pose0, velocity_from_observer_ ? c.velocity0 : Eigen::Vector3d::Zero(), c.t_s,
                           c.options.integrator),
+            {},
             {}};
   }
 
@@ -46,7 +47,7 @@ class SimplePredictor final : public Predictor {
     model.inertia_kgm2 = c.push.shape.inertia_kgm2;
     model.coulomb_force_N = mu_ * c.push.shape.mass_kg * kGravity_m_s2;
     const PlannedForce plan = plan_from_measurement(c.push, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
-    return {predict_poses(model, plan, c.pose0, Eigen::Vector3d::Zero(), c.t_s, c.options.integrator), {}};
+    return {predict_poses(model, plan, c.pose0, Eigen::Vector3d::Zero(), c.t_s, c.options.integrator), {}, {}};
   }
 
  private:
@@ -57,7 +58,7 @@ class HoldPredictor final : public Predictor {
  public:
   std::string name() const override { return "hold"; }
   PhasePrediction predict(const PhaseContext& c) override {
-    return {c.pose0.transpose().replicate(c.t_s.size(), 1), {}};
+    return {c.pose0.transpose().replicate(c.t_s.size(), 1), {}, {}};
   }
 };
 
@@ -68,7 +69,7 @@ class ConstantVelocityPredictor final : public Predictor {
     Eigen::MatrixX3d poses(c.t_s.size(), 3);
     for (Eigen::Index j = 0; j < c.t_s.size(); ++j)
       poses.row(j) = (c.pose0 + (c.t_s(j) - c.phase.t0_s) * c.velocity0).transpose();
-    return {poses, {}};
+    return {poses, {}, {}};
   }
 };
 
@@ -87,7 +88,15 @@ class QuasiStaticPredictor final : public Predictor {
       if (phase.identification.sources[k].rfind("default", 0) == 0)
         note += std::string(note.empty() ? "" : "; ") + QuasiStaticIdentification::names()[k] + " " +
                 phase.identification.sources[k];
-    return {phase.poses, note};
+    PhasePrediction out{phase.poses, note, {}};
+    const auto& id = phase.identification;
+    const double values[4] = {id.parameters.pusher_friction, id.parameters.torque_ratio_m, id.parameters.support_friction,
+                              id.parameters.contact_offset_m};
+    const char* units[4] = {"", "m", "", "m"};
+    for (size_t k = 0; k < 4; ++k)
+      out.parameters.push_back({QuasiStaticIdentification::names()[k], values[k], id.std(static_cast<Eigen::Index>(k)),
+                                units[k], id.sources[k]});
+    return out;
   }
 
  private:

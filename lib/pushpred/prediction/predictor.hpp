@@ -55,9 +55,19 @@ struct PhaseContext {
   const StudyOptions& options;
 };
 
+/// A parameter a predictor identified (or defaulted) for a phase, for the reports.
+struct PredictorParameter {
+  std::string name;
+  double value = 0;
+  double std = 0;      ///< standard deviation (0 for a default)
+  std::string unit;    ///< "" for dimensionless
+  std::string source;  ///< "identified", or "default: WHY", or how it was measured
+};
+
 struct PhasePrediction {
   Eigen::MatrixX3d poses;  ///< at PhaseContext::t_s
   std::string note;        ///< e.g. a parameter that kept its default
+  std::vector<PredictorParameter> parameters;
 };
 
 class Predictor {

@@ -398,7 +398,7 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
     out.identification.sources[3] = "measured at the phase's start (in contact)";
     out.identification.std(3) = 0;
   }
-  out.note = has_outline(push.shape) ? "" : "outline not known: straight edge at the contact";
+  out.note = has_outline(push.shape) ? "" : "outline not listed: a local outline from the rod's trace at the last contact";
   const PlannedTipPath path(std::move(plan), push.tip_m.row(i0).transpose());
   out.poses = predict_quasi_static_poses(quasi_static_object(push, outline), p, path, pose0, velocity0, output_times_s,
                                          integrator);

@@ -39,6 +39,10 @@ nlohmann::json study_json(const PushStudy& s) {
                             {"t1_s", r.interval.t1_s},
                             {"methods", methods}};
     if (!r.method_notes.empty()) phase["method_notes"] = r.method_notes;
+    for (const auto& [method, parameters] : r.method_parameters)
+      for (const auto& q : parameters)
+        phase["method_parameters"][method][q.name] = {
+            {"value", q.value}, {"std", q.std}, {"unit", q.unit}, {"source", q.source}};
     if (r.relation.samples > 0) phase["relation"] = relation_json(r.relation);
     if (!r.note.empty()) phase["note"] = r.note;
     phases.push_back(phase);
