@@ -78,6 +78,7 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
   return {predict_poses(corrected, plan, c.pose0,
                         correction_->initial_velocity_from_observer() ? velocity0_ : Eigen::Vector3d::Zero(), c.t_s,
                         c.options.integrator),
+          {},
           {}};
 }
 
