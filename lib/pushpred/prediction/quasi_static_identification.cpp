@@ -76,6 +76,15 @@ struct ForceResidual {
   }
 };
 
+struct PriorResidual {
+  double mean = 0, sigma = 1;
+  template <typename T>
+  bool operator()(const T* theta, T* r) const {
+    r[0] = (theta[0] - T(mean)) / T(sigma);
+    return true;
+  }
+};
+
 }  // namespace
 
 const std::array<const char*, 4>& QuasiStaticIdentification::names() {
@@ -264,6 +273,15 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
     return id;
   }
   if (id.force_samples == 0) problem.SetParameterBlockConstant(&mu_s);
+  // Samples the fitted model has sliding: what determines mu_p.
+  auto count_sliding = [&] {
+    id.sliding_samples = 0;
+    for (const Sample& s : samples_) {
+      if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
+      const QuasiStaticMotion m = quasi_static_motion(s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, mu_p, c);
+      if (m.mode == ContactMode::SlidingLeft || m.mode == ContactMode::SlidingRight) ++id.sliding_samples;
+    }
+  };
   problem.SetParameterLowerBound(&mu_p, 0, 0.02);
   problem.SetParameterUpperBound(&mu_p, 0, 1.5);
   problem.SetParameterLowerBound(&c, 0, 0.3 * c0);
@@ -271,15 +289,58 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
   problem.SetParameterLowerBound(&mu_s, 0, 0.02);
   problem.SetParameterUpperBound(&mu_s, 0, 1.5);
 
-  double* blocks[3] = {&mu_p, &c, &mu_s};
-  const double defaults[3] = {defaults_.pusher_friction, defaults_.torque_ratio_m, defaults_.support_friction};
-  bool fixed[3] = {false, false, id.force_samples == 0};
-  std::string reason[3] = {"", "", "default: the object never slid while the sensor read contact"};
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.max_num_iterations = 100;
   solver.num_threads = 1;
   solver.logging_type = ceres::SILENT;
+  if (options_.use_prior) {
+    const double prior_std[3] = {options_.prior_pusher_friction_std, options_.prior_torque_ratio_fraction * c0,
+                                 options_.prior_support_friction_std};
+    const double prior_mean[3] = {defaults_.pusher_friction, c0, defaults_.support_friction};
+    double* theta[3] = {&mu_p, &c, &mu_s};
+    if (id.force_samples == 0) problem.SetParameterBlockVariable(&mu_s);
+    for (int p = 0; p < 3; ++p) {
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{prior_mean[p], prior_std[p]}), nullptr,
+          theta[p]);
+    }
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    ceres::Covariance::Options co;
+    co.algorithm_type = ceres::DENSE_SVD;
+    ceres::Covariance covariance(co);
+    std::vector<std::pair<const double*, const double*>> pairs;
+    for (const double* b : theta) pairs.emplace_back(b, b);
+    const bool have_covariance = covariance.Compute(pairs, &problem);
+    for (int p = 0; p < 3; ++p) {
+      double var = prior_std[p] * prior_std[p];
+      if (have_covariance) covariance.GetCovarianceBlock(theta[p], theta[p], &var);
+      id.std(p) = std::sqrt(std::max(0.0, var));
+      const auto k = static_cast<size_t>(p);
+      if (id.std(p) > options_.prior_dominated_fraction * prior_std[p]) {
+        char why[200];
+        std::snprintf(why, sizeof why, "default: the data add little to the prior (posterior std %.2g of the prior's %.2g)%s",
+                      id.std(p), prior_std[p],
+                      p == 0 && id.sliding_samples == 0 ? "; no sample slid, so mu_p is only bounded below" : "");
+        id.sources[k] = why;
+      } else {
+        id.sources[k] = "identified";
+      }
+    }
+    id.parameters.pusher_friction = mu_p;
+    id.parameters.torque_ratio_m = c;
+    id.parameters.support_friction = mu_s;
+    count_sliding();
+    if (id.sliding_samples == 0 && id.sources[0] == "identified")
+      id.sources[0] = "default: no sample slid, so mu_p is only bounded below";
+    return id;
+  }
+
+  double* blocks[3] = {&mu_p, &c, &mu_s};
+  const double defaults[3] = {defaults_.pusher_friction, defaults_.torque_ratio_m, defaults_.support_friction};
+  bool fixed[3] = {false, false, id.force_samples == 0};
+  std::string reason[3] = {"", "", "default: the object never slid while the sensor read contact"};
   Eigen::Vector3d stdev = Eigen::Vector3d::Zero();
   for (int attempt = 0; attempt < 4; ++attempt) {
     ceres::Solver::Summary summary;
@@ -363,11 +424,7 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
     id.std(p) = fixed[p] ? 0.0 : stdev(p);
     id.sources[static_cast<size_t>(p)] = fixed[p] ? reason[p] : "identified";
   }
-  for (const Sample& s : samples_) {
-    if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s) continue;
-    const QuasiStaticMotion m = quasi_static_motion(s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, mu_p, c);
-    if (m.mode == ContactMode::SlidingLeft || m.mode == ContactMode::SlidingRight) ++id.sliding_samples;
-  }
+  count_sliding();
   return id;
 }
 

@@ -13,9 +13,12 @@
 //       quasi-static motion (quasi_static_motion) under the measured tip velocity, c0 the default c;
 //     force, per sample where the object moves: (sqrt(|f|^2 + (m / c)^2) - mu_s m g) / sigma_f, the wrench on the
 //       ellipsoidal limit surface (a quasi-statically sliding object is pushed by the support's friction wrench).
-// - Covariance: Ceres' covariance of the parameters the data determine. A parameter is taken as determined when its
-//   Jacobian column is not negligible and its standard deviation is below half its value; otherwise it keeps its
-//   physical default and `sources` says why (e.g. every contact sample stuck, so mu_p is only bounded below).
+//     prior, per parameter: (theta - theta_default) / sigma_prior (QuasiStaticIdentificationOptions::use_prior).
+// - Covariance: Ceres' covariance of (mu_p, c, mu_s). With the prior, a parameter whose posterior standard deviation
+//   stays near its prior's is reported as "default: ..." (the data add little; e.g. every contact sample stuck, so
+//   mu_p is only bounded below) with the posterior's value and std. Without the prior, a parameter is determined when
+//   its Jacobian column is not negligible and its standard deviation is below half its value; otherwise it is fixed
+//   at its default, std 0, and `sources` says why.
 // - The contact offset: the rod-outline distance measured at the phase's start when the sensor reports contact
 //   there, else the median over the identified contact samples, else zero: the model starts the phase in contact
 //   exactly when the data do.
@@ -40,8 +43,15 @@ struct QuasiStaticIdentificationOptions {
   double min_object_speed_m_s = 5e-3;  ///< force samples: the object must slide for its wrench to be on the limit surface
   double velocity_noise_m_s = 3e-3;    ///< sigma_v, also the Huber scale (in sigmas: 1)
   double force_noise_N = 0.3;          ///< sigma_f
-  int min_samples = 10;                ///< fewer samples: defaults
+  int min_samples = 3;                 ///< fewer samples: defaults
   QuasiStaticParameters defaults;      ///< torque_ratio_m <= 0: from the shape (see above)
+  /// A Gaussian prior about the defaults (a maximum a posteriori fit), so that a few samples inform without
+  /// overturning physics: standard deviations of mu_p, c as a fraction of its default, and mu_s. A parameter whose
+  /// posterior standard deviation stays above `prior_dominated_fraction` of its prior's is reported as a default.
+  /// use_prior false: a plain fit, where undetermined parameters are fixed at their defaults.
+  bool use_prior = true;
+  double prior_pusher_friction_std = 0.1, prior_torque_ratio_fraction = 0.3, prior_support_friction_std = 0.15;
+  double prior_dominated_fraction = 0.7;
 };
 
 /// The identified model of one push after some intervals, with standard deviations and where each value came from.
