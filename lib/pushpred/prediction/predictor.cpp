@@ -96,6 +96,10 @@ class QuasiStaticPredictor final : public Predictor {
     for (size_t k = 0; k < 4; ++k)
       out.parameters.push_back({QuasiStaticIdentification::names()[k], values[k], id.std(static_cast<Eigen::Index>(k)),
                                 units[k], id.sources[k]});
+    out.parameters.push_back({"centre_offset_x_m", id.centre_offset_m.x(), id.centre_offset_std_m.x(), "m",
+                              id.centre_offset_source});
+    out.parameters.push_back({"centre_offset_y_m", id.centre_offset_m.y(), id.centre_offset_std_m.y(), "m",
+                              id.centre_offset_source});
     return out;
   }
 

@@ -54,11 +54,15 @@ double median(std::vector<double> v) {
   return v[m];
 }
 
+/// One contact sample's kinematics: the measured twist against the quasi-static motion, for (mu_p, c, delta) with
+/// delta the CoF's offset from the shape table's centroid (body frame).
 struct KinematicResidual {
-  Eigen::Vector2d rc, n, tip_velocity, velocity;
-  double omega = 0, c0 = 0, sigma = 1;
-  bool operator()(const double* mu_p, const double* c, double* r) const {
-    const QuasiStaticMotion m = quasi_static_motion(rc, n, tip_velocity, mu_p[0], c[0]);
+  Eigen::Vector2d point_from_centre, n, tip_velocity, centre_velocity, centroid;
+  double yaw = 0, omega = 0, c0 = 0, sigma = 1;
+  bool operator()(const double* mu_p, const double* c, const double* delta, double* r) const {
+    const Eigen::Vector2d arm = Eigen::Rotation2Dd(yaw) * (centroid + Eigen::Vector2d(delta[0], delta[1]));
+    const Eigen::Vector2d velocity = centre_velocity + omega * perp(arm);
+    const QuasiStaticMotion m = quasi_static_motion(point_from_centre - arm, n, tip_velocity, mu_p[0], c[0]);
     r[0] = (velocity.x() - m.velocity_m_s.x()) / sigma;
     r[1] = (velocity.y() - m.velocity_m_s.y()) / sigma;
     r[2] = c0 * (omega - m.omega_rad_s) / sigma;
@@ -66,12 +70,26 @@ struct KinematicResidual {
   }
 };
 
+/// One sliding sample's wrench on the ellipsoidal limit surface: sqrt(|f|^2 + (m / c)^2) = mu_s m g, m about the CoF.
 struct ForceResidual {
-  double force = 0, torque = 0, weight = 0, sigma = 1;
+  Eigen::Vector2d force, centroid;
+  double torque_about_centre = 0, yaw = 0, weight = 0, sigma = 1;
   template <typename T>
-  bool operator()(const T* c, const T* mu_s, T* r) const {
-    const T m = T(torque) / c[0];
-    r[0] = (ceres::sqrt(T(force * force) + m * m) - mu_s[0] * T(weight)) / T(sigma);
+  bool operator()(const T* c, const T* mu_s, const T* delta, T* r) const {
+    const T bx = T(centroid.x()) + delta[0], by = T(centroid.y()) + delta[1];
+    const T ax = std::cos(yaw) * bx - std::sin(yaw) * by, ay = std::sin(yaw) * bx + std::cos(yaw) * by;
+    const T m = (T(torque_about_centre) - (ax * T(force.y()) - ay * T(force.x()))) / c[0];
+    r[0] = (ceres::sqrt(T(force.squaredNorm()) + m * m) - mu_s[0] * T(weight)) / T(sigma);
+    return true;
+  }
+};
+
+struct PriorComponent {
+  int axis = 0;
+  double mean = 0, sigma = 1;
+  template <typename T>
+  bool operator()(const T* theta, T* r) const {
+    r[0] = (theta[axis] - T(mean)) / T(sigma);
     return true;
   }
 };
@@ -213,9 +231,14 @@ void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
       point_body = body_tip(push, i) - kPusherRadius_m * normal_out_body;
     }
     s.inward_normal = -(R * normal_out_body);
+    s.point_from_centre_m = R * point_body;
+    s.centre_velocity_m_s = centre_velocity;
+    s.yaw_rad = push.pose(i, 2);
     s.contact_from_cof_m = R * (point_body - push.shape.centroid_m);
     s.moving = s.object_velocity_m_s.norm() > options_.min_object_speed_m_s;
     s.force_N = push.force_N.row(i).norm();
+    s.force_vector_N = push.force_N.row(i).transpose();
+    s.torque_about_centre_Nm = push.torque_about_centre_Nm(i);
     // Torque about the CoF: the recorded torque is about the tracked centre.
     s.torque_about_cof_Nm = push.torque_about_centre_Nm(i) -
                             perp(R * push.shape.centroid_m).dot(push.force_N.row(i).transpose());
@@ -251,17 +274,21 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
   problem.AddParameterBlock(&mu_p, 1);
   problem.AddParameterBlock(&c, 1);
   problem.AddParameterBlock(&mu_s, 1);
+  double delta[2] = {0, 0};
+  problem.AddParameterBlock(delta, 2);
+  if (!options_.use_prior || !(options_.prior_centre_offset_std_m > 0)) problem.SetParameterBlockConstant(delta);
   for (const Sample& s : samples_) {
     if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
-    auto* k = new KinematicResidual{s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, s.object_velocity_m_s,
-                                    s.omega_rad_s, c0, options_.velocity_noise_m_s};
-    problem.AddResidualBlock(new ceres::NumericDiffCostFunction<KinematicResidual, ceres::CENTRAL, 3, 1, 1>(k),
-                             new ceres::HuberLoss(1.0), &mu_p, &c);
+    auto* k = new KinematicResidual{s.point_from_centre_m, s.inward_normal, s.tip_velocity_m_s, s.centre_velocity_m_s,
+                                    push.shape.centroid_m, s.yaw_rad, s.omega_rad_s, c0, options_.velocity_noise_m_s};
+    problem.AddResidualBlock(new ceres::NumericDiffCostFunction<KinematicResidual, ceres::CENTRAL, 3, 1, 1, 2>(k),
+                             new ceres::HuberLoss(1.0), &mu_p, &c, delta);
     ++id.kinematic_samples;
     if (s.moving) {
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1>(
-                                   new ForceResidual{s.force_N, s.torque_about_cof_Nm, weight, options_.force_noise_N}),
-                               new ceres::HuberLoss(1.0), &c, &mu_s);
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1, 2>(
+                                   new ForceResidual{s.force_vector_N, push.shape.centroid_m, s.torque_about_centre_Nm,
+                                                     s.yaw_rad, weight, options_.force_noise_N}),
+                               new ceres::HuberLoss(1.0), &c, &mu_s, delta);
       ++id.force_samples;
     }
   }
@@ -300,6 +327,12 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
     const double prior_mean[3] = {defaults_.pusher_friction, c0, defaults_.support_friction};
     double* theta[3] = {&mu_p, &c, &mu_s};
     if (id.force_samples == 0) problem.SetParameterBlockVariable(&mu_s);
+    if (options_.prior_centre_offset_std_m > 0) {
+      for (int axis = 0; axis < 2; ++axis)
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorComponent, 1, 2>(
+                                     new PriorComponent{axis, 0.0, options_.prior_centre_offset_std_m}),
+                                 nullptr, delta);
+    }
     for (int p = 0; p < 3; ++p) {
       problem.AddResidualBlock(
           new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{prior_mean[p], prior_std[p]}), nullptr,
@@ -312,7 +345,18 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
     ceres::Covariance covariance(co);
     std::vector<std::pair<const double*, const double*>> pairs;
     for (const double* b : theta) pairs.emplace_back(b, b);
+    const bool offset_free = !problem.IsParameterBlockConstant(delta);
+    if (offset_free) pairs.emplace_back(delta, delta);
     const bool have_covariance = covariance.Compute(pairs, &problem);
+    if (offset_free) {
+      double cov[4] = {0, 0, 0, 0};
+      if (have_covariance) covariance.GetCovarianceBlock(delta, delta, cov);
+      id.centre_offset_std_m = Eigen::Vector2d(std::sqrt(std::max(0.0, cov[0])), std::sqrt(std::max(0.0, cov[3])));
+      id.centre_offset_source =
+          id.centre_offset_std_m.maxCoeff() > options_.prior_dominated_fraction * options_.prior_centre_offset_std_m
+              ? "default: the data add little to the prior"
+              : "identified";
+    }
     for (int p = 0; p < 3; ++p) {
       double var = prior_std[p] * prior_std[p];
       if (have_covariance) covariance.GetCovarianceBlock(theta[p], theta[p], &var);
@@ -331,6 +375,7 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
     id.parameters.pusher_friction = mu_p;
     id.parameters.torque_ratio_m = c;
     id.parameters.support_friction = mu_s;
+    id.centre_offset_m = Eigen::Vector2d(delta[0], delta[1]);
     count_sliding();
     if (id.sliding_samples == 0 && id.sources[0] == "identified")
       id.sources[0] = "default: no sample slid, so mu_p is only bounded below";
@@ -457,7 +502,9 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
   }
   out.note = has_outline(push.shape) ? "" : "outline not listed: a local outline from the rod's trace at the last contact";
   const PlannedTipPath path(std::move(plan), push.tip_m.row(i0).transpose());
-  out.poses = predict_quasi_static_poses(quasi_static_object(push, outline), p, path, pose0, velocity0, output_times_s,
+  QuasiStaticObject object = quasi_static_object(push, outline);
+  object.centre_of_friction_m += out.identification.centre_offset_m;
+  out.poses = predict_quasi_static_poses(object, p, path, pose0, velocity0, output_times_s,
                                          integrator);
   return out;
 }

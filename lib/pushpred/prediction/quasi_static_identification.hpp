@@ -14,6 +14,8 @@
 //     force, per sample where the object moves: (sqrt(|f|^2 + (m / c)^2) - mu_s m g) / sigma_f, the wrench on the
 //       ellipsoidal limit surface (a quasi-statically sliding object is pushed by the support's friction wrench).
 //     prior, per parameter: (theta - theta_default) / sigma_prior (QuasiStaticIdentificationOptions::use_prior).
+//   Optionally (prior_centre_offset_std_m > 0) the fit also estimates delta, the CoF's offset from the shape table's
+//   centroid (body frame): the pressure under a real object need not centre on its tracked centre.
 // - Covariance: Ceres' covariance of (mu_p, c, mu_s). With the prior, a parameter whose posterior standard deviation
 //   stays near its prior's is reported as "default: ..." (the data add little; e.g. every contact sample stuck, so
 //   mu_p is only bounded below) with the posterior's value and std. Without the prior, a parameter is determined when
@@ -52,6 +54,10 @@ struct QuasiStaticIdentificationOptions {
   bool use_prior = true;
   double prior_pusher_friction_std = 0.1, prior_torque_ratio_fraction = 0.3, prior_support_friction_std = 0.15;
   double prior_dominated_fraction = 0.7;
+  /// Prior std of the CoF's offset from the shape table's centroid, per axis [m]; 0 (default): no offset
+  /// identified. Tried at 2 mm (docs/prediction.md): the real pushes' position error drops a little, but on simulated
+  /// pushes the offset trades off against mu_p and biases it.
+  double prior_centre_offset_std_m = 0;
 };
 
 /// The identified model of one push after some intervals, with standard deviations and where each value came from.
@@ -61,6 +67,10 @@ struct QuasiStaticIdentification {
   Eigen::Vector4d std = Eigen::Vector4d::Zero();
   /// Per parameter (mu_p, c, mu_s, contact offset): "identified" or "default: REASON".
   std::array<std::string, 4> sources;
+  /// The CoF's identified offset from the shape table's centroid, body frame [m] (zero unless identified).
+  Eigen::Vector2d centre_offset_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d centre_offset_std_m = Eigen::Vector2d::Zero();
+  std::string centre_offset_source = "default: not identified";
   long kinematic_samples = 0, force_samples = 0, sliding_samples = 0;
   long intervals = 0;
   static const std::array<const char*, 4>& names();  ///< "pusher_friction", "torque_ratio_m", "support_friction", "contact_offset_m"
@@ -97,6 +107,8 @@ class QuasiStaticEstimator {
     double omega_rad_s = 0;
     bool moving = false;
     double force_N = 0, torque_about_cof_Nm = 0;
+    Eigen::Vector2d point_from_centre_m, centre_velocity_m_s, force_vector_N;
+    double yaw_rad = 0, torque_about_centre_Nm = 0;
   };
   QuasiStaticIdentificationOptions options_;
   const SynchronisedPush* push_ = nullptr;
