@@ -36,7 +36,8 @@ int run_predict(const PredictArgs& a) {
   write_text_atomically(out.path("summary.json"), summary.dump(2) + "\n");
   write_text_atomically(out.path("tables.md"),
                         "Mean over phases of each phase's mean position error [mm] / yaw error [deg]\n\n" +
-                            grouped_errors_markdown(batch.results));
+                            grouped_errors_markdown(batch.results) + "\n" +
+                            losing_phases_markdown(batch.results, "quasi_static", {"hold", "const_velocity"}));
   out.commit();
 
   std::cout << "predicted " << batch.results.size() << " pushes (" << o.schedule.intervals << " intervals over the "

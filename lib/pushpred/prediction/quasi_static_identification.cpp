@@ -490,7 +490,7 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
   Eigen::Vector2d direction = Eigen::Vector2d::Zero();
   for (Eigen::Index k = 0; k < plan.signal.samples(); ++k) direction += plan.signal.values().row(k).transpose();
   const Eigen::Index i0 = push.index_at(phase.t0_s);
-  const auto outline = contact_outline_for(push, phase.t0_s, direction);
+  auto outline = contact_outline_for(push, phase.t0_s, direction);
   // Start in contact exactly when the data do: the rod-outline distance measured at the phase's start.
   QuasiStaticParameters& p = out.identification.parameters;
   const Eigen::Vector3d pose0 = push.pose.row(i0).transpose();
@@ -499,6 +499,23 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
     p.contact_offset_m = c.signed_distance_m - p.rod_radius_m + p.contact_band_m;
     out.identification.sources[3] = "measured at the phase's start (in contact)";
     out.identification.std(3) = 0;
+  } else if (!has_outline(push.shape)) {
+    // Out of contact at the start on an unlisted outline: the local outline, extrapolated from the last contact, may
+    // reach under the rod. Take the straight edge just ahead of the rod, along the local normal, instead.
+    const Eigen::Vector2d q0 = body_tip(push, i0);
+    const Eigen::Vector2d normal = outline->closest(q0).normal;
+    outline = straight_edge(q0 - p.rod_radius_m * normal, normal);
+    p.contact_offset_m = -p.contact_band_m;
+    out.identification.sources[3] = "out of contact at the phase's start: the rod just off a straight edge";
+    out.identification.std(3) = 0;
+  } else {
+    // Out of contact at the start: the rod must not start inside the outline either.
+    const double largest = outline->closest(body_tip(push, i0)).signed_distance_m - p.rod_radius_m;
+    if (p.contact_offset_m > largest) {
+      p.contact_offset_m = std::max(largest, -0.5 * p.rod_radius_m);
+      out.identification.sources[3] = "measured at the phase's start (out of contact: no penetration)";
+      out.identification.std(3) = 0;
+    }
   }
   out.note = has_outline(push.shape) ? "" : "outline not listed: a local outline from the rod's trace at the last contact";
   const PlannedTipPath path(std::move(plan), push.tip_m.row(i0).transpose());

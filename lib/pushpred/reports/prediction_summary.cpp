@@ -1,7 +1,9 @@
 #include "pushpred/reports/prediction_summary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <sstream>
 
@@ -139,6 +141,59 @@ std::string grouped_errors_markdown(const std::vector<PushStudy>& studies) {
   }) << "\n";
   out << table("all", [](const PushStudy&) { return std::string("all"); });
   return out.str();
+}
+
+std::string losing_phases_markdown(const std::vector<PushStudy>& studies, const std::string& method,
+                                   const std::vector<std::string>& references, int worst) {
+  if (studies.empty()) return "";
+  const auto& methods = studies.front().methods;
+  if (std::find(methods.begin(), methods.end(), method) == methods.end()) return "";
+  for (const auto& r : references)
+    if (std::find(methods.begin(), methods.end(), r) == methods.end()) return "";
+  struct Loss {
+    std::string source;
+    int phase;
+    double pos, yaw, best_pos, best_yaw;
+  };
+  std::vector<Loss> losses;
+  std::map<std::string, std::pair<int, int>> per_object;  // lost, phases
+  for (const auto& s : studies) {
+    const auto p = parse_push_filename(s.source);
+    const std::string object = p ? p->shape : "unknown";
+    for (const auto& r : s.phases) {
+      ++per_object[object].second;
+      const auto& e = r.errors.at(method);
+      double best_pos = 1e300, best_yaw = 1e300;
+      for (const auto& ref : references) {
+        best_pos = std::min(best_pos, r.errors.at(ref).pos_mm_mean);
+        best_yaw = std::min(best_yaw, r.errors.at(ref).theta_deg_mean);
+      }
+      const bool lost = (e.pos_mm_mean > 1.02 * best_pos && e.pos_mm_mean > best_pos + 0.05) ||
+                        (e.theta_deg_mean > 1.02 * best_yaw && e.theta_deg_mean > best_yaw + 0.05);
+      if (!lost) continue;
+      ++per_object[object].first;
+      losses.push_back({std::filesystem::path(s.source).filename().string(), r.phase, e.pos_mm_mean, e.theta_deg_mean,
+                        best_pos, best_yaw});
+    }
+  }
+  std::ostringstream md;
+  md << "Phases where `" << method << "` loses to the better of";
+  for (const auto& r : references) md << " `" << r << "`";
+  md << " (position or yaw more than 2 % and 0.05 mm / 0.05 deg worse):";
+  for (const auto& [object, counts] : per_object) md << " " << object << " " << counts.first << " of " << counts.second << ";";
+  md << "\n\n| push | phase | " << method << " [mm / deg] | better reference [mm / deg] |\n|---|---|---|---|\n";
+  std::sort(losses.begin(), losses.end(), [](const Loss& a, const Loss& b) {
+    return std::max(0.0, a.pos - a.best_pos) + std::max(0.0, a.yaw - a.best_yaw) >
+           std::max(0.0, b.pos - b.best_pos) + std::max(0.0, b.yaw - b.best_yaw);
+  });
+  char row[400];
+  for (size_t k = 0; k < losses.size() && static_cast<int>(k) < worst; ++k) {
+    const Loss& l = losses[k];
+    std::snprintf(row, sizeof row, "| `%s` | %d | %.2f / %.2f | %.2f / %.2f |\n", l.source.c_str(), l.phase, l.pos, l.yaw,
+                  l.best_pos, l.best_yaw);
+    md << row;
+  }
+  return md.str();
 }
 
 std::string predictions_csv(const PushStudy& s) {

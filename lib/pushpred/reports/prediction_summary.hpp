@@ -25,6 +25,12 @@ nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const Stud
 /// file names; "unknown" for other names). Every phase weighs alike. Empty for no studies.
 std::string grouped_errors_markdown(const std::vector<PushStudy>& studies);
 
+/// Markdown: the phases where `method` loses to the better of `references` (position or yaw error more than 2 %
+/// and 0.05 mm / 0.05 deg above it), counted per object, and the `worst` of them by the sum of the excess position
+/// [mm] and yaw [deg] error, worst first. Empty when a method is missing from the studies.
+std::string losing_phases_markdown(const std::vector<PushStudy>& studies, const std::string& method,
+                                   const std::vector<std::string>& references, int worst = 15);
+
 /// Per-phase predictions of one push as CSV: phase, t_s, measured x, y [mm], theta [deg], then each method's.
 std::string predictions_csv(const PushStudy& study);
 
