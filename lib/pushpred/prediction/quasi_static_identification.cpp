@@ -206,8 +206,15 @@ void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
   Eigen::Index i0 = push.index_at(interval.t0_s), i1 = push.index_at(interval.t1_s);
   if (push.t_s(i1) > interval.t1_s + 1e-9) --i1;
   const double weight = push.shape.mass_kg * defaults_.gravity_m_s2;
+  const Eigen::Index settle = static_cast<Eigen::Index>(std::lround(options_.contact_settling_s * push.rate_hz));
   for (Eigen::Index i = i0; i <= i1; ++i) {
     if (!push.in_contact[static_cast<size_t>(i)]) continue;
+    // Not within the settling time of a contact's onset: the object accelerates from rest there, which the
+    // quasi-static model leaves out.
+    bool settled = true;
+    for (Eigen::Index j = std::max<Eigen::Index>(0, i - settle); j < i && settled; ++j)
+      settled = push.in_contact[static_cast<size_t>(j)] != 0;
+    if (!settled || i < settle) continue;
     // Central differences inside the interval only: identification never reads beyond what has been measured.
     const Eigen::Index a = std::max(i0, i - h), b = std::min(i1, i + h);
     if (b <= a) continue;

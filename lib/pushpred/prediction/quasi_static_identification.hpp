@@ -44,6 +44,9 @@ struct QuasiStaticIdentificationOptions {
   double min_tip_speed_m_s = 5e-3;     ///< samples slower than this carry no kinematic information
   double min_object_speed_m_s = 5e-3;  ///< force samples: the object must slide for its wrench to be on the limit surface
   double velocity_noise_m_s = 3e-3;    ///< sigma_v, also the Huber scale (in sigmas: 1)
+  /// Samples within this time after a contact's onset are left out: the object accelerates from rest there, which
+  /// the quasi-static model leaves out (the pusher's own speed ramp takes about 0.05 s, docs/simulator.md).
+  double contact_settling_s = 0.05;
   double force_noise_N = 0.3;          ///< sigma_f
   int min_samples = 3;                 ///< fewer samples: defaults
   QuasiStaticParameters defaults;      ///< torque_ratio_m <= 0: from the shape (see above)
