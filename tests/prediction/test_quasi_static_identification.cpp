@@ -31,7 +31,7 @@ QuasiStaticIdentification identify_whole(const SynchronisedPush& push) {
   QuasiStaticEstimator estimator;
   estimator.reset(push);
   estimator.add_interval({0.0, push.duration_s()});
-  return estimator.identify(push.duration_s());
+  return estimator.identify();
 }
 
 }  // namespace
@@ -96,7 +96,7 @@ BOOST_AUTO_TEST_CASE(without_contact_samples_every_parameter_is_a_default_and_sa
   QuasiStaticEstimator estimator;
   estimator.reset(push);
   estimator.add_interval({0.0, 0.1});  // before the rod moves
-  const QuasiStaticIdentification id = estimator.identify(0.1);
+  const QuasiStaticIdentification id = estimator.identify();
   for (int k = 0; k < 3; ++k) BOOST_TEST(id.sources[static_cast<size_t>(k)].rfind("default", 0) == 0);
   BOOST_TEST(id.kinematic_samples == 0);
 }

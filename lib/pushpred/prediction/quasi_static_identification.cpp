@@ -205,7 +205,6 @@ void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
   const Eigen::Index lookback = static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz));
   Eigen::Index i0 = push.index_at(interval.t0_s), i1 = push.index_at(interval.t1_s);
   if (push.t_s(i1) > interval.t1_s + 1e-9) --i1;
-  const double weight = push.shape.mass_kg * defaults_.gravity_m_s2;
   const Eigen::Index settle = static_cast<Eigen::Index>(std::lround(options_.contact_settling_s * push.rate_hz));
   for (Eigen::Index i = i0; i <= i1; ++i) {
     if (!push.in_contact[static_cast<size_t>(i)]) continue;
@@ -243,18 +242,13 @@ void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
     s.yaw_rad = push.pose(i, 2);
     s.contact_from_cof_m = R * (point_body - push.shape.centroid_m);
     s.moving = s.object_velocity_m_s.norm() > options_.min_object_speed_m_s;
-    s.force_N = push.force_N.row(i).norm();
     s.force_vector_N = push.force_N.row(i).transpose();
     s.torque_about_centre_Nm = push.torque_about_centre_Nm(i);
-    // Torque about the CoF: the recorded torque is about the tracked centre.
-    s.torque_about_cof_Nm = push.torque_about_centre_Nm(i) -
-                            perp(R * push.shape.centroid_m).dot(push.force_N.row(i).transpose());
-    (void)weight;
     samples_.push_back(s);
   }
 }
 
-QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) const {
+QuasiStaticIdentification QuasiStaticEstimator::identify() const {
   QuasiStaticIdentification id;
   id.parameters = defaults_;
   id.intervals = intervals_;
@@ -263,7 +257,6 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
   const SynchronisedPush& push = *push_;
 
   // The contact offset: measured at the phase's start when the sensor reports contact there.
-  const Eigen::Index start = push.index_at(phase_start_s);
   if (outline_ && !gaps_m_.empty()) {
     id.parameters.contact_offset_m = median(gaps_m_);
     std::vector<double> dev;
@@ -271,7 +264,6 @@ QuasiStaticIdentification QuasiStaticEstimator::identify(double phase_start_s) c
     id.std(3) = 1.4826 * median(dev) / std::sqrt(static_cast<double>(gaps_m_.size()));
     id.sources[3] = "identified";
   }
-  (void)start;
 
   double mu_p = defaults_.pusher_friction, c = defaults_.torque_ratio_m, mu_s = defaults_.support_friction;
   const double c0 = defaults_.torque_ratio_m;
@@ -492,7 +484,7 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
     fed_estimator = &own;
   }
   QuasiStaticPhase out;
-  out.identification = fed_estimator->identify(phase.t0_s);
+  out.identification = fed_estimator->identify();
   PlannedTipVelocity plan = plan_tip_velocity_from_measurement(push, phase.t0_s, phase.t1_s, plan_rate_hz);
   Eigen::Vector2d direction = Eigen::Vector2d::Zero();
   for (Eigen::Index k = 0; k < plan.signal.samples(); ++k) direction += plan.signal.values().row(k).transpose();

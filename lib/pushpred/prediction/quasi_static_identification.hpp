@@ -100,16 +100,16 @@ class QuasiStaticEstimator {
   void reset(const SynchronisedPush& push);
   /// Adds the samples of `interval` of the push given to reset (InputError for an interval outside it).
   void add_interval(const TimeInterval& interval);
-  /// The fit over every interval so far, for a phase starting at `phase_start_s` (the contact offset is measured
-  /// there). Never throws for lack of data: parameters without information keep their defaults, and say so.
-  QuasiStaticIdentification identify(double phase_start_s) const;
+  /// The fit over every interval so far; the contact offset is the median rod-outline distance of the contact
+  /// samples (predict_quasi_static_phase replaces it by the one measured at the phase's start). Never throws for
+  /// lack of data: parameters without information keep their defaults, and say so.
+  QuasiStaticIdentification identify() const;
 
  private:
   struct Sample {
     Eigen::Vector2d contact_from_cof_m, inward_normal, tip_velocity_m_s, object_velocity_m_s;
     double omega_rad_s = 0;
     bool moving = false;
-    double force_N = 0, torque_about_cof_Nm = 0;
     Eigen::Vector2d point_from_centre_m, centre_velocity_m_s, force_vector_N;
     double yaw_rad = 0, torque_about_centre_Nm = 0;
   };
