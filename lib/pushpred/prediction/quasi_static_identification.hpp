@@ -22,8 +22,9 @@
 //   its Jacobian column is not negligible and its standard deviation is below half its value; otherwise it is fixed
 //   at its default, std 0, and `sources` says why.
 // - The contact offset: the rod-outline distance measured at the phase's start when the sensor reports contact
-//   there, else the median over the identified contact samples, else zero: the model starts the phase in contact
-//   exactly when the data do.
+//   there; else the median over the identified contact samples (zero without any), lowered if need be so that the
+//   rod does not start inside the outline: the model starts the phase in contact exactly when the data do.
+// - Samples within `contact_settling_s` of a contact's onset are left out (the object accelerates from rest).
 //
 // Physical defaults (not fitted to any data set): mu_p 0.25 (steel on steel), mu_s 0.3 (steel on ABS), c the
 // uniform-pressure value of the footprint (uniform_pressure_torque_ratio), or 0.94 sqrt(I / m) where the outline is

@@ -35,8 +35,8 @@
 //
 // Assumptions (docs/prediction.md says where they fail): a flat support with uniform-ish pressure (the limit
 // surface an ellipsoid), quasi-static pushing (inertia only in the slide to rest), point contact with Coulomb
-// friction, a rigid pusher that follows its plan, the object's outline known (or a straight edge, see
-// straight_edge_from_plan).
+// friction, a rigid pusher that follows its plan, the object's outline known (or one of
+// the local outlines of quasi_static_identification.hpp where the shape table lists none).
 #include <Eigen/Core>
 #include <memory>
 #include <string>
