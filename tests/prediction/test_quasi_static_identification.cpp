@@ -91,6 +91,27 @@ BOOST_AUTO_TEST_CASE(a_sticking_push_keeps_the_default_mu_p_and_says_why) {
   BOOST_TEST(id.std(0) == QuasiStaticIdentificationOptions().prior_pusher_friction_std, boost::test_tools::tolerance(1e-6));
 }
 
+BOOST_AUTO_TEST_CASE(without_the_prior_an_undetermined_mu_p_is_fixed_at_its_default) {
+  // The plain fit: with every sample sticking, mu_p has no sensitivity and is held at its default with std 0, while
+  // the turn and the force still give c and mu_s.
+  const SynchronisedPush push = simulated("rect2", 0.0, 0.3, 0.4, 0.35);
+  QuasiStaticIdentificationOptions o;
+  o.use_prior = false;
+  QuasiStaticEstimator estimator(o);
+  estimator.reset(push);
+  estimator.add_interval({0.0, push.duration_s()});
+  const QuasiStaticIdentification id = estimator.identify();
+  BOOST_TEST_MESSAGE("plain fit, sticking: mu_p " << id.parameters.pusher_friction << " (" << id.sources[0] << "), c "
+                                                  << id.parameters.torque_ratio_m << " (" << id.sources[1] << "), mu_s "
+                                                  << id.parameters.support_friction << " (" << id.sources[2] << ")");
+  BOOST_TEST(id.sliding_samples == 0);
+  BOOST_TEST(id.parameters.pusher_friction == QuasiStaticParameters().pusher_friction);
+  BOOST_TEST(id.std(0) == 0.0);
+  BOOST_TEST(id.sources[0].rfind("default", 0) == 0);
+  BOOST_TEST(id.sources[2] == "identified");
+  BOOST_TEST(std::abs(id.parameters.support_friction - 0.4) < 0.15 * 0.4 + 3 * id.std(2));
+}
+
 BOOST_AUTO_TEST_CASE(without_contact_samples_every_parameter_is_a_default_and_says_so) {
   const SynchronisedPush push = simulated("rect2", 0.0, 0.3, 0.4);
   QuasiStaticEstimator estimator;
