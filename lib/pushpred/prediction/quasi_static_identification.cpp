@@ -29,7 +29,8 @@ bool has_outline(const ShapeInfo& shape) {
 }
 
 /// Outward normal (body frame) of an unknown outline at sample i: along the tip's slide over the object where it
-/// slides, else the plan's direction turned back by the push angle.
+/// slides, against the push where the rod is stuck (see contact_outline_for), else the plan's direction turned back
+/// by the push angle.
 Eigen::Vector2d local_outward_normal(const SynchronisedPush& push, Eigen::Index i, const Eigen::Vector2d& plan_direction,
                                      Eigen::Index lookback) {
   const Eigen::Rotation2Dd R(push.pose(i, 2));
@@ -38,8 +39,12 @@ Eigen::Vector2d local_outward_normal(const SynchronisedPush& push, Eigen::Index 
   while (j < i && !push.in_contact[static_cast<size_t>(j)]) ++j;
   const Eigen::Vector2d slide = body_tip(push, i) - body_tip(push, j);
   Eigen::Vector2d normal;
+  const bool stuck = push.in_contact[static_cast<size_t>(i)] && j == i - lookback && slide.norm() < 5e-4 &&
+                     (push.tip_m.row(i) - push.tip_m.row(j)).norm() >= 2e-3;
   if (push.in_contact[static_cast<size_t>(i)] && slide.norm() > 1.5e-3) {
     normal = perp(slide.normalized());
+  } else if (stuck) {
+    normal = -push_body;  // a rounded vertex pushed along the plan, as contact_outline_for takes it
   } else {
     normal = -(Eigen::Rotation2Dd(-push.push.angle_rad) * push_body);
   }
