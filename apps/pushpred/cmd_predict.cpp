@@ -1,5 +1,6 @@
 // `pushpred predict FILE... --out DIR`: the paper's identification/prediction study on each push, with the
-// `dob`, `dob_velinit`, `simple`, `hold` and `const_velocity` methods; DIR/summary.json and per-push CSVs.
+// prediction methods chosen by name (default: every built-in one, predictor.hpp); DIR/summary.json, DIR/tables.md
+// (per object and per pusher speed) and per-push CSVs.
 #include <filesystem>
 #include <cstdio>
 #include <iostream>
@@ -34,15 +35,20 @@ int run_predict(const PredictArgs& a) {
   if (batch.results.empty()) return report_failures(batch.failures, 0);  // nothing written
   const nlohmann::json summary = prediction_summary_json(batch, o);
   write_text_atomically(out.path("summary.json"), json_text(summary));
+  write_text_atomically(out.path("tables.md"),
+                        "Mean over phases of each phase's mean position error [mm] / yaw error [deg]\n\n" +
+                            grouped_errors_markdown(batch.results) + "\n" +
+                            losing_phases_markdown(batch.results, "quasi_static", {"hold", "const_velocity"}));
   out.commit();
 
   std::cout << "predicted " << batch.results.size() << " pushes (" << o.schedule.intervals << " intervals over the "
             << schedule_span_name(o.schedule.span) << " span); summary in " << a.out << "/summary.json\n";
-  for (const auto& name : prediction_method_names()) {
+  for (const auto& name : o.methods) {
     if (!summary["aggregate"].contains(name)) continue;
     const auto& e = summary["aggregate"][name];
-    std::printf("  %-15s x %7.2f mm  y %7.2f mm  theta %7.2f deg\n", name.c_str(), e["x_mm_mean"].get<double>(),
-                e["y_mm_mean"].get<double>(), e["theta_deg_mean"].get<double>());
+    std::printf("  %-15s position %6.2f mm (x %6.2f, y %6.2f)  theta %6.2f deg\n", name.c_str(),
+                e["pos_mm_mean"].get<double>(), e["x_mm_mean"].get<double>(), e["y_mm_mean"].get<double>(),
+                e["theta_deg_mean"].get<double>());
   }
   return report_failures(batch.failures, batch.results.size());
 }
@@ -53,7 +59,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
   sub->add_option("--out", a->out, "Output folder")->required();
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
-  a->study.add_to(*sub);
+  a->study.add_to(*sub, {2, true, true, true, true});
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
   sub->callback([a, &run] { run = [a] { return run_predict(*a); }; });
 });

@@ -2,6 +2,7 @@
 
 #include "pushpred/estimators/relation_estimator.hpp"
 #include "pushpred/observers/disturbance_estimator.hpp"
+#include "pushpred/prediction/predictor.hpp"
 
 namespace pushpred::app {
 
@@ -17,6 +18,11 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
     for (const auto& n : relation_estimator_names()) names += (names.empty() ? "" : ", ") + n;
     sub.add_option("--estimator", estimator, "Relation estimator: " + names);
   }
+  if (flags.methods) {
+    std::string names;
+    for (const auto& n : predictor_names()) names += (names.empty() ? "" : ", ") + n;
+    sub.add_option("--methods", methods, "Prediction methods, comma-separated (default: all built-in): " + names);
+  }
   if (flags.mu)
     sub.add_option("--mu", mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")
         ->check(CLI::NonNegativeNumber);
@@ -30,6 +36,7 @@ StudyOptions StudyArguments::options() const {
   o.observer = observer;
   o.estimator = estimator;
   o.friction_coefficient = mu;
+  o.methods = parse_predictor_list(methods);
   make_disturbance_estimator(o.observer);
   make_relation_estimator(o.estimator);
   return o;

@@ -15,15 +15,17 @@ struct StudyArguments {
   std::string observer = "dob";
   std::string estimator = "rls";
   double mu = -1.0;  ///< < 0: from the surface table
+  std::string methods;  ///< comma-separated prediction method names; empty: the built-ins
 
   /// Which of the optional flags a subcommand offers.
   struct Flags {
     int min_intervals = 2;
     bool observer = true, estimator = true, mu = true;
+    bool methods = false;  ///< --methods (the prediction methods to run, by name)
   };
   void add_to(CLI::App& sub, Flags flags);
   void add_to(CLI::App& sub) { add_to(sub, Flags{}); }
-  /// The options, with estimator names checked, so a bad name fails before any file is read.
+  /// The options, with estimator and method names checked, so a bad name fails before any file is read.
   StudyOptions options() const;
 };
 

@@ -14,9 +14,12 @@ expect_in "$tmp/out" "predicted 2 pushes (4 intervals over the whole span)" "the
 for key in x_mm_mean x_mm_std y_mm_mean y_mm_std theta_deg_mean theta_deg_std final_pos_mm final_theta_deg; do
   expect_in "$tmp/p/summary.json" "\"$key\"" "summary.json has $key"
 done
-for method in dob dob_velinit simple hold const_velocity; do
+for method in dob dob_velinit simple hold const_velocity quasi_static; do
   expect_in "$tmp/p/summary.json" "\"$method\"" "summary.json has method $method"
 done
+expect_in "$tmp/p/summary.json" '"pusher_friction"' "summary.json has the quasi-static parameters"
+expect_in "$tmp/p/tables.md" "| hex | 1 | 3 |" "tables.md has the per-object table"
+expect_in "$tmp/p/tables.md" "v =  50 mm/s" "tables.md has the per-speed table"
 expect_in "$tmp/p/summary.json" '"aggregate"' "summary.json has the aggregate"
 if ls "$tmp"/p/predictions/*.csv >/dev/null 2>&1; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: no per-push CSV"; fi
 
@@ -25,6 +28,13 @@ expect_exit 1 "a frozen force sensor is a listed failure, the rest goes on" -- \
 expect_in "$tmp/err" "force sensor frozen" "the reason is given"
 expect_in "$tmp/q/summary.json" '"failures"' "the failure is in summary.json"
 expect_in "$tmp/out" "predicted 1 pushes (4 intervals over the contact span)" "the good push is predicted"
+
+expect_exit 0 "methods chosen by name" -- "$bin" predict "$hex" --out "$tmp/m" --methods quasi_static,hold
+expect_in "$tmp/out" "quasi_static" "the chosen method is printed"
+if grep -q '"dob_velinit"' "$tmp/m/summary.json"; then failed=$((failed + 1)); echo "FAIL: a method not chosen ran"; else passed=$((passed + 1)); fi
+expect_exit 2 "an unknown method" -- "$bin" predict "$hex" --out "$tmp/r" --methods hold,magic
+expect_in "$tmp/err" "unknown prediction method 'magic'" "the unknown method is named"
+if [ -e "$tmp/r" ]; then failed=$((failed + 1)); echo "FAIL: output folder written on a bad method"; else passed=$((passed + 1)); fi
 
 expect_exit 2 "an unknown estimator" -- "$bin" predict "$hex" --out "$tmp/r" --estimator magic
 expect_in "$tmp/err" "magic" "the unknown estimator is named"

@@ -13,7 +13,8 @@ double surface_friction_coefficient(const std::string& surface) {
 }
 
 const std::vector<std::string>& prediction_method_names() {
-  static const std::vector<std::string> names{"dob", "dob_velinit", "simple", "hold", "const_velocity"};
+  static const std::vector<std::string> names{"dob", "dob_velinit", "simple", "hold", "const_velocity",
+                                                  "quasi_static"};
   return names;
 }
 
@@ -27,6 +28,7 @@ PredictionErrors prediction_errors(const Eigen::MatrixX3d& predicted, const Eige
   };
   constexpr double mm = 1e3, deg = 180.0 / M_PI;
   PredictionErrors r;
+  r.pos_mm_mean = mm * e.leftCols<2>().rowwise().norm().mean();
   r.x_mm_mean = mm * mean(0);
   r.x_mm_std = mm * stdev(0);
   r.y_mm_mean = mm * mean(1);
@@ -38,10 +40,51 @@ PredictionErrors prediction_errors(const Eigen::MatrixX3d& predicted, const Eige
   return r;
 }
 
+CorrectionPredictor::CorrectionPredictor(std::shared_ptr<const PredictionCorrection> correction)
+    : correction_(std::move(correction)) {
+  if (!correction_) throw InputError("a correction predictor needs a correction");
+}
+
+void CorrectionPredictor::start_push(const SynchronisedPush& push, const StudyOptions& o) {
+  push_ = correction_->corrected_push(push);
+  if (push_.size() != push.size() || push_.t_s != push.t_s || push_.pose != push.pose)
+    throw InputError(about(push.source, "a prediction correction must keep the push's time grid and pose"));
+  observer_ = correction_->observer(o.observer);
+  estimator_ = make_relation_estimator(o.estimator);
+  identification_.clear();
+  relation_ = RelationParameters();
+}
+
+void CorrectionPredictor::add_interval(const SynchronisedPush&, const TimeInterval& interval, const DisturbanceEstimate&) {
+  DisturbanceEstimate cid = observer_->estimate(push_, interval.t0_s, interval.t1_s);
+  velocity0_ = cid.velocity.row(cid.velocity.rows() - 1).transpose();
+  correction_->remove_explained(push_, cid);
+  estimator_->add_interval(cid);
+  identification_.push_back(std::move(cid));
+}
+
+PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
+  PredictionModel corrected;
+  corrected.mass_kg = push_.shape.mass_kg;
+  corrected.inertia_kgm2 = push_.shape.inertia_kgm2;
+  relation_ = RelationParameters();
+  if (estimator_->ready()) {
+    relation_ = estimator_->parameters();
+    corrected.beta = relation_.beta;
+    corrected.eps = relation_.eps;
+  }
+  correction_->adjust_phase_model(push_, identification_, c.phase, c.plan_rate_hz, corrected);
+  const PlannedForce plan = plan_from_measurement(push_, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
+  return {predict_poses(corrected, plan, c.pose0,
+                        correction_->initial_velocity_from_observer() ? velocity0_ : Eigen::Vector3d::Zero(), c.t_s,
+                        c.options.integrator),
+          {},
+          {}};
+}
+
 PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions& o) {
   if (push.flags.frozen_force_sensor)
     throw InputError(about(push.source, "force sensor frozen: its force cannot be trusted for prediction"));
-  const double mu = o.friction_coefficient >= 0 ? o.friction_coefficient : surface_friction_coefficient(push.push.surface);
   const auto observer = make_disturbance_estimator(o.observer);
   const auto estimator = make_relation_estimator(o.estimator);
 
@@ -49,19 +92,22 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
   study.source = push.source;
   study.span = schedule_span_name(o.schedule.span);
   study.intervals = split_into_intervals(push, o.schedule);
+  study.methods = o.methods.empty() ? prediction_method_names() : o.methods;
 
-  // The corrected method, when asked for: its own push, observer and relation estimator.
-  SynchronisedPush corrected_push;
-  std::unique_ptr<DisturbanceEstimator> corrected_observer;
-  std::unique_ptr<RelationEstimator> corrected_estimator;
-  std::vector<DisturbanceEstimate> corrected_identification;
-  if (o.correction) {
-    corrected_push = o.correction->corrected_push(push);
-    if (corrected_push.size() != push.size() || corrected_push.t_s != push.t_s || corrected_push.pose != push.pose)
-      throw InputError(about(push.source, "a prediction correction must keep the push's time grid and pose"));
-    corrected_observer = o.correction->observer(o.observer);
-    corrected_estimator = make_relation_estimator(o.estimator);
+  std::vector<std::unique_ptr<Predictor>> predictors;
+  for (const auto& name : study.methods) {
+    if (name == kCorrectedMethod) throw InputError("'corrected' is not a method to select: set StudyOptions::correction");
+    predictors.push_back(make_predictor(name));
   }
+  // The corrected method, when asked for: its own push, observer and relation estimator.
+  CorrectionPredictor* corrected = nullptr;
+  if (o.correction) {
+    auto p = std::make_unique<CorrectionPredictor>(o.correction);
+    corrected = p.get();
+    predictors.push_back(std::move(p));
+    study.methods.push_back(kCorrectedMethod);
+  }
+  for (auto& p : predictors) p->start_push(push, o);
 
   for (size_t k = 1; k < study.intervals.size(); ++k) {
     const TimeInterval& previous = study.intervals[k - 1];
@@ -90,55 +136,24 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     r.measured = push.pose.middleRows(first, i1 - first + 1);
     const Eigen::Vector3d pose0 = push.pose.row(push.index_at(phase.t0_s)).transpose();
     r.initial_velocity = id.velocity.row(id.velocity.rows() - 1).transpose();
+    if (ready) r.relation = relation;
+    else r.note = "relation not identifiable yet (" + estimator->not_ready_reason() + "); dob predicts with beta = eps = 0";
 
-    const PlannedForce plan = plan_from_measurement(push, phase.t0_s, phase.t1_s, o.plan_rate_hz);
-    PredictionModel model;
-    model.mass_kg = push.shape.mass_kg;
-    model.inertia_kgm2 = push.shape.inertia_kgm2;
-    if (ready) {
-      r.relation = relation;
-      model.beta = r.relation.beta;
-      model.eps = r.relation.eps;
-    } else {
-      r.note = "relation not identifiable yet (" + estimator->not_ready_reason() + "); dob predicts with beta = eps = 0";
+    const std::vector<TimeInterval> identified(study.intervals.begin(), study.intervals.begin() + static_cast<long>(k));
+    const PhaseContext context{push,  identified, study.identification, phase, o.plan_rate_hz, pose0, r.initial_velocity,
+                               relation, ready,   r.t_s,                o};
+    for (auto& p : predictors) {
+      p->add_interval(push, previous, id);
+      PhasePrediction prediction = p->predict(context);
+      if (prediction.poses.rows() != r.t_s.size() || !prediction.poses.allFinite())
+        throw SolverError(about(push.source, "prediction method '" + p->name() + "' returned " +
+                                                 std::to_string(prediction.poses.rows()) + " poses for " +
+                                                 std::to_string(r.t_s.size()) + " times, or non-finite ones"));
+      r.predicted[p->name()] = std::move(prediction.poses);
+      if (!prediction.note.empty()) r.method_notes[p->name()] = prediction.note;
+      if (!prediction.parameters.empty()) r.method_parameters[p->name()] = std::move(prediction.parameters);
     }
-    r.predicted["dob"] = predict_poses(model, plan, pose0, Eigen::Vector3d::Zero(), r.t_s, o.integrator);
-    r.predicted["dob_velinit"] = predict_poses(model, plan, pose0, r.initial_velocity, r.t_s, o.integrator);
-
-    PredictionModel simple;
-    simple.mass_kg = push.shape.mass_kg;
-    simple.inertia_kgm2 = push.shape.inertia_kgm2;
-    simple.coulomb_force_N = mu * push.shape.mass_kg * kGravity_m_s2;
-    r.predicted["simple"] = predict_poses(simple, plan, pose0, Eigen::Vector3d::Zero(), r.t_s, o.integrator);
-
-    Eigen::MatrixX3d hold(r.t_s.size(), 3), constant(r.t_s.size(), 3);
-    for (Eigen::Index j = 0; j < r.t_s.size(); ++j) {
-      hold.row(j) = pose0.transpose();
-      constant.row(j) = (pose0 + (r.t_s(j) - phase.t0_s) * r.initial_velocity).transpose();
-    }
-    r.predicted["hold"] = hold;
-    r.predicted["const_velocity"] = constant;
-    if (o.correction) {
-      DisturbanceEstimate cid = corrected_observer->estimate(corrected_push, previous.t0_s, previous.t1_s);
-      const Eigen::Vector3d velocity0 = cid.velocity.row(cid.velocity.rows() - 1).transpose();
-      o.correction->remove_explained(corrected_push, cid);
-      corrected_estimator->add_interval(cid);
-      corrected_identification.push_back(std::move(cid));
-      PredictionModel corrected;
-      corrected.mass_kg = corrected_push.shape.mass_kg;
-      corrected.inertia_kgm2 = corrected_push.shape.inertia_kgm2;
-      if (corrected_estimator->ready()) {
-        r.corrected_relation = corrected_estimator->parameters();
-        corrected.beta = r.corrected_relation.beta;
-        corrected.eps = r.corrected_relation.eps;
-      }
-      o.correction->adjust_phase_model(corrected_push, corrected_identification, phase, o.plan_rate_hz, corrected);
-      const PlannedForce corrected_plan = plan_from_measurement(corrected_push, phase.t0_s, phase.t1_s, o.plan_rate_hz);
-      r.predicted[kCorrectedMethod] =
-          predict_poses(corrected, corrected_plan, pose0,
-                        o.correction->initial_velocity_from_observer() ? velocity0 : Eigen::Vector3d::Zero(), r.t_s,
-                        o.integrator);
-    }
+    if (corrected) r.corrected_relation = corrected->last_relation();
     for (const auto& [method, poses] : r.predicted) r.errors[method] = prediction_errors(poses, r.measured);
     study.phases.push_back(std::move(r));
   }

@@ -17,6 +17,7 @@
 
 #include "pushpred/estimators/relation_estimator.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
+#include "pushpred/prediction/predictor.hpp"
 #include "pushpred/prediction/schedule.hpp"
 
 namespace pushpred {
@@ -27,7 +28,8 @@ double surface_friction_coefficient(const std::string& surface);
 
 inline constexpr double kGravity_m_s2 = 9.81;
 
-/// Names of the prediction methods, in report order.
+/// Names of the built-in prediction methods, in report order: the default of StudyOptions::methods
+/// (predictor.hpp has every registered one).
 const std::vector<std::string>& prediction_method_names();
 
 /// Name of the extra method a PredictionCorrection adds to every phase.
@@ -69,6 +71,8 @@ class PredictionCorrection {
 
 struct StudyOptions {
   ScheduleOptions schedule;
+  /// The prediction methods to run, by registered name (predictor.hpp); empty: prediction_method_names().
+  std::vector<std::string> methods;
   double plan_rate_hz = 10.0;
   std::string observer = "dob";   ///< a disturbance estimator name
   std::string estimator = "rls";  ///< a relation estimator name
@@ -78,9 +82,35 @@ struct StudyOptions {
   std::shared_ptr<const PredictionCorrection> correction;
 };
 
+/// The corrected model of a PredictionCorrection as a Predictor (named kCorrectedMethod): the paper's
+/// identification and prediction on the corrected push, with the corrected observer, the explained part of the
+/// disturbance removed before its own relation estimator sees it, and the corrected model; see PredictionCorrection.
+class CorrectionPredictor final : public Predictor {
+ public:
+  /// Throws InputError for a null correction.
+  explicit CorrectionPredictor(std::shared_ptr<const PredictionCorrection> correction);
+  std::string name() const override { return kCorrectedMethod; }
+  /// Throws InputError when the corrected push changes the time grid or the pose.
+  void start_push(const SynchronisedPush& push, const StudyOptions& options) override;
+  void add_interval(const SynchronisedPush& push, const TimeInterval& interval, const DisturbanceEstimate&) override;
+  PhasePrediction predict(const PhaseContext& context) override;
+  /// The relation the last prediction used (zero samples when it was not identifiable).
+  const RelationParameters& last_relation() const { return relation_; }
+
+ private:
+  std::shared_ptr<const PredictionCorrection> correction_;
+  SynchronisedPush push_;
+  std::unique_ptr<DisturbanceEstimator> observer_;
+  std::unique_ptr<RelationEstimator> estimator_;
+  std::vector<DisturbanceEstimate> identification_;
+  Eigen::Vector3d velocity0_ = Eigen::Vector3d::Zero();
+  RelationParameters relation_;
+};
+
 /// Prediction errors of one method over one phase: means and standard deviations of |error| over the phase's
 /// grid samples, and the errors at its end.
 struct PredictionErrors {
+  double pos_mm_mean = 0;  ///< mean Euclidean position error over the phase's samples
   double x_mm_mean = 0, x_mm_std = 0, y_mm_mean = 0, y_mm_std = 0, theta_deg_mean = 0, theta_deg_std = 0;
   double final_pos_mm = 0, final_theta_deg = 0;
 };
@@ -95,6 +125,8 @@ struct PhaseResult {
   Eigen::MatrixX3d measured;   ///< measured pose at t_s
   std::map<std::string, Eigen::MatrixX3d> predicted;  ///< per method, pose at t_s
   std::map<std::string, PredictionErrors> errors;     ///< per method
+  std::map<std::string, std::string> method_notes;    ///< per method, what it says about this phase (if anything)
+  std::map<std::string, std::vector<PredictorParameter>> method_parameters;  ///< per method that reports any
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();  ///< observer's estimate at the phase start
   RelationParameters corrected_relation;  ///< used by `corrected`, when StudyOptions::correction is set
 };
@@ -102,6 +134,7 @@ struct PhaseResult {
 struct PushStudy {
   std::string source;
   std::string span;  ///< "whole" or "contact"
+  std::vector<std::string> methods;  ///< the methods of every phase, in report order
   std::vector<TimeInterval> intervals;
   std::vector<PhaseResult> phases;
   std::vector<DisturbanceEstimate> identification;  ///< the observer's output on every interval that was identified

@@ -373,7 +373,7 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
        << "| mean yaw errors below 20 degrees | worst phase mean " << fmt("%.2f", worst_theta) << " deg |\n\n"
        << "Over all phases of the six cases:\n\n"
        << kErrorsHeader;
-    for (const auto& name : prediction_method_names()) md << errors_row(name, agg.at(name));
+    for (const auto& name : result.cases.front().methods) md << errors_row(name, agg.at(name));
     md << "\n";
   }
 
@@ -395,13 +395,16 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
     for (const auto& [shape, studies] : by_shape) {
       if (studies.empty()) continue;
       const auto agg = aggregate_errors(studies);
-      for (const auto& name : prediction_method_names()) {
+      for (const auto& name : studies.front().methods) {
         const auto& e = agg.at(name);
         md << "| " << shape << " | " << studies.size() << " | " << name << " | " << fmt("%.2f", e.x_mm_mean) << " | "
            << fmt("%.2f", e.y_mm_mean) << " | " << fmt("%.2f", e.theta_deg_mean) << " | " << fmt("%.2f", e.final_pos_mm)
            << " | " << fmt("%.2f", e.final_theta_deg) << " |\n";
       }
     }
+    md << "\nMean over phases of each phase's mean position error [mm] / yaw error [deg], per object and per pusher "
+          "speed:\n\n"
+       << grouped_errors_markdown(result.real.results);
     if (!result.real.failures.empty()) {
       md << "\nPushes left out:\n\n";
       for (const auto& f : result.real.failures)

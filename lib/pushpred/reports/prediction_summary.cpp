@@ -1,14 +1,20 @@
 #include "pushpred/reports/prediction_summary.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <sstream>
 
 #include "pushpred/core/version.hpp"
+#include "pushpred/reading/recording.hpp"
 
 namespace pushpred {
 
 nlohmann::json errors_json(const PredictionErrors& e) {
-  return {{"x_mm_mean", e.x_mm_mean},           {"x_mm_std", e.x_mm_std},
+  return {{"pos_mm_mean", e.pos_mm_mean},
+          {"x_mm_mean", e.x_mm_mean},           {"x_mm_std", e.x_mm_std},
           {"y_mm_mean", e.y_mm_mean},           {"y_mm_std", e.y_mm_std},
           {"theta_deg_mean", e.theta_deg_mean}, {"theta_deg_std", e.theta_deg_std},
           {"final_pos_mm", e.final_pos_mm},     {"final_theta_deg", e.final_theta_deg}};
@@ -29,11 +35,16 @@ nlohmann::json study_json(const PushStudy& s) {
   nlohmann::json phases = nlohmann::json::array();
   for (const auto& r : s.phases) {
     nlohmann::json methods = nlohmann::json::object();
-    for (const auto& name : prediction_method_names()) methods[name] = errors_json(r.errors.at(name));
+    for (const auto& name : s.methods) methods[name] = errors_json(r.errors.at(name));
     nlohmann::json phase = {{"phase", r.phase},
                             {"t0_s", r.interval.t0_s},
                             {"t1_s", r.interval.t1_s},
                             {"methods", methods}};
+    if (!r.method_notes.empty()) phase["method_notes"] = r.method_notes;
+    for (const auto& [method, parameters] : r.method_parameters)
+      for (const auto& q : parameters)
+        phase["method_parameters"][method][q.name] = {
+            {"value", q.value}, {"std", q.std}, {"unit", q.unit}, {"source", q.source}};
     if (r.relation.samples > 0) phase["relation"] = relation_json(r.relation);
     if (!r.note.empty()) phase["note"] = r.note;
     phases.push_back(phase);
@@ -49,6 +60,7 @@ std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushS
       ++count;
       for (const auto& [name, e] : r.errors) {
         PredictionErrors& a = sum[name];
+        a.pos_mm_mean += e.pos_mm_mean;
         a.x_mm_mean += e.x_mm_mean;
         a.x_mm_std += e.x_mm_std;
         a.y_mm_mean += e.y_mm_mean;
@@ -60,7 +72,7 @@ std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushS
       }
     }
   for (auto& [name, a] : sum) {
-    for (double* v : {&a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean, &a.theta_deg_std,
+    for (double* v : {&a.pos_mm_mean, &a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean, &a.theta_deg_std,
                       &a.final_pos_mm, &a.final_theta_deg})
       *v /= count;
   }
@@ -80,24 +92,122 @@ nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const Stud
             {"span", schedule_span_name(o.schedule.span)},
             {"plan_rate_hz", o.plan_rate_hz},
             {"observer", o.observer},
+            {"methods", o.methods.empty() ? prediction_method_names() : o.methods},
             {"estimator", o.estimator}}},
           {"files", files},
           {"aggregate", aggregate},
           {"failures", failures}};
 }
 
+std::string grouped_errors_markdown(const std::vector<PushStudy>& studies) {
+  if (studies.empty()) return "";
+  const std::vector<std::string>& methods = studies.front().methods;
+  auto table = [&](const std::string& title, const std::function<std::string(const PushStudy&)>& group_of) {
+    std::map<std::string, std::vector<PushStudy>> groups;
+    for (const auto& s : studies) groups[group_of(s)].push_back(s);
+    std::ostringstream md;
+    md << "| " << title << " | pushes | phases |";
+    for (const auto& m : methods) md << " " << m << " |";
+    md << "\n|---|---|---|";
+    for (size_t k = 0; k < methods.size(); ++k) md << "---|";
+    md << "\n";
+    for (const auto& [group, members] : groups) {
+      size_t phases = 0;
+      for (const auto& s : members) phases += s.phases.size();
+      const auto agg = aggregate_errors(members);
+      md << "| " << group << " | " << members.size() << " | " << phases << " |";
+      char cell[64];
+      for (const auto& m : methods) {
+        std::snprintf(cell, sizeof cell, " %.2f / %.2f |", agg.at(m).pos_mm_mean, agg.at(m).theta_deg_mean);
+        md << cell;
+      }
+      md << "\n";
+    }
+    return md.str();
+  };
+  auto parameters = [](const PushStudy& s) { return parse_push_filename(s.source); };
+  std::ostringstream out;
+  out << table("object", [&](const PushStudy& s) {
+    const auto p = parameters(s);
+    return p ? p->shape : std::string("unknown");
+  }) << "\n";
+  out << table("pusher", [&](const PushStudy& s) {
+    const auto p = parameters(s);
+    if (!p) return std::string("unknown");
+    char label[64];
+    if (p->speed_m_s > 0) std::snprintf(label, sizeof label, "v = %3.0f mm/s", 1e3 * p->speed_m_s);
+    else std::snprintf(label, sizeof label, "a = %4.0f mm/s^2", 1e3 * p->acceleration_m_s2);
+    return std::string(label);
+  }) << "\n";
+  out << table("all", [](const PushStudy&) { return std::string("all"); });
+  return out.str();
+}
+
+std::string losing_phases_markdown(const std::vector<PushStudy>& studies, const std::string& method,
+                                   const std::vector<std::string>& references, int worst) {
+  if (studies.empty()) return "";
+  const auto& methods = studies.front().methods;
+  if (std::find(methods.begin(), methods.end(), method) == methods.end()) return "";
+  for (const auto& r : references)
+    if (std::find(methods.begin(), methods.end(), r) == methods.end()) return "";
+  struct Loss {
+    std::string source;
+    int phase;
+    double pos, yaw, best_pos, best_yaw;
+  };
+  std::vector<Loss> losses;
+  std::map<std::string, std::pair<int, int>> per_object;  // lost, phases
+  for (const auto& s : studies) {
+    const auto p = parse_push_filename(s.source);
+    const std::string object = p ? p->shape : "unknown";
+    for (const auto& r : s.phases) {
+      ++per_object[object].second;
+      const auto& e = r.errors.at(method);
+      double best_pos = 1e300, best_yaw = 1e300;
+      for (const auto& ref : references) {
+        best_pos = std::min(best_pos, r.errors.at(ref).pos_mm_mean);
+        best_yaw = std::min(best_yaw, r.errors.at(ref).theta_deg_mean);
+      }
+      const bool lost = (e.pos_mm_mean > 1.02 * best_pos && e.pos_mm_mean > best_pos + 0.05) ||
+                        (e.theta_deg_mean > 1.02 * best_yaw && e.theta_deg_mean > best_yaw + 0.05);
+      if (!lost) continue;
+      ++per_object[object].first;
+      losses.push_back({std::filesystem::path(s.source).filename().string(), r.phase, e.pos_mm_mean, e.theta_deg_mean,
+                        best_pos, best_yaw});
+    }
+  }
+  std::ostringstream md;
+  md << "Phases where `" << method << "` loses to the better of";
+  for (const auto& r : references) md << " `" << r << "`";
+  md << " (position or yaw more than 2 % and 0.05 mm / 0.05 deg worse):";
+  for (const auto& [object, counts] : per_object) md << " " << object << " " << counts.first << " of " << counts.second << ";";
+  md << "\n\n| push | phase | " << method << " [mm / deg] | better reference [mm / deg] |\n|---|---|---|---|\n";
+  std::sort(losses.begin(), losses.end(), [](const Loss& a, const Loss& b) {
+    return std::max(0.0, a.pos - a.best_pos) + std::max(0.0, a.yaw - a.best_yaw) >
+           std::max(0.0, b.pos - b.best_pos) + std::max(0.0, b.yaw - b.best_yaw);
+  });
+  char row[400];
+  for (size_t k = 0; k < losses.size() && static_cast<int>(k) < worst; ++k) {
+    const Loss& l = losses[k];
+    std::snprintf(row, sizeof row, "| `%s` | %d | %.2f / %.2f | %.2f / %.2f |\n", l.source.c_str(), l.phase, l.pos, l.yaw,
+                  l.best_pos, l.best_yaw);
+    md << row;
+  }
+  return md.str();
+}
+
 std::string predictions_csv(const PushStudy& s) {
   std::ostringstream out;
   out.precision(9);
   out << "phase,t_s,measured_x_mm,measured_y_mm,measured_theta_deg";
-  for (const auto& m : prediction_method_names()) out << "," << m << "_x_mm," << m << "_y_mm," << m << "_theta_deg";
+  for (const auto& m : s.methods) out << "," << m << "_x_mm," << m << "_y_mm," << m << "_theta_deg";
   out << "\n";
   constexpr double deg = 180.0 / M_PI;
   for (const auto& r : s.phases)
     for (Eigen::Index j = 0; j < r.t_s.size(); ++j) {
       out << r.phase << "," << r.t_s(j) << "," << 1e3 * r.measured(j, 0) << "," << 1e3 * r.measured(j, 1) << ","
           << deg * r.measured(j, 2);
-      for (const auto& m : prediction_method_names()) {
+      for (const auto& m : s.methods) {
         const auto& p = r.predicted.at(m);
         out << "," << 1e3 * p(j, 0) << "," << 1e3 * p(j, 1) << "," << deg * p(j, 2);
       }

@@ -20,6 +20,17 @@ std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushS
 
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& options);
 
+/// Markdown tables of the mean over phases of each method's per-phase mean position error [mm] / yaw error [deg]:
+/// per object, per pusher speed (or acceleration), and over all phases, for `studies` (shape and speed from the
+/// file names; "unknown" for other names). Every phase weighs alike. Empty for no studies.
+std::string grouped_errors_markdown(const std::vector<PushStudy>& studies);
+
+/// Markdown: the phases where `method` loses to the better of `references` (position or yaw error more than 2 %
+/// and 0.05 mm / 0.05 deg above it), counted per object, and the `worst` of them by the sum of the excess position
+/// [mm] and yaw [deg] error, worst first. Empty when a method is missing from the studies.
+std::string losing_phases_markdown(const std::vector<PushStudy>& studies, const std::string& method,
+                                   const std::vector<std::string>& references, int worst = 15);
+
 /// Per-phase predictions of one push as CSV: phase, t_s, measured x, y [mm], theta [deg], then each method's.
 std::string predictions_csv(const PushStudy& study);
 

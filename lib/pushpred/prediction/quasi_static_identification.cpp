@@ -1,0 +1,533 @@
+#include "pushpred/prediction/quasi_static_identification.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+namespace {
+
+Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+
+Eigen::Vector2d body_tip(const SynchronisedPush& push, Eigen::Index i) {
+  return Eigen::Rotation2Dd(push.pose(i, 2)).inverse() *
+         (push.tip_m.row(i).transpose() - push.pose.row(i).head<2>().transpose());
+}
+
+bool has_outline(const ShapeInfo& shape) {
+  try {
+    Outline o(shape);
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+/// Outward normal (body frame) of an unknown outline at sample i: along the tip's slide over the object where it
+/// slides, against the push where the rod is stuck (see contact_outline_for), else the plan's direction turned back
+/// by the push angle.
+Eigen::Vector2d local_outward_normal(const SynchronisedPush& push, Eigen::Index i, const Eigen::Vector2d& plan_direction,
+                                     Eigen::Index lookback) {
+  const Eigen::Rotation2Dd R(push.pose(i, 2));
+  const Eigen::Vector2d push_body = R.inverse() * plan_direction;
+  Eigen::Index j = std::max<Eigen::Index>(0, i - lookback);
+  while (j < i && !push.in_contact[static_cast<size_t>(j)]) ++j;
+  const Eigen::Vector2d slide = body_tip(push, i) - body_tip(push, j);
+  Eigen::Vector2d normal;
+  const bool stuck = push.in_contact[static_cast<size_t>(i)] && j == i - lookback && slide.norm() < 5e-4 &&
+                     (push.tip_m.row(i) - push.tip_m.row(j)).norm() >= 2e-3;
+  if (push.in_contact[static_cast<size_t>(i)] && slide.norm() > 1.5e-3) {
+    normal = perp(slide.normalized());
+  } else if (stuck) {
+    normal = -push_body;  // a rounded vertex pushed along the plan, as contact_outline_for takes it
+  } else {
+    normal = -(Eigen::Rotation2Dd(-push.push.angle_rad) * push_body);
+  }
+  if (normal.dot(push_body) > 0) normal = -normal;
+  return normal.normalized();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(m), v.end());
+  return v[m];
+}
+
+/// One contact sample's kinematics: the measured twist against the quasi-static motion, for (mu_p, c, delta) with
+/// delta the CoF's offset from the shape table's centroid (body frame).
+struct KinematicResidual {
+  Eigen::Vector2d point_from_centre, n, tip_velocity, centre_velocity, centroid;
+  double yaw = 0, omega = 0, c0 = 0, sigma = 1;
+  bool operator()(const double* mu_p, const double* c, const double* delta, double* r) const {
+    const Eigen::Vector2d arm = Eigen::Rotation2Dd(yaw) * (centroid + Eigen::Vector2d(delta[0], delta[1]));
+    const Eigen::Vector2d velocity = centre_velocity + omega * perp(arm);
+    const QuasiStaticMotion m = quasi_static_motion(point_from_centre - arm, n, tip_velocity, mu_p[0], c[0]);
+    r[0] = (velocity.x() - m.velocity_m_s.x()) / sigma;
+    r[1] = (velocity.y() - m.velocity_m_s.y()) / sigma;
+    r[2] = c0 * (omega - m.omega_rad_s) / sigma;
+    return true;
+  }
+};
+
+/// One sliding sample's wrench on the ellipsoidal limit surface: sqrt(|f|^2 + (m / c)^2) = mu_s m g, m about the CoF.
+struct ForceResidual {
+  Eigen::Vector2d force, centroid;
+  double torque_about_centre = 0, yaw = 0, weight = 0, sigma = 1;
+  template <typename T>
+  bool operator()(const T* c, const T* mu_s, const T* delta, T* r) const {
+    const T bx = T(centroid.x()) + delta[0], by = T(centroid.y()) + delta[1];
+    const T ax = std::cos(yaw) * bx - std::sin(yaw) * by, ay = std::sin(yaw) * bx + std::cos(yaw) * by;
+    const T m = (T(torque_about_centre) - (ax * T(force.y()) - ay * T(force.x()))) / c[0];
+    r[0] = (ceres::sqrt(T(force.squaredNorm()) + m * m) - mu_s[0] * T(weight)) / T(sigma);
+    return true;
+  }
+};
+
+struct PriorComponent {
+  int axis = 0;
+  double mean = 0, sigma = 1;
+  template <typename T>
+  bool operator()(const T* theta, T* r) const {
+    r[0] = (theta[axis] - T(mean)) / T(sigma);
+    return true;
+  }
+};
+
+struct PriorResidual {
+  double mean = 0, sigma = 1;
+  template <typename T>
+  bool operator()(const T* theta, T* r) const {
+    r[0] = (theta[0] - T(mean)) / T(sigma);
+    return true;
+  }
+};
+
+}  // namespace
+
+const std::array<const char*, 4>& QuasiStaticIdentification::names() {
+  static const std::array<const char*, 4> n{"pusher_friction", "torque_ratio_m", "support_friction", "contact_offset_m"};
+  return n;
+}
+
+std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush& push, double t_s,
+                                                          const Eigen::Vector2d& plan_direction) {
+  if (has_outline(push.shape)) return shape_outline(push.shape);
+  // The outline is known only where the rod touched it: at the last contact sample up to t_s.
+  Eigen::Index i = push.index_at(t_s);
+  while (i > 0 && !push.in_contact[static_cast<size_t>(i)]) --i;
+  if (!push.in_contact[static_cast<size_t>(i)]) i = push.index_at(t_s);
+  const Eigen::Vector2d direction = plan_direction.norm() > 0 ? plan_direction.normalized() : Eigen::Vector2d::UnitX();
+  const Eigen::Vector2d push_body = Eigen::Rotation2Dd(push.pose(i, 2)).inverse() * direction;
+  // Stuck: over the last 0.1 s in contact the rod pushed (moved at least 2 mm) without sliding over the object (under
+  // 0.5 mm). The contact is then taken as a rounded vertex ahead of the rod along the push, so the push stays on
+  // its normal while the object turns (a rod stuck at a corner rolls around it).
+  {
+    const Eigen::Index back = static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz));
+    const Eigen::Index j = i - back;
+    if (j >= 0 && push.in_contact[static_cast<size_t>(j)] &&
+        (push.tip_m.row(i) - push.tip_m.row(j)).norm() >= 2e-3 && (body_tip(push, i) - body_tip(push, j)).norm() < 5e-4) {
+      constexpr double kVertexRadius_m = 5e-4;
+      return circular_edge(body_tip(push, i) + (kPusherRadius_m + kVertexRadius_m) * push_body, kVertexRadius_m);
+    }
+  }
+  // The rod centre's trace over the object while in contact, back from t_s: a circle (of the outline's radius
+  // plus the rod's) where it has slid far enough to show the outline's curvature.
+  std::vector<Eigen::Vector2d> trace;
+  double arc = 0;
+  for (Eigen::Index j = i; j >= 0 && push.in_contact[static_cast<size_t>(j)] && arc < 0.015; --j) {
+    const Eigen::Vector2d q = body_tip(push, j);
+    if (trace.empty() || (q - trace.back()).norm() >= 1e-3) {
+      if (!trace.empty()) arc += (q - trace.back()).norm();
+      trace.push_back(q);
+    }
+  }
+  if (arc >= 0.004 && trace.size() >= 4) {
+    Eigen::MatrixXd A(static_cast<Eigen::Index>(trace.size()), 3);
+    Eigen::VectorXd b(A.rows());
+    for (Eigen::Index k = 0; k < A.rows(); ++k) {
+      const Eigen::Vector2d& q = trace[static_cast<size_t>(k)];
+      A.row(k) << q.x(), q.y(), 1.0;
+      b(k) = -q.squaredNorm();
+    }
+    const Eigen::Vector3d def = A.colPivHouseholderQr().solve(b);
+    const Eigen::Vector2d centre = -0.5 * def.head<2>();
+    const double r2 = centre.squaredNorm() - def(2);
+    if (r2 > 0) {
+      const double trace_radius = std::sqrt(r2);
+      const Eigen::Vector2d outward = (trace.front() - centre).normalized();
+      if (trace_radius > kPusherRadius_m + 0.005 && trace_radius < 1.0 && outward.dot(push_body) < 0)
+        return circular_edge(centre, trace_radius - kPusherRadius_m);
+    }
+  }
+  const Eigen::Vector2d normal =
+      local_outward_normal(push, i, direction, static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz)));
+  return straight_edge(body_tip(push, i) - kPusherRadius_m * normal, normal);
+}
+
+QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_ptr<const ContactOutline> outline) {
+  QuasiStaticObject o;
+  o.mass_kg = push.shape.mass_kg;
+  o.inertia_kgm2 = push.shape.inertia_kgm2;
+  o.centre_of_friction_m = push.shape.centroid_m;
+  o.outline = std::move(outline);
+  return o;
+}
+
+QuasiStaticEstimator::QuasiStaticEstimator(QuasiStaticIdentificationOptions options) : options_(std::move(options)) {
+  if (!(options_.difference_half_window_s > 0) || !(options_.velocity_noise_m_s > 0) || !(options_.force_noise_N > 0) ||
+      !(options_.min_tip_speed_m_s >= 0) || !(options_.min_object_speed_m_s >= 0) || options_.min_samples < 1)
+    throw InputError("quasi-static identification: windows, noise levels and sample counts must be positive");
+}
+
+void QuasiStaticEstimator::reset(const SynchronisedPush& push) {
+  push_ = &push;
+  samples_.clear();
+  gaps_m_.clear();
+  intervals_ = 0;
+  defaults_ = options_.defaults;
+  const bool outline_known = has_outline(push.shape);
+  outline_ = outline_known ? shape_outline(push.shape) : nullptr;
+  if (!(defaults_.torque_ratio_m > 0) || defaults_.torque_ratio_m == QuasiStaticParameters().torque_ratio_m) {
+    defaults_.torque_ratio_m =
+        outline_known ? uniform_pressure_torque_ratio(make_footprint(Outline(push.shape)), push.shape.centroid_m)
+                      : 0.94 * std::sqrt(push.shape.inertia_kgm2 / push.shape.mass_kg);
+  }
+}
+
+void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
+  if (!push_) throw InputError("quasi-static identification: reset with a push before adding intervals");
+  const SynchronisedPush& push = *push_;
+  if (!(interval.t1_s > interval.t0_s) || interval.t0_s < -1e-9 || interval.t1_s > push.duration_s() + 1e-9)
+    throw InputError(about(push.source, "quasi-static identification: interval outside the push"));
+  ++intervals_;
+  const Eigen::Index h = std::max<Eigen::Index>(1, std::lround(options_.difference_half_window_s * push.rate_hz));
+  const Eigen::Index lookback = static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz));
+  Eigen::Index i0 = push.index_at(interval.t0_s), i1 = push.index_at(interval.t1_s);
+  if (push.t_s(i1) > interval.t1_s + 1e-9) --i1;
+  const Eigen::Index settle = static_cast<Eigen::Index>(std::lround(options_.contact_settling_s * push.rate_hz));
+  for (Eigen::Index i = i0; i <= i1; ++i) {
+    if (!push.in_contact[static_cast<size_t>(i)]) continue;
+    // Not within the settling time of a contact's onset: the object accelerates from rest there, which the
+    // quasi-static model leaves out.
+    bool settled = true;
+    for (Eigen::Index j = std::max<Eigen::Index>(0, i - settle); j < i && settled; ++j)
+      settled = push.in_contact[static_cast<size_t>(j)] != 0;
+    if (!settled || i < settle) continue;
+    // Central differences inside the interval only: identification never reads beyond what has been measured.
+    const Eigen::Index a = std::max(i0, i - h), b = std::min(i1, i + h);
+    if (b <= a) continue;
+    const double dt = push.t_s(b) - push.t_s(a);
+    const Eigen::Vector2d tip_velocity = (push.tip_m.row(b) - push.tip_m.row(a)).transpose() / dt;
+    const Eigen::Rotation2Dd R(push.pose(i, 2));
+    Sample s;
+    s.omega_rad_s = (push.pose(b, 2) - push.pose(a, 2)) / dt;
+    const Eigen::Vector2d centre_velocity = (push.pose.row(b) - push.pose.row(a)).head<2>().transpose() / dt;
+    s.object_velocity_m_s = centre_velocity + s.omega_rad_s * perp(R * push.shape.centroid_m);
+    s.tip_velocity_m_s = tip_velocity;
+    Eigen::Vector2d point_body, normal_out_body;
+    if (outline_) {
+      const Outline::Closest c = outline_->closest(body_tip(push, i));
+      gaps_m_.push_back(c.signed_distance_m - kPusherRadius_m);
+      point_body = c.point_m;
+      normal_out_body = c.normal;
+    } else {
+      if (!(tip_velocity.norm() > 0)) continue;
+      normal_out_body = local_outward_normal(push, i, tip_velocity.normalized(), lookback);
+      point_body = body_tip(push, i) - kPusherRadius_m * normal_out_body;
+    }
+    s.inward_normal = -(R * normal_out_body);
+    s.point_from_centre_m = R * point_body;
+    s.centre_velocity_m_s = centre_velocity;
+    s.yaw_rad = push.pose(i, 2);
+    s.contact_from_cof_m = R * (point_body - push.shape.centroid_m);
+    s.moving = s.object_velocity_m_s.norm() > options_.min_object_speed_m_s;
+    s.force_vector_N = push.force_N.row(i).transpose();
+    s.torque_about_centre_Nm = push.torque_about_centre_Nm(i);
+    samples_.push_back(s);
+  }
+}
+
+QuasiStaticIdentification QuasiStaticEstimator::identify() const {
+  QuasiStaticIdentification id;
+  id.parameters = defaults_;
+  id.intervals = intervals_;
+  for (auto& s : id.sources) s = "default: no contact sample identified yet";
+  if (!push_) return id;
+  const SynchronisedPush& push = *push_;
+
+  // The contact offset: measured at the phase's start when the sensor reports contact there.
+  if (outline_ && !gaps_m_.empty()) {
+    id.parameters.contact_offset_m = median(gaps_m_);
+    std::vector<double> dev;
+    for (double g : gaps_m_) dev.push_back(std::abs(g - id.parameters.contact_offset_m));
+    id.std(3) = 1.4826 * median(dev) / std::sqrt(static_cast<double>(gaps_m_.size()));
+    id.sources[3] = "identified";
+  }
+
+  double mu_p = defaults_.pusher_friction, c = defaults_.torque_ratio_m, mu_s = defaults_.support_friction;
+  const double c0 = defaults_.torque_ratio_m;
+  const double weight = push.shape.mass_kg * defaults_.gravity_m_s2;
+  ceres::Problem::Options problem_options;
+  ceres::Problem problem(problem_options);
+  problem.AddParameterBlock(&mu_p, 1);
+  problem.AddParameterBlock(&c, 1);
+  problem.AddParameterBlock(&mu_s, 1);
+  double delta[2] = {0, 0};
+  problem.AddParameterBlock(delta, 2);
+  if (!options_.use_prior || !(options_.prior_centre_offset_std_m > 0)) problem.SetParameterBlockConstant(delta);
+  for (const Sample& s : samples_) {
+    if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
+    auto* k = new KinematicResidual{s.point_from_centre_m, s.inward_normal, s.tip_velocity_m_s, s.centre_velocity_m_s,
+                                    push.shape.centroid_m, s.yaw_rad, s.omega_rad_s, c0, options_.velocity_noise_m_s};
+    problem.AddResidualBlock(new ceres::NumericDiffCostFunction<KinematicResidual, ceres::CENTRAL, 3, 1, 1, 2>(k),
+                             new ceres::HuberLoss(1.0), &mu_p, &c, delta);
+    ++id.kinematic_samples;
+    if (s.moving) {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1, 2>(
+                                   new ForceResidual{s.force_vector_N, push.shape.centroid_m, s.torque_about_centre_Nm,
+                                                     s.yaw_rad, weight, options_.force_noise_N}),
+                               new ceres::HuberLoss(1.0), &c, &mu_s, delta);
+      ++id.force_samples;
+    }
+  }
+  if (id.kinematic_samples < options_.min_samples) {
+    char why[160];
+    std::snprintf(why, sizeof why, "default: %ld contact samples with a moving tip, fewer than %d",
+                  id.kinematic_samples, options_.min_samples);
+    for (int p = 0; p < 3; ++p) id.sources[static_cast<size_t>(p)] = why;
+    return id;
+  }
+  if (id.force_samples == 0) problem.SetParameterBlockConstant(&mu_s);
+  // Samples the fitted model has sliding: what determines mu_p.
+  auto count_sliding = [&] {
+    id.sliding_samples = 0;
+    for (const Sample& s : samples_) {
+      if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
+      const QuasiStaticMotion m = quasi_static_motion(s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, mu_p, c);
+      if (m.mode == ContactMode::SlidingLeft || m.mode == ContactMode::SlidingRight) ++id.sliding_samples;
+    }
+  };
+  problem.SetParameterLowerBound(&mu_p, 0, 0.02);
+  problem.SetParameterUpperBound(&mu_p, 0, 1.5);
+  problem.SetParameterLowerBound(&c, 0, 0.3 * c0);
+  problem.SetParameterUpperBound(&c, 0, 3.0 * c0);
+  problem.SetParameterLowerBound(&mu_s, 0, 0.02);
+  problem.SetParameterUpperBound(&mu_s, 0, 1.5);
+
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 100;
+  solver.num_threads = 1;
+  solver.logging_type = ceres::SILENT;
+  if (options_.use_prior) {
+    const double prior_std[3] = {options_.prior_pusher_friction_std, options_.prior_torque_ratio_fraction * c0,
+                                 options_.prior_support_friction_std};
+    const double prior_mean[3] = {defaults_.pusher_friction, c0, defaults_.support_friction};
+    double* theta[3] = {&mu_p, &c, &mu_s};
+    if (id.force_samples == 0) problem.SetParameterBlockVariable(&mu_s);
+    if (options_.prior_centre_offset_std_m > 0) {
+      for (int axis = 0; axis < 2; ++axis)
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorComponent, 1, 2>(
+                                     new PriorComponent{axis, 0.0, options_.prior_centre_offset_std_m}),
+                                 nullptr, delta);
+    }
+    for (int p = 0; p < 3; ++p) {
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{prior_mean[p], prior_std[p]}), nullptr,
+          theta[p]);
+    }
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    ceres::Covariance::Options co;
+    co.algorithm_type = ceres::DENSE_SVD;
+    ceres::Covariance covariance(co);
+    std::vector<std::pair<const double*, const double*>> pairs;
+    for (const double* b : theta) pairs.emplace_back(b, b);
+    const bool offset_free = !problem.IsParameterBlockConstant(delta);
+    if (offset_free) pairs.emplace_back(delta, delta);
+    const bool have_covariance = covariance.Compute(pairs, &problem);
+    if (offset_free) {
+      double cov[4] = {0, 0, 0, 0};
+      if (have_covariance) covariance.GetCovarianceBlock(delta, delta, cov);
+      id.centre_offset_std_m = Eigen::Vector2d(std::sqrt(std::max(0.0, cov[0])), std::sqrt(std::max(0.0, cov[3])));
+      id.centre_offset_source =
+          id.centre_offset_std_m.maxCoeff() > options_.prior_dominated_fraction * options_.prior_centre_offset_std_m
+              ? "default: the data add little to the prior"
+              : "identified";
+    }
+    for (int p = 0; p < 3; ++p) {
+      double var = prior_std[p] * prior_std[p];
+      if (have_covariance) covariance.GetCovarianceBlock(theta[p], theta[p], &var);
+      id.std(p) = std::sqrt(std::max(0.0, var));
+      const auto k = static_cast<size_t>(p);
+      if (id.std(p) > options_.prior_dominated_fraction * prior_std[p]) {
+        char why[200];
+        std::snprintf(why, sizeof why, "default: the data add little to the prior (posterior std %.2g of the prior's %.2g)%s",
+                      id.std(p), prior_std[p],
+                      p == 0 && id.sliding_samples == 0 ? "; no sample slid, so mu_p is only bounded below" : "");
+        id.sources[k] = why;
+      } else {
+        id.sources[k] = "identified";
+      }
+    }
+    id.parameters.pusher_friction = mu_p;
+    id.parameters.torque_ratio_m = c;
+    id.parameters.support_friction = mu_s;
+    id.centre_offset_m = Eigen::Vector2d(delta[0], delta[1]);
+    count_sliding();
+    if (id.sliding_samples == 0 && id.sources[0] == "identified")
+      id.sources[0] = "default: no sample slid, so mu_p is only bounded below";
+    return id;
+  }
+
+  double* blocks[3] = {&mu_p, &c, &mu_s};
+  const double defaults[3] = {defaults_.pusher_friction, defaults_.torque_ratio_m, defaults_.support_friction};
+  bool fixed[3] = {false, false, id.force_samples == 0};
+  std::string reason[3] = {"", "", "default: the object never slid while the sensor read contact"};
+  Eigen::Vector3d stdev = Eigen::Vector3d::Zero();
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    // Which parameters the data determine: the covariance of the free ones must exist and be tight.
+    std::vector<const double*> free;
+    for (int p = 0; p < 3; ++p)
+      if (!fixed[p]) free.push_back(blocks[p]);
+    if (free.empty()) break;
+    // The information J^T J of the free parameters, scaled by their values: a (near) singular one means the data
+    // leave a parameter undetermined (with every sample sticking, mu_p is only bounded below).
+    ceres::CRSMatrix jacobian;
+    ceres::Problem::EvaluateOptions eo;
+    for (const double* b : free) eo.parameter_blocks.push_back(const_cast<double*>(b));
+    problem.Evaluate(eo, nullptr, nullptr, nullptr, &jacobian);
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jacobian.num_rows, jacobian.num_cols);
+    for (int r = 0; r < jacobian.num_rows; ++r)
+      for (int k = jacobian.rows[static_cast<size_t>(r)]; k < jacobian.rows[static_cast<size_t>(r) + 1]; ++k)
+        J(r, jacobian.cols[static_cast<size_t>(k)]) = jacobian.values[static_cast<size_t>(k)];
+    int col = 0;
+    for (int p = 0; p < 3; ++p)
+      if (!fixed[p]) J.col(col++) *= std::max(std::abs(*blocks[p]), 1e-12);
+    const Eigen::VectorXd column_norm = J.colwise().norm();
+    const double largest = column_norm.maxCoeff();
+    int worst = -1;
+    double smallest = 1e-6 * largest;
+    col = 0;
+    for (int p = 0; p < 3; ++p) {
+      if (fixed[p]) continue;
+      if (!(column_norm(col) > smallest)) {
+        worst = p;
+        smallest = column_norm(col);
+      }
+      ++col;
+    }
+    if (worst >= 0) {
+      reason[worst] = worst == 0 ? "default: every contact sample stuck, so mu_p is only bounded below"
+                                 : "default: the data do not determine it (no sensitivity)";
+    } else {
+      ceres::Covariance::Options co;
+      co.algorithm_type = ceres::DENSE_SVD;
+      co.null_space_rank = 0;
+      co.min_reciprocal_condition_number = 1e-14;
+      ceres::Covariance covariance(co);
+      std::vector<std::pair<const double*, const double*>> pairs;
+      for (const double* b : free) pairs.emplace_back(b, b);
+      double worst_ratio = 0.5;
+      if (covariance.Compute(pairs, &problem)) {
+        for (int p = 0; p < 3; ++p) {
+          if (fixed[p]) continue;
+          double var = 0;
+          covariance.GetCovarianceBlock(blocks[p], blocks[p], &var);
+          stdev(p) = std::sqrt(std::max(0.0, var));
+          const double ratio = stdev(p) / std::max(std::abs(*blocks[p]), 1e-12);
+          if (!std::isfinite(ratio) || ratio > worst_ratio) {
+            worst = p;
+            worst_ratio = std::isfinite(ratio) ? ratio : 1e300;
+          }
+        }
+        if (worst < 0) break;
+        char why[160];
+        std::snprintf(why, sizeof why, "default: the data do not determine it (fit %.3g, std %.2g)", *blocks[worst],
+                      stdev(worst));
+        reason[worst] = why;
+      } else {
+        worst = 0;
+        for (int p = 0; p < 3; ++p)
+          if (!fixed[p]) worst = p;
+        reason[worst] = "default: the data do not determine it (singular covariance)";
+      }
+    }
+    fixed[worst] = true;
+    *blocks[worst] = defaults[worst];
+    stdev(worst) = 0;
+    problem.SetParameterBlockConstant(blocks[worst]);
+  }
+  id.parameters.pusher_friction = mu_p;
+  id.parameters.torque_ratio_m = c;
+  id.parameters.support_friction = mu_s;
+  for (int p = 0; p < 3; ++p) {
+    id.std(p) = fixed[p] ? 0.0 : stdev(p);
+    id.sources[static_cast<size_t>(p)] = fixed[p] ? reason[p] : "identified";
+  }
+  count_sliding();
+  return id;
+}
+
+QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
+                                            const TimeInterval& phase, double plan_rate_hz,
+                                            const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
+                                            const IntegratorOptions& integrator,
+                                            const QuasiStaticEstimator* fed_estimator) {
+  QuasiStaticEstimator own;
+  if (!fed_estimator) {
+    own.reset(push);
+    for (const auto& interval : identified) own.add_interval(interval);
+    fed_estimator = &own;
+  }
+  QuasiStaticPhase out;
+  out.identification = fed_estimator->identify();
+  PlannedTipVelocity plan = plan_tip_velocity_from_measurement(push, phase.t0_s, phase.t1_s, plan_rate_hz);
+  Eigen::Vector2d direction = Eigen::Vector2d::Zero();
+  for (Eigen::Index k = 0; k < plan.signal.samples(); ++k) direction += plan.signal.values().row(k).transpose();
+  const Eigen::Index i0 = push.index_at(phase.t0_s);
+  auto outline = contact_outline_for(push, phase.t0_s, direction);
+  // Start in contact exactly when the data do: the rod-outline distance measured at the phase's start.
+  QuasiStaticParameters& p = out.identification.parameters;
+  const Eigen::Vector3d pose0 = push.pose.row(i0).transpose();
+  if (push.in_contact[static_cast<size_t>(i0)]) {
+    const Outline::Closest c = outline->closest(body_tip(push, i0));
+    p.contact_offset_m = c.signed_distance_m - p.rod_radius_m + p.contact_band_m;
+    out.identification.sources[3] = "measured at the phase's start (in contact)";
+    out.identification.std(3) = 0;
+  } else if (!has_outline(push.shape)) {
+    // Out of contact at the start on an unlisted outline: the local outline, extrapolated from the last contact, may
+    // reach under the rod. Take the straight edge just ahead of the rod, along the local normal, instead.
+    const Eigen::Vector2d q0 = body_tip(push, i0);
+    const Eigen::Vector2d normal = outline->closest(q0).normal;
+    outline = straight_edge(q0 - p.rod_radius_m * normal, normal);
+    p.contact_offset_m = -p.contact_band_m;
+    out.identification.sources[3] = "out of contact at the phase's start: the rod just off a straight edge";
+    out.identification.std(3) = 0;
+  } else {
+    // Out of contact at the start: the rod must not start inside the outline either.
+    const double largest = outline->closest(body_tip(push, i0)).signed_distance_m - p.rod_radius_m;
+    if (p.contact_offset_m > largest) {
+      p.contact_offset_m = std::max(largest, -0.5 * p.rod_radius_m);
+      out.identification.sources[3] = "measured at the phase's start (out of contact: no penetration)";
+      out.identification.std(3) = 0;
+    }
+  }
+  out.note = has_outline(push.shape) ? "" : "outline not listed: a local outline from the rod's trace at the last contact";
+  const PlannedTipPath path(std::move(plan), push.tip_m.row(i0).transpose());
+  QuasiStaticObject object = quasi_static_object(push, outline);
+  object.centre_of_friction_m += out.identification.centre_offset_m;
+  out.poses = predict_quasi_static_poses(object, p, path, pose0, velocity0, output_times_s,
+                                         integrator);
+  return out;
+}
+
+}  // namespace pushpred

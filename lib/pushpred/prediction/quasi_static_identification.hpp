@@ -1,0 +1,144 @@
+#pragma once
+// Online identification of the quasi-static pushing model (quasi_static_pushing.hpp) from a push's measured tip
+// and object motion and force, and the model's prediction of one phase: the API a study, the diagnosis or a
+// user's program calls.
+//
+// Identification, on the intervals measured so far (fed one by one, like a RelationEstimator), on the grid samples
+// where the force sensor reports contact and the tip moves faster than `min_tip_speed_m_s`:
+// - measured: the object's twist and the tip's velocity by central differences over +-`difference_half_window_s`
+//   (SI, {R}), the force f_C and its torque about the CoF (synchronised_push.hpp);
+// - contact geometry: the outline (see contact_outline_for) at the measured poses;
+// - Ceres fits (mu_p, c, mu_s) over all samples at once, bounded to physical ranges, with a Huber loss:
+//     kinematics, per sample: (v_meas - v_qs, c0 (omega_meas - omega_qs)) / sigma_v, with v_qs, omega_qs the
+//       quasi-static motion (quasi_static_motion) under the measured tip velocity, c0 the default c;
+//     force, per sample where the object moves: (sqrt(|f|^2 + (m / c)^2) - mu_s m g) / sigma_f, the wrench on the
+//       ellipsoidal limit surface (a quasi-statically sliding object is pushed by the support's friction wrench).
+//     prior, per parameter: (theta - theta_default) / sigma_prior (QuasiStaticIdentificationOptions::use_prior).
+//   Optionally (prior_centre_offset_std_m > 0) the fit also estimates delta, the CoF's offset from the shape table's
+//   centroid (body frame): the pressure under a real object need not centre on its tracked centre.
+// - Covariance: Ceres' covariance of (mu_p, c, mu_s). With the prior, a parameter whose posterior standard deviation
+//   stays near its prior's is reported as "default: ..." (the data add little; e.g. every contact sample stuck, so
+//   mu_p is only bounded below) with the posterior's value and std. Without the prior, a parameter is determined when
+//   its Jacobian column is not negligible and its standard deviation is below half its value; otherwise it is fixed
+//   at its default, std 0, and `sources` says why.
+// - The contact offset: the rod-outline distance measured at the phase's start when the sensor reports contact
+//   there; else the median over the identified contact samples (zero without any), lowered if need be so that the
+//   rod does not start inside the outline: the model starts the phase in contact exactly when the data do.
+// - Samples within `contact_settling_s` of a contact's onset are left out (the object accelerates from rest).
+//
+// Physical defaults (not fitted to any data set): mu_p 0.25 (steel on steel), mu_s 0.3 (steel on ABS), c the
+// uniform-pressure value of the footprint (uniform_pressure_torque_ratio), or 0.94 sqrt(I / m) where the outline is
+// not known (the ratio of c to the radius of gyration is 0.94 for a uniform disk and 0.94 for a square).
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pushpred/prediction/quasi_static_pushing.hpp"
+#include "pushpred/prediction/schedule.hpp"
+
+namespace pushpred {
+
+struct QuasiStaticIdentificationOptions {
+  double difference_half_window_s = 0.02;
+  double min_tip_speed_m_s = 5e-3;     ///< samples slower than this carry no kinematic information
+  double min_object_speed_m_s = 5e-3;  ///< force samples: the object must slide for its wrench to be on the limit surface
+  double velocity_noise_m_s = 3e-3;    ///< sigma_v, also the Huber scale (in sigmas: 1)
+  /// Samples within this time after a contact's onset are left out: the object accelerates from rest there, which
+  /// the quasi-static model leaves out (the pusher's own speed ramp takes about 0.05 s, docs/simulator.md).
+  double contact_settling_s = 0.05;
+  double force_noise_N = 0.3;          ///< sigma_f
+  int min_samples = 3;                 ///< fewer samples: defaults
+  QuasiStaticParameters defaults;      ///< torque_ratio_m <= 0: from the shape (see above)
+  /// A Gaussian prior about the defaults (a maximum a posteriori fit), so that a few samples inform without
+  /// overturning physics: standard deviations of mu_p, c as a fraction of its default, and mu_s. A parameter whose
+  /// posterior standard deviation stays above `prior_dominated_fraction` of its prior's is reported as a default.
+  /// use_prior false: a plain fit, where undetermined parameters are fixed at their defaults.
+  bool use_prior = true;
+  double prior_pusher_friction_std = 0.1, prior_torque_ratio_fraction = 0.3, prior_support_friction_std = 0.15;
+  double prior_dominated_fraction = 0.7;
+  /// Prior std of the CoF's offset from the shape table's centroid, per axis [m]; 0 (default): no offset
+  /// identified. Tried at 2 mm (docs/prediction.md): the real pushes' position error drops a little, but on simulated
+  /// pushes the offset trades off against mu_p and biases it.
+  double prior_centre_offset_std_m = 0;
+};
+
+/// The identified model of one push after some intervals, with standard deviations and where each value came from.
+struct QuasiStaticIdentification {
+  QuasiStaticParameters parameters;
+  /// Standard deviations of mu_p, c [m], mu_s, contact offset [m] (0 for a default).
+  Eigen::Vector4d std = Eigen::Vector4d::Zero();
+  /// Per parameter (mu_p, c, mu_s, contact offset): "identified" or "default: REASON".
+  std::array<std::string, 4> sources;
+  /// The CoF's identified offset from the shape table's centroid, body frame [m] (zero unless identified).
+  Eigen::Vector2d centre_offset_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d centre_offset_std_m = Eigen::Vector2d::Zero();
+  std::string centre_offset_source = "default: not identified";
+  long kinematic_samples = 0, force_samples = 0, sliding_samples = 0;
+  long intervals = 0;
+  static const std::array<const char*, 4>& names();  ///< "pusher_friction", "torque_ratio_m", "support_friction", "contact_offset_m"
+};
+
+/// The outline the model pushes on for `push`: the shape table's where it lists one; otherwise (butter) a local
+/// outline at the last measured contact up to `t_s`: a circle fitted to the rod centre's trace over the object
+/// where the rod has slid at least 4 mm along it (and the circle is convex towards the push), else a straight
+/// edge through the contact point, normal to the last 0.1 s of slide, or, where the rod has not slid, to the
+/// plan's push direction turned back by the push angle of the file name (the planner's angle to the normal).
+/// `plan_direction` is the planned tip direction ({R}).
+std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush& push, double t_s,
+                                                          const Eigen::Vector2d& plan_direction);
+
+/// The model's description of the object of `push`: nominal mass and inertia, CoF at the centroid, and `outline`.
+QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_ptr<const ContactOutline> outline);
+
+/// Identifies the model online: feed the measured intervals one after another, ask for the parameters at any time.
+class QuasiStaticEstimator {
+ public:
+  explicit QuasiStaticEstimator(QuasiStaticIdentificationOptions options = {});
+  std::string name() const { return "quasi_static"; }
+  /// Starts over on a new push (the outline and defaults come from it).
+  void reset(const SynchronisedPush& push);
+  /// Adds the samples of `interval` of the push given to reset (InputError for an interval outside it).
+  void add_interval(const TimeInterval& interval);
+  /// The fit over every interval so far; the contact offset is the median rod-outline distance of the contact
+  /// samples (predict_quasi_static_phase replaces it by the one measured at the phase's start). Never throws for
+  /// lack of data: parameters without information keep their defaults, and say so.
+  QuasiStaticIdentification identify() const;
+
+ private:
+  struct Sample {
+    Eigen::Vector2d contact_from_cof_m, inward_normal, tip_velocity_m_s, object_velocity_m_s;
+    double omega_rad_s = 0;
+    bool moving = false;
+    Eigen::Vector2d point_from_centre_m, centre_velocity_m_s, force_vector_N;
+    double yaw_rad = 0, torque_about_centre_Nm = 0;
+  };
+  QuasiStaticIdentificationOptions options_;
+  const SynchronisedPush* push_ = nullptr;
+  std::shared_ptr<const ContactOutline> outline_;
+  QuasiStaticParameters defaults_;
+  std::vector<Sample> samples_;
+  std::vector<double> gaps_m_;
+  long intervals_ = 0;
+};
+
+/// One phase predicted by the quasi-static model, with what it was predicted with.
+struct QuasiStaticPhase {
+  Eigen::MatrixX3d poses;  ///< at the output times
+  QuasiStaticIdentification identification;
+  std::string note;        ///< e.g. which outline was used
+};
+
+/// Predicts `phase` of `push`: identifies the model on `identified` (the intervals measured before the phase), plans
+/// the tip path at `plan_rate_hz` (plan_tip_velocity_from_measurement) from the tip's measured position at the
+/// phase's start, and integrates from the measured pose there with tracked-centre velocity `velocity0` (x, y [m/s],
+/// yaw rate; e.g. the observer's estimate) to `output_times_s`. This is what the `quasi_static` predictor does; a
+/// caller that already holds a QuasiStaticEstimator fed with those intervals passes it to skip the refeeding.
+QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
+                                            const TimeInterval& phase, double plan_rate_hz,
+                                            const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
+                                            const IntegratorOptions& integrator = {},
+                                            const QuasiStaticEstimator* fed_estimator = nullptr);
+
+}  // namespace pushpred

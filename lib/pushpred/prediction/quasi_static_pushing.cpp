@@ -1,0 +1,260 @@
+#include "pushpred/prediction/quasi_static_pushing.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "pushpred/core/error.hpp"
+
+namespace pushpred {
+namespace {
+
+Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+
+void require_positive(double v, const char* what) {
+  if (!(v > 0) || !std::isfinite(v))
+    throw InputError(std::string("quasi-static model: ") + what + " must be positive and finite, got " +
+                     std::to_string(v));
+}
+
+class ShapeOutline final : public ContactOutline {
+ public:
+  explicit ShapeOutline(const ShapeInfo& shape) : outline_(shape) {}
+  Outline::Closest closest(const Eigen::Vector2d& q) const override { return outline_.closest(q); }
+
+ private:
+  Outline outline_;
+};
+
+class StraightEdge final : public ContactOutline {
+ public:
+  StraightEdge(const Eigen::Vector2d& point, const Eigen::Vector2d& normal) : point_(point), normal_(normal.normalized()) {}
+  Outline::Closest closest(const Eigen::Vector2d& q) const override {
+    Outline::Closest c;
+    c.signed_distance_m = (q - point_).dot(normal_);
+    c.point_m = q - c.signed_distance_m * normal_;
+    c.normal = normal_;
+    return c;
+  }
+
+ private:
+  Eigen::Vector2d point_, normal_;
+};
+
+class CircularEdge final : public ContactOutline {
+ public:
+  CircularEdge(const Eigen::Vector2d& centre, double radius) : centre_(centre), radius_(radius) {}
+  Outline::Closest closest(const Eigen::Vector2d& q) const override {
+    Outline::Closest c;
+    const Eigen::Vector2d away = q - centre_;
+    const double distance = away.norm();
+    c.normal = distance > 0 ? (away / distance).eval() : Eigen::Vector2d::UnitX().eval();
+    c.point_m = centre_ + radius_ * c.normal;
+    c.signed_distance_m = distance - radius_;
+    return c;
+  }
+
+ private:
+  Eigen::Vector2d centre_;
+  double radius_;
+};
+
+}  // namespace
+
+void QuasiStaticParameters::validate() const {
+  require_positive(pusher_friction, "pusher friction mu_p");
+  require_positive(torque_ratio_m, "limit-surface ratio c");
+  require_positive(support_friction, "support friction mu_s");
+  require_positive(rod_radius_m, "rod radius");
+  require_positive(gravity_m_s2, "gravity");
+  require_positive(stop_speed_m_s, "stop speed");
+  require_positive(relaxation_s, "relaxation time");
+  require_positive(contact_band_m, "contact band");
+  require_positive(gap_time_s, "gap time");
+  require_positive(creep_speed_m_s, "creep speed");
+  if (!std::isfinite(contact_offset_m) || !(rod_radius_m + contact_offset_m > 0))
+    throw InputError("quasi-static model: contact offset must be finite and keep the rod radius positive");
+}
+
+double uniform_pressure_torque_ratio(const Footprint& footprint, const Eigen::Vector2d& centre) {
+  if (!(footprint.total_area_m2 > 0)) throw InputError("torque ratio: empty footprint");
+  double moment = 0;
+  for (size_t i = 0; i < footprint.area_m2.size(); ++i)
+    moment += footprint.area_m2[i] * (footprint.centre_m[i] - centre).norm();
+  return moment / footprint.total_area_m2;
+}
+
+Eigen::Vector3d integrated_friction_wrench(const Footprint& footprint, const Eigen::Vector2d& centre,
+                                           double normal_force_N, double mu, const Eigen::Vector2d& v,
+                                           double omega) {
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();
+  if (v.squaredNorm() == 0 && omega == 0) return w;
+  const double pressure = mu * normal_force_N / footprint.total_area_m2;
+  for (size_t i = 0; i < footprint.area_m2.size(); ++i) {
+    const Eigen::Vector2d r = footprint.centre_m[i] - centre;
+    const Eigen::Vector2d vi = v + omega * perp(r);
+    const double speed = vi.norm();
+    if (speed == 0) continue;
+    const Eigen::Vector2d f = -(pressure * footprint.area_m2[i] / speed) * vi;
+    w.head<2>() += f;
+    w(2) += perp(r).dot(f);
+  }
+  return w;
+}
+
+const char* contact_mode_name(ContactMode mode) {
+  switch (mode) {
+    case ContactMode::None: return "none";
+    case ContactMode::Sticking: return "sticking";
+    case ContactMode::SlidingLeft: return "sliding_left";
+    case ContactMode::SlidingRight: return "sliding_right";
+  }
+  return "?";
+}
+
+QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& rc, const Eigen::Vector2d& n, const Eigen::Vector2d& vp,
+                                      double mu_p, double c) {
+  QuasiStaticMotion m;
+  const double normal_speed = n.dot(vp);
+  if (!(normal_speed > 0)) return m;
+  const Eigen::Vector2d rp = perp(rc);
+  const double c2 = c * c;
+  // A^-1 = I - rp rp^T / (c^2 + |rp|^2) (Sherman-Morrison).
+  const Eigen::Vector2d f = vp - rp * (rp.dot(vp) / (c2 + rp.squaredNorm()));
+  const Eigen::Vector2d t = perp(n);
+  const double fn = f.dot(n), ft = f.dot(t);
+  if (fn > 0 && std::abs(ft) <= mu_p * fn) {
+    m.velocity_m_s = f;
+    m.omega_rad_s = rp.dot(f) / c2;
+    m.mode = ContactMode::Sticking;
+    return m;
+  }
+  const double s = ft >= 0 ? 1.0 : -1.0;
+  const Eigen::Vector2d fe = n + s * mu_p * t;
+  const Eigen::Vector2d contact_rate = fe + rp * (rp.dot(fe) / c2);  // A f_e
+  const double normal_rate = n.dot(contact_rate);
+  if (!(normal_rate > 1e-12)) return m;  // the edge cannot push this way (not for convex contact geometry)
+  const double k = normal_speed / normal_rate;
+  m.velocity_m_s = k * fe;
+  m.omega_rad_s = k * rp.dot(fe) / c2;
+  m.mode = s > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight;
+  return m;
+}
+
+std::shared_ptr<const ContactOutline> shape_outline(const ShapeInfo& shape) {
+  return std::make_shared<ShapeOutline>(shape);
+}
+
+std::shared_ptr<const ContactOutline> straight_edge(const Eigen::Vector2d& point, const Eigen::Vector2d& normal) {
+  if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0))
+    throw InputError("straight edge: point and normal must be finite and the normal non-zero");
+  return std::make_shared<StraightEdge>(point, normal);
+}
+
+std::shared_ptr<const ContactOutline> circular_edge(const Eigen::Vector2d& centre, double radius) {
+  if (!centre.allFinite() || !(radius > 0) || !std::isfinite(radius))
+    throw InputError("circular edge: centre must be finite and the radius positive");
+  return std::make_shared<CircularEdge>(centre, radius);
+}
+
+PlannedTipPath::PlannedTipPath(PlannedTipVelocity velocity, const Eigen::Vector2d& start)
+    : velocity_(std::move(velocity)) {
+  if (velocity_.signal.channels() != 2) throw InputError("planned tip path: the velocity needs 2 channels");
+  if (!start.allFinite()) throw InputError("planned tip path: start must be finite");
+  const Eigen::VectorXd& t = velocity_.signal.times();
+  waypoint_m_.resize(t.size(), 2);
+  waypoint_m_.row(0) = start.transpose();
+  for (Eigen::Index k = 1; k < t.size(); ++k)
+    waypoint_m_.row(k) = waypoint_m_.row(k - 1) + (t(k) - t(k - 1)) * velocity_.signal.values().row(k - 1);
+}
+
+void PlannedTipPath::evaluate_within(double t, double lo, double hi, Eigen::Vector2d& position,
+                                     Eigen::Vector2d& velocity) const {
+  velocity_.signal.evaluate_within(t, lo, hi, velocity);
+  // The waypoint of the held segment: the last sample at or before the interval's start.
+  const Eigen::VectorXd& times = velocity_.signal.times();
+  const double inside = hi > lo ? 0.5 * (lo + hi) : t;
+  Eigen::Index k = static_cast<Eigen::Index>(std::upper_bound(times.data(), times.data() + times.size(), inside) -
+                                             times.data()) - 1;
+  k = std::max<Eigen::Index>(k, 0);
+  position = waypoint_m_.row(k).transpose() + (std::max(t, times(0)) - times(k)) * velocity;
+}
+
+QuasiStaticPushSystem::QuasiStaticPushSystem(QuasiStaticObject object, QuasiStaticParameters parameters,
+                                             PlannedTipPath path)
+    : object_(std::move(object)), p_(parameters), path_(std::move(path)) {
+  p_.validate();
+  require_positive(object_.mass_kg, "mass");
+  require_positive(object_.inertia_kgm2, "inertia");
+  if (!object_.outline) throw InputError("quasi-static model: no outline to push on");
+  lo_ = path_.velocity().t0_s;
+  hi_ = path_.velocity().t1_s;
+}
+
+std::vector<double> QuasiStaticPushSystem::discontinuities(double t0, double t1) const {
+  return path_.velocity().signal.jumps(t0, t1);
+}
+
+Eigen::VectorXd QuasiStaticPushSystem::state_from(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity) const {
+  Eigen::VectorXd x(6);
+  x.head<3>() = pose;
+  const Eigen::Vector2d cof_arm = Eigen::Rotation2Dd(pose(2)) * object_.centre_of_friction_m;
+  x.segment<2>(3) = velocity.head<2>() + velocity(2) * perp(cof_arm);
+  x(5) = velocity(2);
+  return x;
+}
+
+QuasiStaticPushSystem::Push QuasiStaticPushSystem::push_at(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  return push_within(t, t, t, x);
+}
+
+QuasiStaticPushSystem::Push QuasiStaticPushSystem::push_within(double t, double lo, double hi,
+                                                               const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  Push push;
+  Eigen::Vector2d tip, tip_velocity;
+  path_.evaluate_within(t, lo, hi, tip, tip_velocity);
+  const Eigen::Rotation2Dd R(x(2));
+  const Eigen::Vector2d origin = x.head<2>();
+  const Outline::Closest c = object_.outline->closest(R.inverse() * (tip - origin));
+  push.penetration_m = p_.rod_radius_m + p_.contact_offset_m - c.signed_distance_m;
+  if (push.penetration_m <= 0 || tip_velocity.norm() < p_.stop_speed_m_s) return push;
+  const Eigen::Vector2d n = -(R * c.normal);
+  const Eigen::Vector2d contact_from_cof = R * (c.point_m - object_.centre_of_friction_m);
+  const Eigen::Vector2d vp = tip_velocity + n * ((push.penetration_m - p_.contact_band_m) / p_.gap_time_s);
+  push.motion = quasi_static_motion(contact_from_cof, n, vp, p_.pusher_friction, p_.torque_ratio_m);
+  if (push.motion.mode == ContactMode::None) return push;
+  const double s = std::min(1.0, push.penetration_m / p_.contact_band_m);
+  push.weight = s * s * (3 - 2 * s);
+  return push;
+}
+
+void QuasiStaticPushSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                       Eigen::Ref<Eigen::VectorXd> xdot) const {
+  const Push push = push_within(t, lo_, hi_, x);
+  const Eigen::Vector2d v = x.segment<2>(3);
+  const double omega = x(5);
+  const double c = p_.torque_ratio_m;
+  const double F = p_.support_friction * object_.mass_kg * p_.gravity_m_s2;
+  const double s = std::sqrt(v.squaredNorm() + c * c * omega * omega + p_.creep_speed_m_s * p_.creep_speed_m_s);
+  const Eigen::Vector2d free_acceleration = -(F / (s * object_.mass_kg)) * v;
+  const double free_angular = -(F * c * c / (s * object_.inertia_kgm2)) * omega;
+  const double w = push.weight;
+  const Eigen::Vector2d cof_arm = Eigen::Rotation2Dd(x(2)) * object_.centre_of_friction_m;
+  xdot.head<2>() = v - omega * perp(cof_arm);
+  xdot(2) = omega;
+  xdot.segment<2>(3) = w * (push.motion.velocity_m_s - v) / p_.relaxation_s + (1 - w) * free_acceleration;
+  xdot(5) = w * (push.motion.omega_rad_s - omega) / p_.relaxation_s + (1 - w) * free_angular;
+}
+
+Eigen::MatrixX3d predict_quasi_static_poses(const QuasiStaticObject& object, const QuasiStaticParameters& parameters,
+                                            const PlannedTipPath& path, const Eigen::Vector3d& pose0,
+                                            const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times,
+                                            const IntegratorOptions& integrator) {
+  const QuasiStaticPushSystem system(object, parameters, path);
+  CvodeIntegrator cvode(system, integrator);
+  const Eigen::MatrixXd states = cvode.solve(path.velocity().t0_s, system.state_from(pose0, velocity0), output_times);
+  return states.leftCols<3>();
+}
+
+}  // namespace pushpred

@@ -1,0 +1,182 @@
+#pragma once
+// The classical quasi-static pushing model (Mason 1986; Lynch, Tanaka & Mason 1992; Lynch & Mason 1996), driven
+// by the pusher's planned motion, with the slide to rest after the push, as a continuous system on CVODE.
+//
+// Frames, signs and units (SI), stated once for the model:
+// - {R}, world: as preprocessing/synchronised_push.hpp. The body frame is the shape table's (origin at the tracked
+//   centre, reading/shape_table.hpp). The centre of friction (CoF) is the mass centre `shape.centroid_m` (body
+//   frame): a pressure distribution that holds the object in moment balance puts its centre there.
+// - State (6): [x, y, theta] the tracked centre's pose in {R} (yaw counter-clockwise), [vx, vy] the CoF's
+//   velocity in {R} [m/s], omega the yaw rate [rad/s].
+// - Contact: the rod (a disk of radius r = kPusherRadius_m + contact_offset_m) with centre on the planned tip
+//   path p(t). With q = R^T (p - origin) the rod centre in the body frame, the outline's closest point, its
+//   outward normal n_out and signed distance d give the penetration pen = r - d; n = -n_out (world) is the
+//   inward normal, t = (-n_y, n_x) the tangent, rc the contact point relative to the CoF (world),
+//   rp = (-rc_y, rc_x) (so that rc x f = rp . f).
+//
+// Equations:
+// - Limit surface (ellipsoidal): the support's friction wrench (f, m) on a sliding object lies on
+//   |f|^2 / F^2 + m^2 / (c F)^2 = 1 with F = mu_s m g and c [m] the ratio of maximum torque to maximum force;
+//   the twist is normal to it: v ~ f, omega ~ m / c^2.
+// - Pushing with velocity v_p at the contact (sticking, Lynch et al. 1992): a force f at rc moves the contact
+//   point with A f, A = I + rp rp^T / c^2. Sticking needs f = A^-1 v_p inside the friction cone
+//   |f . t| <= mu_p f . n; then the CoF moves with v = A^-1 v_p and omega = rp . v / c^2 (the motion cone).
+//   Otherwise the contact slides and f lies on the cone's edge f_e = n + s mu_p t (s the sign of f . t):
+//   v = k f_e, omega = k rp . f_e / c^2 with k = (n . v_p) / (n . A f_e), so the normal velocities agree.
+//   No push when n . v_p <= 0 (the pusher leaves the surface).
+// - The pusher velocity at the contact is the planned tip velocity plus a gap keeper that holds the
+//   penetration at `contact_band_m`: v_p = v_tip + n (pen - contact_band) / gap_time.
+// - Dynamics: with w in [0, 1] the push's weight (0 when the tip is out of contact, the planned tip speed is below
+//   `stop_speed_m_s`, or n . v_p <= 0; a smooth step of pen over [0, contact_band] otherwise):
+//     v' = w (v_qs - v) / tau + (1 - w) f_s / m,   omega' = w (omega_qs - omega) / tau + (1 - w) m_s / I,
+//   tau = `relaxation_s` (the quasi-static motion is reached within it), and (f_s, m_s) the limit surface's
+//   friction opposing the twist: f_s = -F v / s, m_s = -F c^2 omega / s, s = sqrt(|v|^2 + c^2 omega^2 + eps^2).
+//   Free, a translating object slides to rest in v^2 / (2 mu_s g).
+//
+// Assumptions (docs/prediction.md says where they fail): a flat support with uniform-ish pressure (the limit
+// surface an ellipsoid), quasi-static pushing (inertia only in the slide to rest), point contact with Coulomb
+// friction, a rigid pusher that follows its plan, the object's outline known (or one of
+// the local outlines of quasi_static_identification.hpp where the shape table lists none).
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+
+#include "pushpred/prediction/planned_force.hpp"
+#include "pushpred/preprocessing/synchronised_push.hpp"
+#include "pushpred/simulation/outline.hpp"
+#include "pushpred/systems/continuous_system.hpp"
+#include "pushpred/systems/cvode_integrator.hpp"
+
+namespace pushpred {
+
+/// The parameters of the model. The first four are what identification estimates; the rest are numerical
+/// constants of the continuous system, not physics.
+struct QuasiStaticParameters {
+  double pusher_friction = 0.25;   ///< mu_p, rod on object [-]
+  double torque_ratio_m = 0.03;    ///< c = max torque / max force of the support [m]
+  double support_friction = 0.3;   ///< mu_s, object on support [-]
+  double contact_offset_m = 0;     ///< added to the rod radius: the measured rod-outline distance in contact
+  double rod_radius_m = kPusherRadius_m;
+  double gravity_m_s2 = 9.81;
+  double stop_speed_m_s = 2e-3;    ///< a planned tip slower than this does not push
+  double relaxation_s = 5e-3;      ///< tau
+  double contact_band_m = 2e-4;    ///< the push's weight rises over this penetration
+  double gap_time_s = 0.05;        ///< the gap keeper's time constant
+  double creep_speed_m_s = 1e-4;   ///< eps of the friction's regularisation
+  /// Throws InputError naming the parameter that is not positive and finite (contact_offset_m may be negative).
+  void validate() const;
+};
+
+/// c for a uniform pressure over `footprint` about `centre_m` (body frame): the mean distance of the footprint's
+/// area from the centre, M_max / F_max of Coulomb friction integrated over it. For a square of side a it is
+/// a (sqrt 2 + ln(1 + sqrt 2)) / 6 = 0.3826 a.
+double uniform_pressure_torque_ratio(const Footprint& footprint, const Eigen::Vector2d& centre_m);
+
+/// The support's friction wrench [f_x, f_y [N], m [N m]] of Coulomb friction integrated over `footprint` (uniform
+/// pressure carrying `normal_force_N`, coefficient mu) for the twist (v of `centre_m`, omega), body frame. The
+/// exact limit surface that the ellipsoid approximates. Returns zero for a zero twist.
+Eigen::Vector3d integrated_friction_wrench(const Footprint& footprint, const Eigen::Vector2d& centre_m,
+                                           double normal_force_N, double mu, const Eigen::Vector2d& velocity_m_s,
+                                           double omega_rad_s);
+
+/// How the contact behaves at one instant.
+enum class ContactMode { None, Sticking, SlidingLeft, SlidingRight };  ///< Left: sliding along +t
+const char* contact_mode_name(ContactMode mode);
+
+/// The quasi-static motion of the object under a push: CoF velocity [m/s] and yaw rate [rad/s] in the frame the
+/// inputs are given in (any frame: the relations are rotation-invariant).
+struct QuasiStaticMotion {
+  Eigen::Vector2d velocity_m_s = Eigen::Vector2d::Zero();
+  double omega_rad_s = 0;
+  ContactMode mode = ContactMode::None;
+};
+
+/// The motion of the object pushed at `contact_from_cof_m` (rc) with inward unit normal `inward_normal` by a
+/// pusher moving at `pusher_velocity_m_s` (v_p), for friction mu_p and ratio c (equations above). No allocation.
+QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& contact_from_cof_m, const Eigen::Vector2d& inward_normal,
+                                      const Eigen::Vector2d& pusher_velocity_m_s, double pusher_friction,
+                                      double torque_ratio_m);
+
+/// The outline the model pushes on, in the body frame: closest point, outward normal and signed distance of a
+/// point. Must not allocate.
+class ContactOutline {
+ public:
+  virtual ~ContactOutline() = default;
+  virtual Outline::Closest closest(const Eigen::Vector2d& point_body_m) const = 0;
+};
+
+/// The shape table's outline (outline.hpp); throws InputError for a shape without one (butter).
+std::shared_ptr<const ContactOutline> shape_outline(const ShapeInfo& shape);
+
+/// A straight edge through `point_body_m` with outward normal `outward_normal_body` (body frame): the local
+/// outline where the shape's is not known.
+std::shared_ptr<const ContactOutline> straight_edge(const Eigen::Vector2d& point_body_m,
+                                                    const Eigen::Vector2d& outward_normal_body);
+
+/// A circle of `radius_m` about `centre_body_m` (body frame), the object inside: a convex local outline.
+std::shared_ptr<const ContactOutline> circular_edge(const Eigen::Vector2d& centre_body_m, double radius_m);
+
+/// The planned tip path: the planned tip velocity (planned_force.hpp) integrated from the tip's position at its
+/// start; piecewise linear, exact for the held velocity.
+class PlannedTipPath {
+ public:
+  PlannedTipPath(PlannedTipVelocity velocity, const Eigen::Vector2d& start_m);
+  /// Position and velocity at t as seen from inside [lo, hi] (see SampledSignal::evaluate_within). No allocation.
+  void evaluate_within(double t_s, double lo_s, double hi_s, Eigen::Vector2d& position_m,
+                       Eigen::Vector2d& velocity_m_s) const;
+  const PlannedTipVelocity& velocity() const { return velocity_; }
+
+ private:
+  PlannedTipVelocity velocity_;
+  Eigen::MatrixX2d waypoint_m_;  // position at each sample time
+};
+
+/// What the object and its support are, for the model.
+struct QuasiStaticObject {
+  double mass_kg = 1;
+  double inertia_kgm2 = 1e-3;                                ///< about the CoF
+  Eigen::Vector2d centre_of_friction_m = Eigen::Vector2d::Zero();  ///< body frame
+  std::shared_ptr<const ContactOutline> outline;
+};
+
+class QuasiStaticPushSystem final : public ContinuousSystem {
+ public:
+  /// Throws InputError for bad parameters, a non-positive mass or inertia, or no outline.
+  QuasiStaticPushSystem(QuasiStaticObject object, QuasiStaticParameters parameters, PlannedTipPath path);
+  int state_size() const override { return 6; }
+  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  std::vector<double> discontinuities(double t0, double t1) const override;
+  void enter_interval(double t0, double t1) const override {
+    lo_ = t0;
+    hi_ = t1;
+  }
+
+  /// What the push does at (t, x): the push's weight w, the quasi-static motion and the penetration [m]; the
+  /// planned tip as held from t on.
+  struct Push {
+    double weight = 0;
+    double penetration_m = 0;
+    QuasiStaticMotion motion;
+  };
+  Push push_at(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const;
+
+  /// The state with tracked pose `pose` and the tracked centre moving with `velocity` (x, y [m/s], yaw rate).
+  Eigen::VectorXd state_from(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity) const;
+
+ private:
+  Push push_within(double t, double lo, double hi, const Eigen::Ref<const Eigen::VectorXd>& x) const;
+
+  QuasiStaticObject object_;
+  QuasiStaticParameters p_;
+  PlannedTipPath path_;
+  mutable double lo_ = 0, hi_ = 0;
+};
+
+/// Predicted tracked poses (n x 3) at `output_times_s` from `pose0` and tracked-centre velocity `velocity0` at the
+/// path's start.
+Eigen::MatrixX3d predict_quasi_static_poses(const QuasiStaticObject& object, const QuasiStaticParameters& parameters,
+                                            const PlannedTipPath& path, const Eigen::Vector3d& pose0,
+                                            const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
+                                            const IntegratorOptions& integrator = {});
+
+}  // namespace pushpred

@@ -1,0 +1,230 @@
+// The quasi-static pushing model against its equations, the limit surface it approximates, and the simulator's
+// physics (distributed Coulomb support friction, compliant rod with Coulomb contact friction).
+#include <Eigen/Geometry>
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/prediction/quasi_static_pushing.hpp"
+#include "pushpred/reading/shape_table.hpp"
+#include "pushpred/simulation/pushed_object_system.hpp"
+
+using namespace pushpred;
+
+namespace {
+
+Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+
+/// The plan of a known rod path: its mean velocity over each step of `rate_hz`, held, and the path itself.
+PlannedTipPath plan_of(const PusherPath& path, double t0, double t1, double rate_hz) {
+  std::vector<double> times;
+  for (long k = 0; t0 + k / rate_hz < t1 - 1e-12; ++k) times.push_back(t0 + k / rate_hz);
+  Eigen::VectorXd t(static_cast<Eigen::Index>(times.size()));
+  Eigen::MatrixXd v(t.size(), 2);
+  for (Eigen::Index k = 0; k < t.size(); ++k) {
+    t(k) = times[static_cast<size_t>(k)];
+    const double b = std::min(t(k) + 1 / rate_hz, t1);
+    v.row(k) = ((path.position_m(b) - path.position_m(t(k))) / (b - t(k))).transpose();
+  }
+  return PlannedTipPath({SampledSignal(t, v, Hold::Zero), t0, t1, rate_hz}, path.position_m(t0));
+}
+
+struct SimulatedRun {
+  Eigen::VectorXd t_s;
+  Eigen::MatrixX3d truth;      ///< tracked pose
+  Eigen::MatrixX3d predicted;  ///< quasi-static model
+};
+
+/// Pushes `shape` with the simulator's physics at `angle_rad` off the inward normal of its side-`side` centre, and
+/// predicts the same push with the quasi-static model and the true parameters.
+SimulatedRun simulate_and_predict(const std::string& shape_name, int side, double angle_rad, double speed_m_s) {
+  const ShapeInfo& shape = ShapeTable::published().find(shape_name);
+  const Outline outline(shape);
+  SupportFriction support;
+  support.coefficient = 0.35;
+  RodContact contact;
+  contact.friction = 0.25;
+  const Outline::Closest side_point = outline.point_on_side(side, 0.5);
+  const Eigen::Vector2d inward = -side_point.normal;
+  const Eigen::Vector2d direction = Eigen::Rotation2Dd(angle_rad) * inward;
+  // The rod starts touching the outline (a 0.1 mm gap) and pushes 4 cm.
+  const Eigen::Vector2d start = side_point.point_m + (contact.rod_radius_m + 1e-4) * side_point.normal;
+  PusherMotion motion;
+  motion.speed_m_s = speed_m_s;
+  motion.length_m = 0.04;
+  const PusherPath path(start, direction, 0.1, motion);
+  const ObjectProperties object = ObjectProperties::nominal(shape);
+  const PushedObjectSystem physics(shape, object, support, contact, path);
+
+  SimulatedRun run;
+  const double t_end = path.end_time_s() + 0.3;
+  run.t_s = Eigen::VectorXd::LinSpaced(200, 0.0, t_end);
+  CvodeIntegrator cvode(physics);
+  const Eigen::MatrixXd states = cvode.solve(0.0, physics.state_at_rest(Eigen::Vector3d::Zero()), run.t_s);
+  run.truth.resize(run.t_s.size(), 3);
+  for (Eigen::Index k = 0; k < run.t_s.size(); ++k) run.truth.row(k) = physics.tracked_pose(states.row(k).transpose()).transpose();
+
+  QuasiStaticObject model_object;
+  model_object.mass_kg = object.mass_kg;
+  model_object.inertia_kgm2 = object.inertia_kgm2;
+  model_object.centre_of_friction_m = object.mass_centre_m;
+  model_object.outline = shape_outline(shape);
+  QuasiStaticParameters p;
+  p.pusher_friction = contact.friction;
+  p.support_friction = support.coefficient;
+  p.torque_ratio_m = uniform_pressure_torque_ratio(make_footprint(outline), object.mass_centre_m);
+  // The compliant rod sinks in by the force over its stiffness; at the push's steady force mu_s m g.
+  p.contact_offset_m = -support.coefficient * object.mass_kg * 9.81 / contact.stiffness_N_m;
+  run.predicted = predict_quasi_static_poses(model_object, p, plan_of(path, 0.0, t_end, 100.0), Eigen::Vector3d::Zero(),
+                                             Eigen::Vector3d::Zero(), run.t_s);
+  return run;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_SUITE(quasi_static_pushing)
+
+BOOST_AUTO_TEST_CASE(a_push_inside_the_friction_cone_sticks_and_the_contact_moves_with_the_pusher) {
+  // Square side centre at (-a/2, 0) relative to the CoF, inward normal +x. The force that makes the contact move
+  // with v_p is f = A^-1 v_p = (v_x, v_y c^2 / (c^2 + a^2/4)); it sticks while |f_y| <= mu f_x.
+  const double a = 0.09, c = 0.3826 * a, mu = 0.25;
+  const Eigen::Vector2d rc(-a / 2, 0), n(1, 0);
+  const double limit = std::atan(mu * (c * c + a * a / 4) / (c * c));  // push angle where sliding starts
+  for (double angle : {0.0, 0.5 * limit, 0.95 * limit}) {
+    const Eigen::Vector2d vp = 0.05 * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    const QuasiStaticMotion m = quasi_static_motion(rc, n, vp, mu, c);
+    BOOST_TEST_REQUIRE((m.mode == ContactMode::Sticking));
+    const Eigen::Vector2d contact_velocity = m.velocity_m_s + m.omega_rad_s * perp(rc);
+    BOOST_TEST((contact_velocity - vp).norm() < 1e-12);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(a_push_outside_the_friction_cone_slides_on_the_cones_edge) {
+  const double a = 0.09, c = 0.3826 * a, mu = 0.25;
+  const Eigen::Vector2d rc(-a / 2, 0.01), n(1, 0), t(0, 1);
+  for (double sign : {1.0, -1.0}) {
+    const Eigen::Vector2d vp = 0.05 * Eigen::Vector2d(std::cos(1.047), sign * std::sin(1.047));
+    const QuasiStaticMotion m = quasi_static_motion(rc, n, vp, mu, c);
+    BOOST_TEST_REQUIRE((m.mode == (sign > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight)));
+    // The twist is the limit surface's normal for a force on the cone's edge: v ~ f_e, omega ~ rc x f_e / c^2.
+    const Eigen::Vector2d fe = n + sign * mu * t;
+    const double k = m.velocity_m_s.dot(fe) / fe.squaredNorm();
+    BOOST_TEST(k > 0);
+    BOOST_TEST((m.velocity_m_s - k * fe).norm() < 1e-12);
+    BOOST_TEST(std::abs(m.omega_rad_s - k * perp(rc).dot(fe) / (c * c)) < 1e-9);
+    // The contact keeps the pusher's normal velocity and slips along the edge in the push's direction.
+    const Eigen::Vector2d contact_velocity = m.velocity_m_s + m.omega_rad_s * perp(rc);
+    BOOST_TEST(std::abs(n.dot(contact_velocity - vp)) < 1e-12);
+    BOOST_TEST(sign * t.dot(vp - contact_velocity) > 1e-3);
+  }
+  // A pusher that leaves the surface does not push.
+  BOOST_TEST((quasi_static_motion(rc, n, Eigen::Vector2d(-0.01, 0.02), mu, c).mode == ContactMode::None));
+}
+
+BOOST_AUTO_TEST_CASE(the_uniform_square_has_the_closed_form_torque_ratio) {
+  const ShapeInfo& rect1 = ShapeTable::published().find("rect1");  // a 90 mm square
+  const Footprint footprint = make_footprint(Outline(rect1), 60);
+  const double a = 0.090;
+  const double exact = a * (std::sqrt(2.0) + std::log(1 + std::sqrt(2.0))) / 6;
+  BOOST_TEST(uniform_pressure_torque_ratio(footprint, Eigen::Vector2d::Zero()) == exact, boost::test_tools::tolerance(2e-3));
+}
+
+BOOST_AUTO_TEST_CASE(the_ellipsoidal_limit_surface_of_a_uniform_rectangle_matches_its_integrated_value) {
+  // Coulomb friction integrated over rect2's footprint for twists all around: the wrench lies on the ellipsoid
+  // |f|^2 / F^2 + m^2 / (c F)^2 = 1 exactly for pure translation and pure rotation. In between the ellipsoid is an
+  // approximation: for rect2 it is off by at most 7.2 % in the wrench's size and 9.7 deg in the twist's direction
+  // (measured here; a first guess of 6 % and 6 deg was too optimistic). The bounds below pin that accuracy, which
+  // is what the model's sliding predictions inherit (docs/prediction.md).
+  const ShapeInfo& rect2 = ShapeTable::published().find("rect2");
+  const Footprint footprint = make_footprint(Outline(rect2), 60);
+  const double N = 10.0, mu = 0.3, F = mu * N;
+  const double c = uniform_pressure_torque_ratio(footprint, Eigen::Vector2d::Zero());
+  double worst_radius = 0, worst_angle = 0;
+  for (int i = 0; i < 24; ++i) {
+    const double phi = M_PI * i / 24;  // twist direction between translation along x and rotation
+    for (double psi : {0.0, 0.7, 1.6}) {
+      const Eigen::Vector2d v = std::cos(phi) * Eigen::Vector2d(std::cos(psi), std::sin(psi));
+      const double omega = std::sin(phi) / c;
+      const Eigen::Vector3d w = integrated_friction_wrench(footprint, Eigen::Vector2d::Zero(), N, mu, v, omega);
+      const double radius = std::sqrt(w.head<2>().squaredNorm() / (F * F) + w(2) * w(2) / (c * c * F * F));
+      worst_radius = std::max(worst_radius, std::abs(radius - 1));
+      // The ellipsoid's twist for wrench -w is (f, m / c^2), scaled by c on the rotation to compare angles.
+      const Eigen::Vector3d twist(v.x(), v.y(), c * omega);
+      const Eigen::Vector3d from_ellipsoid(-w(0), -w(1), -w(2) / c);
+      worst_angle = std::max(worst_angle, std::acos(std::min(1.0, twist.normalized().dot(from_ellipsoid.normalized()))));
+      if (i == 0) BOOST_TEST(std::abs(radius - 1) < 1e-9);
+    }
+  }
+  const Eigen::Vector3d spin = integrated_friction_wrench(footprint, Eigen::Vector2d::Zero(), N, mu, Eigen::Vector2d::Zero(), 1.0);
+  BOOST_TEST(-spin(2) == c * F, boost::test_tools::tolerance(1e-9));
+  BOOST_TEST_MESSAGE("ellipsoid against integrated limit surface: radius within " << worst_radius << ", twist within "
+                                                                                 << worst_angle * 180 / M_PI << " deg");
+  BOOST_TEST(worst_radius < 0.08);
+  BOOST_TEST(worst_angle * 180 / M_PI < 11.0);
+}
+
+BOOST_AUTO_TEST_CASE(with_the_pusher_stopped_the_object_comes_to_rest_at_v_squared_over_2_mu_g) {
+  QuasiStaticObject object;
+  object.mass_kg = 1.0;
+  object.inertia_kgm2 = 0.002;
+  object.outline = shape_outline(ShapeTable::published().find("rect2"));
+  QuasiStaticParameters p;
+  p.support_friction = 0.3;
+  // The pusher touches the object but stands still: it does not push.
+  const Eigen::Vector2d tip(-0.045 - kPusherRadius_m + 1e-4, 0.0);
+  PlannedTipVelocity still{SampledSignal(Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Zero(1, 2), Hold::Zero), 0.0, 1.0, 10};
+  const double v0 = 0.08;
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(3, 0.5, 1.0);
+  const Eigen::MatrixX3d poses =
+      predict_quasi_static_poses(object, p, PlannedTipPath(still, tip), Eigen::Vector3d::Zero(), Eigen::Vector3d(v0, 0, 0), times);
+  const double expected = v0 * v0 / (2 * p.support_friction * p.gravity_m_s2);
+  BOOST_TEST(poses(2, 0) == expected, boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(poses(1, 0) == poses(2, 0), boost::test_tools::tolerance(1e-6));  // at rest before 0.75 s
+  BOOST_TEST(std::abs(poses(2, 1)) < 1e-12);
+  BOOST_TEST(std::abs(poses(2, 2)) < 1e-12);
+}
+
+BOOST_AUTO_TEST_CASE(with_the_true_parameters_the_model_reproduces_a_simulated_sticking_push) {
+  // rect2 pushed at the centre of its -y side along the normal: the contact sticks and the object translates.
+  const SimulatedRun run = simulate_and_predict("rect2", 2, 0.0, 0.05);
+  const Eigen::Index last = run.t_s.size() - 1;
+  const double travel = run.truth.row(last).head<2>().norm();
+  const double error = (run.predicted.row(last) - run.truth.row(last)).head<2>().norm();
+  BOOST_TEST_MESSAGE("sticking: travel " << 1e3 * travel << " mm, final error " << 1e3 * error << " mm, "
+                                         << (run.predicted(last, 2) - run.truth(last, 2)) * 180 / M_PI << " deg");
+  BOOST_TEST(travel > 0.035);
+  BOOST_TEST(error < 0.5e-3);
+  BOOST_TEST(std::abs(run.predicted(last, 2) - run.truth(last, 2)) < 0.5 * M_PI / 180);
+}
+
+BOOST_AUTO_TEST_CASE(with_the_true_parameters_the_model_reproduces_a_simulated_sliding_push) {
+  // 60 degrees off the normal, far outside the 14 degree friction cone: the rod slides along the side and the
+  // object turns. Rigidly following the tip would be centimetres off. The model's yaw inherits the ellipsoid's
+  // error (the test above): 1.4 deg of a 13 deg turn.
+  const SimulatedRun run = simulate_and_predict("rect2", 2, 1.047, 0.05);
+  double worst = 0, worst_yaw = 0, rigid = 0;
+  for (Eigen::Index k = 0; k < run.t_s.size(); ++k) {
+    worst = std::max(worst, (run.predicted.row(k) - run.truth.row(k)).head<2>().norm());
+    worst_yaw = std::max(worst_yaw, std::abs(run.predicted(k, 2) - run.truth(k, 2)));
+  }
+  const Eigen::Index last = run.t_s.size() - 1;
+  rigid = (0.04 * Eigen::Vector2d(-std::sin(1.047), std::cos(1.047)) - run.truth.row(last).head<2>().transpose()).norm();
+  BOOST_TEST_MESSAGE("sliding: travel " << 1e3 * run.truth.row(last).head<2>().norm() << " mm, yaw "
+                                        << run.truth(last, 2) * 180 / M_PI << " deg; worst error " << 1e3 * worst
+                                        << " mm, " << worst_yaw * 180 / M_PI << " deg; rigid with the tip "
+                                        << 1e3 * rigid << " mm");
+  BOOST_TEST(rigid > 0.01);
+  BOOST_TEST(worst < 1e-3);
+  BOOST_TEST(worst_yaw < 0.15 * std::abs(run.truth(last, 2)));
+  BOOST_TEST(std::abs(run.truth(last, 2)) > 5 * M_PI / 180);
+}
+
+BOOST_AUTO_TEST_CASE(bad_parameters_are_refused_with_their_name) {
+  QuasiStaticParameters p;
+  p.pusher_friction = -0.1;
+  BOOST_CHECK_EXCEPTION(p.validate(), InputError, [](const InputError& e) {
+    return std::string(e.what()).find("mu_p") != std::string::npos;
+  });
+}
+
+BOOST_AUTO_TEST_SUITE_END()
