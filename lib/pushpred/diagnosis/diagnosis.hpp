@@ -117,6 +117,9 @@ struct DiagnosisResult {
   /// On the test phases: the paper's `dob`, the base model, the base model plus the found effects (corrected),
   /// and the references.
   ErrorSummary error_before, error_base, error_after, hold, const_velocity, dob_velinit;
+  /// The quasi-static pushing model (prediction/quasi_static_pushing.hpp), driven by the planned tip path and
+  /// identified online per push: a reference on the same phases.
+  ErrorSummary quasi_static;
   /// The same on the fit pushes' phases (in-sample), for comparison.
   ErrorSummary fit_before, fit_after, fit_hold, fit_const_velocity;
   FloorContext floor_context;  ///< what the floors were derived from

@@ -24,6 +24,8 @@ DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const Eff
                            const DiagnosisOptions& o)
     : library_(library), o_(o) {
   o.validate();
+  // The methods the diagnosis compares; the quasi-static pushing model only on the test phases (held_out).
+  o_.study.methods = {"dob", "dob_velinit", "hold", "const_velocity"};
   const auto& effects = library_.effects();
   result_.effects.resize(effects.size());
   for (std::size_t i = 0; i < effects.size(); ++i) {

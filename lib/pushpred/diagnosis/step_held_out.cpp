@@ -117,6 +117,7 @@ void DiagnosisRun::held_out() {
 
   // The test phases: the corrected model (base + found), and the base model alone.
   StudyOptions so = o_.study;
+  so.methods.push_back("quasi_static");  // the pushing model (prediction/quasi_static_pushing.hpp), a reference
   so.correction = std::make_shared<CorrectedPrediction>(result_.correction, o_.observer);
   std::vector<PushStudy> test_studies;
   std::vector<const SynchronisedPush*> tested;
@@ -135,6 +136,7 @@ void DiagnosisRun::held_out() {
   result_.hold = summarise_errors(tp, "hold");
   result_.const_velocity = summarise_errors(tp, "const_velocity");
   result_.dob_velinit = summarise_errors(tp, "dob_velinit");
+  result_.quasi_static = summarise_errors(tp, "quasi_static");
   result_.test_phases.clear();
   for (const auto& sp : tp) {
     const PhaseResult& r = sp.study->phases[sp.phase];

@@ -355,7 +355,8 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
           {"error_references",
            {{"hold", error_summary_json(r.hold)},
             {"const_velocity", error_summary_json(r.const_velocity)},
-            {"dob_velinit", error_summary_json(r.dob_velinit)}}},
+            {"dob_velinit", error_summary_json(r.dob_velinit)},
+            {"quasi_static", error_summary_json(r.quasi_static)}}},
           {"fit_phases",
            {{"before", error_summary_json(r.fit_before)},
             {"after", error_summary_json(r.fit_after)},
@@ -432,7 +433,8 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
      << "|---|---|---|---|---|---|---|\n"
      << error_row("before (paper `dob`)", r.error_before) << error_row("base model", r.error_base)
      << error_row("after (base + found)", r.error_after) << error_row("`hold`", r.hold)
-     << error_row("`const_velocity`", r.const_velocity) << error_row("`dob_velinit`", r.dob_velinit) << "\n";
+     << error_row("`const_velocity`", r.const_velocity) << error_row("`dob_velinit`", r.dob_velinit)
+     << error_row("`quasi_static` (pushing model)", r.quasi_static) << "\n";
   const BeatsReferences beats = beats_references(r.error_after, r.hold, r.const_velocity);
   const bool beats_pos = beats.pos, beats_yaw = beats.yaw;
   if (beats_pos && beats_yaw) {
@@ -542,8 +544,8 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
      << "named in the first column. Errors: mean over the held-out phases of the per-phase mean position error [mm] "
      << "/ yaw error [deg].\n\n"
      << "| object | pushes | held-out phases | found | before (paper `dob`) | base model | after (base + found) | "
-        "`hold` | `const_velocity` | after beats both |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|\n";
+        "`hold` | `const_velocity` | after beats both | `quasi_static` (pushing model) |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   const auto pair = [](const ErrorSummary& e) { return fixed(e.pos_mm_mean) + " / " + fixed(e.theta_deg_mean); };
   for (const auto& g : groups) {
     if (!g.result) continue;
@@ -552,10 +554,10 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
     md << "| [" << g.name << "](" << g.name << "/report.md) | " << g.pushes << " | " << r.error_after.phases << " | "
        << (found.empty() ? std::string("nothing") : joined(found)) << " | " << pair(r.error_before) << " | "
        << pair(r.error_base) << " | " << pair(r.error_after) << " | " << pair(r.hold) << " | " << pair(r.const_velocity) << " | "
-       << (beats_both(r) ? "yes" : "**no**") << " |\n";
+       << (beats_both(r) ? "yes" : "**no**") << " | " << pair(r.quasi_static) << " |\n";
   }
   // All objects: every held-out phase weighs alike.
-  ErrorSummary all[5];
+  ErrorSummary all[6];
   const auto add = [](ErrorSummary& to, const ErrorSummary& e) {
     to.pos_mm_mean += e.phases * e.pos_mm_mean;
     to.theta_deg_mean += e.phases * e.theta_deg_mean;
@@ -570,6 +572,7 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
       add(all[2], g.result->hold);
       add(all[3], g.result->const_velocity);
       add(all[4], g.result->error_base);
+      add(all[5], g.result->quasi_static);
     }
   if (objects > 1 && all[1].phases > 0) {
     for (auto& e : all) {
@@ -578,7 +581,7 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
     }
     md << "| all " << objects << " objects (phases weighed alike) | | " << all[1].phases << " | | " << pair(all[0])
        << " | " << pair(all[4]) << " | " << pair(all[1]) << " | " << pair(all[2]) << " | " << pair(all[3]) << " | "
-       << (beats_references(all[1], all[2], all[3]).both() ? "yes" : "**no**") << " |\n";
+       << (beats_references(all[1], all[2], all[3]).both() ? "yes" : "**no**") << " | " << pair(all[5]) << " |\n";
   }
   md << "\nThe base model, in every corrected model:\n\n";
   for (const auto& g : groups)
