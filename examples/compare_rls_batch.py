@@ -46,7 +46,7 @@ for name in estimators:
     print(f"{name:12s} mean position error {np.mean(errors[name]):6.2f} mm, median {np.median(errors[name]):6.2f} mm,"
           f" {seconds * 1e3:7.1f} ms in the estimator")
 for path, reason in failures:
-    print("left out:", reason)
+    print(f"left out: {path.rsplit('/', 1)[-1]}: {reason}")
 
 fig, ax = plt.subplots(figsize=(5, 5))
 ax.loglog(errors["rls"], errors["batch"], "o", label="batch")

@@ -56,8 +56,9 @@ def run_batch(paths, job, progress=True):
     """Calls job(path) for every path; a failing path does not stop the batch.
 
     Returns (results, failures): results as a list of (path, job's result), failures as a list of
-    (path, message). progress: True prints one line per file to stderr ("[3/90] name: ok"), a callable is
-    called as progress(index, total, path, error_or_None), False is silent."""
+    (path, reason), the reason being the library's message without the path it starts with. progress: True prints
+    one line per file to stderr ("[3/90] name: ok"), a callable is called as progress(index, total, path,
+    reason_or_None), False is silent."""
     paths = [str(p) for p in paths]
     results, failures = [], []
     for i, path in enumerate(paths, start=1):
@@ -66,6 +67,8 @@ def run_batch(paths, job, progress=True):
             results.append((path, job(path)))
         except (InputError, SolverError) as e:
             error = str(e)
+            if error.startswith(path + ": "):
+                error = error[len(path) + 2:]
             failures.append((path, error))
         if callable(progress):
             progress(i, len(paths), path, error)

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "pushpred/reports/prediction_summary.hpp"
+
 namespace pushpred::python {
 
 py::array bool_array(const std::vector<char>& flags) {
@@ -52,16 +54,8 @@ py::dict relation_dict(const RelationParameters& p) {
 }
 
 py::dict errors_dict(const PredictionErrors& e) {
-  py::dict d;
-  d["x_mm_mean"] = e.x_mm_mean;
-  d["x_mm_std"] = e.x_mm_std;
-  d["y_mm_mean"] = e.y_mm_mean;
-  d["y_mm_std"] = e.y_mm_std;
-  d["theta_deg_mean"] = e.theta_deg_mean;
-  d["theta_deg_std"] = e.theta_deg_std;
-  d["final_pos_mm"] = e.final_pos_mm;
-  d["final_theta_deg"] = e.final_theta_deg;
-  return d;
+  // Through the library's own summary.json conversion, so that the keys are always those of `pushpred predict`.
+  return from_json(errors_json(e));
 }
 
 py::dict study_dict(const PushStudy& s) {

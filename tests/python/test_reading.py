@@ -92,5 +92,9 @@ def test_recordings_and_batches(data_dir, tmp_path):
     results, failures = pushpred.run_batch([files[0], missing], pushpred.load_push,
                                            progress=lambda i, n, path, error: calls.append((i, n, error is None)))
     assert [p for p, _ in results] == [files[0]] and len(results[0][1]) > 0
-    assert failures[0][0] == str(missing) and "missing.h5" in failures[0][1]
+    # The reason is the library's message without the path it names first.
+    path, reason = failures[0]
+    assert path == str(missing) and reason and not reason.startswith(str(missing))
+    with pytest.raises(pushpred.InputError, match=f"{missing}: {reason}"):
+        pushpred.load_push(missing)
     assert calls == [(1, 2, True), (2, 2, False)]
