@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/isolated_call.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "test_support.hpp"
 
@@ -142,3 +143,34 @@ BOOST_AUTO_TEST_CASE(plain_text_keeps_one_line) {
   BOOST_TEST(plain_text("line one\nline two\r\t") == "line one line two  ");
   BOOST_TEST(plain_text(std::string("nul\0byte", 8)) == "nul\\x00byte");
 }
+
+BOOST_AUTO_TEST_SUITE(isolated_call)
+
+BOOST_AUTO_TEST_CASE(a_job_in_a_child_returns_its_bytes_or_its_error) {
+  BOOST_TEST(run_isolated("f.h5", "reading", [] { return std::string("abc\0def", 7); }) == std::string("abc\0def", 7));
+  BOOST_CHECK_EXCEPTION(run_isolated("f.h5", "reading", []() -> std::string { throw InputError("f.h5: bad array"); }),
+                        InputError, [](const InputError& e) { return std::string(e.what()) == "f.h5: bad array"; });
+}
+
+BOOST_AUTO_TEST_CASE(a_crash_or_a_hang_in_the_child_costs_only_that_job) {
+  BOOST_CHECK_EXCEPTION(run_isolated("f.h5", "reading the HDF5 file",
+                                     []() -> std::string {
+                                       std::raise(SIGSEGV);  // as libhdf5 does on some corrupt files
+                                       return "";
+                                     }),
+                        InputError, [](const InputError& e) {
+                          BOOST_TEST_MESSAGE(e.what());
+                          return std::string(e.what()).rfind("f.h5: reading the HDF5 file crashed (signal 11", 0) == 0;
+                        });
+  BOOST_CHECK_EXCEPTION(run_isolated("f.h5", "reading the HDF5 file",
+                                     []() -> std::string {
+                                       for (;;) pause();
+                                     },
+                                     1.0),
+                        InputError, [](const InputError& e) {
+                          return std::string(e.what()) == "f.h5: reading the HDF5 file took longer than 1 s and was stopped";
+                        });
+  BOOST_TEST(run_isolated("f.h5", "reading", [] { return std::string("still works"); }) == "still works");
+}
+
+BOOST_AUTO_TEST_SUITE_END()

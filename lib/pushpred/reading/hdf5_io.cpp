@@ -2,10 +2,14 @@
 // error return leaks a file, dataset or dataspace.
 #include <hdf5.h>
 
+#include <array>
 #include <atomic>
+#include <cstdint>
+#include <cstring>
 #include <random>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/isolated_call.hpp"
 #include "pushpred/reading/recording.hpp"
 
 namespace pushpred {
@@ -28,6 +32,8 @@ class Handle {
   hid_t id_;
   Closer close_;
 };
+
+constexpr std::array<const char*, 3> kArrayNames = {"tip_pose", "object_pose", "ft_wrench"};
 
 /// HDF5 prints its own error stack by default; errors here become InputError messages instead.
 void silence_hdf5_errors() {
@@ -104,22 +110,62 @@ void write_rows(hid_t file, const std::string& target, const char* name, const T
     throw InputError(about(target, std::string("cannot write array '") + name + "'"));
 }
 
-}  // namespace
-
-Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptions& options) {
+/// The three arrays, as read by libhdf5 (in the child process of run_isolated).
+std::array<Eigen::MatrixXd, 3> read_arrays(const std::string& source, long long max_rows) {
   silence_hdf5_errors();
-  const std::string source = path.string();
-  check_readable_file(path);
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw InputError(about(source, "cannot open HDF5 file"));
+  std::array<Eigen::MatrixXd, 3> arrays;
+  for (std::size_t k = 0; k < kArrayNames.size(); ++k) arrays[k] = read_rows(file.get(), source, kArrayNames[k], max_rows);
+  return arrays;
+}
+
+/// Arrays to bytes and back, to cross the pipe from the child: per array its row count, then its values.
+std::string encode(const std::array<Eigen::MatrixXd, 3>& arrays) {
+  std::string bytes;
+  for (const auto& m : arrays) {
+    const std::int64_t rows = m.rows();
+    bytes.append(reinterpret_cast<const char*>(&rows), sizeof rows);
+    bytes.append(reinterpret_cast<const char*>(m.data()), sizeof(double) * static_cast<std::size_t>(m.size()));
+  }
+  return bytes;
+}
+
+std::array<Eigen::MatrixXd, 3> decode(const std::string& source, const std::string& bytes) {
+  std::array<Eigen::MatrixXd, 3> arrays;
+  std::size_t at = 0;
+  for (auto& m : arrays) {
+    std::int64_t rows = 0;
+    if (bytes.size() < at + sizeof rows) throw InputError(about(source, "reading the HDF5 file gave a short result"));
+    std::memcpy(&rows, bytes.data() + at, sizeof rows);
+    at += sizeof rows;
+    const std::size_t n = sizeof(double) * 4 * static_cast<std::size_t>(rows);
+    if (rows < 0 || bytes.size() < at + n) throw InputError(about(source, "reading the HDF5 file gave a short result"));
+    m.resize(static_cast<Eigen::Index>(rows), 4);
+    if (n > 0) std::memcpy(m.data(), bytes.data() + at, n);
+    at += n;
+  }
+  return arrays;
+}
+
+}  // namespace
+
+Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptions& options) {
+  const std::string source = path.string();
+  check_readable_file(path);
+  // libhdf5 (1.10.8) dereferences NULL on some corrupt files: it runs in a child process, so that such a file is one
+  // failure of the batch, not the end of it.
+  const std::string bytes = run_isolated(source, "reading the HDF5 file", [&] {
+    return encode(read_arrays(source, options.max_rows));
+  }, options.hdf5_timeout_s);
+  const std::array<Eigen::MatrixXd, 3> arrays = decode(source, bytes);
   Recording r;
   r.source = source;
   r.push = parse_push_filename(source);
-  const auto rows = [&](const char* name) { return read_rows(file.get(), source, name, options.max_rows); };
-  r.tip_pose = condition_stream(source, "tip_pose", rows("tip_pose"), options, r.repairs);
-  r.object_pose = condition_stream(source, "object_pose", rows("object_pose"), options, r.repairs);
-  r.ft_wrench = condition_stream(source, "ft_wrench", rows("ft_wrench"), options, r.repairs);
+  r.tip_pose = condition_stream(source, "tip_pose", arrays[0], options, r.repairs);
+  r.object_pose = condition_stream(source, "object_pose", arrays[1], options, r.repairs);
+  r.ft_wrench = condition_stream(source, "ft_wrench", arrays[2], options, r.repairs);
   return r;
 }
 

@@ -65,6 +65,9 @@ struct ReadOptions {
   /// real push holds about 1,500 rows per stream; 2e6 rows is over two hours at 250 Hz.
   long long max_rows = 2'000'000;
   long long max_json_bytes = 256LL << 20;  ///< the real JSON file is 94 kB
+  /// libhdf5 runs in a child process (core/isolated_call.hpp) that is stopped after this long; a real file takes
+  /// milliseconds.
+  double hdf5_timeout_s = 60.0;
 };
 
 /// Reads an HDF5 or JSON recording, chosen by content (not by extension). Only regular files are opened (a FIFO
