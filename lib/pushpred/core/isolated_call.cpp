@@ -1,6 +1,7 @@
 #include "pushpred/core/isolated_call.hpp"
 
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -36,7 +37,14 @@ std::string run_isolated(const std::string& source, const std::string& what, con
                          double timeout_s) {
   int fds[2];
   if (pipe(fds) != 0) throw InputError(about(source, what + ": cannot create a pipe: " + std::strerror(errno)));
+  // The stop signals are blocked across fork: a child must never run the parent's clean-up handler (it would
+  // remove the parent's output behind its back), so it only takes them after resetting its handlers.
+  sigset_t stop, previous;
+  sigemptyset(&stop);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stop, sig);
+  pthread_sigmask(SIG_BLOCK, &stop, &previous);
   const pid_t child = fork();
+  if (child != 0) pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   if (child < 0) {
     close(fds[0]);
     close(fds[1]);
@@ -47,6 +55,7 @@ std::string run_isolated(const std::string& source, const std::string& what, con
     // sanitizer's handler would carry on) and the parent's clean-up handlers stay the parent's; _exit so that no
     // atexit handler or stdio buffer of the parent runs twice.
     for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
+    pthread_sigmask(SIG_SETMASK, &previous, nullptr);
     close(fds[0]);
     std::string reply;
     try {
