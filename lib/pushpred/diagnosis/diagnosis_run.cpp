@@ -20,6 +20,12 @@ std::string diagnosis_format(const char* fmt, double a, double b, double c) {
   return buf;
 }
 
+std::string negligible_note(const EffectReport& r, const std::string& when) {
+  return "significant, negligible" + when + ": " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit +
+         " is below its floor " + diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit + " (" +
+         r.floor.basis + ")";
+}
+
 DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const EffectLibrary& library,
                            const DiagnosisOptions& o)
     : library_(library), o_(o) {
@@ -288,8 +294,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
     r.passed_test = true;
     if (!above_floor(best->candidate, best->total)) {
       r.negligible = true;
-      r.note = "significant, negligible: " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit + " is below its floor " +
-               diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit + " (" + r.floor.basis + ")";
+      r.note = negligible_note(r);
       log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
           diagnosis_format(" scores %.1f but its amount is below its floor: negligible", best->score));
       negligible.push_back(best->candidate);

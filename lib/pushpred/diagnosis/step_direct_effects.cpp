@@ -33,9 +33,7 @@ void DiagnosisRun::direct_effects() {
     r.passed_test = true;
     if (!above_floor(i, f.theta)) {
       r.negligible = true;
-      r.note = "significant, negligible: " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit +
-               " is below its floor " + diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit + " (" +
-               r.floor.basis + ")";
+      r.note = negligible_note(r);
       log("  significant, but below its floor: negligible");
       continue;
     }

@@ -96,9 +96,7 @@ void DiagnosisRun::force_laws() {
     r.negligible = true;
     r.theta = selected_[k].total;
     r.theta_std = selected_[k].std;
-    r.note = "significant, negligible after the joint re-fit: " + diagnosis_format("%.3g", r.amount) + " " +
-             r.amount_unit + " is below its floor " + diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit +
-             " (" + r.floor.basis + ")";
+    r.note = negligible_note(r, " after the joint re-fit");
     log(effects[i]->kind() + ": below its floor after the joint re-fit: negligible");
     if (effects[i]->corrects_data()) selected_[k].total.setZero();
     selected_.erase(selected_.begin() + static_cast<std::ptrdiff_t>(k));
