@@ -61,6 +61,8 @@ std::unique_ptr<CandidateEffect> make_inertia_mismatch_effect();
 std::unique_ptr<CandidateEffect> make_initial_velocity_effect();
 std::unique_ptr<CandidateEffect> make_quasi_static_effect();
 std::unique_ptr<CandidateEffect> make_pusher_stop_effect();
+/// The base model's prediction by the quasi-static pushing model (ModelCorrection::pushing_model).
+std::unique_ptr<CandidateEffect> make_pushing_model_effect();
 
 /// Unit-coefficient Coulomb friction wrench of the object on the table (multiply by mu): force [N] and torque
 /// about the tracked centre [N m] when the tracked centre is at `pose` and moves with twist `velocity`. For a shape

@@ -36,7 +36,7 @@ Eigen::Vector3d FittedForceLaw::force(const EffectState& state, const ShapeInfo&
 
 bool ModelCorrection::empty() const {
   return force_delay_s == 0 && sensor_bias_N.isZero() && inertia_factor == 1 && !initial_velocity &&
-         !quasi_static.enabled && force_laws.empty();
+         !quasi_static.enabled && force_laws.empty() && !pushing_model;
 }
 
 std::vector<std::string> ModelCorrection::describe() const {
@@ -52,6 +52,14 @@ std::vector<std::string> ModelCorrection::describe() const {
   }
   if (inertia_factor != 1) {
     std::snprintf(line, sizeof line, "mass and inertia x %.3f", inertia_factor);
+    out.emplace_back(line);
+  }
+  if (pushing_model)
+    out.emplace_back("the quasi-static pushing model predicts, identified online on each push (the relation model "
+                     "below only where it cannot)");
+  if (!mass_centre_offset_m.isZero()) {
+    std::snprintf(line, sizeof line, "mass centre moved by (%.2f, %.2f) mm (body frame)", 1e3 * mass_centre_offset_m(0),
+                  1e3 * mass_centre_offset_m(1));
     out.emplace_back(line);
   }
   if (initial_velocity) out.emplace_back("predictions start from the observer's velocity");

@@ -88,6 +88,14 @@ struct ModelCorrection {
     double pusher_stop_speed_m_s = 0;
   } quasi_static;
   std::vector<FittedForceLaw> force_laws;
+  /// The quasi-static pushing model predicts (pushing_model effect, prediction/quasi_static_identification.hpp),
+  /// identified online on the corrected push; the relation model with the settings above predicts only where it
+  /// cannot. The found effects enter it as data corrections of its push, the mass-centre offset below as its
+  /// centre of friction, and the force laws as the support's friction of its slide to rest.
+  bool pushing_model = false;
+  /// The mass centre's offset from the shape table's (body frame) [m]: the com_offset effect's delta. The relation
+  /// model reads it through com_offset's force law; the pushing model moves its centre of friction by it.
+  Eigen::Vector2d mass_centre_offset_m = Eigen::Vector2d::Zero();
 
   bool empty() const;
   /// One line per change, for reports.

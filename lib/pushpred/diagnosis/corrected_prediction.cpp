@@ -103,6 +103,22 @@ SynchronisedPush CorrectedPrediction::corrected_push(const SynchronisedPush& pus
   return apply_data_correction(push, correction_);
 }
 
+SynchronisedPush CorrectedPrediction::pushing_model_push(const SynchronisedPush& push) const {
+  SynchronisedPush out = corrected_push(push);
+  out.shape.centroid_m += correction_.mass_centre_offset_m;
+  return out;
+}
+
+std::vector<std::shared_ptr<const GeneralizedForceTerm>> CorrectedPrediction::free_slide_terms(
+    const SynchronisedPush& push, const Eigen::Vector3d& start_pose) const {
+  const bool physical = std::any_of(correction_.force_laws.begin(), correction_.force_laws.end(),
+                                    [](const FittedForceLaw& law) { return !law.effect->in_base_model(); });
+  std::vector<std::shared_ptr<const GeneralizedForceTerm>> out;
+  if (!physical) return out;
+  for (const auto& law : correction_.force_laws) out.push_back(std::make_shared<ForceLawTerm>(law, push.shape, start_pose));
+  return out;
+}
+
 namespace {
 
 /// The Q-filter observer through its exact discretisation (QFilterObserver::estimate_exactly): the same estimate

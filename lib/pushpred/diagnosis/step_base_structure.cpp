@@ -1,7 +1,8 @@
 // Step 5: the prediction structure of the base model. Its parts are fixed (every prediction effect the library
-// marks as base: the observer's initial velocity, the quasi-static push, the pusher's stop); only their settings
-// (the quasi-static law's stop fraction) are fitted, on the fit pushes' prediction phases, by the mean normalised
-// error. A setting whose study fails is reported and skipped.
+// marks as base: the quasi-static pushing model, and its fallback where it cannot predict: the observer's initial
+// velocity, the quasi-static push law, the pusher's stop); only the fallback's settings (the quasi-static law's
+// stop fraction) are fitted, on the fit pushes' prediction phases with the fallback predicting, by the mean
+// normalised error. A setting whose study fails is reported and skipped.
 #include <cmath>
 #include <limits>
 
@@ -47,7 +48,10 @@ void DiagnosisRun::base_structure() {
     if (single) break;
     ++tried;
     try {
-      const auto s = studies(fit_pointers(), correction_of(model, true));
+      // The settings are the relation model's (the pushing model's fallback): scored with that model predicting.
+      ModelCorrection fallback = correction_of(model, true);
+      fallback.pushing_model = false;
+      const auto s = studies(fit_pointers(), fallback);
       const std::vector<double> e = normalised(fit_phases(s), kCorrectedMethod);
       double mean = 0;
       for (double v : e) mean += v;

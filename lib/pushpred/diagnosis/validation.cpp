@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/simulation/outline.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
@@ -106,6 +107,25 @@ double simulator_floor(const std::string& kind, const FloorContext& c, const std
   return floor;  // time_offset [s], viscous_friction [1/s], com_offset [m], inertia_mismatch |factor - 1|
 }
 
+FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options) {
+  DiagnosisRun run(pushes, EffectLibrary::standard(), options);
+  run.paper_method();
+  run.friction_base();
+  return run.result().floor_context;
+}
+
+double measured_simulator_floor(const std::string& kind, const std::vector<PushScenario>& clean,
+                                const DiagnosisOptions& options, const std::string& shape) {
+  double floor = kNaN;
+  try {
+    floor = simulator_floor(kind, measured_floor_context(simulate_trial(clean), options), shape);
+  } catch (const std::exception&) {
+    // no measured floor (e.g. the friction law not identifiable): the scenario's, below
+  }
+  if (std::isfinite(floor) && floor > 0) return floor;
+  return simulator_floor(kind, scenario_floor_context(clean, options.relevance_fraction), shape);
+}
+
 std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int index, const std::string& kind,
                                                 ValidationTrial& trial) {
   const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(index);
@@ -144,7 +164,11 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     out.push_back(s);
   }
   if (kind != "none") {
-    trial.floor = simulator_floor(kind, scenario_floor_context(out, o.diagnosis.relevance_fraction), trial.shape);
+    // The floor the diagnosis itself would state on these pushes: measured on the clean pushes (same scenarios and
+    // noise seeds, no effect) by the diagnosis's own first steps. The scenario's nominal physics (the pusher's peak
+    // ramp acceleration, its cruise speed) can differ from what the object does by several times, and then an
+    // amount "at twice the floor" would be below the floor the diagnosis measures.
+    trial.floor = measured_simulator_floor(kind, out, o.diagnosis, trial.shape);
     trial.floor_multiple = uniform(rng, o.min_floor_multiple, o.max_floor_multiple);
     const double sign = kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch"
                             ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
@@ -193,11 +217,22 @@ void score_trial(const DiagnosisResult& r, ValidationTrial& trial) {
   trial.named.clear();
   trial.negligible.clear();
   trial.fitted_amount = kNaN;
+  trial.true_score = trial.true_amount = trial.true_floor = kNaN;
+  trial.true_passed = trial.true_negligible = false;
+  trial.true_note.clear();
   for (const auto& e : r.effects) {
     if (e.structural) continue;
     if (e.selected) trial.named.push_back(e.kind);
     if (e.negligible) trial.negligible.push_back(e.kind);
     if (e.kind == kind && e.selected) trial.fitted_amount = fitted_in_simulator_units(e, kind, trial.surface_friction);
+    if (e.kind == kind) {
+      trial.true_score = e.score;
+      trial.true_passed = e.passed_test;
+      trial.true_negligible = e.negligible;
+      trial.true_amount = e.amount;
+      trial.true_floor = e.floor.amount;
+      trial.true_note = e.note;
+    }
   }
   trial.true_named = kind == "none" ? trial.named.empty()
                                     : std::find(trial.named.begin(), trial.named.end(), kind) != trial.named.end();
@@ -206,6 +241,7 @@ void score_trial(const DiagnosisResult& r, ValidationTrial& trial) {
   trial.after = r.error_after;
   trial.hold = r.hold;
   trial.const_velocity = r.const_velocity;
+  trial.quasi_static = r.quasi_static;
 }
 
 ValidationResult validate_diagnosis(const ValidationOptions& options, const std::function<void(int, int)>& progress) {

@@ -7,8 +7,9 @@
 // drawn between `min_floor_multiple` and `max_floor_multiple` times its floor; 4-8 pushes; then the diagnosis,
 // which is told nothing of the draw.
 //
-// The floor of a trial's effect is the candidate's own floor (candidate_effect.hpp) evaluated on a FloorContext
-// made from the scenario's physics (scenario_floor_context), then put into the simulator's units
+// The floor of a trial's effect is the candidate's own floor (candidate_effect.hpp) evaluated on the FloorContext
+// the diagnosis measures on the trial's pushes simulated without the effect (measured_simulator_floor: the floor
+// the diagnosis itself would state there), then put into the simulator's units
 // (simulation/scenario.hpp): the force offset's sim amount is per axis (|b| = sqrt 2 x amount), Stribeck's is
 // relative to mu, the friction patch's relative excess is kappa over the patch's share of the footprint's area.
 #include <cstdint>
@@ -51,7 +52,14 @@ struct ValidationTrial {
   bool true_named = false;              ///< the true kind is among `named` (for none: nothing named)
   /// The diagnosis's amount of the true kind in the simulator's unit (NaN when not found or not comparable).
   double fitted_amount = 0;
-  ErrorSummary before, base, after, hold, const_velocity;
+  /// What the diagnosis said of the true kind, found or not (for tracing misses): its last score (BIC drop),
+  /// whether it passed its test, was negligible, and its amount against the floor the diagnosis measured, both in
+  /// the candidate's own unit (NaN for none).
+  double true_score = 0;
+  bool true_passed = false, true_negligible = false;
+  double true_amount = 0, true_floor = 0;
+  std::string true_note;
+  ErrorSummary before, base, after, hold, const_velocity, quasi_static;
   std::string failure;  ///< why the trial could not be diagnosed (empty: it was)
 };
 
@@ -67,6 +75,16 @@ FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, 
 /// The floor of simulator effect `kind` in the simulator's units for `context` and the object `shape`. Throws
 /// InputError for an unknown kind.
 double simulator_floor(const std::string& kind, const FloorContext& context, const std::string& shape);
+
+/// The FloorContext the diagnosis measures on `pushes` (its paper_method and friction_base steps with `options`):
+/// what its floors are stated on. Throws what those steps throw.
+FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options);
+
+/// The floor of simulator effect `kind` in the simulator's units as the diagnosis would measure it on the pushes
+/// of `clean` (the trial's scenarios without the effect, simulated); the scenario's physics
+/// (scenario_floor_context) where no floor can be measured.
+double measured_simulator_floor(const std::string& kind, const std::vector<PushScenario>& clean,
+                                const DiagnosisOptions& options, const std::string& shape);
 
 /// The pushes of trial `index` (kind and amount drawn inside): deterministic in (options.seed + index, kind).
 std::vector<PushScenario> draw_validation_trial(const ValidationOptions& options, int index, const std::string& kind,

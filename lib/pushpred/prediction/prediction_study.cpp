@@ -53,6 +53,13 @@ void CorrectionPredictor::start_push(const SynchronisedPush& push, const StudyOp
   estimator_ = make_relation_estimator(o.estimator);
   identification_.clear();
   relation_ = RelationParameters();
+  pushing_model_ = correction_->predicts_with_pushing_model();
+  if (pushing_model_) {
+    pushing_push_ = correction_->pushing_model_push(push);
+    if (pushing_push_.size() != push.size() || pushing_push_.t_s != push.t_s || pushing_push_.pose != push.pose)
+      throw InputError(about(push.source, "a prediction correction must keep the push's time grid and pose"));
+    pushing_estimator_.reset(pushing_push_);
+  }
 }
 
 void CorrectionPredictor::add_interval(const SynchronisedPush&, const TimeInterval& interval, const DisturbanceEstimate&) {
@@ -61,9 +68,21 @@ void CorrectionPredictor::add_interval(const SynchronisedPush&, const TimeInterv
   correction_->remove_explained(push_, cid);
   estimator_->add_interval(cid);
   identification_.push_back(std::move(cid));
+  if (pushing_model_) pushing_estimator_.add_interval(interval);
 }
 
 PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
+  std::string fallback_note;
+  if (pushing_model_) {
+    try {
+      return as_phase_prediction(predict_quasi_static_phase(
+          pushing_push_, c.identified, c.phase, c.plan_rate_hz, velocity0_, c.t_s, c.options.integrator,
+          &pushing_estimator_, correction_->free_slide_terms(pushing_push_, c.pose0)));
+    } catch (const std::exception& e) {
+      // e.g. CVODE failing on a contact the outline cannot resolve: the relation model predicts this phase instead.
+      fallback_note = std::string("the pushing model failed (") + e.what() + "): the relation model predicted";
+    }
+  }
   PredictionModel corrected;
   corrected.mass_kg = push_.shape.mass_kg;
   corrected.inertia_kgm2 = push_.shape.inertia_kgm2;
@@ -78,7 +97,7 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
   return {predict_poses(corrected, plan, c.pose0,
                         correction_->initial_velocity_from_observer() ? velocity0_ : Eigen::Vector3d::Zero(), c.t_s,
                         c.options.integrator),
-          {},
+          fallback_note,
           {}};
 }
 

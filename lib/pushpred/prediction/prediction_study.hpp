@@ -18,6 +18,7 @@
 #include "pushpred/estimators/relation_estimator.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/prediction/predictor.hpp"
+#include "pushpred/prediction/quasi_static_identification.hpp"
 #include "pushpred/prediction/schedule.hpp"
 
 namespace pushpred {
@@ -67,6 +68,19 @@ class PredictionCorrection {
   }
   /// True: the phase starts from the observer's velocity estimate (as `dob_velinit`); false: at rest (as `dob`).
   virtual bool initial_velocity_from_observer() const { return false; }
+
+  /// True: the corrected method predicts with the quasi-static pushing model (quasi_static_identification.hpp),
+  /// identified online on pushing_model_push(push) and driven by the planned tip path, instead of the relation model
+  /// above; where the pushing model cannot predict a phase, the relation model does, and the phase's note says so.
+  virtual bool predicts_with_pushing_model() const { return false; }
+  /// The push the pushing model reads. Default: corrected_push (e.g. a correction may also move the mass centre).
+  virtual SynchronisedPush pushing_model_push(const SynchronisedPush& push) const { return corrected_push(push); }
+  /// The pushing model's friction while the object is not pushed, for a phase starting at `start_pose`
+  /// (QuasiStaticObject::free_slide_terms). Default: none (the identified Coulomb friction).
+  virtual std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms(
+      const SynchronisedPush& /*push*/, const Eigen::Vector3d& /*start_pose*/) const {
+    return {};
+  }
 };
 
 struct StudyOptions {
@@ -105,6 +119,11 @@ class CorrectionPredictor final : public Predictor {
   std::vector<DisturbanceEstimate> identification_;
   Eigen::Vector3d velocity0_ = Eigen::Vector3d::Zero();
   RelationParameters relation_;
+  // The pushing model (PredictionCorrection::predicts_with_pushing_model): its push and its online estimator, which
+  // keeps a pointer to pushing_push_ (so neither moves while a push is studied).
+  bool pushing_model_ = false;
+  SynchronisedPush pushing_push_;
+  QuasiStaticEstimator pushing_estimator_;
 };
 
 /// Prediction errors of one method over one phase: means and standard deviations of |error| over the phase's

@@ -73,6 +73,31 @@ class ConstantVelocityPredictor final : public Predictor {
   }
 };
 
+}  // namespace
+
+PhasePrediction as_phase_prediction(const QuasiStaticPhase& phase) {
+  std::string note = phase.note;
+  for (size_t k = 0; k < 3; ++k)
+    if (phase.identification.sources[k].rfind("default", 0) == 0)
+      note += std::string(note.empty() ? "" : "; ") + QuasiStaticIdentification::names()[k] + " " +
+              phase.identification.sources[k];
+  PhasePrediction out{phase.poses, note, {}};
+  const auto& id = phase.identification;
+  const double values[4] = {id.parameters.pusher_friction, id.parameters.torque_ratio_m, id.parameters.support_friction,
+                            id.parameters.contact_offset_m};
+  const char* units[4] = {"", "m", "", "m"};
+  for (size_t k = 0; k < 4; ++k)
+    out.parameters.push_back({QuasiStaticIdentification::names()[k], values[k], id.std(static_cast<Eigen::Index>(k)),
+                              units[k], id.sources[k]});
+  out.parameters.push_back({"centre_offset_x_m", id.centre_offset_m.x(), id.centre_offset_std_m.x(), "m",
+                            id.centre_offset_source});
+  out.parameters.push_back({"centre_offset_y_m", id.centre_offset_m.y(), id.centre_offset_std_m.y(), "m",
+                            id.centre_offset_source});
+  return out;
+}
+
+namespace {
+
 class QuasiStaticPredictor final : public Predictor {
  public:
   std::string name() const override { return "quasi_static"; }
@@ -81,26 +106,8 @@ class QuasiStaticPredictor final : public Predictor {
     estimator_.add_interval(interval);
   }
   PhasePrediction predict(const PhaseContext& c) override {
-    const QuasiStaticPhase phase = predict_quasi_static_phase(c.push, c.identified, c.phase, c.plan_rate_hz, c.velocity0,
-                                                              c.t_s, c.options.integrator, &estimator_);
-    std::string note = phase.note;
-    for (size_t k = 0; k < 3; ++k)
-      if (phase.identification.sources[k].rfind("default", 0) == 0)
-        note += std::string(note.empty() ? "" : "; ") + QuasiStaticIdentification::names()[k] + " " +
-                phase.identification.sources[k];
-    PhasePrediction out{phase.poses, note, {}};
-    const auto& id = phase.identification;
-    const double values[4] = {id.parameters.pusher_friction, id.parameters.torque_ratio_m, id.parameters.support_friction,
-                              id.parameters.contact_offset_m};
-    const char* units[4] = {"", "m", "", "m"};
-    for (size_t k = 0; k < 4; ++k)
-      out.parameters.push_back({QuasiStaticIdentification::names()[k], values[k], id.std(static_cast<Eigen::Index>(k)),
-                                units[k], id.sources[k]});
-    out.parameters.push_back({"centre_offset_x_m", id.centre_offset_m.x(), id.centre_offset_std_m.x(), "m",
-                              id.centre_offset_source});
-    out.parameters.push_back({"centre_offset_y_m", id.centre_offset_m.y(), id.centre_offset_std_m.y(), "m",
-                              id.centre_offset_source});
-    return out;
+    return as_phase_prediction(predict_quasi_static_phase(c.push, c.identified, c.phase, c.plan_rate_hz, c.velocity0,
+                                                          c.t_s, c.options.integrator, &estimator_));
   }
 
  private:

@@ -85,6 +85,11 @@ class Predictor {
 
 using PredictorFactory = std::function<std::unique_ptr<Predictor>()>;
 
+struct QuasiStaticPhase;
+/// A phase of the quasi-static pushing model (quasi_static_identification.hpp) as a PhasePrediction: its poses, a
+/// note naming the parameters that kept their defaults, and every identified parameter.
+PhasePrediction as_phase_prediction(const QuasiStaticPhase& phase);
+
 /// Registers a predictor under `name` (InputError when the name is taken or empty).
 void register_predictor(const std::string& name, const std::string& description, PredictorFactory factory);
 struct PredictorRegistration {

@@ -481,7 +481,8 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
                                             const TimeInterval& phase, double plan_rate_hz,
                                             const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
                                             const IntegratorOptions& integrator,
-                                            const QuasiStaticEstimator* fed_estimator) {
+                                            const QuasiStaticEstimator* fed_estimator,
+                                            std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms) {
   QuasiStaticEstimator own;
   if (!fed_estimator) {
     own.reset(push);
@@ -525,6 +526,7 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
   const PlannedTipPath path(std::move(plan), push.tip_m.row(i0).transpose());
   QuasiStaticObject object = quasi_static_object(push, outline);
   object.centre_of_friction_m += out.identification.centre_offset_m;
+  object.free_slide_terms = std::move(free_slide_terms);
   out.poses = predict_quasi_static_poses(object, p, path, pose0, velocity0, output_times_s,
                                          integrator);
   return out;

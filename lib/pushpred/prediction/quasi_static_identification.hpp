@@ -135,10 +135,12 @@ struct QuasiStaticPhase {
 /// phase's start, and integrates from the measured pose there with tracked-centre velocity `velocity0` (x, y [m/s],
 /// yaw rate; e.g. the observer's estimate) to `output_times_s`. This is what the `quasi_static` predictor does; a
 /// caller that already holds a QuasiStaticEstimator fed with those intervals passes it to skip the refeeding.
+/// `free_slide_terms`: QuasiStaticObject::free_slide_terms (empty: the identified Coulomb friction of mu_s).
 QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
                                             const TimeInterval& phase, double plan_rate_hz,
                                             const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
                                             const IntegratorOptions& integrator = {},
-                                            const QuasiStaticEstimator* fed_estimator = nullptr);
+                                            const QuasiStaticEstimator* fed_estimator = nullptr,
+                                            std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms = {});
 
 }  // namespace pushpred

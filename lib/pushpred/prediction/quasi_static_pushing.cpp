@@ -237,11 +237,21 @@ void QuasiStaticPushSystem::derivative(double t, const Eigen::Ref<const Eigen::V
   const double c = p_.torque_ratio_m;
   const double F = p_.support_friction * object_.mass_kg * p_.gravity_m_s2;
   const double s = std::sqrt(v.squaredNorm() + c * c * omega * omega + p_.creep_speed_m_s * p_.creep_speed_m_s);
-  const Eigen::Vector2d free_acceleration = -(F / (s * object_.mass_kg)) * v;
-  const double free_angular = -(F * c * c / (s * object_.inertia_kgm2)) * omega;
+  Eigen::Vector2d free_acceleration = -(F / (s * object_.mass_kg)) * v;
+  double free_angular = -(F * c * c / (s * object_.inertia_kgm2)) * omega;
   const double w = push.weight;
   const Eigen::Vector2d cof_arm = Eigen::Rotation2Dd(x(2)) * object_.centre_of_friction_m;
   xdot.head<2>() = v - omega * perp(cof_arm);
+  if (!object_.free_slide_terms.empty() && w < 1) {
+    PlanarState state;
+    state << x.head<3>(), xdot.head<2>(), omega;  // the tracked centre's pose and twist
+    Eigen::Vector3d generalized = Eigen::Vector3d::Zero();
+    for (const auto& term : object_.free_slide_terms) term->add(t, state, Eigen::Vector3d::Zero(), generalized);
+    const double raw = std::sqrt(v.squaredNorm() + c * c * omega * omega);
+    generalized *= raw / s;
+    free_acceleration = generalized.head<2>() / object_.mass_kg;
+    free_angular = generalized(2) / object_.inertia_kgm2;
+  }
   xdot(2) = omega;
   xdot.segment<2>(3) = w * (push.motion.velocity_m_s - v) / p_.relaxation_s + (1 - w) * free_acceleration;
   xdot(5) = w * (push.motion.omega_rad_s - omega) / p_.relaxation_s + (1 - w) * free_angular;

@@ -40,8 +40,10 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "pushpred/prediction/planned_force.hpp"
+#include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/simulation/outline.hpp"
 #include "pushpred/systems/continuous_system.hpp"
@@ -137,6 +139,11 @@ struct QuasiStaticObject {
   double inertia_kgm2 = 1e-3;                                ///< about the CoF
   Eigen::Vector2d centre_of_friction_m = Eigen::Vector2d::Zero();  ///< body frame
   std::shared_ptr<const ContactOutline> outline;
+  /// The support's friction while the object is not pushed, as generalized forces on the tracked centre (a friction
+  /// law fitted elsewhere, e.g. by the diagnosis, with the planned input zero), each scaled by s / sqrt(s^2 + eps^2)
+  /// (s as in the limit surface, eps = creep_speed_m_s) so that it fades smoothly at rest. Empty: the limit
+  /// surface's Coulomb friction of mu_s. Terms must not allocate.
+  std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms;
 };
 
 class QuasiStaticPushSystem final : public ContinuousSystem {

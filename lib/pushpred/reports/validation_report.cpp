@@ -49,11 +49,15 @@ nlohmann::json validation_json(const ValidationResult& r) {
       j["negligible"] = t.negligible;
       j["true_named"] = t.true_named;
       j["fitted_amount"] = number_or_null(t.fitted_amount);
+      j["true_kind_in_diagnosis"] = {{"score", number_or_null(t.true_score)}, {"passed_test", t.true_passed},
+                                     {"negligible", t.true_negligible}, {"amount", number_or_null(t.true_amount)},
+                                     {"floor", number_or_null(t.true_floor)}, {"note", t.true_note}};
       j["errors"] = {{"before", error_summary_json(t.before)},
                      {"base", error_summary_json(t.base)},
                      {"after", error_summary_json(t.after)},
                      {"hold", error_summary_json(t.hold)},
-                     {"const_velocity", error_summary_json(t.const_velocity)}};
+                     {"const_velocity", error_summary_json(t.const_velocity)},
+                     {"quasi_static", error_summary_json(t.quasi_static)}};
     }
     trials.push_back(j);
   }
