@@ -36,13 +36,30 @@ BOOST_AUTO_TEST_SUITE(effect_library)
 BOOST_AUTO_TEST_CASE(the_standard_library_holds_every_kind_the_issue_names) {
   const EffectLibrary library = EffectLibrary::standard();
   for (const char* kind : {"time_offset", "force_offset", "viscous_friction", "stribeck_friction", "position_friction",
-                           "com_offset", "inertia_mismatch", "initial_velocity", "coulomb_friction", "quasi_static"}) {
+                           "com_offset", "inertia_mismatch", "initial_velocity", "coulomb_friction", "quasi_static",
+                           "pushing_model"}) {
     BOOST_TEST_REQUIRE(library.find(kind) != nullptr, kind);
     BOOST_TEST(!library.find(kind)->description().empty());
   }
   BOOST_TEST(std::string(effect_test_name(library.find("initial_velocity")->test())) == "prediction");
   BOOST_TEST(std::string(effect_test_name(library.find("force_offset")->test())) == "direct");
   BOOST_TEST(library.find("coulomb_friction")->replaces_relation());
+}
+
+BOOST_AUTO_TEST_CASE(a_mass_centre_offset_beyond_half_the_radius_of_gyration_is_not_a_mass_centre_offset) {
+  const auto com = EffectLibrary::standard().find("com_offset");
+  FloorContext rect2;
+  rect2.radius_of_gyration_m = std::sqrt((0.09 * 0.09 + 0.1125 * 0.1125) / 12);  // 41.6 mm, a uniform 90 x 112.5 mm plate
+  BOOST_TEST(com->implausible(Eigen::Vector2d(0.010, -0.005), rect2).empty());
+  BOOST_TEST(!com->implausible(Eigen::Vector2d(0.008, 0.032), rect2).empty());  // 33 mm: 0.79 rho
+  BOOST_TEST(com->implausible(Eigen::Vector2d(0.008, 0.032), FloorContext{}).empty());  // no object known: 5 cm only
+  BOOST_TEST(!com->implausible(Eigen::Vector2d(0.06, 0.0), FloorContext{}).empty());
+  // The pushing model is part of the base model, whose prediction it makes.
+  const auto pushing = EffectLibrary::standard().find("pushing_model");
+  BOOST_TEST(pushing->in_base_model());
+  ModelCorrection c;
+  pushing->apply(Eigen::VectorXd(0), 0.0, pushing, c);
+  BOOST_TEST(c.pushing_model);
 }
 
 BOOST_AUTO_TEST_CASE(a_user_adds_and_removes_effects_and_mistakes_are_input_errors) {

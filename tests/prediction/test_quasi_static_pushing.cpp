@@ -184,6 +184,42 @@ BOOST_AUTO_TEST_CASE(with_the_pusher_stopped_the_object_comes_to_rest_at_v_squar
   BOOST_TEST(std::abs(poses(2, 2)) < 1e-12);
 }
 
+namespace {
+/// Viscous drag -c (m v, I omega) on the tracked centre: a friction law of the kind a diagnosis fits.
+class Drag final : public GeneralizedForceTerm {
+ public:
+  Drag(double c_per_s, double mass_kg, double inertia_kgm2) : c_(c_per_s), m_(mass_kg), i_(inertia_kgm2) {}
+  std::string name() const override { return "drag"; }
+  void add(double, const PlanarState& x, const Eigen::Vector3d&, Eigen::Vector3d& f) const override {
+    f += -c_ * Eigen::Vector3d(m_ * x(3), m_ * x(4), i_ * x(5));
+  }
+
+ private:
+  double c_, m_, i_;
+};
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(free_slide_terms_replace_the_limit_surface_friction_after_the_push) {
+  // With drag alone, v' = -c v: a free object starting at v0 travels v0 / c (here 10 mm), whatever mu_s.
+  QuasiStaticObject object;
+  object.mass_kg = 1.0;
+  object.inertia_kgm2 = 0.002;
+  object.outline = shape_outline(ShapeTable::published().find("rect2"));
+  const double c = 5.0, v0 = 0.05;
+  object.free_slide_terms.push_back(std::make_shared<Drag>(c, object.mass_kg, object.inertia_kgm2));
+  QuasiStaticParameters p;
+  p.support_friction = 0.3;  // would stop it after v0^2 / (2 mu g) = 0.42 mm
+  p.creep_speed_m_s = 1e-7;  // the terms fade below this speed; far below it here, so the closed form holds
+  const Eigen::Vector2d tip(-0.045 - kPusherRadius_m - 0.02, 0.0);  // 2 cm behind the object: no push
+  PlannedTipVelocity still{SampledSignal(Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Zero(1, 2), Hold::Zero), 0.0, 3.0, 10};
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(2, 0.2, 3.0);
+  const Eigen::MatrixX3d poses =
+      predict_quasi_static_poses(object, p, PlannedTipPath(still, tip), Eigen::Vector3d::Zero(), Eigen::Vector3d(v0, 0, 0), times);
+  BOOST_TEST(poses(0, 0) == v0 / c * (1 - std::exp(-c * 0.2)), boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(poses(1, 0) == v0 / c, boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(std::abs(poses(1, 1)) < 1e-9);
+}
+
 BOOST_AUTO_TEST_CASE(with_the_true_parameters_the_model_reproduces_a_simulated_sticking_push) {
   // rect2 pushed at the centre of its -y side along the normal: the contact sticks and the object translates.
   const SimulatedRun run = simulate_and_predict("rect2", 2, 0.0, 0.05);

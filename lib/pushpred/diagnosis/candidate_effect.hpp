@@ -126,7 +126,7 @@ struct FloorContext {
   double relevance_fraction = 0.05;      ///< kappa: the share of the friction force that matters
   double sample_period_s = 0.004;        ///< of the force stream
   double sliding_speed_m_s = 0;          ///< typical (RMS) speed while the object slides
-  double acceleration_m_s2 = 0;          ///< typical large acceleration (95th percentile of |a| in contact)
+  double acceleration_m_s2 = 0;          ///< typical acceleration (RMS of |a| while sliding)
   double travel_m = 0;                   ///< mean distance an object travels in a push
   /// Speeds while sliding (a sample of at most a few thousand) [m/s]: how much of the data a speed-dependent
   /// term acts on.
@@ -202,6 +202,11 @@ class CandidateEffect {
   /// Empty when `theta` is physically possible for this effect; otherwise why not (e.g. a negative drag). A fit
   /// outside the physical range is not taken as this effect, whatever its score.
   virtual std::string implausible(const Eigen::VectorXd& /*theta*/) const { return ""; }
+  /// The same, for a range that depends on the object or the data (`context` as measured for the floors). Default:
+  /// implausible(theta).
+  virtual std::string implausible(const Eigen::VectorXd& theta, const FloorContext& /*context*/) const {
+    return implausible(theta);
+  }
   /// The effect's size as one non-negative number (its unit: amount_unit()), compared with floor(): e.g. |delay|,
   /// |bias|, |offset|, |mass factor - 1|. Default: the norm of theta.
   virtual double amount(const Eigen::VectorXd& theta) const { return theta.size() ? theta.norm() : 0.0; }

@@ -262,8 +262,8 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         }
         const double score = f.wald(at, k) - static_cast<double>(k + extra) * log_neff;
         // Settings whose fit is outside the physical range do not compete (unless none is inside).
-        const bool plausible = effects[i]->implausible(f.theta.segment(at, k)).empty();
-        const bool here_plausible = here && effects[i]->implausible(here->total).empty();
+        const bool plausible = effects[i]->implausible(f.theta.segment(at, k), result_.floor_context).empty();
+        const bool here_plausible = here && effects[i]->implausible(here->total, result_.floor_context).empty();
         if (!here || (plausible && !here_plausible) || (plausible == here_plausible && score > here->score))
           here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score};
       }
@@ -277,7 +277,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
       r.theta_std = here->std;
       r.setting = here->setting;
       r.note.clear();
-      const std::string why = effects[i]->implausible(here->total);
+      const std::string why = effects[i]->implausible(here->total, result_.floor_context);
       if (!why.empty()) {
         r.note = "fitted outside the physical range (" + why + "): not this effect";
         continue;

@@ -40,9 +40,11 @@ FloorContext measure_floor_context(const std::vector<DiagnosisPush>& data, doubl
   }
   if (sliding > 0) {
     c.sliding_speed_m_s = std::sqrt(speed2 / static_cast<double>(sliding));
-    const auto at = accelerations.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(accelerations.size() - 1));
-    std::nth_element(accelerations.begin(), at, accelerations.end());
-    c.acceleration_m_s2 = *at;
+    // RMS, like the speeds: a mass error acts on the data through its acceleration everywhere, and a peak (the 95th
+    // percentile was used before) is set by short speed ramps that carry little of the data.
+    double a2 = 0;
+    for (double a : accelerations) a2 += a * a;
+    c.acceleration_m_s2 = std::sqrt(a2 / static_cast<double>(accelerations.size()));
   }
   c.travel_m = travel / static_cast<double>(data.size());
   // Keep a sample of at most 4000 speeds: enough for the shares the floors need.

@@ -1,7 +1,7 @@
 #pragma once
 // Measuring the FloorContext (candidate_effect.hpp) of a diagnosis on its fit data: the object's nominal mass and
 // inertia, the support friction fitted there and its push-to-push spread, the force stream's sample period, and
-// the typical sliding speed, large acceleration and travel of the fit pushes.
+// the typical (RMS) sliding speed and acceleration and the travel of the fit pushes.
 #include <vector>
 
 #include "pushpred/diagnosis/diagnosis_data.hpp"

@@ -49,7 +49,7 @@ void DiagnosisRun::retest_direct(std::vector<Selection>& selected, double log_ne
     for (auto& d : data_) d.friction_explained.setZero();
     log(effect->kind() + diagnosis_format(":   score %.1f beside them", f.score));
     changed = true;
-    if (!(f.score > o_.bic_threshold) || !effect->implausible(f.theta).empty()) {
+    if (!(f.score > o_.bic_threshold) || !effect->implausible(f.theta, result_.floor_context).empty()) {
       EffectReport& r = result_.effects[candidate];
       r.passed_test = false;
       r.note = "not found: with the friction law's refinements found without it, it no longer passes its test";

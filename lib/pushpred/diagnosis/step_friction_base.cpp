@@ -51,7 +51,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
         const RegressionFit g = fit_selected(trial, Relation::Friction, storage);
         const Eigen::Index kj = static_cast<Eigen::Index>(effects[j]->parameters().size());
         const Eigen::VectorXd tj = g.theta.tail(kj);
-        if (!g.identifiable || !g.theta.allFinite() || !effects[j]->implausible(tj).empty()) {
+        if (!g.identifiable || !g.theta.allFinite() || !effects[j]->implausible(tj, result_.floor_context).empty()) {
           result_.effects[j].note = "not in the base model here: the fit pushes do not resolve it";
           log(effects[j]->kind() + " (base model): not resolved by the fit pushes; left out");
           continue;

@@ -1,5 +1,6 @@
 #include "pushpred/diagnosis/validation.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -114,11 +115,48 @@ FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes,
   return run.result().floor_context;
 }
 
+double patch_gradient_per_excess(const std::vector<PushScenario>& scenarios) {
+  if (scenarios.empty()) return 0;
+  const ShapeInfo& shape = ShapeTable::published().find(scenarios.front().shape);
+  const Outline outline(shape);
+  const Footprint footprint = make_footprint(outline);
+  double n = 0, s_sum = 0, r_sum = 0, sr = 0, ss = 0;
+  for (const auto& scenario : scenarios) {
+    const Outline::Closest side = outline.point_on_side(scenario.contact_side, scenario.contact_position);
+    const Eigen::Vector2d d = Eigen::Rotation2Dd(scenario.push_angle_rad) * (-side.normal);
+    const double ahead = outline.extent_along(d) + kFrictionPatchAhead_m;
+    constexpr int kSteps = 100;
+    for (int k = 0; k <= kSteps; ++k) {
+      const double s = scenario.motion.length_m * k / kSteps;
+      const Eigen::Vector2d patch = (ahead - s) * d;  // the patch's centre, body frame, after travel s
+      double on = 0;
+      for (std::size_t e = 0; e < footprint.area_m2.size(); ++e)
+        if ((footprint.centre_m[e] - patch).norm() < kFrictionPatchRadius_m) on += footprint.area_m2[e];
+      const double r = on / footprint.total_area_m2;
+      n += 1;
+      s_sum += s;
+      r_sum += r;
+      sr += s * r;
+      ss += s * s;
+    }
+  }
+  const double var = ss - s_sum * s_sum / n;
+  return var > 0 ? (sr - s_sum * r_sum / n) / var : 0.0;
+}
+
 double measured_simulator_floor(const std::string& kind, const std::vector<PushScenario>& clean,
                                 const DiagnosisOptions& options, const std::string& shape) {
   double floor = kNaN;
   try {
-    floor = simulator_floor(kind, measured_floor_context(simulate_trial(clean), options), shape);
+    const FloorContext context = measured_floor_context(simulate_trial(clean), options);
+    if (kind == "position_friction") {
+      // The patch's excess at which the candidate's own measure, the gradient g along the travel, is at its floor.
+      const double per_excess = patch_gradient_per_excess(clean);
+      const auto effect = EffectLibrary::standard().find(kind);
+      if (per_excess > 1e-6) floor = effect->floor(context).amount / per_excess;
+    } else {
+      floor = simulator_floor(kind, context, shape);
+    }
   } catch (const std::exception&) {
     // no measured floor (e.g. the friction law not identifiable): the scenario's, below
   }

@@ -11,7 +11,8 @@
 // the diagnosis measures on the trial's pushes simulated without the effect (measured_simulator_floor: the floor
 // the diagnosis itself would state there), then put into the simulator's units
 // (simulation/scenario.hpp): the force offset's sim amount is per axis (|b| = sqrt 2 x amount), Stribeck's is
-// relative to mu, the friction patch's relative excess is kappa over the patch's share of the footprint's area.
+// relative to mu, and the friction patch's relative excess is the one whose friction gradient along the pushes'
+// travel (patch_gradient_per_excess) is the position_friction candidate's floor.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -76,13 +77,20 @@ FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, 
 /// InputError for an unknown kind.
 double simulator_floor(const std::string& kind, const FloorContext& context, const std::string& shape);
 
+/// The friction gradient g [1/m] along the travel (position_friction's regressor: friction x (1 + g s), s the distance
+/// travelled, with mu taking the mean) that the simulator's friction patch of relative excess 1 gives on the pushes
+/// of `scenarios`: the share of the footprint's area on the patch (uniform pressure) as the object translates along
+/// each push's direction by its length, fitted by least squares against s. The object's rotation is left out.
+double patch_gradient_per_excess(const std::vector<PushScenario>& scenarios);
+
 /// The FloorContext the diagnosis measures on `pushes` (its paper_method and friction_base steps with `options`):
 /// what its floors are stated on. Throws what those steps throw.
 FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options);
 
 /// The floor of simulator effect `kind` in the simulator's units as the diagnosis would measure it on the pushes
 /// of `clean` (the trial's scenarios without the effect, simulated); the scenario's physics
-/// (scenario_floor_context) where no floor can be measured.
+/// (scenario_floor_context) where no floor can be measured. For the friction patch, the excess whose gradient
+/// (patch_gradient_per_excess) is the candidate's floor.
 double measured_simulator_floor(const std::string& kind, const std::vector<PushScenario>& clean,
                                 const DiagnosisOptions& options, const std::string& shape);
 
