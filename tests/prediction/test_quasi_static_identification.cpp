@@ -122,4 +122,22 @@ BOOST_AUTO_TEST_CASE(without_contact_samples_every_parameter_is_a_default_and_sa
   BOOST_TEST(id.kinematic_samples == 0);
 }
 
+BOOST_AUTO_TEST_CASE(a_rod_tracked_deep_inside_the_outline_is_limited_to_half_its_radius) {
+  // The recorded tip moved 4 mm further along the push than it was: at a phase starting in contact, the rod centre
+  // lies inside the outline by more than half its radius (a tracking error). The model keeps half the rod and says so.
+  SynchronisedPush push = simulated("rect2", 0.0, 0.3, 0.4);
+  const Eigen::Index last = push.size() - 1;
+  const Eigen::Vector2d along = (push.tip_m.row(last) - push.tip_m.row(0)).transpose().normalized();
+  push.tip_m.rowwise() += 0.004 * along.transpose();
+  const double t0 = 0.5 * push.duration_s();
+  BOOST_TEST_REQUIRE(push.in_contact[static_cast<std::size_t>(push.index_at(t0))]);
+  const TimeInterval phase{t0, t0 + 0.2};
+  Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(5, t0 + 0.04, t0 + 0.2);
+  const QuasiStaticPhase predicted = predict_quasi_static_phase(push, {{0.0, t0}}, phase, 10.0, Eigen::Vector3d::Zero(), times);
+  BOOST_TEST(predicted.identification.parameters.contact_offset_m == -0.5 * predicted.identification.parameters.rod_radius_m);
+  BOOST_TEST(predicted.identification.sources[3].find("limited to half the rod radius") != std::string::npos,
+             predicted.identification.sources[3]);
+  BOOST_TEST(predicted.poses.allFinite());
+}
+
 BOOST_AUTO_TEST_SUITE_END()

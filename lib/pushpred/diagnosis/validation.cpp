@@ -212,7 +212,9 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
                             ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
                             : 1.0;
     double size = trial.floor_multiple * trial.floor;
-    if (kind == "inertia_mismatch" && sign < 0) size = std::min(size, 0.5);  // a factor of 0.5 at the least
+    // A mass factor of 0.5 at the least and 4 at the most: inside the diagnosis's plausible range (0.2-5), where the
+    // floor is large (an object that hardly accelerates) the drawn multiple of the floor is then smaller.
+    if (kind == "inertia_mismatch") size = std::min(size, sign < 0 ? 0.5 : 3.0);
     trial.amount = kind == "inertia_mismatch" ? 1 + sign * size : sign * size;
     if (kind == "inertia_mismatch") trial.floor_multiple = std::abs(trial.amount - 1) / trial.floor;
     for (auto& s : out) s.effects.set(kind, trial.amount);

@@ -503,6 +503,12 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
     const Outline::Closest c = outline->closest(body_tip(push, i0));
     p.contact_offset_m = c.signed_distance_m - p.rod_radius_m + p.contact_band_m;
     out.identification.sources[3] = "measured at the phase's start (in contact)";
+    // A rod centre deeper inside the tracked outline than half its radius is a tracking or outline error, not a
+    // contact: the model's rod keeps at least half its radius, as out of contact below.
+    if (!(p.contact_offset_m >= -0.5 * p.rod_radius_m)) {
+      p.contact_offset_m = -0.5 * p.rod_radius_m;
+      out.identification.sources[3] = "measured at the phase's start (in contact), limited to half the rod radius";
+    }
     out.identification.std(3) = 0;
   } else if (!has_outline(push.shape)) {
     // Out of contact at the start on an unlisted outline: the local outline, extrapolated from the last contact, may
