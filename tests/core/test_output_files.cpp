@@ -5,8 +5,10 @@
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
+#include <cerrno>
 #include <csignal>
 #include <fstream>
+#include <thread>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/isolated_call.hpp"
@@ -135,6 +137,99 @@ BOOST_AUTO_TEST_CASE(a_run_stopped_by_a_signal_removes_its_staging_folder) {
     close(ready[0]);
     close(ready[1]);
   }
+}
+
+namespace {
+
+/// Forks a process that starts like the pushpred program (default stop signals, then the clean-up handlers),
+/// stages an output with `files` files under tmp/run, runs `then` and reports through `ready` before it waits for
+/// a signal.
+template <class Then>
+pid_t staged_process(const fs::path& tmp, int files, int ready_fd, Then then) {
+  const pid_t child = fork();
+  if (child != 0) return child;
+  for (const int s : {SIGTERM, SIGINT, SIGHUP}) std::signal(s, SIG_DFL);
+  install_output_cleanup_on_signals();
+  StagedOutput out(tmp / "run");
+  for (int i = 0; i < files; ++i) std::ofstream(out.path("predictions/p" + std::to_string(i) + ".csv")) << i << "\n";
+  then();
+  if (write(ready_fd, "x", 1) != 1) _exit(3);
+  for (;;) pause();
+}
+
+/// The status of `pid` once it ended.
+int wait_for(pid_t pid) {
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_forked_child_never_removes_its_parents_staging_folder) {
+  // A child made by fork keeps the parent's handler until it resets it or calls exec (gnuplot's child, the HDF5
+  // reader's); a stop signal to the process group reaches it too. Its handler must not remove the parent's output.
+  TempFolder tmp;
+  int ready[2], alive[2];  // the grandchild holds the only write end of `alive` left: EOF when it has ended
+  BOOST_REQUIRE(pipe(ready) == 0 && pipe(alive) == 0);
+  pid_t grandchild = 0;
+  const pid_t parent = staged_process(tmp.path(), 3, ready[1], [&] {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      for (;;) pause();  // as a child before it resets its handlers: the parent's handler is in force
+    }
+    close(alive[1]);
+    if (write(ready[1], &pid, sizeof pid) != sizeof pid) _exit(3);
+  });
+  close(alive[1]);
+  BOOST_REQUIRE(read(ready[0], &grandchild, sizeof grandchild) == sizeof grandchild);
+  char c;
+  BOOST_REQUIRE(read(ready[0], &c, 1) == 1);
+  kill(grandchild, SIGTERM);
+  BOOST_TEST(read(alive[0], &c, 1) == 0);  // the grandchild has ended (by the signal)
+  BOOST_TEST(names_in(tmp.path()).size() == 1u);  // the parent's staging folder is still there
+  kill(parent, SIGTERM);
+  const int status = wait_for(parent);
+  BOOST_TEST((WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM));
+  BOOST_TEST(names_in(tmp.path()).empty());
+  for (const int fd : {ready[0], ready[1], alive[0]}) close(fd);
+}
+
+BOOST_AUTO_TEST_CASE(a_second_stop_signal_during_the_clean_up_still_leaves_nothing) {
+  // `timeout` signals the process and then its whole group, so a run gets the stop signal twice, microseconds
+  // apart. In a process with a second thread the second one is taken by that thread while the first thread is
+  // removing the staging folder; it must wait for the removal, not end the process half-way (with SA_RESETHAND it
+  // did: the default action had been restored). 3000 files make the removal last far longer than the two kills.
+  for (const int sig : {SIGTERM, SIGINT}) {
+    TempFolder tmp;
+    int ready[2];
+    BOOST_REQUIRE(pipe(ready) == 0);
+    const pid_t child = staged_process(tmp.path(), 3000, ready[1], [] {
+      std::thread([] {
+        for (;;) pause();
+      }).detach();
+    });
+    char c;
+    BOOST_REQUIRE(read(ready[0], &c, 1) == 1);
+    kill(child, sig);
+    kill(child, sig);
+    const int status = wait_for(child);
+    BOOST_TEST((WIFSIGNALED(status) && WTERMSIG(status) == sig));
+    const std::vector<std::string> left = names_in(tmp.path());
+    BOOST_TEST(left.empty(), "left after SIG" << sig << ": " << (left.empty() ? "" : left.front()));
+    close(ready[0]);
+    close(ready[1]);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(writing_into_a_removed_staging_folder_fails_and_does_not_bring_it_back) {
+  // What a stop signal's clean-up removed must stay removed, whatever the program still writes.
+  TempFolder tmp;
+  StagedOutput out(tmp / "run");
+  fs::remove_all(out.staging_folder());
+  BOOST_CHECK_THROW(out.path("predictions/p1.csv"), InputError);
+  BOOST_TEST(names_in(tmp.path()).empty());
 }
 
 BOOST_AUTO_TEST_SUITE_END()
