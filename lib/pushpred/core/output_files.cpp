@@ -260,8 +260,9 @@ void install_output_cleanup_on_signals() {
     action.sa_handler = remove_staging_and_reraise;
     sigemptyset(&action.sa_mask);
     for (const int other : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&action.sa_mask, other);
-    // No SA_RESETHAND: with it a second stop signal (timeout sends two) would end the process by the default
-    // action while the first clean-up is still running, if it reached a thread not running the handler.
+    // No SA_RESETHAND: timeout sends its signal twice, microseconds apart. With it the kernel restores the default
+    // action as it takes the first signal, a moment before it blocks the signal for the handler, and a second one
+    // in between ended the process before the handler ran (the staging folders left behind in issue 13).
     action.sa_flags = 0;
     sigaction(sig, &action, nullptr);
   }
