@@ -67,10 +67,19 @@ int run_measure(const SimulateArgs& a) {
   std::vector<std::string> inputs = a.files;
   if (inputs.empty()) inputs.push_back(resolve_data_folder().string());
   std::vector<std::string> skipped;
-  const RecordingStatistics stats = measure_recordings(inputs, &skipped);
-  std::cout << stats.text();
-  for (const auto& s : skipped) std::cerr << "skipped " << s << "\n";
-  return 0;
+  RecordingStatistics stats;
+  try {
+    stats = measure_recordings(inputs, &skipped);
+  } catch (const InputError&) {
+    if (skipped.empty()) throw;  // not about the files
+    stats.files = 0;             // none could be read: each is listed below
+  }
+  if (stats.files > 0) std::cout << stats.text();
+  for (const auto& s : skipped) std::cerr << "FAILED " << plain_text(s) << "\n";
+  if (skipped.empty()) return 0;
+  std::cerr << skipped.size() << " of " << skipped.size() + static_cast<std::size_t>(stats.files) << " inputs failed"
+            << (stats.files == 0 ? "; nothing measured" : "") << "\n";
+  return stats.files == 0 ? kExitNothingDone : kExitSomeFailed;
 }
 
 int run_compare(const SimulateArgs& a) {
@@ -78,13 +87,13 @@ int run_compare(const SimulateArgs& a) {
   const double mu = a.mu ? *a.mu : PushScenario().surface_friction;
   const double contact_mu = a.contact_mu ? *a.contact_mu : PushScenario().contact_friction;
   const Batch<RealComparison> batch = compare_with_real(a.files, mu, contact_mu);
+  if (batch.results.empty()) return report_failures(batch.failures, 0);  // no input usable: no table, exit 2
   std::printf(
       "clean simulations (surface friction %.3f, rod friction %.3f) of the real pushes, with their parameters, "
       "pose, gap and timing\n",
       mu, contact_mu);
   std::cout << comparison_table(batch, mu);
-  for (const auto& f : batch.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
-  return batch.failures.empty() ? 0 : 1;
+  return report_failures(batch.failures, batch.results.size());
 }
 
 int run_simulate(const SimulateArgs& a) {

@@ -11,8 +11,18 @@ cmake -S "$source_dir/tests/install/consumer" -B "$prefix/consumer-build" -DCMAK
   -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$prefix/consumer-build" >/dev/null
 file=$(ls "$data"/abs/*shape=hex*.h5 | head -1)
-LD_LIBRARY_PATH="$prefix/usr/lib:$prefix/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
-  "$prefix/consumer-build/consumer" "$file"
+# The consumer's exit status is the check (it exits non-zero on a short read), its output only the evidence; a
+# failing step ends the script (set -e) and so the test, which ctest judges by the exit status.
+if ! output=$(LD_LIBRARY_PATH="$prefix/usr/lib:$prefix/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
+  "$prefix/consumer-build/consumer" "$file"); then
+  echo "FAIL: the installed consumer exited non-zero: $output"
+  exit 1
+fi
+echo "$output"
+if ! grep -Eq '^pushpred [0-9.]+ read [0-9]+ samples of hex$' <<<"$output"; then
+  echo "FAIL: the consumer did not report reading the hex push"
+  exit 1
+fi
 passed=1
 # The C++ examples build on their own against the installed package.
 cmake -S "$source_dir/examples/cpp" -B "$prefix/examples-build" -DCMAKE_PREFIX_PATH="$prefix/usr" \
@@ -23,8 +33,13 @@ passed=$((passed + 1))
 python=${4:-}
 if [ -n "$python" ]; then
   module_dir=$(dirname "$(find "$prefix/usr" -name '__init__.py' -path '*/pushpred/*' | head -1)")
-  PYTHONPATH="$(dirname "$module_dir")" "$python" -c "import sys, pushpred; p = pushpred.load_push(sys.argv[1]); \
-print('python: pushpred', pushpred.__version__, 'read', len(p), 'samples of', p.shape['name'])" "$file"
+  output=$(PYTHONPATH="$(dirname "$module_dir")" "$python" -c "import sys, pushpred; p = pushpred.load_push(sys.argv[1]); \
+print('python: pushpred', pushpred.__version__, 'read', len(p), 'samples of', p.shape['name'])" "$file")
+  echo "$output"
+  if ! grep -Eq '^python: pushpred [0-9.]+ read [0-9]+ samples of hex$' <<<"$output"; then
+    echo "FAIL: the installed Python module did not read the hex push"
+    exit 1
+  fi
   passed=$((passed + 1))
 fi
 echo "$passed passed, 0 failed"

@@ -2,6 +2,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "pushpred/core/data_folder.hpp"
@@ -72,10 +73,32 @@ BOOST_AUTO_TEST_CASE(an_observation_writes_both_estimates_side_by_side) {
              "t_s,u_x_N,u_y_N,u_theta_Nm,dob_d_x_N,dob_d_y_N,dob_d_theta_Nm,pid_d_x_N,pid_d_y_N,pid_d_theta_Nm,"
              "dob_v_x_m_s,dob_v_y_m_s,dob_v_theta_rad_s,pid_v_x_m_s,pid_v_y_m_s,pid_v_theta_rad_s");
   BOOST_TEST(std::count(csv.begin(), csv.end(), '\n') == push.size() + 1);
-  // The numbers are those of the parts.
-  BOOST_TEST((o.rms_dob_minus_pid - rms_difference(o.dob.d_hat, o.pid.d_hat)).norm() == 0.0);
-  BOOST_TEST((o.rms_resimulation_pid - rms_difference(resimulate_pose(push, o.pid), push.pose)).norm() == 0.0);
+  // The numbers are those of the parts, the RMS recomputed here by its definition rather than by rms_difference.
+  const auto rms = [](const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b, int c) {
+    double sum = 0;
+    for (Eigen::Index k = 0; k < a.rows(); ++k) sum += (a(k, c) - b(k, c)) * (a(k, c) - b(k, c));
+    return std::sqrt(sum / static_cast<double>(a.rows()));
+  };
+  const Eigen::MatrixX3d resimulated = resimulate_pose(push, o.pid);
+  for (int c = 0; c < 3; ++c) {
+    BOOST_TEST_INFO("channel " << c);
+    BOOST_TEST(o.rms_dob_minus_pid(c) == rms(o.dob.d_hat, o.pid.d_hat, c), boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(o.rms_resimulation_pid(c) == rms(resimulated, push.pose, c), boost::test_tools::tolerance(1e-12));
+  }
+  BOOST_TEST(o.rms_dob_minus_pid.maxCoeff() > 0.0);  // the two estimates differ: the check above is not 0 == 0
   BOOST_TEST(o.rms_resimulation_dob.allFinite());
+}
+
+BOOST_AUTO_TEST_CASE(the_rms_difference_of_hand_made_columns) {
+  Eigen::MatrixX3d a(2, 3), b = Eigen::MatrixX3d::Zero(2, 3);
+  a << 1, 2, 3,  //
+      3, -2, 1;
+  // sqrt((1 + 9) / 2), sqrt((4 + 4) / 2), sqrt((9 + 1) / 2)
+  const Eigen::RowVector3d r = rms_difference(a, b);
+  BOOST_TEST(r(0) == std::sqrt(5.0), boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(r(1) == 2.0, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(r(2) == std::sqrt(5.0), boost::test_tools::tolerance(1e-15));
+  BOOST_CHECK_THROW(rms_difference(a, Eigen::MatrixX3d::Zero(3, 3)), InputError);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

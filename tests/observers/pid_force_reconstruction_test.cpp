@@ -36,6 +36,16 @@ Eigen::Vector3d total_force_error(const PidForceReconstruction& pid, const Synth
   return worst;
 }
 
+/// The same measure for an estimate of zero: max over t >= t_from of |M y''| / (M A) = max |sin(w t)| on the grid,
+/// close to 1 over a span longer than a period.
+Eigen::Vector3d zero_estimate_error(const SyntheticPushSpec& spec, double t_from) {
+  const SynchronisedPush push = synthetic_push(spec);
+  Eigen::Vector3d worst = Eigen::Vector3d::Zero();
+  for (Eigen::Index k = push.index_at(t_from); k < push.size(); ++k)
+    for (int c = 0; c < 3; ++c) worst(c) = std::max(worst(c), std::abs(std::sin(spec.motion[c].w * push.t_s(k))));
+  return worst;
+}
+
 std::filesystem::path first_push_of(const std::string& shape) {
   for (const auto& f : list_recordings(resolve_data_folder(), "abs"))
     if (f.filename().string().find("shape=" + shape + "_") != std::string::npos) return f;
@@ -55,9 +65,14 @@ BOOST_AUTO_TEST_CASE(the_reconstructed_total_force_follows_a_known_motion_and_de
   const Eigen::Vector3d stiffer = total_force_error(PidForceReconstruction{scaled(PidGains{}, 10.0)}, spec, 0.5);
   BOOST_TEST_MESSAGE("max |f_hat - M y''| / (M A), paper gains: " << paper.transpose()
                                                                     << "; ten times the gains: " << stiffer.transpose());
+  // It does follow the motion: its worst error is at most three quarters of the amplitude, which an estimate of
+  // zero (error = the whole signal, max |sin| ~ 1 over these 2.5 s) fails. Measured: 0.67, 0.37, 0.025.
+  const double bound = 0.75;
+  const Eigen::Vector3d zero = zero_estimate_error(spec, 0.5);
   for (int c = 0; c < 3; ++c) {
     BOOST_TEST_INFO("channel " << c);
-    BOOST_TEST(paper(c) < 1.0);  // it does follow the motion
+    BOOST_TEST(zero(c) > bound);  // the bound means something
+    BOOST_TEST(paper(c) < bound);
   }
   // Translation: the mass matters against kd, so stiffer gains track better. Rotation: I is so small that the
   // closed loop is already near its limit I -> 0, whose slow poles depend on the gains' ratios only.

@@ -21,8 +21,10 @@ class HalfVelocityPredictor final : public Predictor {
     Eigen::MatrixX3d poses(c.t_s.size(), 3);
     for (Eigen::Index j = 0; j < c.t_s.size(); ++j)
       poses.row(j) = (c.pose0 + 0.5 * (c.t_s(j) - c.phase.t0_s) * c.velocity0).transpose();
-    return {poses, "seen " + std::to_string(intervals) + " intervals, " + std::to_string(c.identified.size()) +
-                       " identified"};
+    PhasePrediction p;
+    p.poses = poses;
+    p.note = "seen " + std::to_string(intervals) + " intervals, " + std::to_string(c.identified.size()) + " identified";
+    return p;
   }
   int intervals = 0;
 };

@@ -82,7 +82,9 @@ BOOST_AUTO_TEST_CASE(the_grid_covers_the_common_span_at_the_requested_rate) {
   BOOST_TEST(p.t0_unix_s + p.duration_s() <= common_end + 1e-9);
   BOOST_TEST(p.t0_unix_s + p.duration_s() > common_end - 0.01);
   BOOST_TEST(p.t_s(1) - p.t_s(0) == 0.01, tt::tolerance(1e-12));
-  BOOST_CHECK_THROW(synchronise(r, p.shape, PreprocessOptions{-5.0}), InputError);
+  PreprocessOptions negative_rate;
+  negative_rate.rate_hz = -5.0;
+  BOOST_CHECK_THROW(synchronise(r, p.shape, negative_rate), InputError);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

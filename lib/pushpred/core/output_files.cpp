@@ -57,43 +57,63 @@ void release_slot(int i) {
 }
 
 /// Removes the tree `name` below the open folder `parent_fd` with async-signal-safe system calls only (openat,
-/// getdents64, unlinkat, close), for the signal handler. Depth-bounded; never follows links.
-void remove_tree_at(int parent_fd, const char* name, int depth) {
-  if (unlinkat(parent_fd, name, 0) == 0 || depth > 16) return;
+/// getdents64, unlinkat, close), for the signal handler; true if it is gone. Depth-bounded; never follows links.
+/// Each entry is first unlinked as a file and only then opened as a folder, so file systems that do not report
+/// entry types (DT_UNKNOWN) are handled too; a pass that removes nothing ends the loop, so an entry that cannot be
+/// removed cannot make it spin.
+bool remove_tree_at(int parent_fd, const char* name, int depth) {
+  if (unlinkat(parent_fd, name, 0) == 0) return true;
+  if (depth > 16) return false;
   const int fd = openat(parent_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) return;
+  if (fd < 0) return false;
   alignas(8) char buffer[2048];
-  for (;;) {
-    const long n = syscall(SYS_getdents64, fd, buffer, sizeof buffer);
-    if (n <= 0) break;
-    bool removed_any = false;
-    for (long off = 0; off < n;) {
-      struct Entry {
-        unsigned long long ino;
-        long long off;
-        unsigned short reclen;
-        unsigned char type;
-        char name[1];
-      };
-      const Entry* e = reinterpret_cast<const Entry*>(buffer + off);
-      off += e->reclen;
-      if (std::strcmp(e->name, ".") == 0 || std::strcmp(e->name, "..") == 0) continue;
-      if (e->type == DT_DIR) remove_tree_at(fd, e->name, depth + 1);
-      else unlinkat(fd, e->name, 0);
-      removed_any = true;
+  for (bool removed_any = true; removed_any;) {  // passes over the whole folder until one removes nothing
+    removed_any = false;
+    lseek(fd, 0, SEEK_SET);
+    for (long n; (n = syscall(SYS_getdents64, fd, buffer, sizeof buffer)) > 0;) {
+      for (long off = 0; off < n;) {
+        struct Entry {
+          unsigned long long ino;
+          long long off;
+          unsigned short reclen;
+          unsigned char type;
+          char name[1];
+        };
+        const Entry* e = reinterpret_cast<const Entry*>(buffer + off);
+        off += e->reclen;
+        if (std::strcmp(e->name, ".") == 0 || std::strcmp(e->name, "..") == 0) continue;
+        if (remove_tree_at(fd, e->name, depth + 1)) removed_any = true;
+      }
     }
-    if (!removed_any) break;
-    lseek(fd, 0, SEEK_SET);  // entries were removed: list again from the start
   }
   close(fd);
-  unlinkat(parent_fd, name, AT_REMOVEDIR);
+  return unlinkat(parent_fd, name, AT_REMOVEDIR) == 0;
 }
 
+// The process that installed the handler: only it removes its staging folders. A child made by fork inherits the
+// handler until it resets it or calls exec, and must never remove its parent's output.
+std::atomic<pid_t> cleanup_owner{0};
+// The first stop signal the owner takes removes the folders, once. `timeout` sends its signal twice (to the
+// process, then to its group), and a second stop signal may be of another kind or reach another thread: it waits
+// until the removal is done, then ends the process as the first one does.
+std::atomic<bool> cleanup_started{false}, cleanup_done{false};
+static_assert(std::atomic<pid_t>::is_always_lock_free && std::atomic<bool>::is_always_lock_free,
+              "read in a signal handler");
+
 extern "C" void remove_staging_and_reraise(int sig) {
-  for (int i = 0; i < kSlots; ++i)
-    if (slot_used[i].load() && slot_path[i][0] != '\0') remove_tree_at(AT_FDCWD, slot_path[i], 0);
+  const int saved_errno = errno;
+  if (getpid() == cleanup_owner.load()) {
+    if (!cleanup_started.exchange(true)) {
+      for (int i = 0; i < kSlots; ++i)
+        if (slot_used[i].load() && slot_path[i][0] != '\0') remove_tree_at(AT_FDCWD, slot_path[i], 0);
+      cleanup_done.store(true);
+    }
+    const timespec millisecond{0, 1000000};
+    while (!cleanup_done.load()) nanosleep(&millisecond, nullptr);  // another thread is removing them
+  }
   signal(sig, SIG_DFL);
   raise(sig);  // delivered when the handler returns: the process ends by the signal, as without the handler
+  errno = saved_errno;
 }
 
 bool process_alive(long pid) { return pid > 0 && (kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
@@ -170,9 +190,15 @@ StagedOutput::StagedOutput(fs::path destination) : destination_(std::move(destin
   remove_stale_staging(target_);
   staging_ = parent / ("." + target_.filename().string() + ".staging-" + std::to_string(getpid()) + "-" +
                        unique_suffix());
-  fs::create_directory(staging_, ec);
-  if (ec) throw InputError(about(shown, "cannot create a staging folder beside it: " + ec.message()));
+  // Registered before it exists, so that a stop signal at any moment after this finds it (removing a folder that
+  // is not there yet is harmless).
   slot_ = claim_slot(staging_);
+  fs::create_directory(staging_, ec);
+  if (ec) {
+    release_slot(slot_);
+    slot_ = -1;
+    throw InputError(about(shown, "cannot create a staging folder beside it: " + ec.message()));
+  }
   std::ofstream(staging_ / kOutputMarker) << "written by pushpred; replaced as a whole by the next run into it\n";
 }
 
@@ -183,9 +209,17 @@ StagedOutput::~StagedOutput() {
 }
 
 fs::path StagedOutput::path(const std::string& name) const {
-  const fs::path p = staging_ / name;
-  fs::create_directories(p.parent_path());
-  return p;
+  // Subfolders are made one level at a time below the staging folder, never the staging folder itself: once a
+  // stop signal's clean-up has removed it, nothing may bring it back.
+  fs::path folder = staging_;
+  const fs::path relative = fs::path(name).parent_path();
+  for (const auto& part : relative) {
+    folder /= part;
+    std::error_code ec;
+    fs::create_directory(folder, ec);
+    if (ec) throw InputError(about(folder.string(), "cannot create folder: " + ec.message()));
+  }
+  return staging_ / name;
 }
 
 void StagedOutput::commit() {
@@ -218,6 +252,7 @@ void StagedOutput::commit() {
 }
 
 void install_output_cleanup_on_signals() {
+  cleanup_owner.store(getpid());
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
     struct sigaction current {};
     if (sigaction(sig, nullptr, &current) != 0 || current.sa_handler == SIG_IGN) continue;  // e.g. nohup
@@ -225,7 +260,10 @@ void install_output_cleanup_on_signals() {
     action.sa_handler = remove_staging_and_reraise;
     sigemptyset(&action.sa_mask);
     for (const int other : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&action.sa_mask, other);
-    action.sa_flags = SA_RESETHAND;
+    // No SA_RESETHAND: timeout sends its signal twice, microseconds apart. With it the kernel restores the default
+    // action as it takes the first signal, a moment before it blocks the signal for the handler, and a second one
+    // in between ended the process before the handler ran (the staging folders left behind in issue 13).
+    action.sa_flags = 0;
     sigaction(sig, &action, nullptr);
   }
 }
