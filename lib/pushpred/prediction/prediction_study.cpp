@@ -114,9 +114,11 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     const TimeInterval& phase = study.intervals[k];
     // Identification: the observer, initialised from the data at the interval's start, over the interval just
     // measured; its output joins the estimator.
+    const auto observer_start = std::chrono::steady_clock::now();
     study.identification.push_back(observer->estimate(push, previous.t0_s, previous.t1_s));
     const DisturbanceEstimate& id = study.identification.back();
     const auto fit_start = std::chrono::steady_clock::now();
+    study.observer_seconds += std::chrono::duration<double>(fit_start - observer_start).count();
     estimator->add_interval(id);
     const bool ready = estimator->ready();
     RelationParameters relation;
@@ -143,8 +145,11 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     const PhaseContext context{push,  identified, study.identification, phase, o.plan_rate_hz, pose0, r.initial_velocity,
                                relation, ready,   r.t_s,                o};
     for (auto& p : predictors) {
+      const auto method_start = std::chrono::steady_clock::now();
       p->add_interval(push, previous, id);
       PhasePrediction prediction = p->predict(context);
+      study.method_seconds[p->name()] +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - method_start).count();
       if (prediction.poses.rows() != r.t_s.size() || !prediction.poses.allFinite())
         throw SolverError(about(push.source, "prediction method '" + p->name() + "' returned " +
                                                  std::to_string(prediction.poses.rows()) + " poses for " +
