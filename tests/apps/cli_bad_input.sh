@@ -125,9 +125,12 @@ expect_in "$tmp/err" "exists and is not a folder" "the output file is named"
 
 # A run stopped by SIGTERM or SIGINT removes its staging folder; a stale one of a dead run is removed by the next.
 mkdir -p "$tmp/sig"
+# Enough work to be still running after 3 s: one pass over abs/ takes about a second since issue 12.
+slow=()
+for k in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do slow+=("$data/abs"); done
 for signal in TERM INT; do
   # timeout runs pushpred in the foreground (a background job of a script would ignore SIGINT) and signals it.
-  timeout -s "$signal" 3 "$bin" predict "$data/abs" --out "$tmp/sig/run" >/dev/null 2>&1
+  timeout -s "$signal" 3 "$bin" predict "${slow[@]}" --out "$tmp/sig/run" >/dev/null 2>&1
   code=$?
   if [ "$code" -eq 124 ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: SIG$signal: exit $code"; fi
   expect_absent "$tmp/sig/run" "no output after SIG$signal"
