@@ -11,7 +11,7 @@ namespace {
 
 /// The Q-filter observer through its exact discretisation (QFilterObserver::estimate_exactly). The observer is
 /// linear, and its exact discretisation gives the CVODE path's estimate (within 1e-6 of each channel's largest
-/// value, tests/observers) in about a thousandth of the time (docs/performance.md); the CVODE path
+/// value at rtol 1e-10, tests/observers) in a few thousandths of the time (docs/performance.md); the CVODE path
 /// (make_disturbance_estimator("dob"), QFilterObserver::estimate) stays the cross-check.
 class ExactQFilterObserver final : public DisturbanceEstimator {
  public:
