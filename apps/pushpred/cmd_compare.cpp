@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "study_arguments.hpp"
 #include "pushpred/core/output_files.hpp"
+#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/estimator_comparison.hpp"
 
 namespace pushpred::app {
@@ -15,12 +16,13 @@ struct CompareArgs {
   std::vector<std::string> estimators{"rls", "rls_forget", "batch", "batch_huber", "batch_cauchy", "batch_joint"};
   std::string out, shape;
   StudyArguments study;
+  int jobs = default_jobs();
 };
 
 int run_compare(const CompareArgs& a) {
   const StudyOptions o = a.study.options();
   StagedOutput out(a.out);
-  const EstimatorComparison c = compare_estimators(a.files, a.estimators, o, a.shape);
+  const EstimatorComparison c = compare_estimators(a.files, a.estimators, o, a.shape, a.jobs);
   const std::size_t used = c.rows.empty() ? 0 : static_cast<std::size_t>(c.rows.front().pushes);
   if (used == 0) return report_failures(c.failures, 0);  // nothing written
   const std::string md = comparison_markdown(c);
@@ -37,7 +39,9 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--out", a->out, "Output folder (compare.md)")->required();
   sub->add_option("--estimators", a->estimators, "Estimators to compare; the first is the reference")->delimiter(',');
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
-  a->study.add_to(*sub, {2, true, false, true});  // the estimators compared come from --estimators
+  a->study.add_to(*sub, {2, true, false, true});
+  sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the results do not depend on it")
+      ->check(CLI::PositiveNumber);  // the estimators compared come from --estimators
   sub->callback([a, &run] { run = [a] { return run_compare(*a); }; });
 });
 

@@ -3,15 +3,18 @@
 // error before and after on held-out phases (DIR/diagnosis.json, DIR/report.md, plots). With --per-object, a batch
 // of several objects or surfaces is diagnosed one object at a time: DIR/<shape>_on_<surface>/ each, and
 // DIR/overview.md and DIR/overview.json side by side.
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <thread>
 
 #include "commands.hpp"
 #include "study_arguments.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
+#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/push_groups.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
@@ -27,6 +30,7 @@ struct DiagnoseArgs {
   std::vector<std::string> exclude;
   bool per_object = false, no_plots = false, quick_base = false;
   double relevance_fraction = 0.05;
+  int jobs = default_jobs();
 };
 
 int run_diagnose(const DiagnoseArgs& a) {
@@ -41,8 +45,9 @@ int run_diagnose(const DiagnoseArgs& a) {
   PreprocessOptions pre;
   pre.rate_hz = a.rate_hz;
 
-  const Batch<SynchronisedPush> loaded =
-      run_batch(expand_inputs(a.files), [&](const std::filesystem::path& path) { return load_push(path, a.shape, pre); });
+  const auto inputs = expand_inputs(a.files);
+  const Batch<SynchronisedPush> loaded = run_batch(
+      inputs, [&](const std::filesystem::path& path) { return load_push(path, a.shape, pre); }, a.jobs, nullptr);
   for (const auto& f : loaded.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
   if (loaded.results.empty()) throw InputError("no push could be read; nothing written");
   const std::size_t loaded_count = loaded.results.size();
@@ -68,24 +73,44 @@ int run_diagnose(const DiagnoseArgs& a) {
     return result.failures.empty() ? 0 : 1;
   }
 
-  // One diagnosis per object: a group that cannot be diagnosed is reported and the others go on.
+  // One diagnosis per object, the objects shared out over the jobs: a group that cannot be diagnosed is reported
+  // and the others go on. What each prints is kept and printed in the objects' order, whatever the jobs.
   StagedOutput out(a.out);
-  std::vector<DiagnosisGroupOutcome> outcomes;
-  std::size_t left_out = 0;
-  for (auto& g : groups) {
+  std::vector<DiagnosisGroupOutcome> outcomes(groups.size());
+  std::vector<std::string> printed(groups.size()), complaints(groups.size());
+  std::vector<std::size_t> left_out_of(groups.size(), 0);
+  BatchProgress progress("diagnose", "objects", groups.size());
+  std::atomic<std::size_t> next{0};
+  const auto one_object = [&](std::size_t i) {
+    PushGroup& g = groups[i];
     DiagnosisGroupOutcome outcome{g.name(), g.pushes.size(), std::nullopt, ""};
     try {
       DiagnosisResult result = diagnose(g.pushes, library, o);
       write_diagnosis_report(result, o, out.path(g.name()), !a.no_plots);
-      std::cout << diagnosis_summary_text(result);
-      for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
-      left_out += result.failures.size();
+      printed[i] = diagnosis_summary_text(result);
+      for (const auto& f : result.failures) complaints[i] += "LEFT OUT " + f.source + ": " + f.reason + "\n";
+      left_out_of[i] = result.failures.size();
       outcome.result = std::move(result);
     } catch (const InputError& e) {
       outcome.error = e.what();
-      std::cerr << "FAILED " << g.name() << ": " << e.what() << "\n";
+      complaints[i] += "FAILED " + g.name() + ": " + e.what() + "\n";
     }
-    outcomes.push_back(std::move(outcome));
+    outcomes[i] = std::move(outcome);
+    progress.item_done();
+  };
+  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(a.jobs), groups.size());
+  std::vector<std::thread> pool;
+  for (std::size_t t = 0; t < threads; ++t)
+    pool.emplace_back([&] {
+      for (std::size_t i = next++; i < groups.size(); i = next++) one_object(i);
+    });
+  for (auto& t : pool) t.join();
+  progress.finish();
+  std::size_t left_out = 0;
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    std::cout << printed[i];
+    std::cerr << complaints[i];
+    left_out += left_out_of[i];
   }
   std::size_t failed_groups = 0;
   for (const auto& g : outcomes) failed_groups += g.result ? 0 : 1;
@@ -120,6 +145,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                 "Do not fit the base model's settings (quasi-static stop fraction) on the fit phases: faster");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_option("--jobs", a->jobs,
+                  "Files read, and with --per-object objects diagnosed, in parallel (default: all cores); the output "
+                  "does not depend on it")
+      ->check(CLI::PositiveNumber);
   sub->callback([a, &run] { run = [a] { return run_diagnose(*a); }; });
 });
 

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/core/batch.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/estimators/pid_gain_fit.hpp"
@@ -22,6 +23,7 @@ struct FitPidArgs {
   bool per_push = false, cvode = false;
   double lambda = 1.0, rate_hz = 250.0;
   int max_iterations = 50;
+  int jobs = default_jobs();
 };
 
 int run_fit_pid(const FitPidArgs& a) {
@@ -39,14 +41,16 @@ int run_fit_pid(const FitPidArgs& a) {
     std::optional<PidFitPush> push;
     BatchFailure skip;
   };
-  const Batch<Prepared> batch = run_batch(expand_inputs(a.files), [&](const std::filesystem::path& path) {
+  const auto inputs = expand_inputs(a.files);
+  BatchProgress progress("fit-pid: reading", "files", inputs.size());
+  const Batch<Prepared> batch = run_batch(inputs, [&](const std::filesystem::path& path) {
     SynchronisedPush push = load_push(path, a.shape, pre);
     Prepared p;
     const std::string reason = pid_fit_unsuitable_reason(push);
     if (!reason.empty()) p.skip = {path.string(), reason};
     else p.push = make_pid_fit_push(std::move(push));
     return p;
-  });
+  }, a.jobs, &progress);
   std::vector<PidFitPush> pushes;
   std::vector<BatchFailure> skipped;
   for (const auto& p : batch.results) {
@@ -99,6 +103,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--lambda", a->lambda, "Weight of the force-roughness term (> 0)");
   sub->add_option("--max-iterations", a->max_iterations, "Ceres iterations per problem")->check(CLI::Range(1, 1000));
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_option("--jobs", a->jobs, "Files read in parallel (default: all cores); the output does not depend on it")
+      ->check(CLI::PositiveNumber);
   sub->add_flag("--cvode", a->cvode,
                 "Run the reconstruction by CVODE instead of its exact discretisation (a hundred times slower)");
   sub->callback([a, &run] { run = [a] { return run_fit_pid(*a); }; });

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/inspection.hpp"
 
 namespace pushpred::app {
@@ -13,12 +14,15 @@ struct InspectArgs {
   bool json = false;
   std::string shape;
   double rate_hz = 250.0;
+  int jobs = default_jobs();
 };
 
 int run_inspect(const InspectArgs& a) {
   InspectionOptions options;
   options.shape_override = a.shape;
   options.preprocess.rate_hz = a.rate_hz;
+  options.jobs = a.jobs;
+  options.progress = true;
   const InspectionBatch batch = inspect_files(a.files, options);
   std::cout << (a.json ? json_text(inspection_json(batch)) : inspection_table(batch));
   return report_failures(batch.failures, batch.results.size());
@@ -31,6 +35,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_flag("--json", args->json, "Print JSON instead of a table");
   sub->add_option("--shape", args->shape, "Object shape, for files whose name does not carry it");
   sub->add_option("--rate", args->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_option("--jobs", args->jobs, "Files read in parallel (default: all cores); the output does not depend on it")
+      ->check(CLI::PositiveNumber);
   sub->callback([args, &run] { run = [args] { return run_inspect(*args); }; });
 });
 

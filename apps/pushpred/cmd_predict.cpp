@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "study_arguments.hpp"
 #include "pushpred/core/output_files.hpp"
+#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 
 namespace pushpred::app {
@@ -19,6 +20,7 @@ struct PredictArgs {
   std::string out, shape;
   StudyArguments study;
   double rate_hz = 250.0;
+  int jobs = default_jobs();
 };
 
 int run_predict(const PredictArgs& a) {
@@ -27,11 +29,13 @@ int run_predict(const PredictArgs& a) {
   pre.rate_hz = a.rate_hz;
 
   StagedOutput out(a.out);
-  const Batch<PushStudy> batch = run_batch(expand_inputs(a.files), [&](const std::filesystem::path& path) {
+  const auto inputs = expand_inputs(a.files);
+  BatchProgress progress("predict", "pushes", inputs.size());
+  const Batch<PushStudy> batch = run_batch(inputs, [&](const std::filesystem::path& path) {
     PushStudy s = run_prediction_study(load_push(path, a.shape, pre), o);
     write_text_atomically(out.path("predictions/" + path.stem().string() + ".csv"), predictions_csv(s));
     return s;
-  });
+  }, a.jobs, &progress);
   if (batch.results.empty()) return report_failures(batch.failures, 0);  // nothing written
   const nlohmann::json summary = prediction_summary_json(batch, o);
   write_text_atomically(out.path("summary.json"), json_text(summary));
@@ -61,6 +65,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
   a->study.add_to(*sub, {2, true, true, true, true});
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the output does not depend on it")
+      ->check(CLI::PositiveNumber);
   sub->callback([a, &run] { run = [a] { return run_predict(*a); }; });
 });
 

@@ -127,12 +127,15 @@ expect_in "$tmp/err" "exists and is not a folder" "the output file is named"
 # then its whole group (the HDF5 reader's child too), so each run gets the signal twice, microseconds apart; runs
 # stopped at 20 moments from 0.45 to 1.4 s (reading, predicting, writing) must all leave nothing.
 mkdir -p "$tmp/sig"
+# Enough work to be still running when stopped: one pass over abs/ takes about a second since issue 12.
+slow=()
+for k in $(seq 1 20); do slow+=("$data/abs"); done
 stopped_ok=0
 for i in $(seq 1 20); do
   if [ $((i % 2)) -eq 0 ]; then signal=TERM; else signal=INT; fi
   delay=$(awk -v i="$i" 'BEGIN { printf "%.2f", 0.4 + 0.05 * i }')
   # timeout runs pushpred in the foreground (a background job of a script would ignore SIGINT) and signals it.
-  timeout -s "$signal" "$delay" "$bin" predict "$data/abs" --out "$tmp/sig/run" >/dev/null 2>&1
+  timeout -s "$signal" "$delay" "$bin" predict "${slow[@]}" --out "$tmp/sig/run" >/dev/null 2>&1
   code=$?
   if [ "$code" -ne 124 ]; then echo "FAIL: SIG$signal after $delay s: exit $code, expected 124"
   elif [ -e "$tmp/sig/run" ]; then echo "FAIL: SIG$signal after $delay s: output written"

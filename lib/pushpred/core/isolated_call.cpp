@@ -3,11 +3,14 @@
 #include <poll.h>
 #include <pthread.h>
 #include <signal.h>
+#include <sys/prctl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 
 #include "pushpred/core/error.hpp"
@@ -22,6 +25,49 @@ void write_all(int fd, const char* data, std::size_t size) {
     if (n <= 0) return;
     data += n;
     size -= static_cast<std::size_t>(n);
+  }
+}
+
+bool send_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::send(fd, data, size, MSG_NOSIGNAL);  // a child gone is a failed call, not SIGPIPE
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+bool read_exactly(int fd, char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::read(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+/// The server child's loop: a request is its length (8 bytes) and its bytes, a reply the same with 'R' (result) or
+/// 'E' (an exception's message) first. It ends at the end of the requests.
+[[noreturn]] void serve(int fd, IsolatedServer::Handler handler) {
+  for (;;) {
+    std::uint64_t size = 0;
+    if (!read_exactly(fd, reinterpret_cast<char*>(&size), sizeof size)) _exit(0);
+    std::string request(size, '\0');
+    if (!read_exactly(fd, request.data(), request.size())) _exit(0);
+    std::string reply;
+    try {
+      reply = "R" + handler(request);
+    } catch (const std::exception& e) {
+      reply = std::string("E") + e.what();
+    } catch (...) {
+      reply = "Eunexpected error";
+    }
+    const std::uint64_t n = reply.size();
+    if (!send_all(fd, reinterpret_cast<const char*>(&n), sizeof n) || !send_all(fd, reply.data(), reply.size())) _exit(0);
   }
 }
 
@@ -103,6 +149,127 @@ std::string run_isolated(const std::string& source, const std::string& what, con
   if (reply.empty() || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw InputError(about(source, what + " ended without a result"));
   if (reply[0] == 'E') throw InputError(reply.substr(1));
+  return reply.substr(1);
+}
+
+IsolatedServer::~IsolatedServer() { stop(true); }
+
+void IsolatedServer::stop(bool kill_first) {
+  if (child_ < 0) return;
+  // The child holds nothing worth saving (it only reads): killing it cannot leave anything half done.
+  if (kill_first) kill(child_, SIGKILL);
+  close(socket_);
+  socket_ = -1;
+  int status = 0;
+  while (waitpid(child_, &status, 0) < 0 && errno == EINTR) {
+  }
+  child_ = -1;
+}
+
+void IsolatedServer::start(const std::string& source) {
+  int fds[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
+    throw InputError(about(source, what_ + ": cannot create a socket pair: " + std::strerror(errno)));
+  // As run_isolated: the stop signals are blocked across fork, the child takes them after resetting its handlers.
+  sigset_t stop_signals, previous;
+  sigemptyset(&stop_signals);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stop_signals, sig);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+  const pid_t parent = getpid();
+  const pid_t child = fork();
+  if (child != 0) pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  if (child < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    throw InputError(about(source, what_ + ": cannot fork: " + std::strerror(errno)));
+  }
+  if (child == 0) {
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE}) signal(sig, SIG_DFL);
+    // Ends with the thread that started it, even if that one dies without closing the socket.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(0);
+    pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+    // Only its own end stays open: a copy of another server's socket (another thread's) would keep that server's
+    // child from ever seeing the end of its requests.
+    close(fds[0]);
+    const int own = fds[1];
+    for (int fd = 3; fd < own; ++fd) close(fd);
+    if (close_range(static_cast<unsigned>(own) + 1, ~0U, 0) != 0)
+      for (long fd = own + 1, n = sysconf(_SC_OPEN_MAX); fd < n; ++fd) close(static_cast<int>(fd));
+    serve(own, handler_);
+  }
+  close(fds[1]);
+  socket_ = fds[0];
+  child_ = child;
+}
+
+std::string IsolatedServer::call(const std::string& source, const std::string& request, double timeout_s) {
+  const std::uint64_t size = request.size();
+  const auto send_request = [&] {
+    return send_all(socket_, reinterpret_cast<const char*>(&size), sizeof size) &&
+           send_all(socket_, request.data(), request.size());
+  };
+  if (child_ < 0) start(source);
+  if (!send_request()) {  // the child is gone since the last call: a fresh one
+    stop(true);
+    start(source);
+    if (!send_request()) {
+      stop(true);
+      throw InputError(about(source, what_ + " ended without a result"));
+    }
+  }
+  std::string received;
+  std::uint64_t expected = 0;
+  bool ended = false, timed_out = false;
+  const double deadline = now_s() + timeout_s;
+  char buffer[65536];
+  for (;;) {
+    if (received.size() >= sizeof expected) {
+      std::memcpy(&expected, received.data(), sizeof expected);
+      if (received.size() >= sizeof expected + expected) break;
+    }
+    const double left = deadline - now_s();
+    if (left <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{socket_, POLLIN, 0};
+    const int ready = poll(&p, 1, static_cast<int>(left * 1e3) + 1);
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) continue;  // time-out checked above
+    const ssize_t n = read(socket_, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      ended = true;  // the child died: how is asked below
+      break;
+    }
+    received.append(buffer, static_cast<std::size_t>(n));
+  }
+  if (timed_out) {
+    stop(true);
+    throw InputError(about(source, what_ + " took longer than " + std::to_string(static_cast<int>(timeout_s)) +
+                                       " s and was stopped"));
+  }
+  if (ended) {
+    close(socket_);
+    socket_ = -1;
+    int status = 0;
+    while (waitpid(child_, &status, 0) < 0 && errno == EINTR) {
+    }
+    child_ = -1;
+    if (WIFSIGNALED(status))
+      throw InputError(about(source, what_ + " crashed (signal " + std::to_string(WTERMSIG(status)) + ", " +
+                                         strsignal(WTERMSIG(status)) + "): the file is corrupt"));
+    throw InputError(about(source, what_ + " ended without a result"));
+  }
+  const std::string reply = received.substr(sizeof expected);
+  if (reply.empty()) throw InputError(about(source, what_ + " ended without a result"));
+  if (reply[0] == 'E') {
+    // A child that has seen a bad input is not trusted with the next one (libhdf5 may have been left in any
+    // state): the next call forks a fresh child.
+    stop(true);
+    throw InputError(reply.substr(1));
+  }
   return reply.substr(1);
 }
 

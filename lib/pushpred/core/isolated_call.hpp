@@ -4,6 +4,7 @@
 // fuzz/fuzz_hdf5_reader; see docs/robustness.md).
 #include <functional>
 #include <string>
+#include <utility>
 
 namespace pushpred {
 
@@ -12,5 +13,34 @@ namespace pushpred {
 /// gives an InputError about `source` saying which `what` ("reading the HDF5 file") failed and how.
 std::string run_isolated(const std::string& source, const std::string& what, const std::function<std::string()>& job,
                          double timeout_s = 60.0);
+
+/// A child process that runs one kind of risky job again and again: forked on the first call and kept, so that a
+/// batch pays for one fork (and the copy-on-write faults that follow it) rather than one per file, which made reading
+/// the slowest stage of `pushpred predict` (docs/performance.md). Each call sends a request and gets the handler's
+/// reply; an exception in the handler is rethrown as with run_isolated, and a crash or a time-out costs that call
+/// only, with run_isolated's messages. After any of the three the next call forks a fresh child: a child that has
+/// seen a bad input is not trusted with the next one. Not shared between threads: give each
+/// thread its own (a thread_local one). The child ends when the server is destroyed or its parent ends.
+class IsolatedServer {
+ public:
+  /// `handler` runs in the child; a plain function, since the child keeps only what fork copied.
+  using Handler = std::string (*)(const std::string& request);
+  IsolatedServer(std::string what, Handler handler) : what_(std::move(what)), handler_(handler) {}
+  ~IsolatedServer();
+  IsolatedServer(const IsolatedServer&) = delete;
+  IsolatedServer& operator=(const IsolatedServer&) = delete;
+
+  /// The handler's reply to `request`; InputError about `source` when it throws, crashes or runs past `timeout_s`.
+  std::string call(const std::string& source, const std::string& request, double timeout_s = 60.0);
+
+ private:
+  void start(const std::string& source);
+  void stop(bool kill_first);
+
+  std::string what_;
+  Handler handler_;
+  int socket_ = -1;  // the parent's end of the socket pair
+  int child_ = -1;   // pid_t
+};
 
 }  // namespace pushpred

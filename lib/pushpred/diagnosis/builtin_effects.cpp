@@ -1,10 +1,12 @@
 #include "pushpred/diagnosis/builtin_effects.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
 #include <mutex>
+#include <string_view>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
@@ -25,12 +27,17 @@ struct FrictionElements {
 const FrictionElements* friction_elements(const ShapeInfo& shape) {
   if (!shape.has_outline()) return nullptr;
   static std::mutex mutex;
-  static std::map<std::string, std::unique_ptr<FrictionElements>> cache;
+  // Looked up by a string_view (std::less<>): the prediction model's right-hand side calls this, and must not
+  // allocate (tests/systems/no_allocation_test.cpp); only a shape's first call makes its key.
+  static std::map<std::string, std::unique_ptr<FrictionElements>, std::less<>> cache;
   char key[160];
-  std::snprintf(key, sizeof key, "%s/%d/%.9g/%.9g", shape.name.c_str(), static_cast<int>(shape.geometry), shape.dim1_m,
-                shape.dim2_m);
+  const int length = std::snprintf(key, sizeof key, "%s/%d/%.9g/%.9g", shape.name.c_str(),
+                                   static_cast<int>(shape.geometry), shape.dim1_m, shape.dim2_m);
+  const std::string_view key_view(key, static_cast<std::size_t>(std::clamp(length, 0, static_cast<int>(sizeof key) - 1)));
   const std::lock_guard<std::mutex> lock(mutex);
-  auto& slot = cache[key];
+  const auto found = cache.find(key_view);
+  if (found != cache.end()) return found->second.get();
+  auto& slot = cache[std::string(key_view)];
   if (!slot) {
     const Footprint footprint = make_footprint(Outline(shape), 16, 4);
     auto e = std::make_unique<FrictionElements>();

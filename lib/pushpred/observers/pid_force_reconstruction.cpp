@@ -148,8 +148,7 @@ DisturbanceEstimate PidForceReconstruction::estimate_exactly(const SynchronisedP
 PidForceReconstruction::Tracking PidForceReconstruction::track(const SynchronisedPush& push, double t0,
                                                                double t1) const {
   const PidSetup p = set_up(gains_, options_, push, t0, t1);
-  CvodeIntegrator integrator(*p.system, options_.integrator);
-  return outputs(p, push, integrator.solve(p.t(0), p.x0, p.t));
+  return outputs(p, push, integrate(*p.system, options_.integrator, p.t(0), p.x0, p.t));
 }
 
 PidForceReconstruction::Tracking PidForceReconstruction::track_exactly(const SynchronisedPush& push, double t0,

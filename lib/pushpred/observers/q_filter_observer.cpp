@@ -144,8 +144,7 @@ QFilterObserverModel QFilterObserver::model(const Eigen::Vector3d& inertia) cons
 DisturbanceEstimate QFilterObserver::estimate(const SynchronisedPush& push, double t0, double t1) const {
   const Prepared p = prepare(*this, push, t0, t1);
   const LinearSystem system(p.model.A, p.model.B, p.input);
-  CvodeIntegrator integrator(system, options_.integrator);
-  const Eigen::MatrixXd states = integrator.solve(p.input.times()(0), p.x0, p.input.times());
+  const Eigen::MatrixXd states = integrate(system, options_.integrator, p.input.times()(0), p.x0, p.input.times());
   return outputs(p, options_, states);
 }
 

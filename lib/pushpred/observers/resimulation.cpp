@@ -22,8 +22,7 @@ Eigen::MatrixX3d resimulate_pose(const SynchronisedPush& push, const Disturbance
   Eigen::VectorXd x0(6);
   x0.head<3>() = push.pose.row(first).transpose();
   x0.tail<3>() = e.velocity.row(0).transpose();
-  CvodeIntegrator integrator(system, integrator_options);
-  return integrator.solve(e.t_s(0), x0, e.t_s).leftCols<3>();
+  return integrate(system, integrator_options, e.t_s(0), x0, e.t_s).leftCols<3>();
 }
 
 Eigen::RowVector3d rms_difference(const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b) {

@@ -4,8 +4,34 @@
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/observers/q_filter_observer.hpp"
 
 namespace pushpred {
+namespace {
+
+/// The Q-filter observer through its exact discretisation (QFilterObserver::estimate_exactly). The observer is
+/// linear, and its exact discretisation gives the CVODE path's estimate (within 1e-6 of each channel's largest
+/// value at rtol 1e-10, tests/observers) in a few thousandths of the time (docs/performance.md); the CVODE path
+/// (make_disturbance_estimator("dob"), QFilterObserver::estimate) stays the cross-check.
+class ExactQFilterObserver final : public DisturbanceEstimator {
+ public:
+  std::string name() const override { return "dob"; }
+  using DisturbanceEstimator::estimate;
+  DisturbanceEstimate estimate(const SynchronisedPush& push, double t0, double t1) const override {
+    return observer_.estimate_exactly(push, t0, t1);
+  }
+
+ private:
+  QFilterObserver observer_;
+};
+
+/// The study's observer: the linear Q-filter observer on its fast path, any other (the PID reconstruction) by name.
+std::unique_ptr<DisturbanceEstimator> study_observer(const std::string& name) {
+  if (name == "dob") return std::make_unique<ExactQFilterObserver>();
+  return make_disturbance_estimator(name);
+}
+
+}  // namespace
 
 double surface_friction_coefficient(const std::string& surface) {
   if (surface == "abs") return 0.14;
@@ -104,7 +130,7 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
 PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions& o) {
   if (push.flags.frozen_force_sensor)
     throw InputError(about(push.source, "force sensor frozen: its force cannot be trusted for prediction"));
-  const auto observer = make_disturbance_estimator(o.observer);
+  const auto observer = study_observer(o.observer);
   const auto estimator = make_relation_estimator(o.estimator);
 
   PushStudy study;
@@ -133,9 +159,11 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     const TimeInterval& phase = study.intervals[k];
     // Identification: the observer, initialised from the data at the interval's start, over the interval just
     // measured; its output joins the estimator.
+    const auto observer_start = std::chrono::steady_clock::now();
     study.identification.push_back(observer->estimate(push, previous.t0_s, previous.t1_s));
     const DisturbanceEstimate& id = study.identification.back();
     const auto fit_start = std::chrono::steady_clock::now();
+    study.observer_seconds += std::chrono::duration<double>(fit_start - observer_start).count();
     estimator->add_interval(id);
     const bool ready = estimator->ready();
     RelationParameters relation;
@@ -162,8 +190,11 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     const PhaseContext context{push,  identified, study.identification, phase, o.plan_rate_hz, pose0, r.initial_velocity,
                                relation, ready,   r.t_s,                o};
     for (auto& p : predictors) {
+      const auto method_start = std::chrono::steady_clock::now();
       p->add_interval(push, previous, id);
       PhasePrediction prediction = p->predict(context);
+      study.method_seconds[p->name()] +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - method_start).count();
       if (prediction.poses.rows() != r.t_s.size() || !prediction.poses.allFinite())
         throw SolverError(about(push.source, "prediction method '" + p->name() + "' returned " +
                                                  std::to_string(prediction.poses.rows()) + " poses for " +

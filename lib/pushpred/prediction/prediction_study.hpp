@@ -158,6 +158,8 @@ struct PushStudy {
   std::vector<PhaseResult> phases;
   std::vector<DisturbanceEstimate> identification;  ///< the observer's output on every interval that was identified
   double estimator_seconds = 0;  ///< wall time spent in the relation estimator (feeding and asking), for comparisons
+  double observer_seconds = 0;   ///< wall time spent in the study's disturbance observer (`pushpred bench`)
+  std::map<std::string, double> method_seconds;  ///< wall time per prediction method, its identification included
 };
 
 PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions& options = {});

@@ -44,22 +44,31 @@ void PredictionSystem::derivative(double t, const Eigen::Ref<const Eigen::Vector
   xdot(5) = f(2) / model_.inertia_kgm2;
 }
 
-bool PredictionSystem::has_jacobian() const { return model_.coulomb_force_N == 0 && model_.extra_terms.empty(); }
+// The extra terms have no Jacobian of their own: with them CVODE takes difference quotients.
+bool PredictionSystem::has_jacobian() const { return model_.extra_terms.empty(); }
 
-void PredictionSystem::jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const {
-  // Only the kinematics couple states when the unknown force depends on the plan alone.
+void PredictionSystem::jacobian(double, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const {
+  // The kinematics, and the regularised Coulomb friction f = -F v / sqrt(|v|^2 + s^2) on the velocity:
+  // df/dv = -F ((|v|^2 + s^2) I - v v^T) / (|v|^2 + s^2)^(3/2).
   J.setZero();
   J(0, 3) = J(1, 4) = J(2, 5) = 1.0;
+  if (model_.coulomb_force_N > 0) {
+    const double vx = x(3), vy = x(4), s2 = model_.coulomb_speed_scale_m_s * model_.coulomb_speed_scale_m_s;
+    const double r2 = vx * vx + vy * vy + s2;
+    const double c = -model_.coulomb_force_N / (r2 * std::sqrt(r2) * model_.mass_kg);
+    J(3, 3) = c * (r2 - vx * vx);
+    J(3, 4) = J(4, 3) = -c * vx * vy;
+    J(4, 4) = c * (r2 - vy * vy);
+  }
 }
 
 Eigen::MatrixX3d predict_poses(const PredictionModel& model, const PlannedForce& plan, const Eigen::Vector3d& pose0,
                                const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times,
                                const IntegratorOptions& integrator) {
   const PredictionSystem system(model, plan);
-  CvodeIntegrator cvode(system, integrator);
   Eigen::VectorXd x0(6);
   x0 << pose0, velocity0;
-  const Eigen::MatrixXd states = cvode.solve(plan.t0_s, x0, output_times);
+  const Eigen::MatrixXd states = integrate(system, integrator, plan.t0_s, x0, output_times);
   return states.leftCols<3>();
 }
 

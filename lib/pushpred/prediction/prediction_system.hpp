@@ -56,6 +56,10 @@ class PredictionSystem final : public ContinuousSystem {
   PredictionSystem(PredictionModel model, PlannedForce plan);
   int state_size() const override { return 6; }
   void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  /// Newton's law under a held force (the relation model) is a double integrator, not stiff: Adams. Coulomb
+  /// friction, regularised over v_s = 1 mm/s, pulls a slow object's velocity to rest at mu g / v_s (1400 1/s for
+  /// the `simple` baseline) against 0.1 s plan steps, and the diagnosis's force laws are regularised alike: BDF.
+  bool stiff() const override { return model_.coulomb_force_N > 0 || !model_.extra_terms.empty(); }
   bool has_jacobian() const override;
   void jacobian(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const override;
   std::vector<double> discontinuities(double t0, double t1) const override { return plan_.signal.jumps(t0, t1); }

@@ -262,8 +262,8 @@ Eigen::MatrixX3d predict_quasi_static_poses(const QuasiStaticObject& object, con
                                             const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times,
                                             const IntegratorOptions& integrator) {
   const QuasiStaticPushSystem system(object, parameters, path);
-  CvodeIntegrator cvode(system, integrator);
-  const Eigen::MatrixXd states = cvode.solve(path.velocity().t0_s, system.state_from(pose0, velocity0), output_times);
+  const Eigen::MatrixXd states =
+      integrate(system, integrator, path.velocity().t0_s, system.state_from(pose0, velocity0), output_times);
   return states.leftCols<3>();
 }
 

@@ -149,16 +149,26 @@ std::array<Eigen::MatrixXd, 3> decode(const std::string& source, const std::stri
   return arrays;
 }
 
+/// The reader child's job: the request is max_rows (8 bytes) and the file's path.
+std::string read_request(const std::string& request) {
+  std::int64_t max_rows = 0;
+  std::memcpy(&max_rows, request.data(), sizeof max_rows);
+  return encode(read_arrays(request.substr(sizeof max_rows), max_rows));
+}
+
 }  // namespace
 
 Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptions& options) {
   const std::string source = path.string();
   check_readable_file(path);
   // libhdf5 (1.10.8) dereferences NULL on some corrupt files: it runs in a child process, so that such a file is one
-  // failure of the batch, not the end of it.
-  const std::string bytes = run_isolated(source, "reading the HDF5 file", [&] {
-    return encode(read_arrays(source, options.max_rows));
-  }, options.hdf5_timeout_s);
+  // failure of the batch, not the end of it. One child per thread serves every file (core/isolated_call.hpp).
+  thread_local IsolatedServer reader("reading the HDF5 file", &read_request);
+  std::string request(sizeof(std::int64_t), '\0');
+  const std::int64_t max_rows = options.max_rows;
+  std::memcpy(request.data(), &max_rows, sizeof max_rows);
+  request += source;
+  const std::string bytes = reader.call(source, request, options.hdf5_timeout_s);
   const std::array<Eigen::MatrixXd, 3> arrays = decode(source, bytes);
   Recording r;
   r.source = source;

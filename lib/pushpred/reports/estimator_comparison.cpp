@@ -1,22 +1,26 @@
 #include "pushpred/reports/estimator_comparison.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 
 namespace pushpred {
 
 EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, const std::vector<std::string>& estimators,
-                                       const StudyOptions& options, const std::string& shape_override) {
+                                       const StudyOptions& options, const std::string& shape_override, int jobs) {
   if (estimators.empty()) throw InputError("compare: no estimators named");
   for (const auto& name : estimators) make_relation_estimator(name);  // unknown names fail before any work
   EstimatorComparison c;
   c.reference = estimators.front();
   c.options = options;
   // One batch item per push: the studies of every estimator on it.
-  const auto batch = run_batch(expand_inputs(inputs), [&](const std::filesystem::path& path) {
+  const auto files = expand_inputs(inputs);
+  BatchProgress progress("compare", "pushes", files.size(), jobs > 0);
+  const auto batch = run_batch(files, [&](const std::filesystem::path& path) {
     const SynchronisedPush push = load_push(path, shape_override);
     std::vector<PushStudy> studies;
     for (const auto& name : estimators) {
@@ -25,7 +29,7 @@ EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, c
       studies.push_back(run_prediction_study(push, o));
     }
     return studies;
-  });
+  }, std::max(jobs, 1), &progress);
   c.failures = batch.failures;
   for (size_t e = 0; e < estimators.size(); ++e) {
     EstimatorComparisonRow row;

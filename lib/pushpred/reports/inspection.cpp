@@ -1,5 +1,7 @@
 #include "pushpred/reports/inspection.hpp"
 
+#include "pushpred/core/parallel_batch.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -38,9 +40,11 @@ Inspection inspect(const SynchronisedPush& p) {
 }
 
 InspectionBatch inspect_files(const std::vector<std::string>& inputs, const InspectionOptions& options) {
-  return run_batch(expand_inputs(inputs), [&](const std::filesystem::path& path) {
+  const auto files = expand_inputs(inputs);
+  BatchProgress progress("inspect", "files", files.size(), options.progress);
+  return run_batch(files, [&](const std::filesystem::path& path) {
     return inspect(load_push(path, options.shape_override, options.preprocess));
-  });
+  }, options.jobs, &progress);
 }
 
 std::string inspection_table(const InspectionBatch& batch) {

@@ -13,6 +13,8 @@ namespace pushpred {
 struct InspectionOptions {
   std::string shape_override;
   PreprocessOptions preprocess;
+  int jobs = 1;           ///< files read in parallel (core/parallel_batch.hpp); the result does not depend on it
+  bool progress = false;  ///< a progress report on stderr (BatchProgress)
 };
 
 struct Inspection {

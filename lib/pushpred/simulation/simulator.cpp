@@ -120,13 +120,13 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
   options.method = IntegratorOptions::Method::Bdf;
   options.relative_tolerance = 1e-6;
   options.absolute_tolerance = 1e-9;
-  CvodeIntegrator integrator(system, options);
   const Eigen::VectorXd out_times = Eigen::Map<const Eigen::VectorXd>(instants.data(), instants.size());
-  const Eigen::MatrixXd states = integrator.solve(t0, system.state_at_rest(pose0), out_times);
+  CvodeIntegrator::Stats stats;
+  const Eigen::MatrixXd states = integrate(system, options, t0, system.state_at_rest(pose0), out_times, &stats);
 
   SimulatedPush sim;
   sim.scenario = scenario;
-  sim.solver = integrator.stats();
+  sim.solver = stats;
   sim.push_start_s = path.start_time_s();
   sim.push_end_s = path.end_time_s();
   sim.rod_peak_speed_m_s = path.peak_speed_m_s();

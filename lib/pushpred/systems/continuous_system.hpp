@@ -19,6 +19,12 @@ class ContinuousSystem {
   virtual void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                           Eigen::Ref<Eigen::VectorXd> xdot) const = 0;
 
+  /// Whether the system is stiff on the time scale of its solution: whether an explicit-like method (Adams with
+  /// fixed-point iteration) would need steps much shorter than accuracy asks for, to stay stable. The integrator
+  /// takes BDF with Newton iteration for a stiff system and Adams for one that is not (IntegratorOptions::Method).
+  /// Default: stiff, the safe choice; each system says why it chooses otherwise.
+  virtual bool stiff() const { return true; }
+
   /// Whether jacobian() is provided. Linear systems provide it; otherwise CVODE uses difference quotients.
   virtual bool has_jacobian() const { return false; }
 

@@ -1,6 +1,9 @@
 #include "pushpred/systems/linear_system.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "pushpred/core/error.hpp"
@@ -22,6 +25,11 @@ LinearSystem::LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, std::vector<Sam
                      std::to_string(channels) + " channels");
   if (!A_.allFinite() || !B_.allFinite()) throw InputError("linear system: A or B holds NaN or infinity");
   u_.resize(channels);
+  double shortest_s = std::numeric_limits<double>::infinity();
+  for (const auto& in : inputs_)
+    for (Eigen::Index k = 0; k + 1 < in.samples(); ++k) shortest_s = std::min(shortest_s, in.times()(k + 1) - in.times()(k));
+  const double fastest = A_.eigenvalues().cwiseAbs().maxCoeff();
+  stiff_ = std::isfinite(shortest_s) ? fastest * shortest_s > 2.0 : fastest > 0;
 }
 
 void LinearSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,

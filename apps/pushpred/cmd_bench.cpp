@@ -1,0 +1,216 @@
+// `pushpred bench FILE|DIR...`: the whole prediction pipeline on real pushes, timed per stage (read, preprocess,
+// observer, relation estimator, each prediction method, and optionally a diagnosis per push), as samples per
+// second and as a multiple of a reference measured in the same run: the exact discretisation of the paper's
+// observer over every push (one matrix-vector step per sample). Ratios, not seconds, are what compare across
+// machines and runs (docs/performance.md); nothing here is asserted by a test.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include "commands.hpp"
+#include "study_arguments.hpp"
+#include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/diagnosis/push_groups.hpp"
+#include "pushpred/observers/q_filter_observer.hpp"
+#include "pushpred/preprocessing/synchronised_push.hpp"
+#include "pushpred/reading/recording.hpp"
+
+namespace pushpred::app {
+namespace {
+
+struct BenchArgs {
+  std::vector<std::string> files;
+  std::string shape, json;
+  StudyArguments study;
+  double rate_hz = 250.0;
+  int repeat = 1;
+  int diagnose_pushes = 0;
+  bool cvode_observer = false;
+};
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+struct Stage {
+  std::string name;
+  double seconds = 0;
+  double samples = 0;  ///< synchronised samples the stage processed
+};
+
+/// One pass over every input; stage times summed over the pushes.
+std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesystem::path>& inputs,
+                            const StudyOptions& o, std::size_t& used, std::size_t& skipped,
+                            double& worst_cvode_difference) {
+  PreprocessOptions pre;
+  pre.rate_hz = a.rate_hz;
+  std::map<std::string, Stage> by_name;
+  const auto add = [&](const std::string& name, double seconds, double samples) {
+    Stage& s = by_name[name];
+    s.name = name;
+    s.seconds += seconds;
+    s.samples += samples;
+  };
+  const QFilterObserver exact_observer;
+  std::vector<SynchronisedPush> studied;
+  used = skipped = 0;
+  for (const auto& path : inputs) {
+    auto start = Clock::now();
+    Recording recording;
+    try {
+      recording = read_recording(path);
+    } catch (const std::exception& e) {
+      std::cerr << "skipped " << plain_text(path.string()) << ": " << plain_text(e.what()) << "\n";
+      ++skipped;
+      continue;
+    }
+    const double read_s = since(start);
+    start = Clock::now();
+    const SynchronisedPush push = synchronise(recording, shape_for(recording, a.shape), pre);
+    const double preprocess_s = since(start);
+    if (push.flags.frozen_force_sensor) {  // predict refuses these too: not part of the pipeline's work
+      ++skipped;
+      continue;
+    }
+    const auto n = static_cast<double>(push.size());
+    start = Clock::now();
+    const PushStudy study = run_prediction_study(push, o);
+    const double study_s = since(start);
+    start = Clock::now();
+    const DisturbanceEstimate reference = exact_observer.estimate_exactly(push, 0, push.duration_s());
+    const double reference_s = since(start);
+    if (!reference.d_hat.allFinite()) throw SolverError("bench: the reference observer gave non-finite output");
+    if (a.cvode_observer) {
+      // The observer's CVODE path over the same whole push: its cost against the reference is the ratio itself.
+      start = Clock::now();
+      const DisturbanceEstimate cvode = exact_observer.estimate(push, 0, push.duration_s());
+      add("observer, CVODE path (whole push)", since(start), n);
+      double worst = 0;
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, (cvode.d_hat.col(c) - reference.d_hat.col(c)).cwiseAbs().maxCoeff() /
+                                    reference.d_hat.col(c).cwiseAbs().maxCoeff());
+      worst_cvode_difference = std::max(worst_cvode_difference, worst);
+    }
+
+    add("read", read_s, n);
+    add("preprocess", preprocess_s, n);
+    add("observer", study.observer_seconds, n);
+    add("estimator", study.estimator_seconds, n);
+    double methods_s = 0;
+    for (const auto& [method, seconds] : study.method_seconds) {
+      add("method " + method, seconds, n);
+      methods_s += seconds;
+    }
+    add("study, other", study_s - study.observer_seconds - study.estimator_seconds - methods_s, n);
+    add("total", read_s + preprocess_s + study_s, n);
+    add("reference", reference_s, n);
+    ++used;
+    if (a.diagnose_pushes > 0) studied.push_back(push);
+  }
+  if (a.diagnose_pushes > 0 && !studied.empty()) {
+    // The first object's pushes, at most diagnose_pushes of them: a diagnosis fits one object.
+    std::vector<PushGroup> groups = group_by_object(std::move(studied));
+    std::vector<SynchronisedPush> pushes = std::move(groups.front().pushes);
+    if (pushes.size() > static_cast<std::size_t>(a.diagnose_pushes)) pushes.resize(static_cast<std::size_t>(a.diagnose_pushes));
+    double n = 0;
+    for (const auto& p : pushes) n += static_cast<double>(p.size());
+    DiagnosisOptions d;
+    d.study = o;
+    d.study.methods = {};
+    const auto start = Clock::now();
+    const DiagnosisResult result = diagnose(pushes, EffectLibrary::standard(), d);
+    add("diagnose (" + std::to_string(pushes.size()) + " pushes of " + groups.front().name() + ")", since(start), n);
+  }
+  std::vector<Stage> out;
+  for (auto& [name, s] : by_name) out.push_back(s);
+  return out;
+}
+
+int run_bench(const BenchArgs& a) {
+  const StudyOptions o = a.study.options();
+  const auto inputs = expand_inputs(a.files);
+  std::vector<Stage> best;
+  std::size_t used = 0, skipped = 0;
+  double worst_cvode_difference = 0;
+  for (int r = 0; r < a.repeat; ++r) {
+    std::vector<Stage> pass = one_pass(a, inputs, o, used, skipped, worst_cvode_difference);
+    if (best.empty()) {
+      best = std::move(pass);
+      continue;
+    }
+    // The fastest of the repetitions, stage by stage: the least disturbed by other work on the machine.
+    for (std::size_t k = 0; k < best.size() && k < pass.size(); ++k)
+      best[k].seconds = std::min(best[k].seconds, pass[k].seconds);
+  }
+  if (used == 0) throw InputError("bench: no push could be studied");
+  // Report order: the pipeline's, then the methods, then the totals.
+  const auto rank = [](const std::string& name) {
+    static const std::vector<std::string> order{"read", "preprocess", "observer", "estimator"};
+    const auto it = std::find(order.begin(), order.end(), name);
+    if (it != order.end()) return static_cast<int>(it - order.begin());
+    if (name.rfind("method ", 0) == 0) return 10;
+    if (name == "study, other") return 20;
+    if (name.rfind("diagnose", 0) == 0) return 30;
+    if (name == "total") return 40;
+    return 50;
+  };
+  std::stable_sort(best.begin(), best.end(), [&](const Stage& x, const Stage& y) { return rank(x.name) < rank(y.name); });
+  double reference_s = 0;
+  for (const auto& s : best)
+    if (s.name == "reference") reference_s = s.seconds;
+
+  std::printf("%zu pushes studied (%zu skipped), best of %d; reference: the exact discretisation of the observer "
+              "over every push\n",
+              used, skipped, a.repeat);
+  std::printf("%-40s %12s %14s %14s\n", "stage", "seconds", "samples/s", "x reference");
+  nlohmann::json doc;
+  doc["pushes"] = used;
+  doc["skipped"] = skipped;
+  doc["repeat"] = a.repeat;
+  doc["reference"] = "exact discretisation of the observer over every push";
+  for (const auto& s : best) {
+    const double rate = s.seconds > 0 ? s.samples / s.seconds : 0;
+    const double ratio = reference_s > 0 ? s.seconds / reference_s : 0;
+    std::printf("%-40s %12.4f %14.0f %14.2f\n", s.name.c_str(), s.seconds, rate, ratio);
+    doc["stages"].push_back({{"stage", s.name}, {"seconds", s.seconds}, {"samples", s.samples},
+                             {"samples_per_s", rate}, {"ratio_to_reference", ratio}});
+  }
+  if (a.cvode_observer) {
+    std::printf("observer, CVODE path against the reference: largest difference %.2g of a channel's largest d_hat\n",
+                worst_cvode_difference);
+    doc["cvode_observer_worst_relative_difference"] = worst_cvode_difference;
+  }
+  if (!a.json.empty()) {
+    std::ofstream f(a.json);
+    f << json_text(doc);
+    if (!f) throw InputError("bench: cannot write " + a.json);
+  }
+  return 0;
+}
+
+const CommandRegistration reg([](CLI::App& app, Runner& run) {
+  auto a = std::make_shared<BenchArgs>();
+  auto* sub = app.add_subcommand(
+      "bench", "Time the prediction pipeline per stage on real pushes, as ratios to a reference from the same run");
+  sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
+  sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
+  a->study.add_to(*sub, {2, true, true, true, true});
+  sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub->add_option("--repeat", a->repeat, "Passes over the inputs; each stage reports its fastest (default 1)")
+      ->check(CLI::Range(1, 1000));
+  sub->add_option("--diagnose", a->diagnose_pushes,
+                  "Also diagnose up to N pushes of the first object, timed per push (default 0: no diagnosis)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--json", a->json, "Also write the table as JSON to this file");
+  sub->add_flag("--cvode-observer", a->cvode_observer,
+                "Also time the observer's CVODE path over every push, and its largest difference from the reference");
+  sub->callback([a, &run] { run = [a] { return run_bench(*a); }; });
+});
+
+}  // namespace
+}  // namespace pushpred::app
