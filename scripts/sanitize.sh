@@ -18,7 +18,7 @@ start=$(date +%s)
 # -O1 keeps the instrumented suite fast enough for CI; benchmarks are not part of the suite. The Python module is
 # left out: under ASan the interpreter would need the runtime preloaded, and the C++ suite covers the same library.
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
-  -DPUSHPRED_BUILD_BENCHMARKS=OFF -DPUSHPRED_BUILD_PYTHON=OFF -DPUSHPRED_WARNINGS_AS_ERRORS=ON "${launcher[@]}" >/dev/null
+  -DPUSHPRED_BUILD_BENCHMARKS=OFF -DPUSHPRED_BUILD_PYTHON=OFF -DPUSHPRED_WARNINGS_AS_ERRORS=OFF "${launcher[@]}" >/dev/null
 cmake --build "$build" -j2
 built=$(date +%s)
 status=0
