@@ -33,15 +33,21 @@ constexpr int kSlots = 16;
 constexpr std::size_t kMaxPath = 4096;
 std::atomic<bool> slot_used[kSlots];
 char slot_path[kSlots][kMaxPath];
+// Where the handler moves a staging folder before removing it: the same name with ".stopped" appended (still a
+// ".staging-PID-" name, so a later run's stale clean-up recognises it if the removal cannot finish).
+char slot_stopped[kSlots][kMaxPath];
+constexpr char kStoppedSuffix[] = ".stopped";
 
 int claim_slot(const fs::path& staging) {
   const std::string s = staging.string();
-  if (s.size() >= kMaxPath) return -1;
+  if (s.size() + sizeof kStoppedSuffix >= kMaxPath) return -1;
   for (int i = 0; i < kSlots; ++i) {
     bool expected = false;
     if (slot_used[i].load() || !slot_used[i].compare_exchange_strong(expected, true)) continue;
     // Mark busy with an empty path first, then publish the path.
     slot_path[i][0] = '\0';
+    std::memcpy(slot_stopped[i], s.c_str(), s.size());
+    std::memcpy(slot_stopped[i] + s.size(), kStoppedSuffix, sizeof kStoppedSuffix);
     std::memcpy(slot_path[i], s.c_str(), s.size() + 1);
     std::atomic_signal_fence(std::memory_order_seq_cst);
     return i;
@@ -104,8 +110,16 @@ extern "C" void remove_staging_and_reraise(int sig) {
   const int saved_errno = errno;
   if (getpid() == cleanup_owner.load()) {
     if (!cleanup_started.exchange(true)) {
-      for (int i = 0; i < kSlots; ++i)
-        if (slot_used[i].load() && slot_path[i][0] != '\0') remove_tree_at(AT_FDCWD, slot_path[i], 0);
+      // Moved aside first, then removed: other threads (--jobs) may still be writing into the staging folder, and a
+      // file they created between the removal's listing and its final rmdir left the folder behind (2 of 60 stopped
+      // runs with two jobs, none with one). After the rename their new files fail by path; nothing can appear in the
+      // moved tree but what was already there.
+      for (int i = 0; i < kSlots; ++i) {
+        if (!slot_used[i].load() || slot_path[i][0] == '\0') continue;
+        const char* doomed = rename(slot_path[i], slot_stopped[i]) == 0 ? slot_stopped[i] : slot_path[i];
+        for (int attempt = 0; attempt < 3 && !remove_tree_at(AT_FDCWD, doomed, 0); ++attempt) {
+        }
+      }
       cleanup_done.store(true);
     }
     const timespec millisecond{0, 1000000};

@@ -119,27 +119,8 @@ std::vector<std::shared_ptr<const GeneralizedForceTerm>> CorrectedPrediction::fr
   return out;
 }
 
-namespace {
-
-/// The Q-filter observer through its exact discretisation (QFilterObserver::estimate_exactly): the same estimate
-/// as its CVODE path, much faster.
-class ExactQFilterObserver final : public DisturbanceEstimator {
- public:
-  explicit ExactQFilterObserver(QFilterObserverOptions options) : observer_(std::move(options)) {}
-  std::string name() const override { return "dob"; }
-  using DisturbanceEstimator::estimate;
-  DisturbanceEstimate estimate(const SynchronisedPush& push, double t0, double t1) const override {
-    return observer_.estimate_exactly(push, t0, t1);
-  }
-
- private:
-  QFilterObserver observer_;
-};
-
-}  // namespace
-
 std::unique_ptr<DisturbanceEstimator> CorrectedPrediction::observer(const std::string& name) const {
-  if (name == "dob") return std::make_unique<ExactQFilterObserver>(observer_);
+  if (name == "dob") return make_exact_q_filter_observer(observer_);
   return make_disturbance_estimator(name);
 }
 

@@ -153,4 +153,25 @@ DisturbanceEstimate QFilterObserver::estimate_exactly(const SynchronisedPush& pu
   return outputs(p, options_, propagate_exactly(p.model.A, p.model.B, p.x0, p.input));
 }
 
+namespace {
+
+class ExactQFilterObserver final : public DisturbanceEstimator {
+ public:
+  explicit ExactQFilterObserver(QFilterObserverOptions options) : observer_(std::move(options)) {}
+  std::string name() const override { return "dob"; }
+  using DisturbanceEstimator::estimate;
+  DisturbanceEstimate estimate(const SynchronisedPush& push, double t0, double t1) const override {
+    return observer_.estimate_exactly(push, t0, t1);
+  }
+
+ private:
+  QFilterObserver observer_;
+};
+
+}  // namespace
+
+std::unique_ptr<DisturbanceEstimator> make_exact_q_filter_observer(QFilterObserverOptions options) {
+  return std::make_unique<ExactQFilterObserver>(std::move(options));
+}
+
 }  // namespace pushpred

@@ -91,4 +91,11 @@ class QFilterObserver final : public DisturbanceEstimator {
   QFilterObserverOptions options_;
 };
 
+/// The Q-filter observer through its exact discretisation (QFilterObserver::estimate_exactly), as a
+/// DisturbanceEstimator named "dob": the observer is linear, and its exact discretisation gives the CVODE path's
+/// estimate (within 1e-6 of each channel's largest value at rtol 1e-10, tests/observers) in a few thousandths of the
+/// time (docs/performance.md). The fast path of the prediction study and the diagnosis; the CVODE path
+/// (make_disturbance_estimator("dob"), QFilterObserver::estimate) stays the cross-check.
+std::unique_ptr<DisturbanceEstimator> make_exact_q_filter_observer(QFilterObserverOptions options = {});
+
 }  // namespace pushpred

@@ -9,25 +9,9 @@
 namespace pushpred {
 namespace {
 
-/// The Q-filter observer through its exact discretisation (QFilterObserver::estimate_exactly). The observer is
-/// linear, and its exact discretisation gives the CVODE path's estimate (within 1e-6 of each channel's largest
-/// value at rtol 1e-10, tests/observers) in a few thousandths of the time (docs/performance.md); the CVODE path
-/// (make_disturbance_estimator("dob"), QFilterObserver::estimate) stays the cross-check.
-class ExactQFilterObserver final : public DisturbanceEstimator {
- public:
-  std::string name() const override { return "dob"; }
-  using DisturbanceEstimator::estimate;
-  DisturbanceEstimate estimate(const SynchronisedPush& push, double t0, double t1) const override {
-    return observer_.estimate_exactly(push, t0, t1);
-  }
-
- private:
-  QFilterObserver observer_;
-};
-
 /// The study's observer: the linear Q-filter observer on its fast path, any other (the PID reconstruction) by name.
 std::unique_ptr<DisturbanceEstimator> study_observer(const std::string& name) {
-  if (name == "dob") return std::make_unique<ExactQFilterObserver>();
+  if (name == "dob") return make_exact_q_filter_observer();
   return make_disturbance_estimator(name);
 }
 
