@@ -55,10 +55,17 @@ CorrectionPredictor::CorrectionPredictor(std::shared_ptr<const PredictionCorrect
   if (!correction_) throw InputError("a correction predictor needs a correction");
 }
 
+namespace {
+/// A correction may change what a push reads, never its time grid or pose. Throws InputError otherwise.
+void require_same_grid_and_pose(const SynchronisedPush& corrected, const SynchronisedPush& push) {
+  if (corrected.size() != push.size() || corrected.t_s != push.t_s || corrected.pose != push.pose)
+    throw InputError(about(push.source, "a prediction correction must keep the push's time grid and pose"));
+}
+}  // namespace
+
 void CorrectionPredictor::start_push(const SynchronisedPush& push, const StudyOptions& o) {
   push_ = correction_->corrected_push(push);
-  if (push_.size() != push.size() || push_.t_s != push.t_s || push_.pose != push.pose)
-    throw InputError(about(push.source, "a prediction correction must keep the push's time grid and pose"));
+  require_same_grid_and_pose(push_, push);
   observer_ = correction_->observer(o.observer);
   estimator_ = make_relation_estimator(o.estimator);
   identification_.clear();
@@ -66,8 +73,7 @@ void CorrectionPredictor::start_push(const SynchronisedPush& push, const StudyOp
   pushing_model_ = correction_->predicts_with_pushing_model();
   if (pushing_model_) {
     pushing_push_ = correction_->pushing_model_push(push);
-    if (pushing_push_.size() != push.size() || pushing_push_.t_s != push.t_s || pushing_push_.pose != push.pose)
-      throw InputError(about(push.source, "a prediction correction must keep the push's time grid and pose"));
+    require_same_grid_and_pose(pushing_push_, push);
     pushing_estimator_.reset(pushing_push_);
   }
 }
