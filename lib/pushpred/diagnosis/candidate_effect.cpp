@@ -12,7 +12,7 @@ namespace pushpred {
 double FloorContext::friction_force_N() const { return friction_coefficient * mass_kg * 9.81; }
 
 double FloorContext::low_speed_exposure(double v_s) const {
-  if (sliding_speeds_m_s.empty()) return std::exp(-std::pow(sliding_speed_m_s / v_s, 2));
+  if (sliding_speeds_m_s.empty()) return 0.0;
   double sum = 0;
   for (double v : sliding_speeds_m_s) sum += std::exp(-2 * std::pow(v / v_s, 2));
   return std::sqrt(sum / static_cast<double>(sliding_speeds_m_s.size()));

@@ -128,12 +128,12 @@ struct FloorContext {
   double sliding_speed_m_s = 0;          ///< typical (RMS) speed while the object slides
   double acceleration_m_s2 = 0;          ///< typical acceleration (RMS of |a| while sliding)
   double travel_m = 0;                   ///< mean distance an object travels in a push
-  /// Speeds while sliding (a sample of at most a few thousand) [m/s]: how much of the data a speed-dependent
-  /// term acts on.
+  /// Speeds while sliding where the smoothed speed is resolved (DiagnosisPush::unresolved; a sample of at most a
+  /// few thousand) [m/s]: how much of the data a speed-dependent term acts on.
   std::vector<double> sliding_speeds_m_s;
   double friction_force_N() const;       ///< mu m g
   /// RMS over the sliding speeds of exp(-(v / v_s)^2), the share of a low-speed (Stribeck) term that acts on the
-  /// data; from sliding_speed_m_s when no speeds are listed.
+  /// data; zero when no speeds are listed.
   double low_speed_exposure(double v_s_m_s) const;
 };
 

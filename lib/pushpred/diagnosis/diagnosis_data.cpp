@@ -104,8 +104,14 @@ DiagnosisPush diagnosis_push_from_estimate(const SynchronisedPush& push, Disturb
   zero_phase_smooth(d.estimate.t_s, d.smooth_velocity, kSmoothingBandwidth_rad_s, &acceleration);
   d.smooth_acceleration = acceleration;
   d.stuck.resize(d.rows());
-  for (Eigen::Index k = 0; k < d.rows(); ++k)
-    d.stuck[k] = sliding_speed(d.smooth_velocity.row(k).transpose(), push.shape) < kStuckSpeed_m_s;
+  d.unresolved.resize(d.rows());
+  for (Eigen::Index k = 0; k < d.rows(); ++k) {
+    const double speed = sliding_speed(d.smooth_velocity.row(k).transpose(), push.shape);
+    d.stuck[k] = speed < kStuckSpeed_m_s;
+    // sliding_speed of the acceleration: the same footprint measure of a rate of change.
+    d.unresolved[k] = !d.stuck[k] &&
+                      speed < kSpeedResolution_s * sliding_speed(d.smooth_acceleration.row(k).transpose(), push.shape);
+  }
   d.friction_explained = Eigen::MatrixX3d::Zero(d.rows(), 3);
   d.q_zeta = options.zeta;
   d.q_wn_rad_s = options.wn_rad_s;

@@ -23,6 +23,13 @@ struct DiagnosisPush {
   /// Per row: the object is stuck (sliding speed of smooth_velocity below kStuckSpeed_m_s). Static friction then
   /// balances whatever acts, d = -u, so no effect is visible there.
   std::vector<char> stuck;
+  /// Per row: the object slides, but its smoothed speed is not resolved: the speed would change by all of itself
+  /// within the smoother's time scale kSpeedResolution_s (sliding speed < kSpeedResolution_s x sliding
+  /// acceleration). Around a fast start or stop the zero-phase smoother spreads the speed jump over tens of
+  /// milliseconds, so an object truly at rest (or already fast) shows a low smoothed speed; a law of the speed
+  /// (Stribeck friction, above all) would read that blur as a low-speed effect. These rows explain nothing in the
+  /// friction regression, and the floors do not count them as time spent at low speed.
+  std::vector<char> unresolved;
   double q_zeta = 0, q_wn_rad_s = 0;  ///< the observer's Q filter
   /// What the selected refinements of the friction law explain (n x 3, as the observer sees it; zero until the
   /// diagnosis sets it), for direct fits that work against the friction law (time_offset).
@@ -42,6 +49,9 @@ struct DiagnosisPush {
 inline constexpr double kSmoothingBandwidth_rad_s = 100.0;
 /// Sliding speed (builtin_effects.hpp) below which a sample counts as stuck [m/s].
 inline constexpr double kStuckSpeed_m_s = 1.5e-3;
+/// The smoother's time scale [s]: 2 / kSmoothingBandwidth_rad_s, about the width over which the forward-backward
+/// filter spreads a jump in speed.
+inline constexpr double kSpeedResolution_s = 2.0 / kSmoothingBandwidth_rad_s;
 
 /// Runs the observer over [t0_s, t1_s] of `push` and prepares the regression inputs. Throws InputError for a
 /// span with fewer than two samples.

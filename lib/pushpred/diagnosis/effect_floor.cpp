@@ -5,6 +5,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
+#include "pushpred/diagnosis/residual_regression.hpp"
 
 namespace pushpred {
 
@@ -28,7 +29,10 @@ FloorContext measure_floor_context(const std::vector<DiagnosisPush>& data, doubl
     for (Eigen::Index k = 0; k < d.rows(); ++k) {
       if (d.stuck[static_cast<std::size_t>(k)]) continue;
       speed2 += d.smooth_velocity.row(k).head<2>().squaredNorm();
-      c.sliding_speeds_m_s.push_back(d.smooth_velocity.row(k).head<2>().norm());
+      // Time at low speed only where the speed is resolved: near a fast start or stop the smoothed speed is blur
+      // (DiagnosisPush::unresolved). The slow slips of stick-slip stay in: there the low-speed term acts.
+      if (!d.unresolved[static_cast<std::size_t>(k)])
+        c.sliding_speeds_m_s.push_back(d.smooth_velocity.row(k).head<2>().norm());
       accelerations.push_back(d.smooth_acceleration.row(k).head<2>().norm());
       ++sliding;
     }

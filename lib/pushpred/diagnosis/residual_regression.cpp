@@ -58,6 +58,19 @@ double long_run_variance(const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Inde
   return std::max(s, 0.0) / static_cast<double>(n);
 }
 
+std::vector<char> friction_law_samples(const DiagnosisPush& d) {
+  const Eigen::Index n = d.rows();
+  std::vector<char> used(n, 1);
+  const double rate_hz = d.push.rate_hz > 0 ? d.push.rate_hz : 250.0;
+  const auto guard = static_cast<Eigen::Index>(std::lround(kTransitionGuard_s * rate_hz));
+  for (Eigen::Index k = 1; k < n; ++k)
+    if (d.stuck[k] != d.stuck[k - 1])
+      for (Eigen::Index j = std::max<Eigen::Index>(0, k - guard); j < std::min(n, k + guard); ++j) used[j] = 0;
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (d.unresolved[k]) used[k] = 0;
+  return used;
+}
+
 ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes, Relation relation)
     : relation_(relation) {
   if (pushes.empty()) throw InputError("diagnosis regression: no pushes to fit");
@@ -82,13 +95,7 @@ ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes,
       }
     }
     b.stuck = d.stuck;
-    b.used.assign(n, 1);
-    if (relation_ == Relation::Friction) {
-      const auto guard = static_cast<Eigen::Index>(std::lround(kTransitionGuard_s * b.rate_hz));
-      for (Eigen::Index k = 1; k < n; ++k)
-        if (b.stuck[k] != b.stuck[k - 1])
-          for (Eigen::Index j = std::max<Eigen::Index>(0, k - guard); j < std::min(n, k + guard); ++j) b.used[j] = 0;
-    }
+    b.used = relation_ == Relation::Friction ? friction_law_samples(d) : std::vector<char>(n, 1);
     // The Linear base's residual sets the channel weights and N_eff for both bases.
     Eigen::MatrixX3d lin = d.estimate.d_hat;
     const Relation keep = relation_;

@@ -45,6 +45,10 @@ inline constexpr double kHacLag_s = 0.2;
 /// scales, and a sharp friction law misfits for reasons no candidate effect describes [s].
 inline constexpr double kTransitionGuard_s = 0.03;
 
+/// Per row of `d`: 1 where the friction law is tested (not within kTransitionGuard_s of a change between stuck and
+/// sliding, and the speed resolved: DiagnosisPush::unresolved), 0 elsewhere.
+std::vector<char> friction_law_samples(const DiagnosisPush& d);
+
 enum class Relation { Linear, Friction };
 
 struct RegressionFit {

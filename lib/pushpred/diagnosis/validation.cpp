@@ -91,6 +91,11 @@ FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, 
   return c;
 }
 
+/// The largest Stribeck excess drawn (relative to mu): static friction twice the sliding friction.
+constexpr double kMaxStribeckExcess = 1.0;
+/// Rounds of the floor's fixed point for friction laws (draw_validation_trial).
+constexpr int kFloorRounds = 4;
+
 double simulator_floor(const std::string& kind, const FloorContext& c, const std::string& shape_name) {
   const auto effect = EffectLibrary::standard().find(kind);
   if (!effect) throw InputError("validation: no candidate effect for the simulator's '" + kind + "'");
@@ -160,7 +165,10 @@ double measured_simulator_floor(const std::string& kind, const std::vector<PushS
   } catch (const std::exception&) {
     // no measured floor (e.g. the friction law not identifiable): the scenario's, below
   }
-  if (std::isfinite(floor) && floor > 0) return floor;
+  // Infinite for Stribeck friction: the diagnosis itself says no amount matters on these pushes (the object never
+  // slides slowly); kept, so that such a trial is never counted at twice its floor. Other kinds' infinite floors
+  // mean "unknown" (unknown_floor): the scenario's, below.
+  if (floor > 0 && (std::isfinite(floor) || kind == "stribeck_friction")) return floor;
   return simulator_floor(kind, scenario_floor_context(clean, options.relevance_fraction), shape);
 }
 
@@ -211,10 +219,38 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     const double sign = kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch"
                             ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
                             : 1.0;
-    double size = trial.floor_multiple * trial.floor;
+    double size = std::isfinite(trial.floor) ? trial.floor_multiple * trial.floor : kMaxStribeckExcess;
     // A mass factor of 0.5 at the least and 4 at the most: inside the diagnosis's plausible range (0.2-5), where the
     // floor is large (an object that hardly accelerates) the drawn multiple of the floor is then smaller.
     if (kind == "inertia_mismatch") size = std::min(size, sign < 0 ? 0.5 : 3.0);
+    // Friction at rest at most twice the sliding friction (a Stribeck excess of 1): where the pushes spend too
+    // little time at low speed for the term to matter below that (its floor above 0.5), the drawn multiple is
+    // smaller, below 2 floors or below 1, and the trial is not one the detection target counts.
+    if (kind == "stribeck_friction") size = std::min(size, kMaxStribeckExcess);
+    // A friction law changes how the object slides, and with it the speeds and the travel its floor is measured
+    // on: Stribeck friction turns slow sliding into stick-slip, so the pushes that carry it spend less time sliding
+    // slowly than the clean ones. The floor the diagnosis states is the one on the data it is given, so the
+    // amount is set to the drawn multiple of the floor measured on the pushes with the effect (a fixed point, a
+    // few rounds; the last floor is the trial's).
+    if (kind == "viscous_friction" || kind == "stribeck_friction" || kind == "position_friction") {
+      const auto floor_at = [&](double amount) {
+        std::vector<PushScenario> with = out;
+        for (auto& s : with) s.effects.set(kind, sign * amount);
+        return measured_simulator_floor(kind, with, o.diagnosis, trial.shape);
+      };
+      for (int round = 0; round < kFloorRounds; ++round) {
+        const double floor = floor_at(size);
+        if (!std::isfinite(floor)) break;
+        double next = trial.floor_multiple * floor;
+        if (kind == "stribeck_friction") next = std::min(next, kMaxStribeckExcess);
+        const bool settled = std::abs(next - size) <= 0.05 * size;
+        size = next;
+        if (settled) break;
+      }
+      // The trial's floor is the one measured at the amount drawn, whether or not the rounds settled.
+      trial.floor = floor_at(size);
+      trial.floor_multiple = size / trial.floor;
+    }
     trial.amount = kind == "inertia_mismatch" ? 1 + sign * size : sign * size;
     if (kind == "inertia_mismatch") trial.floor_multiple = std::abs(trial.amount - 1) / trial.floor;
     for (auto& s : out) s.effects.set(kind, trial.amount);

@@ -135,7 +135,7 @@ std::string validation_markdown(const ValidationResult& r) {
 
   md << "\n## Detection rate against the amount\n\nShare of trials naming the true kind, by the drawn amount in "
         "floors; median relative amount error |fitted - truth| / |truth| where the diagnosis found it and the "
-        "amounts are comparable.\n\n| kind | 1-2 floors | 2-3 | 3-5 | median amount error |\n|---|---|---|---|---|\n";
+        "amounts are comparable.\n\n| kind | below 2 floors | 2-3 | 3-5 | median amount error |\n|---|---|---|---|---|\n";
   for (const auto& kind : o.kinds) {
     if (kind == "none") continue;
     int hit[3] = {0, 0, 0}, all[3] = {0, 0, 0};
