@@ -1,4 +1,6 @@
-// `pushpred compare FILE... --out DIR`: RLS against the Ceres batch fits (plain and robust) on the same pushes.
+// `pushpred compare FILE... --out DIR`: RLS against the Ceres batch fits (plain and robust) on the same pushes, with
+// the prediction errors of the methods chosen by --methods (default: dob and dob_velinit, the ones that use the
+// relation the estimators fit).
 #include <iostream>
 #include <memory>
 
@@ -39,7 +41,9 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--out", a->out, "Output folder (compare.md)")->required();
   sub->add_option("--estimators", a->estimators, "Estimators to compare; the first is the reference")->delimiter(',');
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
-  a->study.add_to(*sub, {2, true, false, true});
+  a->study.methods = "dob,dob_velinit";  // the methods that use the fitted relation; the others do not depend on it
+  a->study.methods_note = "; one pair of error columns each";
+  a->study.add_to(*sub, {2, true, false, true, true});
   sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the results do not depend on it")
       ->check(CLI::PositiveNumber);  // the estimators compared come from --estimators
   sub->callback([a, &run] { run = [a] { return run_compare(*a); }; });

@@ -1,8 +1,8 @@
 // `pushpred plot FILE --out DIR`: one push's prediction study drawn against the measurement, one PNG per
-// prediction method (prediction_<method>.png: x, y and yaw over time, the measured pose over the whole push and the
-// method's prediction in every prediction phase, the intervals marked) and all methods together
-// (prediction_all.png). Writes the data (measured.csv, predictions.csv: mm and degrees), the gnuplot scripts and,
-// where gnuplot is installed, the PNGs; all or nothing (StagedOutput).
+// prediction method (--methods, default every built-in one; prediction_<method>.png: x, y and yaw over time, the
+// measured pose over the whole push and the method's prediction in every prediction phase, the intervals marked) and
+// all methods together (prediction_all.png). Writes the data (measured.csv, predictions.csv: mm and degrees), the
+// gnuplot scripts and, where gnuplot is installed, the PNGs; all or nothing (StagedOutput).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -70,7 +70,7 @@ int run_plot(const PlotArgs& a) {
   StagedOutput out(a.out);  // checks the destination before any work
   const SynchronisedPush push = load_push(a.file, a.shape);
   const PushStudy study = run_prediction_study(push, options);
-  const std::vector<std::string>& names = prediction_method_names();
+  const std::vector<std::string>& names = study.methods;  // --methods, in its order
   write_text_atomically(out.path("measured.csv"), measured_csv(push));
   write_text_atomically(out.path("predictions.csv"), predictions_csv(study));
   const std::string file = std::filesystem::path(a.file).filename().string();
@@ -109,7 +109,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("file", args->file, "Recording (.h5 or .json)")->required();
   sub->add_option("--out", args->out, "Output folder")->required();
   sub->add_option("--shape", args->shape, "Object shape, for files whose name does not carry it");
-  args->study.add_to(*sub);
+  args->study.methods_note = ", one PNG each";
+  args->study.add_to(*sub, {2, true, true, true, true});
   sub->callback([args, &run] { run = [args] { return run_plot(*args); }; });
 });
 

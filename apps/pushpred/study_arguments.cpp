@@ -21,7 +21,10 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
   if (flags.methods) {
     std::string names;
     for (const auto& n : predictor_names()) names += (names.empty() ? "" : ", ") + n;
-    sub.add_option("--methods", methods, "Prediction methods, comma-separated (default: all built-in): " + names);
+    // A subcommand whose tables are about some methods only (compare) presets `methods` before calling add_to.
+    sub.add_option("--methods", methods,
+                   "Prediction methods, comma-separated (default: " + (methods.empty() ? "all built-in" : methods) +
+                       ")" + methods_note + ": " + names);
   }
   if (flags.mu)
     sub.add_option("--mu", mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")

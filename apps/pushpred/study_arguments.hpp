@@ -15,7 +15,8 @@ struct StudyArguments {
   std::string observer = "dob";
   std::string estimator = "rls";
   double mu = -1.0;  ///< < 0: from the surface table
-  std::string methods;  ///< comma-separated prediction method names; empty: the built-ins
+  std::string methods;  ///< comma-separated prediction method names; empty: the built-ins (a subcommand may preset it)
+  std::string methods_note;  ///< what a subcommand adds to the --methods help (e.g. the methods it always runs)
 
   /// Which of the optional flags a subcommand offers.
   struct Flags {

@@ -25,13 +25,15 @@ EstimatorComparison two_estimators() {
   c.reference = "rls";
   c.options.schedule.intervals = 4;
   c.options.plan_rate_hz = 10;
+  c.methods = {"dob", "dob_velinit"};
   EstimatorComparisonRow rls;
   rls.estimator = "rls";
   rls.pushes = 3;
   rls.beta_mean = {0.5, -0.25, 0.125};
   rls.eps_mean = {1.5, -2.0, 0.00125};
-  rls.dob.x_mm_mean = 1.234, rls.dob.y_mm_mean = 2.5, rls.dob.theta_deg_mean = 0.75;
-  rls.dob_velinit.x_mm_mean = 0.5, rls.dob_velinit.y_mm_mean = 0.25;
+  rls.errors["dob"].x_mm_mean = 1.234, rls.errors["dob"].y_mm_mean = 2.5, rls.errors["dob"].theta_deg_mean = 0.75;
+  rls.errors["dob_velinit"].x_mm_mean = 0.5, rls.errors["dob_velinit"].y_mm_mean = 0.25;
+  rls.errors["dob_velinit"].theta_deg_mean = 0.125;
   rls.fit_seconds = 2.0;
   EstimatorComparisonRow huber = rls;
   huber.estimator = "huber";
@@ -53,12 +55,17 @@ BOOST_AUTO_TEST_CASE(each_row_holds_the_hand_made_numbers_and_the_time_ratio_to_
   BOOST_TEST(md.rfind("# Relation estimators compared\n\n3 pushes, 4 intervals over the whole span, observer `dob`, "
                       "planned force at 10 Hz.",
                       0) == 0u);
-  BOOST_TEST(line_starting(md, "| rls |") ==
-             "| rls | 0.5000 | -0.2500 | 0.1250 | 1.5000 | -2.0000 | 0.00125 | 0.00e+00 | 0.00e+00 | 1.23 / 2.50 | 0.75 "
-             "| 0.50 / 0.25 | 1.00 |");
+  BOOST_TEST(
+      line_starting(md, "| rls |") ==
+      "| rls | 0.5000 | -0.2500 | 0.1250 | 1.5000 | -2.0000 | 0.00125 | 0.00e+00 | 0.00e+00 | 1.23 / 2.50 | 0.75 "
+      "| 0.50 / 0.25 | 0.12 | 1.00 |");
   BOOST_TEST(line_starting(md, "| huber |") ==
              "| huber | 0.5000 | -0.2500 | 0.1250 | 1.5000 | -2.0000 | 0.00125 | 2.50e-02 | 3.00e-04 | 1.23 / 2.50 | "
-             "0.75 | 0.50 / 0.25 | 2.50 |");
+             "0.75 | 0.50 / 0.25 | 0.12 | 2.50 |");
+  BOOST_TEST(md.find("per prediction method (`dob`, `dob_velinit`)") != std::string::npos);
+  BOOST_TEST(line_starting(md, "| estimator |")
+                 .find("| dob yaw err [deg] | dob_velinit pos err x/y [mm] | "
+                       "dob_velinit yaw err [deg] | fit time ratio |") != std::string::npos);
   BOOST_TEST(md.find("## Pushes left out\n\n- `bad.h5`: array 'tip_pose' is missing\n") != std::string::npos);
 }
 
@@ -67,10 +74,27 @@ BOOST_AUTO_TEST_CASE(the_header_has_one_column_per_cell) {
   const auto cells = [](const std::string& line) { return std::count(line.begin(), line.end(), '|'); };
   const std::string header = line_starting(md, "| estimator |");
   BOOST_REQUIRE(!header.empty());
-  // "max |dbeta|" and "max |deps|" hold two bars each inside their names: 14 separators + 4.
-  BOOST_TEST(cells(header) == 18);
-  BOOST_TEST(cells(line_starting(md, "|---")) == 14);
-  BOOST_TEST(cells(line_starting(md, "| huber |")) == 14);
+  // "max |dbeta|" and "max |deps|" hold two bars each inside their names: 15 separators + 4.
+  BOOST_TEST(cells(header) == 19);
+  BOOST_TEST(cells(line_starting(md, "|---")) == 15);
+  BOOST_TEST(cells(line_starting(md, "| huber |")) == 15);
+}
+
+BOOST_AUTO_TEST_CASE(each_method_chosen_adds_its_two_error_columns) {
+  EstimatorComparison c = two_estimators();
+  c.methods.push_back("hold");
+  for (auto& row : c.rows) row.errors["hold"].x_mm_mean = 4.0, row.errors["hold"].y_mm_mean = 3.0;
+  const std::string md = comparison_markdown(c);
+  const auto cells = [](const std::string& line) { return std::count(line.begin(), line.end(), '|'); };
+  BOOST_TEST(cells(line_starting(md, "|---")) == 17);
+  BOOST_TEST(line_starting(md, "| estimator |").find("| hold pos err x/y [mm] | hold yaw err [deg] | fit time") !=
+             std::string::npos);
+  BOOST_TEST(line_starting(md, "| rls |").find("| 0.50 / 0.25 | 0.12 | 4.00 / 3.00 | 0.00 | 1.00 |") !=
+             std::string::npos);
+  // A row without errors for a method (no pushes) shows dashes, not a number.
+  c.rows[1].errors.clear();
+  BOOST_TEST(line_starting(comparison_markdown(c), "| huber |").find("| - | - | - | - | - | - | 2.50 |") !=
+             std::string::npos);
 }
 
 BOOST_AUTO_TEST_CASE(without_rows_no_ratio_is_invented) {

@@ -54,6 +54,27 @@ RelationParameters RelationEstimator::parameters() const {
   return current_parameters();
 }
 
+ParameterEstimate RelationEstimator::current_estimate() const { return as_parameter_estimate(current_parameters()); }
+
+ParameterEstimate as_parameter_estimate(const RelationParameters& relation) {
+  ParameterEstimate e;
+  e.estimator = relation.estimator;
+  e.value = Eigen::VectorXd::Zero(6);
+  e.covariance = Eigen::MatrixXd::Zero(6, 6);
+  static const char* const force_units[3] = {"N", "N", "N m"};
+  for (int c = 0; c < 3; ++c) {
+    const std::string channel = relation_channel_name(c);
+    e.names.insert(e.names.end(), {"beta_" + channel, "eps_" + channel});
+    e.units.insert(e.units.end(), {"", force_units[c]});
+    e.value.segment<2>(2 * c) << relation.beta(c), relation.eps(c);
+    e.covariance.block<2, 2>(2 * c, 2 * c) = relation.covariance[static_cast<std::size_t>(c)];
+  }
+  e.sources.assign(6, "identified");
+  e.samples = relation.samples;
+  e.intervals = relation.intervals;
+  return e;
+}
+
 bool relation_identifiable(const Eigen::Matrix2d& a) {
   const double det = a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0);
   return std::isfinite(det) && det > kMinRelativeExcitation * a(0, 0) * a(1, 1);

@@ -8,13 +8,15 @@
 // beta is dimensionless, eps is in the channel's unit (N, N, N m). An estimator is fed the identification
 // intervals one after another (add_interval) and can be asked for the current parameters and their covariance
 // at any point. Apps choose one by name through make_relation_estimator(); docs/estimators.md explains how the
-// estimators differ and how to choose.
+// estimators differ and how to choose. Every relation estimator is also an OnlineParameterEstimator
+// (online_parameter_estimator.hpp), the interface it shares with the quasi-static model's identification.
 #include <Eigen/Core>
 #include <array>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "pushpred/estimators/online_parameter_estimator.hpp"
 #include "pushpred/observers/disturbance_estimator.hpp"
 
 namespace pushpred {
@@ -40,29 +42,26 @@ struct RelationParameters {
   Eigen::Vector3d eps_std() const;   ///< sqrt of the covariances' (1, 1) entries
 };
 
-/// The common interface. add_interval checks its input (same row count, at least one row, finite values;
-/// InputError otherwise) before the estimator sees it.
-class RelationEstimator {
+/// The relation estimators' interface. add_interval checks its input (same row count, at least one row, finite
+/// values; InputError otherwise) before the estimator sees it. Through OnlineParameterEstimator, an interval is
+/// the observer's output on it, and estimate() holds the six parameters beta_x, eps_x, beta_y, eps_y,
+/// beta_rotation, eps_rotation (as_parameter_estimate).
+class RelationEstimator : public OnlineParameterEstimator {
  public:
-  virtual ~RelationEstimator() = default;
-
-  virtual std::string name() const = 0;
-
   /// Feeds one identification interval: u and d_hat are n x 3, one row per sample, channels as above.
   void add_interval(const Eigen::Ref<const Eigen::MatrixX3d>& u, const Eigen::Ref<const Eigen::MatrixX3d>& d_hat);
   /// Feeds an observer's output over one identification interval (its u and d_hat).
   void add_interval(const DisturbanceEstimate& estimate) { add_interval(estimate.u, estimate.d_hat); }
+  /// The common interface's interval: its observer output (the relation reads nothing else of the push).
+  void add_interval(const IdentificationInterval& interval) override { add_interval(interval.observer_output); }
 
-  /// Empty when parameters() can be asked; otherwise why not (e.g. the input has been constant so far, so
-  /// beta cannot be told apart from eps).
-  virtual std::string not_ready_reason() const = 0;
-  bool ready() const { return not_ready_reason().empty(); }
+  // not_ready_reason() (OnlineParameterEstimator) is empty when parameters() can be asked; otherwise why not (e.g.
+  // the input has been constant so far, so beta cannot be told apart from eps). reset() forgets every interval
+  // fed so far; the options stay.
 
   /// The current parameters; throws InputError "NAME: not ready: REASON" when not ready().
   RelationParameters parameters() const;
 
-  /// Forgets every interval fed so far; the options stay.
-  virtual void reset() = 0;
   virtual std::unique_ptr<RelationEstimator> clone() const = 0;
 
  protected:
@@ -71,7 +70,13 @@ class RelationEstimator {
                                     const Eigen::Ref<const Eigen::MatrixX3d>& d_hat) = 0;
   /// Called only when ready().
   virtual RelationParameters current_parameters() const = 0;
+  ParameterEstimate current_estimate() const override;
 };
+
+/// The relation as the common interface's estimate: parameters beta_c, eps_c per channel c (x, y, rotation), units
+/// "", N, "", N, "", N m; the covariance is block diagonal, one (beta_c, eps_c) block per channel (the channels are
+/// fitted apart, and RelationParameters keeps no covariance between them); every source "identified".
+ParameterEstimate as_parameter_estimate(const RelationParameters& relation);
 
 /// Names accepted by make_relation_estimator: "rls", "rls_forget", "batch", "batch_huber", "batch_cauchy",
 /// "batch_joint", "batch_joint_huber", "batch_joint_cauchy".

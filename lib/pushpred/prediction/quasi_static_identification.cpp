@@ -179,6 +179,37 @@ QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_
   return o;
 }
 
+namespace {
+
+/// The fit's covariance of (mu_p, c, mu_s): `standard_deviation` squared on the diagonal (as the fit reported it),
+/// and off it the covariances Ceres computes at the optimum between the blocks that are not `fixed`, with `options`
+/// (those the fit's own standard deviations came from). A separate computation, so that the standard deviations the
+/// fit reported stay exactly what they were; zero off the diagonal where it cannot be computed.
+Eigen::Matrix3d fit_covariance_of(ceres::Problem& problem, double* const blocks[3], const bool fixed[3],
+                                  const Eigen::Vector3d& standard_deviation, const ceres::Covariance::Options& options) {
+  Eigen::Matrix3d covariance = standard_deviation.cwiseAbs2().asDiagonal();
+  std::vector<std::pair<const double*, const double*>> pairs;
+  std::vector<std::pair<int, int>> indices;
+  for (int p = 0; p < 3; ++p)
+    for (int q = p + 1; q < 3; ++q)
+      if (!fixed[p] && !fixed[q]) {
+        pairs.emplace_back(blocks[p], blocks[q]);
+        indices.emplace_back(p, q);
+      }
+  if (pairs.empty()) return covariance;
+  ceres::Covariance off_diagonal(options);
+  if (!off_diagonal.Compute(pairs, &problem)) return covariance;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    double value = 0;
+    off_diagonal.GetCovarianceBlock(pairs[k].first, pairs[k].second, &value);
+    const auto [p, q] = indices[k];
+    covariance(p, q) = covariance(q, p) = value;
+  }
+  return covariance;
+}
+
+}  // namespace
+
 QuasiStaticEstimator::QuasiStaticEstimator(QuasiStaticIdentificationOptions options) : options_(std::move(options)) {
   if (!(options_.difference_half_window_s > 0) || !(options_.velocity_noise_m_s > 0) || !(options_.force_noise_N > 0) ||
       !(options_.min_tip_speed_m_s >= 0) || !(options_.min_object_speed_m_s >= 0) || options_.min_samples < 1)
@@ -251,6 +282,44 @@ void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
     s.torque_about_centre_Nm = push.torque_about_centre_Nm(i);
     samples_.push_back(s);
   }
+}
+
+void QuasiStaticEstimator::reset() {
+  push_ = nullptr;
+  outline_ = nullptr;
+  samples_.clear();
+  gaps_m_.clear();
+  intervals_ = 0;
+}
+
+void QuasiStaticEstimator::add_interval(const IdentificationInterval& interval) {
+  if (!push_) reset(interval.push);
+  // The estimator keeps a pointer to its push (the samples and the outline are of that push), so one push at a time.
+  if (push_ != &interval.push)
+    throw InputError(about(interval.push.source, "quasi-static identification: an interval of another push than " +
+                                                     push_->source + "; reset() before identifying a new push"));
+  add_interval(interval.interval);
+}
+
+std::string QuasiStaticEstimator::not_ready_reason() const {
+  return push_ ? "" : "no push yet: feed an interval of one (or reset(push))";
+}
+
+ParameterEstimate QuasiStaticEstimator::current_estimate() const {
+  const QuasiStaticIdentification id = identify();
+  ParameterEstimate e;
+  e.estimator = name();
+  for (const char* n : QuasiStaticIdentification::names()) e.names.emplace_back(n);
+  e.units = {"", "m", "", "m"};
+  e.value = Eigen::Vector4d(id.parameters.pusher_friction, id.parameters.torque_ratio_m, id.parameters.support_friction,
+                            id.parameters.contact_offset_m);
+  e.covariance = Eigen::MatrixXd::Zero(4, 4);
+  e.covariance.topLeftCorner<3, 3>() = id.fit_covariance;
+  e.covariance(3, 3) = id.std(3) * id.std(3);
+  e.sources.assign(id.sources.begin(), id.sources.end());
+  e.samples = id.kinematic_samples;
+  e.intervals = id.intervals;
+  return e;
 }
 
 QuasiStaticIdentification QuasiStaticEstimator::identify() const {
@@ -376,6 +445,12 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
         id.sources[k] = "identified";
       }
     }
+    if (have_covariance) {
+      const bool none_fixed[3] = {false, false, false};
+      id.fit_covariance = fit_covariance_of(problem, theta, none_fixed, id.std.head<3>(), co);
+    } else {
+      id.fit_covariance = id.std.head<3>().cwiseAbs2().asDiagonal();
+    }
     id.parameters.pusher_friction = mu_p;
     id.parameters.torque_ratio_m = c;
     id.parameters.support_friction = mu_s;
@@ -473,6 +548,11 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
     id.std(p) = fixed[p] ? 0.0 : stdev(p);
     id.sources[static_cast<size_t>(p)] = fixed[p] ? reason[p] : "identified";
   }
+  ceres::Covariance::Options co;  // as the loop's
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.null_space_rank = 0;
+  co.min_reciprocal_condition_number = 1e-14;
+  id.fit_covariance = fit_covariance_of(problem, blocks, fixed, id.std.head<3>(), co);
   count_sliding();
   return id;
 }

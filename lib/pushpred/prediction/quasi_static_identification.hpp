@@ -16,15 +16,19 @@
 //     prior, per parameter: (theta - theta_default) / sigma_prior (QuasiStaticIdentificationOptions::use_prior).
 //   Optionally (prior_centre_offset_std_m > 0) the fit also estimates delta, the CoF's offset from the shape table's
 //   centroid (body frame): the pressure under a real object need not centre on its tracked centre.
-// - Covariance: Ceres' covariance of (mu_p, c, mu_s). With the prior, a parameter whose posterior standard deviation
-//   stays near its prior's is reported as "default: ..." (the data add little; e.g. every contact sample stuck, so
-//   mu_p is only bounded below) with the posterior's value and std. Without the prior, a parameter is determined when
-//   its Jacobian column is not negligible and its standard deviation is below half its value; otherwise it is fixed
-//   at its default, std 0, and `sources` says why.
+// - Covariance: Ceres' covariance of (mu_p, c, mu_s) (QuasiStaticIdentification::fit_covariance). With the prior,
+//   a parameter whose posterior standard deviation stays near its prior's is reported as "default: ..." (the data
+//   add little; e.g. every contact sample stuck, so mu_p is only bounded below) with the posterior's value and std.
+//   Without the prior, a parameter is determined when its Jacobian column is not negligible and its standard deviation
+//   is below half its value; otherwise it is fixed at its default, std 0, and `sources` says why.
 // - The contact offset: the rod-outline distance measured at the phase's start when the sensor reports contact
 //   there; else the median over the identified contact samples (zero without any), lowered if need be so that the
 //   rod does not start inside the outline: the model starts the phase in contact exactly when the data do.
 // - Samples within `contact_settling_s` of a contact's onset are left out (the object accelerates from rest).
+// QuasiStaticEstimator is an OnlineParameterEstimator (estimators/online_parameter_estimator.hpp), the interface it
+// shares with the relation estimators: its estimate() holds pusher_friction [-], torque_ratio_m [m],
+// support_friction [-] and contact_offset_m [m], with fit_covariance and the contact offset's variance (the offset
+// is measured apart from the fit, so uncorrelated with it).
 //
 // Physical defaults (not fitted to any data set): mu_p 0.25 (steel on steel), mu_s 0.3 (steel on ABS), c the
 // uniform-pressure value of the footprint (uniform_pressure_torque_ratio), or 0.94 sqrt(I / m) where the outline is
@@ -35,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "pushpred/estimators/online_parameter_estimator.hpp"
 #include "pushpred/prediction/quasi_static_pushing.hpp"
 #include "pushpred/prediction/schedule.hpp"
 
@@ -69,6 +74,9 @@ struct QuasiStaticIdentification {
   QuasiStaticParameters parameters;
   /// Standard deviations of mu_p, c [m], mu_s, contact offset [m] (0 for a default).
   Eigen::Vector4d std = Eigen::Vector4d::Zero();
+  /// Covariance of (mu_p, c [m], mu_s) from the fit: its diagonal is std(0..2)^2, the correlations are Ceres' (zero
+  /// where the covariance could not be computed, and for a parameter held at its default by the plain fit).
+  Eigen::Matrix3d fit_covariance = Eigen::Matrix3d::Zero();
   /// Per parameter (mu_p, c, mu_s, contact offset): "identified" or "default: REASON".
   std::array<std::string, 4> sources;
   /// The CoF's identified offset from the shape table's centroid, body frame [m] (zero unless identified).
@@ -93,10 +101,10 @@ std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush
 QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_ptr<const ContactOutline> outline);
 
 /// Identifies the model online: feed the measured intervals one after another, ask for the parameters at any time.
-class QuasiStaticEstimator {
+class QuasiStaticEstimator final : public OnlineParameterEstimator {
  public:
   explicit QuasiStaticEstimator(QuasiStaticIdentificationOptions options = {});
-  std::string name() const { return "quasi_static"; }
+  std::string name() const override { return "quasi_static"; }
   /// Starts over on a new push (the outline and defaults come from it).
   void reset(const SynchronisedPush& push);
   /// Adds the samples of `interval` of the push given to reset (InputError for an interval outside it).
@@ -105,6 +113,18 @@ class QuasiStaticEstimator {
   /// samples (predict_quasi_static_phase replaces it by the one measured at the phase's start). Never throws for
   /// lack of data: parameters without information keep their defaults, and say so.
   QuasiStaticIdentification identify() const;
+
+  // The common interface (online_parameter_estimator.hpp).
+  /// Forgets the push and its intervals; the next interval's push is the one identified.
+  void reset() override;
+  /// The first interval after reset() starts on its push (as reset(push)); an interval of another push before the
+  /// next reset() is an InputError. Only the push is read, not the observer's output.
+  void add_interval(const IdentificationInterval& interval) override;
+  /// Ready once it has a push: from then on every parameter has a value (its default until the data inform it).
+  std::string not_ready_reason() const override;
+
+ protected:
+  ParameterEstimate current_estimate() const override;
 
  private:
   struct Sample {

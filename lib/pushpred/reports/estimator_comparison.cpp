@@ -6,9 +6,15 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/prediction/predictor.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 
 namespace pushpred {
+
+const std::vector<std::string>& default_comparison_methods() {
+  static const std::vector<std::string> methods{"dob", "dob_velinit"};
+  return methods;
+}
 
 EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, const std::vector<std::string>& estimators,
                                        const StudyOptions& options, const std::string& shape_override, int jobs) {
@@ -17,6 +23,10 @@ EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, c
   EstimatorComparison c;
   c.reference = estimators.front();
   c.options = options;
+  // Only the methods reported are run: each predicts on its own, so the others would change no number here.
+  if (c.options.methods.empty()) c.options.methods = default_comparison_methods();
+  for (const auto& name : c.options.methods) make_predictor(name);  // unknown names fail before any work
+  c.methods = c.options.methods;
   // One batch item per push: the studies of every estimator on it.
   const auto files = expand_inputs(inputs);
   BatchProgress progress("compare", "pushes", files.size(), jobs > 0);
@@ -24,7 +34,7 @@ EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, c
     const SynchronisedPush push = load_push(path, shape_override);
     std::vector<PushStudy> studies;
     for (const auto& name : estimators) {
-      StudyOptions o = options;
+      StudyOptions o = c.options;
       o.estimator = name;
       studies.push_back(run_prediction_study(push, o));
     }
@@ -52,8 +62,7 @@ EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, c
       row.beta_mean /= row.pushes;
       row.eps_mean /= row.pushes;
       const auto agg = aggregate_errors(studies);
-      row.dob = agg.at("dob");
-      row.dob_velinit = agg.at("dob_velinit");
+      for (const auto& method : c.methods) row.errors[method] = agg.at(method);
     }
     c.rows.push_back(row);
   }
@@ -67,23 +76,38 @@ std::string comparison_markdown(const EstimatorComparison& c) {
   std::snprintf(line, sizeof line,
                 "# Relation estimators compared\n\n%d pushes, %d intervals over the %s span, observer `%s`, planned "
                 "force at %.3g Hz. Parameters are those of the last prediction phase (identified on all earlier "
-                "intervals); differences are against `%s`, worst push. Errors average all phases of all pushes. Fit "
-                "time is the time spent in the estimator, as a ratio to `%s` measured in the same run.\n\n",
+                "intervals); differences are against `%s`, worst push. Errors average all phases of all pushes, per "
+                "prediction method (",
                 pushes, c.options.schedule.intervals, schedule_span_name(c.options.schedule.span),
-                c.options.observer.c_str(), c.options.plan_rate_hz, c.reference.c_str(), c.reference.c_str());
+                c.options.observer.c_str(), c.options.plan_rate_hz, c.reference.c_str());
   out += line;
-  out += "| estimator | beta x | beta y | beta rot | eps x [N] | eps y [N] | eps rot [N m] | max |dbeta| | max |deps| | "
-         "dob pos err x/y [mm] | dob yaw err [deg] | dob_velinit pos err x/y [mm] | fit time ratio |\n";
-  out += "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < c.methods.size(); ++k) out += (k == 0 ? "`" : ", `") + c.methods[k] + "`";
+  if (c.methods.empty()) out += "none";
+  out += "). Fit time is the time spent in the estimator, as a ratio to `" + c.reference +
+         "` measured in the same run.\n\n";
+  out +=
+      "| estimator | beta x | beta y | beta rot | eps x [N] | eps y [N] | eps rot [N m] | max |dbeta| | max |deps| | ";
+  for (const auto& m : c.methods) out += m + " pos err x/y [mm] | " + m + " yaw err [deg] | ";
+  out += "fit time ratio |\n|---|---|---|---|---|---|---|---|---|";
+  for (std::size_t k = 0; k < c.methods.size(); ++k) out += "---|---|";
+  out += "---|\n";
   const double ref_time = c.rows.empty() ? 0 : c.rows.front().fit_seconds;
   for (const auto& r : c.rows) {
-    std::snprintf(line, sizeof line,
-                  "| %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.5f | %.2e | %.2e | %.2f / %.2f | %.2f | %.2f / %.2f | "
-                  "%.2f |\n",
+    std::snprintf(line, sizeof line, "| %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.5f | %.2e | %.2e |",
                   r.estimator.c_str(), r.beta_mean(0), r.beta_mean(1), r.beta_mean(2), r.eps_mean(0), r.eps_mean(1),
-                  r.eps_mean(2), r.beta_max_abs_diff.maxCoeff(), r.eps_max_abs_diff.maxCoeff(), r.dob.x_mm_mean,
-                  r.dob.y_mm_mean, r.dob.theta_deg_mean, r.dob_velinit.x_mm_mean, r.dob_velinit.y_mm_mean,
-                  ref_time > 0 ? r.fit_seconds / ref_time : NAN);
+                  r.eps_mean(2), r.beta_max_abs_diff.maxCoeff(), r.eps_max_abs_diff.maxCoeff());
+    out += line;
+    for (const auto& m : c.methods) {
+      const auto e = r.errors.find(m);
+      if (e == r.errors.end()) {
+        out += " - | - |";  // a row without pushes has no errors
+        continue;
+      }
+      std::snprintf(line, sizeof line, " %.2f / %.2f | %.2f |", e->second.x_mm_mean, e->second.y_mm_mean,
+                    e->second.theta_deg_mean);
+      out += line;
+    }
+    std::snprintf(line, sizeof line, " %.2f |\n", ref_time > 0 ? r.fit_seconds / ref_time : NAN);
     out += line;
   }
   if (!c.failures.empty()) {

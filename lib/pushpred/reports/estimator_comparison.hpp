@@ -1,7 +1,9 @@
 #pragma once
 // `pushpred compare`: the relation estimators side by side on the same pushes (same observer output, same
-// schedule): fitted parameters, how far each lies from the reference (RLS), prediction errors of the `dob`
-// methods, and the time spent fitting, as a ratio to the reference measured in the same run.
+// schedule): fitted parameters, how far each lies from the reference (RLS), prediction errors of the chosen
+// methods (StudyOptions::methods; by default `dob` and `dob_velinit`, the methods that use the fitted relation), and
+// the time spent fitting, as a ratio to the reference measured in the same run.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -16,7 +18,7 @@ struct EstimatorComparisonRow {
   Eigen::Vector3d beta_mean = Eigen::Vector3d::Zero(), eps_mean = Eigen::Vector3d::Zero();  ///< last phase, over pushes
   Eigen::Vector3d beta_max_abs_diff = Eigen::Vector3d::Zero();  ///< vs the reference, last phase, worst push
   Eigen::Vector3d eps_max_abs_diff = Eigen::Vector3d::Zero();
-  PredictionErrors dob, dob_velinit;  ///< averaged over all phases of all pushes
+  std::map<std::string, PredictionErrors> errors;  ///< per method, averaged over all phases of all pushes
   double fit_seconds = 0;             ///< total over pushes
 };
 
@@ -25,10 +27,15 @@ struct EstimatorComparison {
   std::vector<EstimatorComparisonRow> rows;
   std::vector<BatchFailure> failures;
   StudyOptions options;
+  std::vector<std::string> methods;  ///< the methods whose errors each row holds, in report order
 };
 
-/// Runs the prediction study with each estimator on each input. A push that fails with any estimator is
-/// listed once among the failures and left out of every row, so that all rows cover the same pushes. `jobs` pushes
+/// The methods compare reports by default: the ones that use the relation the estimators fit.
+const std::vector<std::string>& default_comparison_methods();
+
+/// Runs the prediction study with each estimator on each input, with the methods of `options` (empty:
+/// default_comparison_methods(); InputError for an unknown name before any work). A push that fails with any estimator
+/// is listed once among the failures and left out of every row, so that all rows cover the same pushes. `jobs` pushes
 /// are studied in parallel (core/parallel_batch.hpp), with a progress report on stderr when it is given (> 0); the
 /// results do not depend on it.
 EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, const std::vector<std::string>& estimators,

@@ -60,6 +60,13 @@ double peak_tip_speed_m_s(const SynchronisedPush& p) {
 
 double mean_position_error(const PredictionErrors& e) { return 0.5 * (e.x_mm_mean + e.y_mm_mean); }
 
+/// "`a`, `b`, `c`".
+std::string method_list(const std::vector<std::string>& methods) {
+  std::string out;
+  for (const auto& m : methods) out += (out.empty() ? "`" : ", `") + m + "`";
+  return out;
+}
+
 /// Mean over the phases of a study.
 PredictionErrors phase_mean(const PushStudy& s, const std::string& method) {
   return aggregate_errors({s}).at(method);
@@ -114,6 +121,13 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
   std::vector<SynchronisedPush> pushes;
   for (int n = 1; n <= 6; ++n) pushes.push_back(load_case(n, o, out, log));
   StudyOptions study_options = o.study;
+  // The paper's Table II and figures 7-9 compare its proposed method with its simple baseline: both always run,
+  // before the methods chosen (StudyOptions::methods, default every built-in one).
+  if (study_options.methods.empty()) study_options.methods = prediction_method_names();
+  for (const char* paper_method : {"simple", "dob"})
+    if (std::find(study_options.methods.begin(), study_options.methods.end(), paper_method) ==
+        study_options.methods.end())
+      study_options.methods.insert(study_options.methods.begin(), paper_method);
   for (int n = 1; n <= 6; ++n) {
     StudyOptions so = study_options;
     if (so.friction_coefficient < 0) so.friction_coefficient = surface_friction_coefficient("abs");
@@ -126,7 +140,9 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
      << " equal intervals over the **" << schedule_span_name(study_options.schedule.span)
      << "** span of each recording, identification on the first, then alternating; planned force sampled at "
      << study_options.plan_rate_hz << " Hz and held; observer `" << study_options.observer << "`, relation estimator `"
-     << study_options.estimator << "`; the simple algorithm uses mu = 0.14 on abs.\n\n";
+     << study_options.estimator
+     << "`; the simple algorithm uses mu = 0.14 on abs. Prediction methods: " << method_list(study_options.methods)
+     << ".\n\n";
   if (simulated)
     md << "**The six rect2 cases are simulated.** The paper's rect2 recordings are not among the real files in the "
           "data folder, so each case of its Table I is simulated from `data/paper/case<n>.json` (`pushpred simulate "
