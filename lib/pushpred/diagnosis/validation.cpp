@@ -219,40 +219,43 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     const double sign = kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch"
                             ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
                             : 1.0;
-    double size = std::isfinite(trial.floor) ? trial.floor_multiple * trial.floor : kMaxStribeckExcess;
+    // The simulator's amount for a size in the diagnosis's measure (|factor - 1| for the mass).
+    const auto simulator_amount = [&](double size) { return kind == "inertia_mismatch" ? 1 + sign * size : sign * size; };
     // A mass factor of 0.5 at the least and 4 at the most: inside the diagnosis's plausible range (0.2-5), where the
-    // floor is large (an object that hardly accelerates) the drawn multiple of the floor is then smaller.
-    if (kind == "inertia_mismatch") size = std::min(size, sign < 0 ? 0.5 : 3.0);
-    // Friction at rest at most twice the sliding friction (a Stribeck excess of 1): where the pushes spend too
-    // little time at low speed for the term to matter below that (its floor above 0.5), the drawn multiple is
-    // smaller, below 2 floors or below 1, and the trial is not one the detection target counts.
-    if (kind == "stribeck_friction") size = std::min(size, kMaxStribeckExcess);
-    // A friction law changes how the object slides, and with it the speeds and the travel its floor is measured
-    // on: Stribeck friction turns slow sliding into stick-slip, so the pushes that carry it spend less time sliding
-    // slowly than the clean ones. The floor the diagnosis states is the one on the data it is given, so the
-    // amount is set to the drawn multiple of the floor measured on the pushes with the effect (a fixed point, a
-    // few rounds; the last floor is the trial's).
-    if (kind == "viscous_friction" || kind == "stribeck_friction" || kind == "position_friction") {
+    // floor is large (an object that hardly accelerates) the drawn multiple of the floor is then smaller. Friction at
+    // rest at most twice the sliding friction (a Stribeck excess of 1): where the pushes spend too little time at low
+    // speed for the term to matter below that, the drawn multiple is smaller, below 2 floors or below 1, and the
+    // trial is not one the detection target counts.
+    const auto capped = [&](double size) {
+      if (kind == "inertia_mismatch") return std::min(size, sign < 0 ? 0.5 : 3.0);
+      if (kind == "stribeck_friction") return std::min(size, kMaxStribeckExcess);
+      return size;
+    };
+    double size = capped(std::isfinite(trial.floor) ? trial.floor_multiple * trial.floor : kMaxStribeckExcess);
+    // A friction law or a wrong mass changes how the object moves, and with it the speeds, accelerations and travel
+    // its floor is measured on: Stribeck friction turns slow sliding into stick-slip, so the pushes that carry it
+    // spend less time sliding slowly than the clean ones; a heavier object accelerates less. The floor the diagnosis
+    // states is the one on the data it is given, so the amount is set to the drawn multiple of the floor measured
+    // on the pushes with the effect (a fixed point, a few rounds; the trial's floor is the one at the final amount).
+    if (kind == "viscous_friction" || kind == "stribeck_friction" || kind == "position_friction" ||
+        kind == "inertia_mismatch") {
       const auto floor_at = [&](double amount) {
         std::vector<PushScenario> with = out;
-        for (auto& s : with) s.effects.set(kind, sign * amount);
+        for (auto& s : with) s.effects.set(kind, simulator_amount(amount));
         return measured_simulator_floor(kind, with, o.diagnosis, trial.shape);
       };
       for (int round = 0; round < kFloorRounds; ++round) {
         const double floor = floor_at(size);
         if (!std::isfinite(floor)) break;
-        double next = trial.floor_multiple * floor;
-        if (kind == "stribeck_friction") next = std::min(next, kMaxStribeckExcess);
+        const double next = capped(trial.floor_multiple * floor);
         const bool settled = std::abs(next - size) <= 0.05 * size;
         size = next;
         if (settled) break;
       }
-      // The trial's floor is the one measured at the amount drawn, whether or not the rounds settled.
       trial.floor = floor_at(size);
-      trial.floor_multiple = size / trial.floor;
     }
-    trial.amount = kind == "inertia_mismatch" ? 1 + sign * size : sign * size;
-    if (kind == "inertia_mismatch") trial.floor_multiple = std::abs(trial.amount - 1) / trial.floor;
+    trial.amount = simulator_amount(size);
+    trial.floor_multiple = size / trial.floor;
     for (auto& s : out) s.effects.set(kind, trial.amount);
   }
   return out;
