@@ -3,7 +3,9 @@
 #include <sys/stat.h>
 
 #include <boost/test/unit_test.hpp>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 #include "pushpred/core/batch.hpp"
@@ -33,6 +35,23 @@ BOOST_AUTO_TEST_CASE(plain_text_keeps_valid_utf8_and_escapes_every_other_byte) {
 BOOST_AUTO_TEST_CASE(about_prefixes_the_source_when_there_is_one) {
   BOOST_TEST(about("f.h5", "array 'tip_pose' is missing") == "f.h5: array 'tip_pose' is missing");
   BOOST_TEST(about("", "no inputs") == "no inputs");
+}
+
+BOOST_AUTO_TEST_CASE(a_value_that_must_be_positive_and_finite_names_itself_and_what_it_got) {
+  BOOST_CHECK_NO_THROW(require_positive_finite(1e-300, "tiny"));
+  const auto message = [](double v) {
+    try {
+      require_positive_finite(v, "rod radius");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  BOOST_TEST(message(0.0) == "rod radius must be positive and finite, got 0");
+  BOOST_TEST(message(-2.5) == "rod radius must be positive and finite, got -2.5");
+  BOOST_TEST(message(std::numeric_limits<double>::infinity()) == "rod radius must be positive and finite, got inf");
+  BOOST_TEST(message(std::nan("")).find("rod radius must be positive and finite, got") == 0u);
+  BOOST_TEST(message(std::nan("")) != "no error");
 }
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -1,6 +1,7 @@
 #include "pushpred/core/error.hpp"
 
 #include <cstdio>
+#include <limits>
 
 namespace pushpred {
 namespace {
@@ -51,6 +52,13 @@ std::string plain_text(const std::string& text) {
     }
   }
   return out;
+}
+
+void require_positive_finite(double value, const std::string& what) {
+  if (value > 0 && value < std::numeric_limits<double>::infinity()) return;
+  char got[48];
+  std::snprintf(got, sizeof got, "%g", value);
+  throw InputError(what + " must be positive and finite, got " + got);
 }
 
 }  // namespace pushpred

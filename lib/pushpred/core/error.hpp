@@ -28,4 +28,7 @@ inline std::string about(const std::string& source, const std::string& what) {
   return source.empty() ? what : source + ": " + what;
 }
 
+/// Throws InputError "WHAT must be positive and finite, got VALUE" unless 0 < value < infinity (NaN fails).
+void require_positive_finite(double value, const std::string& what);
+
 }  // namespace pushpred

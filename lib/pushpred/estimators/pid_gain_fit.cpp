@@ -118,14 +118,6 @@ class PidTrackingResiduals {
   Eigen::Index samples_;
 };
 
-void require_positive_finite(double v, const std::string& what) {
-  if (!(v > 0) || !std::isfinite(v)) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, " (got %g)", v);
-    throw InputError("PID gain fit: " + what + " must be positive and finite" + buf);
-  }
-}
-
 /// Standard deviation of `v` about its least-squares line in `t`.
 double std_about_line(const Eigen::VectorXd& t, const Eigen::VectorXd& v) {
   const Eigen::Index n = v.size();
@@ -204,13 +196,13 @@ std::string fmt(const char* format, double v) {
 }  // namespace
 
 void RestNoiseOptions::validate() const {
-  require_positive_finite(reference_s, "the rest level's window [s]");
-  require_positive_finite(moved_m, "the rest's motion threshold [m]");
-  require_positive_finite(moved_rad, "the rest's rotation threshold [rad]");
-  require_positive_finite(force_change_N, "the rest's force threshold [N]");
+  require_positive_finite(reference_s, "PID gain fit: the rest level's window [s]");
+  require_positive_finite(moved_m, "PID gain fit: the rest's motion threshold [m]");
+  require_positive_finite(moved_rad, "PID gain fit: the rest's rotation threshold [rad]");
+  require_positive_finite(force_change_N, "PID gain fit: the rest's force threshold [N]");
   if (!(margin_s >= 0) || !std::isfinite(margin_s))
     throw InputError("PID gain fit: the rest's margin [s] must be finite and not negative");
-  require_positive_finite(min_rest_s, "the shortest rest [s]");
+  require_positive_finite(min_rest_s, "PID gain fit: the shortest rest [s]");
 }
 
 namespace {
@@ -312,11 +304,11 @@ ceres::Solver::Options default_pid_fit_solver_options() {
 }
 
 void PidGainFitOptions::validate() const {
-  require_positive_finite(roughness_weight, "the roughness weight lambda");
-  require_positive_finite(numeric_diff_relative_step, "the numeric-diff relative step");
+  require_positive_finite(roughness_weight, "PID gain fit: the roughness weight lambda");
+  require_positive_finite(numeric_diff_relative_step, "PID gain fit: the numeric-diff relative step");
   if (numeric_diff_relative_step >= 0.1)
     throw InputError("PID gain fit: the numeric-diff relative step must be below 0.1");
-  for (const double w : start_bandwidths_rad_s) require_positive_finite(w, "every start bandwidth [rad/s]");
+  for (const double w : start_bandwidths_rad_s) require_positive_finite(w, "PID gain fit: every start bandwidth [rad/s]");
   reconstruction.validate();
   std::string error;
   if (!solver.IsValid(&error)) throw InputError("PID gain fit: invalid Ceres solver options: " + error);
@@ -344,13 +336,12 @@ PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFit
         throw InputError(about(p.push.source, "PID gain fit: noise scales must be positive and finite"));
     }
     estimation_span(p.push, p.t_start_s, span_end(p), "PID gain fit");  // throws for a span without samples
-    const double m = options.reconstruction.mass_kg > 0 ? options.reconstruction.mass_kg : p.push.shape.mass_kg;
-    const double I =
-        options.reconstruction.inertia_kgm2 > 0 ? options.reconstruction.inertia_kgm2 : p.push.shape.inertia_kgm2;
-    if (!(m > 0) || !(I > 0))
-      throw InputError(about(p.push.source, "PID gain fit: shape '" + p.push.shape.name +
-                                                "' has no positive mass and moment of inertia"));
-    mean_inertia += Eigen::Vector3d(m, m, I) / static_cast<double>(pushes.size());
+    try {
+      mean_inertia += nominal_inertia(p.push.shape, options.reconstruction.mass_kg, options.reconstruction.inertia_kgm2) /
+                      static_cast<double>(pushes.size());
+    } catch (const InputError& e) {
+      throw InputError(about(p.push.source, std::string("PID gain fit: ") + e.what()));
+    }
   }
 
   ceres::NumericDiffOptions diff;
@@ -505,9 +496,7 @@ PidFitStudy run_pid_fit_study(const std::vector<PidFitPush>& pushes, const PidFi
   study.joint = fit_pid_gains(pushes, options.fit);
   for (const PidFitPush& p : pushes) {
     const auto& r = options.fit.reconstruction;
-    const double m = r.mass_kg > 0 ? r.mass_kg : p.push.shape.mass_kg;
-    const double I = r.inertia_kgm2 > 0 ? r.inertia_kgm2 : p.push.shape.inertia_kgm2;
-    study.mean_inertia += Eigen::Vector3d(m, m, I) / static_cast<double>(pushes.size());
+    study.mean_inertia += nominal_inertia(p.push.shape, r.mass_kg, r.inertia_kgm2) / static_cast<double>(pushes.size());
   }
   for (const PidFitPush& p : pushes) {
     PidFitPushResult r;

@@ -67,12 +67,11 @@ PidSetup set_up(const PidGains& gains, const PidReconstructionOptions& options, 
                 double t0, double t1) {
   PidSetup p;
   p.span = estimation_span(push, t0, t1, "PID force reconstruction");
-  const double m = options.mass_kg > 0 ? options.mass_kg : push.shape.mass_kg;
-  const double I = options.inertia_kgm2 > 0 ? options.inertia_kgm2 : push.shape.inertia_kgm2;
-  if (!(m > 0) || !(I > 0) || !std::isfinite(m) || !std::isfinite(I))
-    throw InputError(about(push.source, "PID force reconstruction: shape '" + push.shape.name +
-                                            "' has no positive mass and moment of inertia"));
-  p.M = Eigen::Vector3d(m, m, I);
+  try {
+    p.M = nominal_inertia(push.shape, options.mass_kg, options.inertia_kgm2);
+  } catch (const InputError& e) {
+    throw InputError(about(push.source, std::string("PID force reconstruction: ") + e.what()));
+  }
   const Eigen::Vector3d& M = p.M;
   const Eigen::Vector3d kp(gains.kp, gains.kp, gains.lp), ki(gains.ki, gains.ki, gains.li),
       kd(gains.kd, gains.kd, gains.ld);

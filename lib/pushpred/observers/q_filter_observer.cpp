@@ -12,14 +12,6 @@
 namespace pushpred {
 namespace {
 
-void require_positive(double v, const char* what) {
-  if (!(v > 0) || !std::isfinite(v)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "disturbance observer: %s must be positive and finite (got %g)", what, v);
-    throw InputError(buf);
-  }
-}
-
 // What both paths need: the span, the input signal [y - y0, u] and the initial state.
 struct Prepared {
   EstimationSpan span;
@@ -89,30 +81,26 @@ DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, 
 }  // namespace
 
 void QFilterObserverOptions::validate() const {
-  require_positive(zeta, "zeta");
-  require_positive(wn_rad_s, "wn [rad/s]");
+  require_positive_finite(zeta, "disturbance observer: zeta");
+  require_positive_finite(wn_rad_s, "disturbance observer: wn [rad/s]");
   if (!(mass_kg >= 0) || !std::isfinite(mass_kg))
     throw InputError("disturbance observer: nominal mass must be positive (or 0 for the shape's), got " +
                      std::to_string(mass_kg) + " kg");
   if (!(inertia_kgm2 >= 0) || !std::isfinite(inertia_kgm2))
     throw InputError("disturbance observer: nominal moment of inertia must be positive (or 0 for the shape's), got " +
                      std::to_string(inertia_kgm2) + " kg m^2");
-  require_positive(velocity_window_s, "initial-velocity window [s]");
+  require_positive_finite(velocity_window_s, "disturbance observer: initial-velocity window [s]");
   integrator.validate();
 }
 
 QFilterObserver::QFilterObserver(QFilterObserverOptions options) : options_(std::move(options)) { options_.validate(); }
 
 Eigen::Vector3d QFilterObserver::nominal_inertia(const ShapeInfo& shape) const {
-  const double m = options_.mass_kg > 0 ? options_.mass_kg : shape.mass_kg;
-  const double I = options_.inertia_kgm2 > 0 ? options_.inertia_kgm2 : shape.inertia_kgm2;
-  require_positive(m, ("mass of shape '" + shape.name + "' [kg]").c_str());
-  require_positive(I, ("moment of inertia of shape '" + shape.name + "' [kg m^2]").c_str());
-  return {m, m, I};
+  return pushpred::nominal_inertia(shape, options_.mass_kg, options_.inertia_kgm2);
 }
 
 QFilterObserverModel QFilterObserver::model(const Eigen::Vector3d& inertia) const {
-  for (int c = 0; c < 3; ++c) require_positive(inertia(c), "nominal mass or inertia");
+  for (int c = 0; c < 3; ++c) require_positive_finite(inertia(c), "disturbance observer: nominal mass or inertia");
   const double wn2 = options_.wn_rad_s * options_.wn_rad_s, two_zeta_wn = 2 * options_.zeta * options_.wn_rad_s;
   QFilterObserverModel m;
   m.inertia = inertia;

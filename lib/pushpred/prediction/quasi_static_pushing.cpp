@@ -12,12 +12,6 @@ namespace {
 
 Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
-void require_positive(double v, const char* what) {
-  if (!(v > 0) || !std::isfinite(v))
-    throw InputError(std::string("quasi-static model: ") + what + " must be positive and finite, got " +
-                     std::to_string(v));
-}
-
 class ShapeOutline final : public ContactOutline {
  public:
   explicit ShapeOutline(const ShapeInfo& shape) : outline_(shape) {}
@@ -63,16 +57,16 @@ class CircularEdge final : public ContactOutline {
 }  // namespace
 
 void QuasiStaticParameters::validate() const {
-  require_positive(pusher_friction, "pusher friction mu_p");
-  require_positive(torque_ratio_m, "limit-surface ratio c");
-  require_positive(support_friction, "support friction mu_s");
-  require_positive(rod_radius_m, "rod radius");
-  require_positive(gravity_m_s2, "gravity");
-  require_positive(stop_speed_m_s, "stop speed");
-  require_positive(relaxation_s, "relaxation time");
-  require_positive(contact_band_m, "contact band");
-  require_positive(gap_time_s, "gap time");
-  require_positive(creep_speed_m_s, "creep speed");
+  require_positive_finite(pusher_friction, "quasi-static model: pusher friction mu_p");
+  require_positive_finite(torque_ratio_m, "quasi-static model: limit-surface ratio c");
+  require_positive_finite(support_friction, "quasi-static model: support friction mu_s");
+  require_positive_finite(rod_radius_m, "quasi-static model: rod radius");
+  require_positive_finite(gravity_m_s2, "quasi-static model: gravity");
+  require_positive_finite(stop_speed_m_s, "quasi-static model: stop speed");
+  require_positive_finite(relaxation_s, "quasi-static model: relaxation time");
+  require_positive_finite(contact_band_m, "quasi-static model: contact band");
+  require_positive_finite(gap_time_s, "quasi-static model: gap time");
+  require_positive_finite(creep_speed_m_s, "quasi-static model: creep speed");
   if (!std::isfinite(contact_offset_m) || !(rod_radius_m + contact_offset_m > 0))
     throw InputError("quasi-static model: contact offset must be finite and keep the rod radius positive");
 }
@@ -185,8 +179,8 @@ QuasiStaticPushSystem::QuasiStaticPushSystem(QuasiStaticObject object, QuasiStat
                                              PlannedTipPath path)
     : object_(std::move(object)), p_(parameters), path_(std::move(path)) {
   p_.validate();
-  require_positive(object_.mass_kg, "mass");
-  require_positive(object_.inertia_kgm2, "inertia");
+  require_positive_finite(object_.mass_kg, "quasi-static model: mass");
+  require_positive_finite(object_.inertia_kgm2, "quasi-static model: inertia");
   if (!object_.outline) throw InputError("quasi-static model: no outline to push on");
   lo_ = path_.velocity().t0_s;
   hi_ = path_.velocity().t1_s;

@@ -15,10 +15,6 @@ Eigen::Matrix2d rotation(double yaw) { return Eigen::Rotation2Dd(yaw).toRotation
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-void require_positive(double v, const std::string& what) {
-  if (!(v > 0) || !std::isfinite(v)) throw InputError(what + " must be positive and finite, got " + std::to_string(v));
-}
-
 }  // namespace
 
 ObjectProperties ObjectProperties::nominal(const ShapeInfo& shape) {
@@ -33,14 +29,14 @@ PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectPrope
                                        const SupportFriction& support, const RodContact& contact,
                                        const PusherPath& path)
     : outline_(shape), object_(object), support_(support), contact_(contact), path_(path) {
-  require_positive(object.mass_kg, "object mass");
-  require_positive(object.inertia_kgm2, "object moment of inertia");
+  require_positive_finite(object.mass_kg, "object mass");
+  require_positive_finite(object.inertia_kgm2, "object moment of inertia");
   if (!(support.coefficient >= 0) || !std::isfinite(support.coefficient))
     throw InputError("support friction coefficient must not be negative");
-  require_positive(support.regularisation_m_s, "support friction regularisation speed");
-  require_positive(contact.stiffness_N_m, "contact stiffness");
-  require_positive(contact.rod_radius_m, "rod radius");
-  require_positive(contact.regularisation_m_s, "contact friction regularisation speed");
+  require_positive_finite(support.regularisation_m_s, "support friction regularisation speed");
+  require_positive_finite(contact.stiffness_N_m, "contact stiffness");
+  require_positive_finite(contact.rod_radius_m, "rod radius");
+  require_positive_finite(contact.regularisation_m_s, "contact friction regularisation speed");
   if (!(contact.damping_N_s_m >= 0) || !(contact.friction >= 0) || !(contact.damping_blend_m > 0))
     throw InputError("contact damping and friction must not be negative");
   if (!(support.viscous_per_kg >= 0)) throw InputError("viscous friction must not be negative");

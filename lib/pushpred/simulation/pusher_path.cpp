@@ -8,11 +8,6 @@
 namespace pushpred {
 namespace {
 
-void require_positive(double value, const std::string& what) {
-  if (!(value > 0) || !std::isfinite(value))
-    throw InputError(what + " must be positive and finite, got " + std::to_string(value));
-}
-
 // Raised-cosine ramps: speed V (1 - cos(pi s / T)) / 2 rising, V (1 + cos(pi s / T)) / 2 falling.
 double rising_distance(double v, double ramp, double s) {
   return 0.5 * v * (s - ramp / M_PI * std::sin(M_PI * s / ramp));
@@ -28,11 +23,11 @@ PusherPath::PusherPath(const Eigen::Vector2d& start, const Eigen::Vector2d& dire
     : start_(start), motion_(motion), t_start_(start_time_s) {
   if (!(direction.norm() > 0) || !direction.allFinite()) throw InputError("push direction must be a non-zero vector");
   direction_ = direction.normalized();
-  require_positive(motion.length_m, "push length");
-  require_positive(motion.ramp_s, "speed ramp duration");
+  require_positive_finite(motion.length_m, "push length");
+  require_positive_finite(motion.ramp_s, "speed ramp duration");
   const double length = motion.length_m;
   if (motion.profile == PusherMotion::Profile::ConstantSpeed) {
-    require_positive(motion.speed_m_s, "push speed");
+    require_positive_finite(motion.speed_m_s, "push speed");
     v_peak_ = motion.speed_m_s;
     const double ramp = std::min(motion.ramp_s, length / v_peak_);  // both ramps fit into the path
     rise_s_ = ramp;
@@ -41,7 +36,7 @@ PusherPath::PusherPath(const Eigen::Vector2d& start, const Eigen::Vector2d& dire
     hold_length_m_ = length - 2 * rise_length_m_;
     hold_end_s_ = rise_s_ + hold_length_m_ / v_peak_;
   } else {
-    require_positive(motion.acceleration_m_s2, "push acceleration");
+    require_positive_finite(motion.acceleration_m_s2, "push acceleration");
     const double a = motion.acceleration_m_s2, ramp = motion.ramp_s;
     // Accelerate over L_a, then stop along the raised cosine over v_peak ramp / 2: L_a + v_peak ramp / 2 = L with
     // v_peak = sqrt(2 a L_a); a quadratic in u = sqrt(L_a).
