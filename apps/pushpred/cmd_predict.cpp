@@ -34,6 +34,7 @@ int run_predict(const PredictArgs& a) {
   const Batch<PushStudy> batch = run_batch(inputs, [&](const std::filesystem::path& path) {
     PushStudy s = run_prediction_study(load_push(path, a.shape, pre), o);
     write_text_atomically(out.path("predictions/" + path.stem().string() + ".csv"), predictions_csv(s));
+    drop_samples(s);  // the summary and tables need only errors and parameters
     return s;
   }, a.jobs, &progress);
   if (batch.results.empty()) return report_failures(batch.failures, 0);  // nothing written

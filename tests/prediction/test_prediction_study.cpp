@@ -52,6 +52,24 @@ BOOST_AUTO_TEST_CASE(every_key_of_summary_json_is_present_and_finite) {
   BOOST_TEST(j["options"]["span"] == "whole");
 }
 
+BOOST_AUTO_TEST_CASE(a_study_without_its_samples_gives_the_same_summary_and_tables) {
+  Batch<PushStudy> full;
+  full.results.push_back(run_prediction_study(load_push(real_file("shape=ellip1_a=0_v=100"))));
+  Batch<PushStudy> light = full;
+  drop_samples(light.results[0]);
+  const PushStudy& s = light.results[0];
+  BOOST_TEST(s.identification.empty());
+  for (const auto& phase : s.phases) {
+    BOOST_TEST(phase.t_s.size() == 0);
+    BOOST_TEST(phase.measured.rows() == 0);
+    for (const auto& [method, poses] : phase.predicted) BOOST_TEST(poses.rows() == 0);
+  }
+  BOOST_TEST(prediction_summary_json(light, StudyOptions{}).dump() == prediction_summary_json(full, StudyOptions{}).dump());
+  BOOST_TEST(grouped_errors_markdown(light.results) == grouped_errors_markdown(full.results));
+  BOOST_TEST(losing_phases_markdown(light.results, "quasi_static", {"hold", "const_velocity"}) ==
+             losing_phases_markdown(full.results, "quasi_static", {"hold", "const_velocity"}));
+}
+
 BOOST_AUTO_TEST_CASE(a_push_with_a_frozen_force_sensor_is_refused) {
   BOOST_CHECK_THROW(run_prediction_study(load_push(real_file("shape=rect1_a=0_v=75"))), InputError);
 }

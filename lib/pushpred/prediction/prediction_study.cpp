@@ -200,4 +200,14 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
   return study;
 }
 
+void drop_samples(PushStudy& study) {
+  study.identification.clear();
+  study.identification.shrink_to_fit();
+  for (auto& phase : study.phases) {
+    phase.t_s.resize(0);
+    phase.measured.resize(0, 3);
+    for (auto& [method, poses] : phase.predicted) poses.resize(0, 3);
+  }
+}
+
 }  // namespace pushpred
