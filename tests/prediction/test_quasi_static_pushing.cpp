@@ -184,6 +184,33 @@ BOOST_AUTO_TEST_CASE(with_the_pusher_stopped_the_object_comes_to_rest_at_v_squar
   BOOST_TEST(std::abs(poses(2, 2)) < 1e-12);
 }
 
+BOOST_AUTO_TEST_CASE(a_pushed_object_comes_up_to_the_pushers_speed_with_the_relaxation_time) {
+  // From rest, pushed along its side's normal at 50 mm/s (sticking): the velocity follows the quasi-static one (the
+  // tip's) as a first-order lag of tau = 25 ms, so after tau the object has travelled v tau / e plus what the gap
+  // keeper adds (a rigid follower: v tau), and later it moves with the tip.
+  QuasiStaticObject object;
+  object.mass_kg = 1.0;
+  object.inertia_kgm2 = 0.002;
+  object.outline = shape_outline(ShapeTable::published().find("rect2"));
+  QuasiStaticParameters p;
+  BOOST_TEST(p.relaxation_s == 0.025);
+  const double v = 0.05;
+  const Eigen::Vector2d tip(-0.045 - kPusherRadius_m + p.contact_band_m, 0.0);
+  const PlannedTipVelocity plan{
+      SampledSignal(Eigen::VectorXd::Zero(1), (Eigen::MatrixXd(1, 2) << v, 0.0).finished(), Hold::Zero), 0.0, 0.5, 10};
+  Eigen::VectorXd times(3);
+  times << p.relaxation_s, 0.39, 0.40;
+  const Eigen::MatrixX3d poses =
+      predict_quasi_static_poses(object, p, PlannedTipPath(plan, tip), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), times);
+  const double lag = poses(0, 0) / (v * p.relaxation_s);
+  BOOST_TEST_MESSAGE("travel after tau, in units of v tau: " << lag);
+  BOOST_TEST(lag > std::exp(-1.0));
+  BOOST_TEST(lag < 0.6);
+  BOOST_TEST((poses(2, 0) - poses(1, 0)) / 0.01 == v, boost::test_tools::tolerance(0.01));
+  BOOST_TEST(std::abs(poses(2, 1)) < 1e-6);
+  BOOST_TEST(std::abs(poses(2, 2)) < 1e-6);
+}
+
 namespace {
 /// Viscous drag -c (m v, I omega) on the tracked centre: a friction law of the kind a diagnosis fits.
 class Drag final : public GeneralizedForceTerm {

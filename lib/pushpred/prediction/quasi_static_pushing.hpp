@@ -29,7 +29,7 @@
 // - Dynamics: with w in [0, 1] the push's weight (0 when the tip is out of contact, the planned tip speed is below
 //   `stop_speed_m_s`, or n . v_p <= 0; a smooth step of pen over [0, contact_band] otherwise):
 //     v' = w (v_qs - v) / tau + (1 - w) f_s / m,   omega' = w (omega_qs - omega) / tau + (1 - w) m_s / I,
-//   tau = `relaxation_s` (the quasi-static motion is reached within it), and (f_s, m_s) the limit surface's
+//   tau = `relaxation_s` (the quasi-static motion is approached with this time constant), and (f_s, m_s) the limit surface's
 //   friction opposing the twist: f_s = -F v / s, m_s = -F c^2 omega / s, s = sqrt(|v|^2 + c^2 omega^2 + eps^2).
 //   Free, a translating object slides to rest in v^2 / (2 mu_s g).
 //
@@ -61,7 +61,11 @@ struct QuasiStaticParameters {
   double rod_radius_m = kPusherRadius_m;
   double gravity_m_s2 = 9.81;
   double stop_speed_m_s = 2e-3;    ///< a planned tip slower than this does not push
-  double relaxation_s = 5e-3;      ///< tau
+  /// tau: how fast the object's velocity follows the quasi-static one while pushed. Half the rig's measured
+  /// 5-95 % speed ramp (0.049 s, docs/simulator.md; a first-order lag of tau has the mean delay of a ramp of 2 tau):
+  /// the object keeps its measured velocity at a phase's start for that long and comes up to the pusher's speed
+  /// no faster than the rig changes speed (docs/prediction.md, "What was decided on which data"). Was 5 ms.
+  double relaxation_s = 0.025;
   double contact_band_m = 2e-4;    ///< the push's weight rises over this penetration
   double gap_time_s = 0.05;        ///< the gap keeper's time constant
   double creep_speed_m_s = 1e-4;   ///< eps of the friction's regularisation
@@ -152,7 +156,7 @@ class QuasiStaticPushSystem final : public ContinuousSystem {
   QuasiStaticPushSystem(QuasiStaticObject object, QuasiStaticParameters parameters, PlannedTipPath path);
   int state_size() const override { return 6; }
   void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
-  /// Stiff: the velocity relaxes to the quasi-static one in tau = 5 ms and the support friction, regularised
+  /// Stiff: the velocity relaxes to the quasi-static one with tau (25 ms) and the support friction, regularised
   /// over 0.1 mm/s, stops a free object at mu g / creep speed (3e4 1/s): BDF (difference-quotient Jacobian).
   bool stiff() const override { return true; }
   std::vector<double> discontinuities(double t0, double t1) const override;
