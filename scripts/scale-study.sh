@@ -10,7 +10,8 @@
 # 25-50 mm long, as in the validation; the length series holds the count fixed and sets every push's length.
 # Prints one line per run: pushes, samples (250 Hz, in the predicted phases), seconds, pushes/s, samples/s, peak
 # resident memory [MB].
-# Needs GNU time (/usr/bin/time, Debian package `time`).
+# Needs GNU time (/usr/bin/time, Debian package `time`). With --work DIR kept, sets already simulated there with
+# the same arguments are reused (to time another build on the same pushes).
 set -euo pipefail
 
 build=build
@@ -61,6 +62,8 @@ scenarios() {  # count length(empty: random 25-50 mm) seed
 
 simulate_set() {  # dir count length seed
   local dir=$1
+  # A set simulated before with the same arguments (--work kept) is reused: the draws are seeded.
+  if [ -f "$dir/.arguments" ] && [ "$(cat "$dir/.arguments")" = "$2 $3 $4" ]; then return; fi
   rm -rf "$dir"; mkdir -p "$dir"
   scenarios "$2" "$3" "$4" | while read -r shape v a side pos angle length s; do
     motion=(--speed "$v"); [ "$v" = "-" ] && motion=(--acceleration "$a")
@@ -69,6 +72,7 @@ simulate_set() {  # dir count length seed
     "$pushpred" simulate --shape "$shape" "${motion[@]}" --side "$side" --position "$pos" --angle "$angle" \
       --length "$length" --seed "$s" --out "$dir/$s/" > /dev/null
   done
+  echo "$2 $3 $4" > "$dir/.arguments"
 }
 
 run_predict() {  # dir label
