@@ -15,6 +15,15 @@ namespace {
 
 Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
+/// rect2's outline with a 1 kg mass and 0.002 kg m^2 of inertia: round numbers for the closed-form checks.
+QuasiStaticObject unit_mass_rect2() {
+  QuasiStaticObject object;
+  object.mass_kg = 1.0;
+  object.inertia_kgm2 = 0.002;
+  object.outline = shape_outline(ShapeTable::published().find("rect2"));
+  return object;
+}
+
 /// The plan of a known rod path: its mean velocity over each step of `rate_hz`, held, and the path itself.
 PlannedTipPath plan_of(const PusherPath& path, double t0, double t1, double rate_hz) {
   std::vector<double> times;
@@ -164,10 +173,7 @@ BOOST_AUTO_TEST_CASE(the_ellipsoidal_limit_surface_of_a_uniform_rectangle_matche
 }
 
 BOOST_AUTO_TEST_CASE(with_the_pusher_stopped_the_object_comes_to_rest_at_v_squared_over_2_mu_g) {
-  QuasiStaticObject object;
-  object.mass_kg = 1.0;
-  object.inertia_kgm2 = 0.002;
-  object.outline = shape_outline(ShapeTable::published().find("rect2"));
+  const QuasiStaticObject object = unit_mass_rect2();
   QuasiStaticParameters p;
   p.support_friction = 0.3;
   // The pusher touches the object but stands still: it does not push.
@@ -188,10 +194,7 @@ BOOST_AUTO_TEST_CASE(a_pushed_object_comes_up_to_the_pushers_speed_with_the_rela
   // From rest, pushed along its side's normal at 50 mm/s (sticking): the velocity follows the quasi-static one (the
   // tip's) as a first-order lag of tau = 25 ms, so after tau the object has travelled v tau / e plus what the gap
   // keeper adds (a rigid follower: v tau), and later it moves with the tip.
-  QuasiStaticObject object;
-  object.mass_kg = 1.0;
-  object.inertia_kgm2 = 0.002;
-  object.outline = shape_outline(ShapeTable::published().find("rect2"));
+  const QuasiStaticObject object = unit_mass_rect2();
   QuasiStaticParameters p;
   BOOST_TEST(p.relaxation_s == 0.025);
   const double v = 0.05;
@@ -228,10 +231,7 @@ class Drag final : public GeneralizedForceTerm {
 
 BOOST_AUTO_TEST_CASE(free_slide_terms_replace_the_limit_surface_friction_after_the_push) {
   // With drag alone, v' = -c v: a free object starting at v0 travels v0 / c (here 10 mm), whatever mu_s.
-  QuasiStaticObject object;
-  object.mass_kg = 1.0;
-  object.inertia_kgm2 = 0.002;
-  object.outline = shape_outline(ShapeTable::published().find("rect2"));
+  QuasiStaticObject object = unit_mass_rect2();
   const double c = 5.0, v0 = 0.05;
   object.free_slide_terms.push_back(std::make_shared<Drag>(c, object.mass_kg, object.inertia_kgm2));
   QuasiStaticParameters p;
