@@ -121,7 +121,8 @@ struct FloorContext {
   double radius_of_gyration_m = 0;       ///< sqrt(I / m)
   double friction_coefficient = 0;       ///< Coulomb mu of the support (fitted on the data, or the scenario's)
   /// Spread of mu from push to push (standard deviation of the per-push fits; 0 when unknown): the surface's own
-  /// variation, below which a friction change is not a distinct effect.
+  /// variation, reported beside the floors. No built-in floor uses it: the friction laws that vary from push to
+  /// push (Stribeck, position-dependent) make this spread themselves (builtin_effects.cpp).
   double friction_spread = 0;
   double relevance_fraction = 0.05;      ///< kappa: the share of the friction force that matters
   double sample_period_s = 0.004;        ///< of the force stream

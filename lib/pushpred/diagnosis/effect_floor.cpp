@@ -5,7 +5,6 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
-#include "pushpred/diagnosis/residual_regression.hpp"
 
 namespace pushpred {
 

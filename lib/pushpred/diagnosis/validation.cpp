@@ -239,20 +239,22 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     // on the pushes with the effect (a fixed point, a few rounds; the trial's floor is the one at the final amount).
     if (kind == "viscous_friction" || kind == "stribeck_friction" || kind == "position_friction" ||
         kind == "inertia_mismatch") {
-      const auto floor_at = [&](double amount) {
+      double measured_at = std::numeric_limits<double>::quiet_NaN();  // the amount trial.floor was measured at
+      const auto measure_at = [&](double amount) {
         std::vector<PushScenario> with = out;
         for (auto& s : with) s.effects.set(kind, simulator_amount(amount));
-        return measured_simulator_floor(kind, with, o.diagnosis, trial.shape);
+        trial.floor = measured_simulator_floor(kind, with, o.diagnosis, trial.shape);
+        measured_at = amount;
       };
       for (int round = 0; round < kFloorRounds; ++round) {
-        const double floor = floor_at(size);
-        if (!std::isfinite(floor)) break;
-        const double next = capped(trial.floor_multiple * floor);
+        measure_at(size);
+        if (!std::isfinite(trial.floor)) break;
+        const double next = capped(trial.floor_multiple * trial.floor);
         const bool settled = std::abs(next - size) <= 0.05 * size;
         size = next;
         if (settled) break;
       }
-      trial.floor = floor_at(size);
+      if (size != measured_at) measure_at(size);
     }
     trial.amount = simulator_amount(size);
     trial.floor_multiple = size / trial.floor;
