@@ -166,8 +166,7 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
 
 /// `study` without its per-sample arrays (the observer's output, each phase's grid times and measured and predicted
 /// poses), keeping what summaries and tables read (errors, parameters, notes, intervals). A batch that writes each
-/// push's trajectories as it goes keeps only this, so its memory does not grow with the pushes' samples (about
-/// 0.2 MB per push otherwise: 2 GB for 10,000 pushes).
+/// push's trajectories as it goes keeps only this (`predict`: 0.2 -> 0.12 MB per push held, docs/performance.md).
 void drop_samples(PushStudy& study);
 
 }  // namespace pushpred

@@ -181,6 +181,16 @@ QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_
 
 namespace {
 
+/// The covariance options of the plain fit (no prior): dense SVD, a rank-deficient Jacobian is an error (null space
+/// rank 0) below a reciprocal condition number of 1e-14. Its standard deviations and its correlations use the same.
+ceres::Covariance::Options plain_fit_covariance_options() {
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.null_space_rank = 0;
+  co.min_reciprocal_condition_number = 1e-14;
+  return co;
+}
+
 /// The fit's covariance of (mu_p, c, mu_s): `standard_deviation` squared on the diagonal (as the fit reported it),
 /// and off it the covariances Ceres computes at the optimum between the blocks that are not `fixed`, with `options`
 /// (those the fit's own standard deviations came from). A separate computation, so that the standard deviations the
@@ -504,11 +514,7 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
       reason[worst] = worst == 0 ? "default: every contact sample stuck, so mu_p is only bounded below"
                                  : "default: the data do not determine it (no sensitivity)";
     } else {
-      ceres::Covariance::Options co;
-      co.algorithm_type = ceres::DENSE_SVD;
-      co.null_space_rank = 0;
-      co.min_reciprocal_condition_number = 1e-14;
-      ceres::Covariance covariance(co);
+      ceres::Covariance covariance(plain_fit_covariance_options());
       std::vector<std::pair<const double*, const double*>> pairs;
       for (const double* b : free) pairs.emplace_back(b, b);
       double worst_ratio = 0.5;
@@ -548,11 +554,7 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
     id.std(p) = fixed[p] ? 0.0 : stdev(p);
     id.sources[static_cast<size_t>(p)] = fixed[p] ? reason[p] : "identified";
   }
-  ceres::Covariance::Options co;  // as the loop's
-  co.algorithm_type = ceres::DENSE_SVD;
-  co.null_space_rank = 0;
-  co.min_reciprocal_condition_number = 1e-14;
-  id.fit_covariance = fit_covariance_of(problem, blocks, fixed, id.std.head<3>(), co);
+  id.fit_covariance = fit_covariance_of(problem, blocks, fixed, id.std.head<3>(), plain_fit_covariance_options());
   count_sliding();
   return id;
 }
