@@ -41,7 +41,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--out", a->out, "Output folder (compare.md)")->required();
   sub->add_option("--estimators", a->estimators, "Estimators to compare; the first is the reference")->delimiter(',');
   sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
-  a->study.methods = "dob,dob_velinit";  // the methods that use the fitted relation; the others do not depend on it
+  // The library's default (the methods that use the fitted relation), shown as --methods' default.
+  for (const auto& m : default_comparison_methods()) a->study.methods += (a->study.methods.empty() ? "" : ",") + m;
   a->study.methods_note = "; one pair of error columns each";
   a->study.add_to(*sub, {2, true, false, true, true});
   sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the results do not depend on it")

@@ -81,8 +81,7 @@ std::string comparison_markdown(const EstimatorComparison& c) {
                 pushes, c.options.schedule.intervals, schedule_span_name(c.options.schedule.span),
                 c.options.observer.c_str(), c.options.plan_rate_hz, c.reference.c_str());
   out += line;
-  for (std::size_t k = 0; k < c.methods.size(); ++k) out += (k == 0 ? "`" : ", `") + c.methods[k] + "`";
-  if (c.methods.empty()) out += "none";
+  out += c.methods.empty() ? "none" : markdown_method_list(c.methods);
   out += "). Fit time is the time spent in the estimator, as a ratio to `" + c.reference +
          "` measured in the same run.\n\n";
   out +=

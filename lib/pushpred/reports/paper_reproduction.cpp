@@ -60,13 +60,6 @@ double peak_tip_speed_m_s(const SynchronisedPush& p) {
 
 double mean_position_error(const PredictionErrors& e) { return 0.5 * (e.x_mm_mean + e.y_mm_mean); }
 
-/// "`a`, `b`, `c`".
-std::string method_list(const std::vector<std::string>& methods) {
-  std::string out;
-  for (const auto& m : methods) out += (out.empty() ? "`" : ", `") + m + "`";
-  return out;
-}
-
 /// Mean over the phases of a study.
 PredictionErrors phase_mean(const PushStudy& s, const std::string& method) {
   return aggregate_errors({s}).at(method);
@@ -141,7 +134,8 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
      << "** span of each recording, identification on the first, then alternating; planned force sampled at "
      << study_options.plan_rate_hz << " Hz and held; observer `" << study_options.observer << "`, relation estimator `"
      << study_options.estimator
-     << "`; the simple algorithm uses mu = 0.14 on abs. Prediction methods: " << method_list(study_options.methods)
+     << "`; the simple algorithm uses mu = 0.14 on abs. Prediction methods: "
+     << markdown_method_list(study_options.methods)
      << ".\n\n";
   if (simulated)
     md << "**The six rect2 cases are simulated.** The paper's rect2 recordings are not among the real files in the "

@@ -216,4 +216,10 @@ std::string predictions_csv(const PushStudy& s) {
   return out.str();
 }
 
+std::string markdown_method_list(const std::vector<std::string>& methods) {
+  std::string out;
+  for (const auto& m : methods) out += (out.empty() ? "`" : ", `") + m + "`";
+  return out;
+}
+
 }  // namespace pushpred

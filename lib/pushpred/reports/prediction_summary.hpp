@@ -31,6 +31,9 @@ std::string grouped_errors_markdown(const std::vector<PushStudy>& studies);
 std::string losing_phases_markdown(const std::vector<PushStudy>& studies, const std::string& method,
                                    const std::vector<std::string>& references, int worst = 15);
 
+/// Method names for Markdown prose: "`a`, `b`, `c`" (empty for none).
+std::string markdown_method_list(const std::vector<std::string>& methods);
+
 /// Per-phase predictions of one push as CSV: phase, t_s, measured x, y [mm], theta [deg], then each method's.
 std::string predictions_csv(const PushStudy& study);
 
