@@ -129,7 +129,7 @@ struct FloorContext {
   double sliding_speed_m_s = 0;          ///< typical (RMS) speed while the object slides
   double acceleration_m_s2 = 0;          ///< typical acceleration (RMS of |a| while sliding)
   double travel_m = 0;                   ///< mean distance an object travels in a push
-  /// Speeds while sliding where the smoothed speed is resolved (DiagnosisPush::unresolved; a sample of at most a
+  /// Speeds while sliding where the smoothed speed is resolved (DiagnosisPush::blurred; a sample of at most a
   /// few thousand) [m/s]: how much of the data a speed-dependent term acts on.
   std::vector<double> sliding_speeds_m_s;
   double friction_force_N() const;       ///< mu m g

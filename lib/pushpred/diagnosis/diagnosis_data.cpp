@@ -105,12 +105,23 @@ DiagnosisPush diagnosis_push_from_estimate(const SynchronisedPush& push, Disturb
   d.smooth_acceleration = acceleration;
   d.stuck.resize(d.rows());
   d.unresolved.resize(d.rows());
+  d.blurred.resize(d.rows());
+  // sliding_speed of the acceleration: the same footprint measure of a rate of change.
+  std::vector<double> sliding_rate(static_cast<std::size_t>(d.rows()));
+  for (Eigen::Index k = 0; k < d.rows(); ++k)
+    sliding_rate[static_cast<std::size_t>(k)] = sliding_speed(d.smooth_acceleration.row(k).transpose(), push.shape);
   for (Eigen::Index k = 0; k < d.rows(); ++k) {
     const double speed = sliding_speed(d.smooth_velocity.row(k).transpose(), push.shape);
     d.stuck[k] = speed < kStuckSpeed_m_s;
-    // sliding_speed of the acceleration: the same footprint measure of a rate of change.
-    d.unresolved[k] = !d.stuck[k] &&
-                      speed < kSpeedResolution_s * sliding_speed(d.smooth_acceleration.row(k).transpose(), push.shape);
+    d.unresolved[k] = !d.stuck[k] && speed < kSpeedResolution_s * sliding_rate[static_cast<std::size_t>(k)];
+    // The largest rate within the smoother's time scale: in the blurred tail of a start or stop the smoothed
+    // acceleration passes through zero, and the speed there (a few mm/s) is still the blur, not a slow slide.
+    double largest_rate = 0;
+    for (Eigen::Index j = k; j >= 0 && d.estimate.t_s(k) - d.estimate.t_s(j) <= kSpeedResolution_s; --j)
+      largest_rate = std::max(largest_rate, sliding_rate[static_cast<std::size_t>(j)]);
+    for (Eigen::Index j = k + 1; j < d.rows() && d.estimate.t_s(j) - d.estimate.t_s(k) <= kSpeedResolution_s; ++j)
+      largest_rate = std::max(largest_rate, sliding_rate[static_cast<std::size_t>(j)]);
+    d.blurred[k] = !d.stuck[k] && speed < kSpeedResolution_s * largest_rate;
   }
   d.friction_explained = Eigen::MatrixX3d::Zero(d.rows(), 3);
   d.q_zeta = options.zeta;

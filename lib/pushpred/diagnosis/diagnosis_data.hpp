@@ -30,6 +30,12 @@ struct DiagnosisPush {
   /// (Stribeck friction, above all) would read that blur as a low-speed effect. These rows explain nothing in the
   /// friction regression, and the floors do not count them as time spent at low speed.
   std::vector<char> unresolved;
+  /// Per row: unresolved within the smoother's time scale (the largest sliding acceleration within
+  /// +-kSpeedResolution_s, not the row's own; a superset of `unresolved`). In the blurred tail of a start or stop the
+  /// smoothed acceleration passes through zero and the speed, a few mm/s, is still blur. Rows like these still carry
+  /// the friction acting then, so the regression keeps them; but they are not time spent sliding slowly, and the
+  /// floors (effect_floor.hpp) do not count them so.
+  std::vector<char> blurred;
   double q_zeta = 0, q_wn_rad_s = 0;  ///< the observer's Q filter
   /// What the selected refinements of the friction law explain (n x 3, as the observer sees it; zero until the
   /// diagnosis sets it), for direct fits that work against the friction law (time_offset).

@@ -29,8 +29,8 @@ FloorContext measure_floor_context(const std::vector<DiagnosisPush>& data, doubl
       if (d.stuck[static_cast<std::size_t>(k)]) continue;
       speed2 += d.smooth_velocity.row(k).head<2>().squaredNorm();
       // Time at low speed only where the speed is resolved: near a fast start or stop the smoothed speed is blur
-      // (DiagnosisPush::unresolved). The slow slips of stick-slip stay in: there the low-speed term acts.
-      if (!d.unresolved[static_cast<std::size_t>(k)])
+      // (DiagnosisPush::blurred). The slow slips of stick-slip stay in: there the low-speed term acts.
+      if (!d.blurred[static_cast<std::size_t>(k)])
         c.sliding_speeds_m_s.push_back(d.smooth_velocity.row(k).head<2>().norm());
       accelerations.push_back(d.smooth_acceleration.row(k).head<2>().norm());
       ++sliding;
