@@ -2,6 +2,7 @@
 // smoothing adds no lag, data corrections do what they say, and the rest window is found.
 #define BOOST_TEST_MODULE diagnosis
 #include <boost/test/unit_test.hpp>
+#include <algorithm>
 #include <cmath>
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
@@ -98,6 +99,33 @@ BOOST_AUTO_TEST_CASE(a_pushed_object_is_sliding_and_a_resting_one_is_stuck) {
   long sliding = 0;
   for (char s : d.stuck) sliding += s ? 0 : 1;
   BOOST_TEST(sliding > d.rows() / 2);
+}
+
+BOOST_AUTO_TEST_CASE(the_blurred_tail_of_a_sudden_stop_is_not_slow_sliding) {
+  // The object rests, slides at 50 mm/s along x from 0.2 s and stops at 0.7 s, each within one sample: its true
+  // speed is 50 mm/s or zero, never a few mm/s. Every smoothed speed between is blur: no row may count as resolved
+  // slow sliding.
+  constexpr double kRate_hz = 250, kSpeed_m_s = 0.05;
+  const Eigen::Index n = 250;  // 1 s
+  SynchronisedPush push = pushpred::testing::synthetic_push_shell("rect1", kRate_hz, n);
+  push.force_N.setZero();
+  push.torque_about_centre_Nm.setZero();
+  for (Eigen::Index k = 0; k < n; ++k) push.pose.row(k) << kSpeed_m_s * std::clamp(push.t_s(k) - 0.2, 0.0, 0.5), 0.0, 0.0;
+  const DiagnosisPush d = prepare_diagnosis_push(push, 0.0, push.duration_s());
+  long resolved_slow = 0, slow_by_own_rate = 0, sliding = 0;
+  for (Eigen::Index k = 0; k < d.rows(); ++k) {
+    const auto r = static_cast<std::size_t>(k);
+    if (d.unresolved[r]) BOOST_TEST(d.blurred[r] == 1);  // blurred is the wider of the two
+    if (d.stuck[r]) continue;
+    ++sliding;
+    const bool slow = sliding_speed(d.smooth_velocity.row(k).transpose(), push.shape) < 0.5 * kSpeed_m_s;
+    if (slow && !d.blurred[r]) ++resolved_slow;
+    if (slow && !d.unresolved[r]) ++slow_by_own_rate;
+  }
+  BOOST_TEST(sliding > 100);
+  // The row's own acceleration is not enough: where it passes through zero in the tail, a blurred speed would pass.
+  BOOST_TEST(slow_by_own_rate > 0);
+  BOOST_TEST(resolved_slow == 0);
 }
 
 BOOST_AUTO_TEST_SUITE_END()
