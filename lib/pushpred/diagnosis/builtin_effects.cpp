@@ -560,6 +560,11 @@ class InertiaMismatchEffect final : public CandidateEffect {
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return 1 + theta(0) > 0.2 && 1 + theta(0) < 5 ? "" : "a mass factor outside 0.2 to 5";
   }
+  /// The factor moved inside the range, a quarter of the way in from its ends (0.25 and 4).
+  std::optional<Eigen::VectorXd> plausible_start(const Eigen::VectorXd& theta) const override {
+    if (!theta.allFinite()) return std::nullopt;
+    return Eigen::VectorXd::Constant(1, std::clamp(1 + theta(0), 0.25, 4.0) - 1);
+  }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "inertia_mismatch"; }
   std::string description() const override {

@@ -25,6 +25,7 @@
 // prediction model (a GeneralizedForceTerm built from unit_force()).
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -208,6 +209,13 @@ class CandidateEffect {
   virtual std::string implausible(const Eigen::VectorXd& theta, const FloorContext& /*context*/) const {
     return implausible(theta);
   }
+  /// For a data correction whose first, linearised fit lies outside the physical range: the nearest amount inside
+  /// it, from which the re-fit continues (it applies the correction, re-runs the observer and fits the rest; the
+  /// amount it settles at is judged again). Empty: the fit is not taken (the default, and for every effect that does
+  /// not correct data). Why: a data correction's first fit can be biased in proportion to the amount (the mass
+  /// factor's, where smoothing leaves the acceleration regressor short of what d_hat holds), while at the re-fit's
+  /// fixed point the residual amount is zero and the bias with it.
+  virtual std::optional<Eigen::VectorXd> plausible_start(const Eigen::VectorXd& /*theta*/) const { return std::nullopt; }
   /// The effect's size as one non-negative number (its unit: amount_unit()), compared with floor(): e.g. |delay|,
   /// |bias|, |offset|, |mass factor - 1|. Default: the norm of theta.
   virtual double amount(const Eigen::VectorXd& theta) const { return theta.size() ? theta.norm() : 0.0; }

@@ -279,8 +279,16 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
       r.note.clear();
       const std::string why = effects[i]->implausible(here->total, result_.floor_context);
       if (!why.empty()) {
-        r.note = "fitted outside the physical range (" + why + "): not this effect";
-        continue;
+        const auto start = effects[i]->corrects_data() ? effects[i]->plausible_start(here->total) : std::nullopt;
+        if (!start || !effects[i]->implausible(*start, result_.floor_context).empty()) {
+          r.note = "fitted outside the physical range (" + why + "): not this effect";
+          continue;
+        }
+        // A data correction's first fit is linearised: the re-fit from inside the range settles where it is
+        // (refit drops it if it leaves the range again).
+        log(effects[i]->kind() + ": first fit outside the physical range (" + why + "); its re-fit starts inside it");
+        here->total = *start;
+        r.theta = *start;
       }
       if (!best || here->score > best->score) best = here;
     }
