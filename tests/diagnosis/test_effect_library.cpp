@@ -8,6 +8,7 @@
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/corrected_prediction.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
+#include "pushpred/diagnosis/diagnosis.hpp"
 #include "test_support.hpp"
 
 using namespace pushpred;
@@ -44,6 +45,29 @@ BOOST_AUTO_TEST_CASE(the_standard_library_holds_every_kind_the_issue_names) {
   BOOST_TEST(std::string(effect_test_name(library.find("initial_velocity")->test())) == "prediction");
   BOOST_TEST(std::string(effect_test_name(library.find("force_offset")->test())) == "direct");
   BOOST_TEST(library.find("coulomb_friction")->replaces_relation());
+}
+
+BOOST_AUTO_TEST_CASE(two_pushes_whose_rest_forces_disagree_show_no_sensor_bias) {
+  // Each push rests with a steady force reading, +0.20 N on one and -0.10 N on the other (slow sensor noise: steady
+  // within a rest window, different from push to push), with a little white noise. A bias is shared by all pushes;
+  // this one's mean, 0.05 N, is a third of the pushes' spread, so the bias must not pass its test. The
+  // within-push variance alone would make it significant at thousands of standard errors.
+  const auto effect = EffectLibrary::standard().find("force_offset");
+  BOOST_TEST_REQUIRE(effect != nullptr);
+  std::vector<DiagnosisPush> pushes(2);
+  const double reading_y_N[2] = {0.20, -0.10};
+  for (int p = 0; p < 2; ++p) {
+    SynchronisedPush push = pushpred::testing::synthetic_push_shell("rect1", 250, 100);
+    push.pose.setZero();
+    push.torque_about_centre_Nm.setZero();
+    for (Eigen::Index k = 0; k < push.size(); ++k)
+      push.force_N.row(k) << 1e-3 * std::sin(1.7 * k), reading_y_N[p] + 1e-3 * std::cos(2.3 * k);
+    pushes[p].push = push;
+  }
+  const DirectFit f = effect->fit_directly(pushes);
+  BOOST_TEST(f.theta(1) == -0.05, boost::test_tools::tolerance(0.01));
+  BOOST_TEST(std::sqrt(f.covariance(1, 1)) >= 0.1);  // the pushes' spread, not the white noise
+  BOOST_TEST(!(f.score > DiagnosisOptions{}.bic_threshold));
 }
 
 BOOST_AUTO_TEST_CASE(a_mass_centre_offset_beyond_half_the_radius_of_gyration_is_not_a_mass_centre_offset) {
