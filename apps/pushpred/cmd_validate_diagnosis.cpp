@@ -62,6 +62,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--jobs", a->options.jobs, "Trials run in parallel (default: all cores)")->check(CLI::PositiveNumber);
   sub->add_flag("--quick-base", [a](std::int64_t) { a->options.diagnosis.fit_base_settings = false; },
                 "Do not fit the base model's settings on the fit phases: faster");
+  add_shard_refusal(*sub);
   sub->callback([a, &run] {
     run = [a] {
       a->options.validate();  // before any work: a bad kind or range is an input error (exit 2), nothing written
