@@ -24,7 +24,7 @@ struct PredictArgs {
 
 int run_predict(const PredictArgs& a) {
   PredictRun run;
-  run.shard = a.shard_given ? parse_shard_spec(a.shard) : ShardSpec{};
+  if (a.shard_given) run.shard = parse_shard_spec(a.shard);
   run.study = a.study.options();
   run.preprocess.rate_hz = a.rate_hz;
   run.inputs = a.files;

@@ -50,7 +50,8 @@ expect_in "$tmp/err" "under mpirun" "--shard under mpirun is explained"
 timeout 600 "${mpi[@]}" "$bin" inspect "${files[0]}" >"$tmp/out" 2>"$tmp/err"
 check "inspect under mpirun fails" [ $? -ne 0 ]
 expect_in "$tmp/err" "does not run under mpirun" "inspect under mpirun is explained"
-timeout 600 "${mpi[@]}" "$bin" predict "${files[0]}" --out "$tmp/plain/summary.json" >"$tmp/out" 2>"$tmp/err"
-check "a bad output folder under mpirun fails" [ $? -ne 0 ]
+timeout 600 "${mpi[@]}" "$bin" predict "${files[0]}" "${files[1]}" --out "$tmp/plain/summary.json" >"$tmp/out" 2>"$tmp/err"
+check "a bad output folder under mpirun stops every rank with exit 2" [ $? -eq 2 ]
+expect_in "$tmp/err" "is not a folder" "the bad output folder is named"
 check "no output under a refused mpirun" [ ! -e "$tmp/bad" ]
 finish

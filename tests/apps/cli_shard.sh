@@ -58,6 +58,7 @@ for k in 1 3 5; do
 done
 expect_in "$tmp/whole/summary.json" '"failures"' "the whole run lists failures"
 expect_in "$tmp/two.part1.out" "partial output in" "a shard says where its partial output is"
+merged 1 one     # --shard 1/1 is a partial output too (an array job of one task), merged alone
 merged 4 four
 merged 8 eight   # more shards than inputs: two shards have nothing to do
 

@@ -33,11 +33,11 @@
 
 namespace pushpred {
 
-/// `--shard I/N`: share `index` (1-based) of `count`. The default, 1/1, is the whole batch.
+/// `--shard I/N`: share `index` (1-based) of `count`. 1/1 holds every input (and is still written as a partial
+/// output: an array job of one task).
 struct ShardSpec {
   int index = 1;
   int count = 1;
-  bool whole() const { return count == 1; }
   std::string text() const { return std::to_string(index) + "/" + std::to_string(count); }
 };
 

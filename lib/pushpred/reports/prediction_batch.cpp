@@ -262,10 +262,11 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   const std::vector<fs::path> inputs = expand_inputs(run.inputs);
   const MpiWorld& world = MpiWorld::get();
   const bool mpi = world.size() > 1;
-  if (mpi && !run.shard.whole())
-    throw InputError("--shard " + run.shard.text() + " under mpirun: the ranks split the inputs already; use one or "
+  if (mpi && run.shard)
+    throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the inputs already; use one or "
                      "the other");
-  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : run.shard;
+  const bool partial = mpi || run.shard.has_value();
+  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : run.shard.value_or(ShardSpec{});
 
   // The output folder first, so that a bad one fails before any work (under MPI, only rank 0 writes; if its folder
   // is bad, it stops the whole job).
@@ -291,7 +292,7 @@ BatchRunOutcome run_predict(const PredictRun& run) {
     return p;
   };
 
-  if (shard.whole()) {
+  if (!partial) {
     BatchProgress progress(kCommand, "pushes", inputs.size());
     Batch<PushStudy> batch;
     for (auto& item : run_batch_items(inputs, job, run.jobs, &progress)) {

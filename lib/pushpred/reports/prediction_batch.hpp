@@ -5,6 +5,7 @@
 // parse arguments and call these.
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,7 @@ struct PredictRun {
   StudyOptions study;
   PreprocessOptions preprocess;
   int jobs = 1;
-  ShardSpec shard;  ///< 1/1: every input
+  std::optional<ShardSpec> shard;  ///< given (1/1 included): a partial output of that share; none: the whole run
 };
 
 /// Runs the study on every input (or on the shard's, or on this MPI rank's) and writes the outputs: summary.json,
