@@ -2,7 +2,6 @@
 // prediction methods chosen by name (default: every built-in one, predictor.hpp); DIR/summary.json, DIR/tables.md
 // (per object and per pusher speed) and per-push CSVs. `--shard I/N` writes share I of N as a partial output for
 // `pushpred merge`; under `mpirun -np N` the ranks split the pushes and rank 0 writes (reports/prediction_batch.hpp).
-#include <iostream>
 #include <memory>
 
 #include "commands.hpp"
@@ -31,10 +30,7 @@ int run_predict(const PredictArgs& a) {
   run.out = a.out;
   run.shape = a.shape;
   run.jobs = a.jobs;
-  const BatchRunOutcome outcome = pushpred::run_predict(run);
-  if (outcome.quiet) return 0;  // an MPI rank other than 0: rank 0 reports
-  std::cout << outcome.report;
-  return finish_batch(outcome.failures, outcome.used, outcome.partial);
+  return finish_outcome(pushpred::run_predict(run));
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {

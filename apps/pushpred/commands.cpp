@@ -36,7 +36,8 @@ static std::vector<std::string>& shard_refusals() {
 void add_shard_refusal(CLI::App& sub) {
   shard_refusals().push_back(sub.get_name());
   static std::string ignored;  // never read: run_selected refuses the flag
-  sub.add_option("--shard", ignored, "Not supported by `" + sub.get_name() + "` yet (only by predict): refused");
+  sub.add_option("--shard", ignored,
+                 "Not supported by `" + sub.get_name() + "` yet (only by predict and validate-diagnosis): refused");
 }
 
 int run_selected(CLI::App& app) {
@@ -44,21 +45,29 @@ int run_selected(CLI::App& app) {
     const std::string& name = sub->get_name();
     for (const auto& refusing : shard_refusals())
       if (refusing == name && sub->count("--shard") > 0)
-        throw InputError("--shard: `" + name + "` cannot split its inputs into shards yet (only `predict` can); run "
-                         "it on every input, or split the inputs yourself");
+        throw InputError("--shard: `" + name + "` cannot split its inputs into shards yet (only `predict` and "
+                         "`validate-diagnosis` can); run it on every input, or split the inputs yourself");
     // Several processes started by mpirun would each do the whole job and write the same output.
-    if (name != "predict" && mpi_launch_size() > 1)
-      throw InputError("`" + name + "` does not run under mpirun (only `predict` splits its pushes over MPI ranks); "
-                       "run it as one process");
+    if (name != "predict" && name != "validate-diagnosis" && mpi_launch_size() > 1)
+      throw InputError("`" + name + "` does not run under mpirun (only `predict` and `validate-diagnosis` split their "
+                       "work over MPI ranks); run it as one process");
   }
   return selected_runner() ? selected_runner()() : 0;
 }
 
-int finish_batch(const std::vector<BatchFailure>& failures, std::size_t used, bool partial) {
-  if (!partial) return report_failures(failures, used);
-  for (const auto& f : failures) std::cerr << "FAILED " << plain_text(f.source) << ": " << plain_text(f.reason) << "\n";
-  if (failures.empty()) return 0;
-  std::cerr << failures.size() << " of " << failures.size() + used << " inputs of this shard failed\n";
+int finish_outcome(const BatchRunOutcome& outcome) {
+  if (outcome.quiet) return 0;  // an MPI rank other than 0: rank 0 reports
+  std::cout << outcome.report;
+  if (outcome.exit_code) {
+    std::cerr << outcome.notes;
+    return *outcome.exit_code;
+  }
+  if (!outcome.partial) return report_failures(outcome.failures, outcome.used);
+  for (const auto& f : outcome.failures)
+    std::cerr << "FAILED " << plain_text(f.source) << ": " << plain_text(f.reason) << "\n";
+  if (outcome.failures.empty()) return 0;
+  std::cerr << outcome.failures.size() << " of " << outcome.failures.size() + outcome.used
+            << " inputs of this shard failed\n";
   return kExitSomeFailed;
 }
 

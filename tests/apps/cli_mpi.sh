@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `mpirun -np 2 pushpred predict` (issue 12): the ranks split the pushes and rank 0 writes what one process writes,
+# `mpirun -np 2 pushpred predict` and `validate-diagnosis` (issue 12): the ranks split the pushes and rank 0 writes what one process writes,
 # byte for byte (diff -r against --jobs 1), with the same stdout, failure list and exit code. Loopback only: the
 # shared-memory and self transports of Open MPI on this machine.
 set -u
@@ -42,6 +42,15 @@ expect_in "$tmp/plain.out" "predicted 4 pushes" "the plain run predicted the fou
 # Two jobs per rank change nothing.
 timeout 600 "${mpi[@]}" "$bin" predict "${files[@]}" --out "$tmp/mpi2" --jobs 2 >/dev/null 2>&1
 check "2 ranks x 2 jobs write the same output" diff -r "$tmp/plain" "$tmp/mpi2"
+
+# validate-diagnosis: the ranks split the trials; rank 0 writes what one process writes.
+validate=(validate-diagnosis --trials 1 --kinds none,force_offset --min-pushes 4 --max-pushes 4 --quick-base --seed 9000
+          --jobs 1)
+"$bin" "${validate[@]}" --out "$tmp/vplain" >/dev/null 2>&1
+vcode=$?
+timeout 600 "${mpi[@]}" "$bin" "${validate[@]}" --out "$tmp/vmpi" >/dev/null 2>&1
+check "validate-diagnosis under mpirun exits as the plain run ($vcode)" [ $? -eq "$vcode" ]
+check "validate-diagnosis under mpirun writes the same output" diff -r "$tmp/vplain" "$tmp/vmpi"
 
 # What cannot run under MPI says so, and writes nothing.
 timeout 600 "${mpi[@]}" "$bin" predict "${files[0]}" --out "$tmp/bad" --shard 1/2 >"$tmp/out" 2>"$tmp/err"

@@ -2,6 +2,7 @@
 # --shard I/N and `pushpred merge` (issue 12): the partial outputs of every shard, merged, are the output of one run
 # byte for byte (diff -r), with the same stdout, failure list and exit code; bad shard specs, --shard on a
 # subcommand that cannot split, and parts that are not every shard of one run are refused with exit 2 and no output.
+# The same for validate-diagnosis's trials.
 set -u
 bin=$1
 data=$2
@@ -77,8 +78,37 @@ check "fit-pid --shard wrote nothing" [ ! -e "$tmp/bad" ]
 for sub in compare diagnose; do
   expect_exit 2 "$sub --shard refused" -- "$bin" "$sub" "${files[0]}" --out "$tmp/bad" --shard 1/2
 done
-expect_exit 2 "validate-diagnosis --shard refused" -- "$bin" validate-diagnosis --trials 1 --out "$tmp/bad" --shard 1/2
 check "no refused subcommand wrote anything" [ ! -e "$tmp/bad" ]
+
+# validate-diagnosis: trial k goes to shard k mod N + 1; two trials as 2 and 3 shards (one with none), merged.
+validate=(validate-diagnosis --trials 1 --kinds none,force_offset --min-pushes 4 --max-pushes 4 --quick-base --seed 9000
+          --jobs 1)
+"$bin" "${validate[@]}" --out "$tmp/vwhole" >"$tmp/vwhole.out" 2>/dev/null
+vcode=$?
+sed -i "s#$tmp/vwhole#OUT#g" "$tmp/vwhole.out"
+for n in 2 3; do
+  parts=()
+  for ((i = 1; i <= n; i++)); do
+    "$bin" "${validate[@]}" --out "$tmp/v$n.part$i" --shard "$i/$n" >/dev/null 2>&1
+    parts+=("$tmp/v$n.part$i")
+  done
+  "$bin" merge --out "$tmp/v$n" "${parts[@]}" >"$tmp/v$n.out" 2>/dev/null
+  code=$?
+  check "validate-diagnosis $n shards: merge exits as the whole run ($vcode), got $code" [ "$code" -eq "$vcode" ]
+  if diff -r "$tmp/vwhole" "$tmp/v$n" >/dev/null; then passed=$((passed + 1)); else
+    failed=$((failed + 1)); echo "FAIL: validate-diagnosis $n shards: merged output differs"; diff -r "$tmp/vwhole" "$tmp/v$n" | head -5
+  fi
+  sed -i "s#$tmp/v$n#OUT#g" "$tmp/v$n.out"
+  check "validate-diagnosis $n shards: merge prints what the whole run prints" cmp -s "$tmp/vwhole.out" "$tmp/v$n.out"
+done
+expect_in "$tmp/v2.part1/partial.json" '"true_kind": "none"' "shard 1/2 ran trial 0 (clean)"
+if grep -qF '"true_kind": "force_offset"' "$tmp/v2.part1/partial.json"; then
+  failed=$((failed + 1)); echo "FAIL: shard 1/2 ran trial 1"; else passed=$((passed + 1)); fi
+expect_exit 2 "validate-diagnosis --shard 3/2 refused" -- "$bin" "${validate[@]}" --out "$tmp/bad" --shard 3/2
+expect_exit 2 "a predict part merged with a validate-diagnosis part" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" \
+  "$tmp/v2.part2"
+expect_in "$tmp/err" "not of \`predict\`" "the mixed parts are named"
+check "no refused run wrote anything" [ ! -e "$tmp/bad" ]
 
 # Parts that are not every shard of one run.
 expect_exit 2 "a missing shard" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1"

@@ -8,6 +8,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/reports/prediction_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
+#include "pushpred/reports/validation_batch.hpp"
 
 using namespace pushpred;
 
@@ -88,4 +89,34 @@ BOOST_AUTO_TEST_CASE(a_malformed_study_is_an_input_error) {
   doc = push_study_exact_json(awkward_study());
   doc["phases"][0]["initial_velocity"][0] = "fast";
   BOOST_CHECK_THROW(push_study_from_exact_json(doc), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(a_validation_trial_reads_back_to_the_same_bits) {
+  ValidationTrial t;
+  t.index = 7;
+  t.seed = 18446744073709551615ull;  // the largest seed
+  t.true_kind = "force_offset";
+  t.amount = -0.1 - 0.2;
+  t.floor = 1e-300;
+  t.fitted_amount = std::numeric_limits<double>::quiet_NaN();
+  t.true_score = -std::numeric_limits<double>::infinity();
+  t.named = {"force_offset", "time_offset"};
+  t.true_named = true;
+  t.after = {3, 0.7000000000000001, 1.0 / 3.0, 2.0 / 3.0, 5, 6, 7};
+  t.failure = "";
+  const ValidationTrial back =
+      validation_trial_from_exact_json(nlohmann::json::parse(validation_trial_exact_json(t).dump()));
+  BOOST_TEST(back.index == 7);
+  BOOST_TEST(back.seed == t.seed);
+  BOOST_TEST(same_bits(back.amount, -0.1 - 0.2));
+  BOOST_TEST(same_bits(back.floor, 1e-300));
+  BOOST_TEST(std::isnan(back.fitted_amount));
+  BOOST_TEST((back.true_score == -std::numeric_limits<double>::infinity()));
+  BOOST_TEST(back.named == t.named);
+  BOOST_TEST(back.after.phases == 3);
+  BOOST_TEST(same_bits(back.after.x_mm_mean, 1.0 / 3.0));
+  BOOST_TEST(same_bits(back.after.pos_mm_mean, 0.7000000000000001));
+  nlohmann::json doc = validation_trial_exact_json(t);
+  doc["errors"].erase(0);
+  BOOST_CHECK_THROW(validation_trial_from_exact_json(doc), InputError);
 }

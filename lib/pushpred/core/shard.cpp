@@ -1,7 +1,9 @@
 #include "pushpred/core/shard.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -47,6 +49,22 @@ void require_relative_inside(const std::string& name) {
 }
 
 }  // namespace
+
+nlohmann::json exact_number_json(double x) {
+  if (std::isfinite(x)) return x;
+  return std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
+}
+
+double exact_number(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    const std::string s = j.get<std::string>();
+    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
+  }
+  throw InputError("'" + plain_text(j.dump()) + "' is not a number");
+}
 
 ShardSpec parse_shard_spec(const std::string& text) {
   const std::string shown = "--shard '" + plain_text(text) + "'";

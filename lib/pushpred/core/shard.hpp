@@ -33,6 +33,20 @@
 
 namespace pushpred {
 
+/// What a batch command did: the failures to list, how many inputs gave results, and what it prints on stdout.
+/// `partial`: a shard's partial output was written (its failures are listed, but a merge decides the exit code).
+/// `quiet`: an MPI rank other than 0 (rank 0 lists and prints everything). A command with its own exit rule sets
+/// `exit_code` and puts what it says on stderr in `notes` (then `failures` and `used` are not read).
+struct BatchRunOutcome {
+  std::vector<BatchFailure> failures;
+  std::size_t used = 0;
+  std::string report;
+  bool partial = false;
+  bool quiet = false;
+  std::optional<int> exit_code;
+  std::string notes;
+};
+
 /// `--shard I/N`: share `index` (1-based) of `count`. 1/1 holds every input (and is still written as a partial
 /// output: an array job of one task).
 struct ShardSpec {
@@ -40,6 +54,12 @@ struct ShardSpec {
   int count = 1;
   std::string text() const { return std::to_string(index) + "/" + std::to_string(count); }
 };
+
+/// A double for a partial output: a JSON number that reads back to the same bits (nlohmann writes the shortest
+/// digits that do), or "nan", "inf", "-inf" for the non-finite ones JSON has no number for.
+nlohmann::json exact_number_json(double x);
+/// The double exact_number_json wrote; throws InputError for anything else.
+double exact_number(const nlohmann::json& j);
 
 /// Parses "I/N" (1 <= I <= N, decimal integers, N at most 1,000,000); throws InputError naming --shard and the
 /// problem otherwise ("0/2", "3/2", "x", "1/0", "1/2/3", "").

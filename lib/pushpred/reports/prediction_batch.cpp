@@ -23,19 +23,8 @@ constexpr const char* kCommand = "predict";
 
 // --- Exact numbers: nlohmann writes a finite double with the digits that read back to the same bits.
 
-nlohmann::json num(double x) {
-  if (std::isfinite(x)) return x;
-  return std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
-}
-
-double num_from(const nlohmann::json& j) {
-  if (j.is_number()) return j.get<double>();
-  const std::string s = j.get<std::string>();
-  if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
-  if (s == "inf") return std::numeric_limits<double>::infinity();
-  if (s == "-inf") return -std::numeric_limits<double>::infinity();
-  throw InputError("'" + plain_text(s) + "' is not a number");
-}
+nlohmann::json num(double x) { return exact_number_json(x); }
+double num_from(const nlohmann::json& j) { return exact_number(j); }
 
 template <class Vector>
 nlohmann::json vec(const Vector& v) {
@@ -132,7 +121,8 @@ BatchRunOutcome write_prediction_outputs(const Batch<PushStudy>& batch, const nl
   return outcome;
 }
 
-/// The merged parts of a `predict` run written to `out`: each item's files in input order, then the summary.
+}  // namespace
+
 BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput& out) {
   if (merged.command != kCommand)
     throw InputError("merge: the parts are partial outputs of `" + merged.command + "`, which cannot be merged");
@@ -166,6 +156,8 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
   }
   return write_prediction_outputs(batch, options, out);
 }
+
+namespace {
 
 nlohmann::json predict_options_json(const PredictRun& run) {
   // "summary": what summary.json says; "settings": the rest that changes a result, so that a merge refuses parts
@@ -355,19 +347,6 @@ BatchRunOutcome run_predict(const PredictRun& run) {
                    " inputs in all); partial output in " + out->destination().string() +
                    "; when every shard is done: pushpred merge --out DIR PART...\n";
   return outcome;
-}
-
-BatchRunOutcome merge_partial_outputs(const std::vector<std::string>& part_folders, const std::string& out_folder) {
-  std::vector<PartialOutput> parts;
-  std::error_code ec;
-  for (const auto& folder : part_folders) {
-    if (fs::exists(out_folder, ec) && fs::equivalent(folder, out_folder, ec))
-      throw InputError("--out " + plain_text(out_folder) + " is one of the parts; merge into another folder");
-    parts.push_back(read_partial_output(folder));
-  }
-  const MergedParts merged = check_partial_outputs(parts);
-  StagedOutput out(out_folder);
-  return write_merged_predictions(merged, out);
 }
 
 }  // namespace pushpred

@@ -17,17 +17,6 @@
 
 namespace pushpred {
 
-/// What a batch command did: the failures to list, how many inputs gave results, and what it prints on stdout.
-/// `partial`: a shard's partial output was written (its failures are listed, but a merge decides the exit code).
-/// `quiet`: an MPI rank other than 0 (rank 0 lists and prints everything).
-struct BatchRunOutcome {
-  std::vector<BatchFailure> failures;
-  std::size_t used = 0;
-  std::string report;
-  bool partial = false;
-  bool quiet = false;
-};
-
 /// A study as exact JSON, for a partial output: every field drop_samples keeps, doubles written so that they read
 /// back to the same bits (non-finite ones as "nan", "inf", "-inf").
 nlohmann::json push_study_exact_json(const PushStudy& study);
@@ -52,9 +41,8 @@ struct PredictRun {
 /// InputError (nothing written) for a bad output folder, or --shard under mpirun.
 BatchRunOutcome run_predict(const PredictRun& run);
 
-/// `pushpred merge --out DIR PART...`: the partial outputs `parts` (folders written with --shard) combined into what
-/// one run over every input writes. Throws InputError naming the part and the problem (nothing written) when the
-/// parts are not every shard of one run.
-BatchRunOutcome merge_partial_outputs(const std::vector<std::string>& parts, const std::string& out);
+/// The checked parts of a `predict` run (check_partial_outputs) written to `out` as the whole run writes them: each
+/// item's files in input order, summary.json and tables.md; committed unless no input gave a result.
+BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput& out);
 
 }  // namespace pushpred
