@@ -8,6 +8,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libbenchmark-dev gnuplot-nox
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   clang-14 libclang-rt-14-dev jq
+  libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -47,6 +47,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   a->study.add_to(*sub, {2, true, false, true, true});
   sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the results do not depend on it")
       ->check(CLI::PositiveNumber);  // the estimators compared come from --estimators
+  add_shard_refusal(*sub);
   sub->callback([a, &run] { run = [a] { return run_compare(*a); }; });
 });
 

@@ -149,6 +149,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "Files read, and with --per-object objects diagnosed, in parallel (default: all cores); the output "
                   "does not depend on it")
       ->check(CLI::PositiveNumber);
+  add_shard_refusal(*sub);
   sub->callback([a, &run] { run = [a] { return run_diagnose(*a); }; });
 });
 

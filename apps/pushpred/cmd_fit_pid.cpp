@@ -107,6 +107,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(CLI::PositiveNumber);
   sub->add_flag("--cvode", a->cvode,
                 "Run the reconstruction by CVODE instead of its exact discretisation (a hundred times slower)");
+  add_shard_refusal(*sub);
   sub->callback([a, &run] { run = [a] { return run_fit_pid(*a); }; });
 });
 

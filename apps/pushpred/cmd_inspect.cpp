@@ -37,6 +37,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--rate", args->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
   sub->add_option("--jobs", args->jobs, "Files read in parallel (default: all cores); the output does not depend on it")
       ->check(CLI::PositiveNumber);
+  add_shard_refusal(*sub);
   sub->callback([args, &run] { run = [args] { return run_inspect(*args); }; });
 });
 

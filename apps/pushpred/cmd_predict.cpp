@@ -1,61 +1,36 @@
 // `pushpred predict FILE... --out DIR`: the paper's identification/prediction study on each push, with the
 // prediction methods chosen by name (default: every built-in one, predictor.hpp); DIR/summary.json, DIR/tables.md
-// (per object and per pusher speed) and per-push CSVs.
-#include <filesystem>
-#include <cstdio>
-#include <iostream>
+// (per object and per pusher speed) and per-push CSVs. `--shard I/N` writes share I of N as a partial output for
+// `pushpred merge`; under `mpirun -np N` the ranks split the pushes and rank 0 writes (reports/prediction_batch.hpp).
 #include <memory>
 
 #include "commands.hpp"
 #include "study_arguments.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/core/parallel_batch.hpp"
-#include "pushpred/reports/prediction_summary.hpp"
+#include "pushpred/reports/prediction_batch.hpp"
 
 namespace pushpred::app {
 namespace {
 
 struct PredictArgs {
   std::vector<std::string> files;
-  std::string out, shape;
+  std::string out, shape, shard;
+  bool shard_given = false;  ///< --shard was given (an empty spec is an error, not the whole run)
   StudyArguments study;
   double rate_hz = 250.0;
   int jobs = default_jobs();
 };
 
 int run_predict(const PredictArgs& a) {
-  const StudyOptions o = a.study.options();
-  PreprocessOptions pre;
-  pre.rate_hz = a.rate_hz;
-
-  StagedOutput out(a.out);
-  const auto inputs = expand_inputs(a.files);
-  BatchProgress progress("predict", "pushes", inputs.size());
-  const Batch<PushStudy> batch = run_batch(inputs, [&](const std::filesystem::path& path) {
-    PushStudy s = run_prediction_study(load_push(path, a.shape, pre), o);
-    write_text_atomically(out.path("predictions/" + path.stem().string() + ".csv"), predictions_csv(s));
-    drop_samples(s);  // the summary and tables need only errors and parameters
-    return s;
-  }, a.jobs, &progress);
-  if (batch.results.empty()) return report_failures(batch.failures, 0);  // nothing written
-  const nlohmann::json summary = prediction_summary_json(batch, o);
-  write_text_atomically(out.path("summary.json"), json_text(summary));
-  write_text_atomically(out.path("tables.md"),
-                        "Mean over phases of each phase's mean position error [mm] / yaw error [deg]\n\n" +
-                            grouped_errors_markdown(batch.results) + "\n" +
-                            losing_phases_markdown(batch.results, "quasi_static", {"hold", "const_velocity"}));
-  out.commit();
-
-  std::cout << "predicted " << batch.results.size() << " pushes (" << o.schedule.intervals << " intervals over the "
-            << schedule_span_name(o.schedule.span) << " span); summary in " << a.out << "/summary.json\n";
-  for (const auto& name : o.methods) {
-    if (!summary["aggregate"].contains(name)) continue;
-    const auto& e = summary["aggregate"][name];
-    std::printf("  %-15s position %6.2f mm (x %6.2f, y %6.2f)  theta %6.2f deg\n", name.c_str(),
-                e["pos_mm_mean"].get<double>(), e["x_mm_mean"].get<double>(), e["y_mm_mean"].get<double>(),
-                e["theta_deg_mean"].get<double>());
-  }
-  return report_failures(batch.failures, batch.results.size());
+  PredictRun run;
+  if (a.shard_given) run.shard = parse_shard_spec(a.shard);
+  run.study = a.study.options();
+  run.preprocess.rate_hz = a.rate_hz;
+  run.inputs = a.files;
+  run.out = a.out;
+  run.shape = a.shape;
+  run.jobs = a.jobs;
+  return finish_outcome(pushpred::run_predict(run));
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
@@ -68,7 +43,14 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
   sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the output does not depend on it")
       ->check(CLI::PositiveNumber);
-  sub->callback([a, &run] { run = [a] { return run_predict(*a); }; });
+  auto* shard = sub->add_option("--shard", a->shard, std::string(kShardHelp) +
+                                           ". Under mpirun -np N the ranks split the pushes so, and rank 0 writes the "
+                                           "whole output")
+      ->type_name("I/N");
+  sub->callback([a, shard, &run] {
+    a->shard_given = shard->count() > 0;
+    run = [a] { return run_predict(*a); };
+  });
 });
 
 }  // namespace

@@ -1,44 +1,28 @@
 // `pushpred validate-diagnosis --trials N --seed S --out DIR`: the diagnosis tried blind on randomized simulated
-// physics (diagnosis/validation.hpp); writes DIR/validation.md and DIR/validation.json.
-#include <iostream>
+// physics (diagnosis/validation.hpp); writes DIR/validation.md and DIR/validation.json. `--shard I/N` runs share I of
+// N of the trials as a partial output for `pushpred merge`; under mpirun the ranks split the trials
+// (reports/validation_batch.hpp).
 #include <memory>
 #include <thread>
-#include <unistd.h>
 
 #include "commands.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/diagnosis/validation.hpp"
-#include "pushpred/reports/validation_report.hpp"
+#include "pushpred/reports/validation_batch.hpp"
 
 namespace pushpred::app {
 namespace {
 
 struct ValidateArgs {
   ValidationOptions options;
-  std::string out;
+  std::string out, shard;
+  bool shard_given = false;
 };
 
 int run_validate(const ValidateArgs& a) {
-  StagedOutput out(a.out);  // checks the destination before the long run
-  const bool terminal = isatty(STDERR_FILENO) != 0;
-  const ValidationResult r = validate_diagnosis(a.options, [&](int done, int total) {
-    if (terminal)
-      std::cerr << "\rtrials " << done << " / " << total << std::flush;
-    else if (done == total || done % 10 == 0)
-      std::cerr << "trials " << done << " / " << total << "\n";
-  });
-  if (terminal) std::cerr << "\n";
-  write_text_atomically(out.path("validation.json"), validation_json(r).dump(2) + "\n");
-  write_text_atomically(out.path("validation.md"), validation_markdown(r));
-  out.commit();
-  const ValidationSummary s = summarise_validation(r);
-  std::cout << "right kind named at >= 2 floors: " << s.named_at_twice_floor << " / " << s.effect_trials_at_twice_floor
-            << "; nothing named on clean: " << s.clean_nothing_named << " / " << s.clean_trials
-            << "; corrected below the paper: " << s.after_below_paper << " / " << s.compared
-            << ", below const_velocity: " << s.after_below_const_velocity << " / " << s.compared << "\n"
-            << "report in " << a.out << "/validation.md\n";
-  if (s.failed > 0) std::cerr << s.failed << " trial(s) could not be diagnosed (listed in validation.md)\n";
-  return s.failed > 0 ? 1 : 0;
+  ValidateRun run;
+  run.options = a.options;
+  run.out = a.out;
+  if (a.shard_given) run.shard = parse_shard_spec(a.shard);
+  return finish_outcome(run_validation(run));
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
@@ -62,11 +46,15 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--jobs", a->options.jobs, "Trials run in parallel (default: all cores)")->check(CLI::PositiveNumber);
   sub->add_flag("--quick-base", [a](std::int64_t) { a->options.diagnosis.fit_base_settings = false; },
                 "Do not fit the base model's settings on the fit phases: faster");
-  sub->callback([a, &run] {
-    run = [a] {
-      a->options.validate();  // before any work: a bad kind or range is an input error (exit 2), nothing written
-      return run_validate(*a);
-    };
+  auto* shard = sub->add_option("--shard", a->shard,
+                                 "Only share I of N of the trials (trial k goes to share k mod N + 1); writes a "
+                                 "partial output folder that `pushpred merge` combines with the other shares' into "
+                                 "what one run writes. Under mpirun -np N the ranks split the trials so, and rank 0 "
+                                 "writes the whole output")
+                    ->type_name("I/N");
+  sub->callback([a, shard, &run] {
+    a->shard_given = shard->count() > 0;
+    run = [a] { return run_validate(*a); };  // options checked before any work: exit 2, nothing written
   });
 });
 

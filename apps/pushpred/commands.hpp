@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
+#include "pushpred/core/shard.hpp"
 
 namespace pushpred::app {
 
@@ -31,6 +32,20 @@ inline constexpr int kExitNothingDone = 2;
 /// Lists each failure as "FAILED source: reason" on stderr, then "N of M inputs failed"; returns the exit code for
 /// a batch of `inputs` items with `used` of them giving results.
 int report_failures(const std::vector<BatchFailure>& failures, std::size_t used, const std::string& label = "FAILED");
+
+/// Adds `--shard I/N` to a subcommand that cannot split its inputs yet (every one but predict): given, it is
+/// refused with an error naming the subcommand, exit 2, before anything is read or written.
+void add_shard_refusal(CLI::App& sub);
+
+/// The help text of --shard where it is supported.
+inline constexpr const char* kShardHelp =
+    "Only share I of N of the inputs (the sorted list's k-th input goes to share k mod N + 1); writes a partial "
+    "output folder that `pushpred merge` combines with the other shares' into what one run writes";
+
+/// Prints what a batch run says (its report on stdout; its notes, or its failures, on stderr) and gives its exit
+/// code: its own when it sets one, otherwise report_failures's; a shard's partial output exits 1 when some of its
+/// inputs failed, 0 otherwise (the merge lists them again and decides); an MPI rank other than 0 prints nothing.
+int finish_outcome(const BatchRunOutcome& outcome);
 
 /// Runs `job` on one input file; any failure becomes an InputError that names the file (once) and says why in plain
 /// text, for the commands that read a single file (a solver failure on a file is a problem of that file).

@@ -156,6 +156,10 @@ bool is_empty_folder(const fs::path& p) {
 
 }  // namespace
 
+std::string json_file_text(const nlohmann::json& doc) {
+  return doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
 void write_text_atomically(const fs::path& path, const std::string& text) {
   const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;

@@ -9,6 +9,7 @@
 // An existing destination is replaced only when it is empty or was written by pushpred (it holds the marker file
 // `.pushpred-output`), so that `--out .` or `--out ~` can never wipe a user's folder.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,10 @@ namespace pushpred {
 
 /// Writes `text` to `path` through a temporary file in the same folder and a rename.
 void write_text_atomically(const std::filesystem::path& path, const std::string& text);
+
+/// JSON text for an output file: indented by 2, ending in a newline, invalid UTF-8 (from a file name) replaced
+/// rather than aborting the run.
+std::string json_file_text(const nlohmann::json& doc);
 
 /// The name of the marker file every StagedOutput folder holds.
 inline constexpr const char* kOutputMarker = ".pushpred-output";

@@ -103,22 +103,28 @@ class BatchProgress {
   std::mutex mutex_;
 };
 
-/// run_batch (batch.hpp) on `jobs` threads (at most one per input); results and failures in input order, as
-/// run_batch gives them. `progress`, when given, counts every input done.
+/// One input's outcome in a batch: its result or its failure.
+template <class Result>
+struct BatchItem {
+  std::optional<Result> result;
+  std::optional<BatchFailure> failure;
+};
+
+/// run_batch below, but each input's outcome at the input's place (a sharded batch, shard.hpp, records which input
+/// each result or failure belongs to).
 template <class Job>
-auto run_batch(const std::vector<std::filesystem::path>& inputs, Job&& job, int jobs, BatchProgress* progress)
-    -> Batch<decltype(job(inputs.front()))> {
+auto run_batch_items(const std::vector<std::filesystem::path>& inputs, Job&& job, int jobs, BatchProgress* progress)
+    -> std::vector<BatchItem<decltype(job(inputs.front()))>> {
   using Result = decltype(job(inputs.front()));
   const std::size_t n = inputs.size();
-  std::vector<std::optional<Result>> results(n);
-  std::vector<std::optional<BatchFailure>> failures(n);
+  std::vector<BatchItem<Result>> items(n);
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
     for (std::size_t i = next++; i < n; i = next++) {
       // The sequential run_batch on one input: the same results and the same failure text.
       Batch<Result> one = run_batch(std::vector<std::filesystem::path>{inputs[i]}, job);
-      if (!one.results.empty()) results[i].emplace(std::move(one.results.front()));
-      else failures[i] = std::move(one.failures.front());
+      if (!one.results.empty()) items[i].result.emplace(std::move(one.results.front()));
+      else items[i].failure = std::move(one.failures.front());
       if (progress) progress->item_done();
     }
   };
@@ -131,10 +137,19 @@ auto run_batch(const std::vector<std::filesystem::path>& inputs, Job&& job, int 
     for (auto& t : pool) t.join();
   }
   if (progress) progress->finish();
+  return items;
+}
+
+/// run_batch (batch.hpp) on `jobs` threads (at most one per input); results and failures in input order, as
+/// run_batch gives them. `progress`, when given, counts every input done.
+template <class Job>
+auto run_batch(const std::vector<std::filesystem::path>& inputs, Job&& job, int jobs, BatchProgress* progress)
+    -> Batch<decltype(job(inputs.front()))> {
+  using Result = decltype(job(inputs.front()));
   Batch<Result> batch;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (results[i]) batch.results.push_back(std::move(*results[i]));
-    if (failures[i]) batch.failures.push_back(std::move(*failures[i]));
+  for (auto& item : run_batch_items(inputs, job, jobs, progress)) {
+    if (item.result) batch.results.push_back(std::move(*item.result));
+    if (item.failure) batch.failures.push_back(std::move(*item.failure));
   }
   return batch;
 }

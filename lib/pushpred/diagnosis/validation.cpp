@@ -325,20 +325,37 @@ void score_trial(const DiagnosisResult& r, ValidationTrial& trial) {
   trial.quasi_static = r.quasi_static;
 }
 
+int validation_trial_count(const ValidationOptions& options) {
+  const std::size_t kinds = options.kinds.empty() ? default_validation_kinds().size() : options.kinds.size();
+  return options.trials_per_kind * static_cast<int>(kinds);
+}
+
 ValidationResult validate_diagnosis(const ValidationOptions& options, const std::function<void(int, int)>& progress) {
+  std::vector<int> all(static_cast<std::size_t>(std::max(0, validation_trial_count(options))));
+  for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  return validate_diagnosis_trials(options, all, progress);
+}
+
+ValidationResult validate_diagnosis_trials(const ValidationOptions& options, const std::vector<int>& indices,
+                                           const std::function<void(int, int)>& progress) {
   options.validate();
   ValidationResult result;
   result.options = options;
   if (result.options.kinds.empty()) result.options.kinds = default_validation_kinds();
   const auto& kinds = result.options.kinds;
-  const int total = options.trials_per_kind * static_cast<int>(kinds.size());
-  result.trials.resize(static_cast<std::size_t>(total));
+  const int count = validation_trial_count(result.options);
+  for (int k : indices)
+    if (k < 0 || k >= count)
+      throw InputError("validation: trial " + std::to_string(k) + " is not one of the run's " + std::to_string(count));
+  const int total = static_cast<int>(indices.size());
+  result.trials.resize(indices.size());
   // Trials interleave the kinds (index k draws kinds[k % K]), so a run cut short still covers every kind.
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
   const auto worker = [&] {
-    for (int k = next++; k < total; k = next++) {
-      ValidationTrial& t = result.trials[static_cast<std::size_t>(k)];
+    for (int j = next++; j < total; j = next++) {
+      ValidationTrial& t = result.trials[static_cast<std::size_t>(j)];
+      const int k = indices[static_cast<std::size_t>(j)];
       t.index = k;
       run_trial(result.options, t, kinds[static_cast<std::size_t>(k) % kinds.size()]);
       const int d = ++done;

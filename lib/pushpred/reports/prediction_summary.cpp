@@ -79,7 +79,16 @@ std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushS
   return sum;
 }
 
-nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& o) {
+nlohmann::json prediction_options_json(const StudyOptions& o) {
+  return {{"intervals", o.schedule.intervals},
+          {"span", schedule_span_name(o.schedule.span)},
+          {"plan_rate_hz", o.plan_rate_hz},
+          {"observer", o.observer},
+          {"methods", o.methods.empty() ? prediction_method_names() : o.methods},
+          {"estimator", o.estimator}};
+}
+
+nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const nlohmann::json& options) {
   nlohmann::json files = nlohmann::json::array();
   for (const auto& s : batch.results) files.push_back(study_json(s));
   nlohmann::json aggregate = nlohmann::json::object();
@@ -87,16 +96,14 @@ nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const Stud
   nlohmann::json failures = nlohmann::json::array();
   for (const auto& f : batch.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
   return {{"pushpred_version", kVersion},
-          {"options",
-           {{"intervals", o.schedule.intervals},
-            {"span", schedule_span_name(o.schedule.span)},
-            {"plan_rate_hz", o.plan_rate_hz},
-            {"observer", o.observer},
-            {"methods", o.methods.empty() ? prediction_method_names() : o.methods},
-            {"estimator", o.estimator}}},
+          {"options", options},
           {"files", files},
           {"aggregate", aggregate},
           {"failures", failures}};
+}
+
+nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& o) {
+  return prediction_summary_json(batch, prediction_options_json(o));
 }
 
 std::string grouped_errors_markdown(const std::vector<PushStudy>& studies) {

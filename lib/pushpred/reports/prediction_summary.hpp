@@ -19,6 +19,10 @@ nlohmann::json study_json(const PushStudy& study);
 std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushStudy>& studies);
 
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& options);
+/// The summary's "options" object for `options`.
+nlohmann::json prediction_options_json(const StudyOptions& options);
+/// prediction_summary_json with the "options" object given (a merge of partial outputs has it, not the options).
+nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const nlohmann::json& options);
 
 /// Markdown tables of the mean over phases of each method's per-phase mean position error [mm] / yaw error [deg]:
 /// per object, per pusher speed (or acceleration), and over all phases, for `studies` (shape and speed from the

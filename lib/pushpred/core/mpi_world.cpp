@@ -1,0 +1,115 @@
+#include "pushpred/core/mpi_world.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "pushpred/core/error.hpp"
+
+#ifdef PUSHPRED_HAVE_MPI
+// The C interface only: Open MPI's and MPICH's C++ bindings (deprecated) do not compile cleanly with -Wextra.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#endif
+
+namespace pushpred {
+namespace {
+
+int env_count(const char* name) {
+  const char* v = std::getenv(name);
+  if (!v || !*v) return 0;
+  char* end = nullptr;
+  const long n = std::strtol(v, &end, 10);
+  return (*end == '\0' && n > 0 && n < 1000000000) ? static_cast<int>(n) : 0;
+}
+
+#ifdef PUSHPRED_HAVE_MPI
+bool launched() {
+  return env_count("OMPI_COMM_WORLD_SIZE") > 0 || env_count("PMI_SIZE") > 0 || std::getenv("PMIX_RANK") != nullptr;
+}
+
+void finalise_mpi() {
+  int finalised = 0;
+  MPI_Finalized(&finalised);
+  if (!finalised) MPI_Finalize();
+}
+
+// Texts go in pieces of at most this many bytes (an MPI count is an int).
+constexpr std::uint64_t kPiece = 1u << 30;
+#endif
+
+}  // namespace
+
+bool mpi_built() {
+#ifdef PUSHPRED_HAVE_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+int mpi_launch_size() {
+  const int n = std::max(env_count("OMPI_COMM_WORLD_SIZE"), env_count("PMI_SIZE"));
+  return n > 0 ? n : 1;
+}
+
+MpiWorld::MpiWorld() {
+#ifdef PUSHPRED_HAVE_MPI
+  if (!launched()) return;
+  int provided = 0;
+  // Only the main thread calls MPI; worker threads (--jobs) never do.
+  if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
+    throw InputError("MPI could not be initialised (launched by mpirun, but MPI_Init_thread failed)");
+  initialised_ = true;
+  std::atexit(finalise_mpi);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+#else
+  if (mpi_launch_size() > 1)
+    throw InputError("started as one of " + std::to_string(mpi_launch_size()) +
+                     " processes by an MPI launcher, but this pushpred was built without MPI: every process would do "
+                     "the whole job; rebuild with MPI (libopenmpi-dev), or use --shard I/N and pushpred merge");
+#endif
+}
+
+MpiWorld& MpiWorld::get() {
+  static MpiWorld world;
+  return world;
+}
+
+std::vector<std::string> MpiWorld::gather_to_root(const std::string& text) const {
+  if (size_ == 1) return {text};
+#ifdef PUSHPRED_HAVE_MPI
+  std::uint64_t length = text.size();
+  std::vector<std::uint64_t> lengths(root() ? static_cast<std::size_t>(size_) : 0);
+  MPI_Gather(&length, 1, MPI_UINT64_T, lengths.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  if (!root()) {
+    for (std::uint64_t at = 0; at < length; at += kPiece)
+      MPI_Send(text.data() + at, static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, 0, 0, MPI_COMM_WORLD);
+    return {};
+  }
+  std::vector<std::string> all(static_cast<std::size_t>(size_));
+  all[0] = text;
+  for (int r = 1; r < size_; ++r) {
+    std::string& t = all[static_cast<std::size_t>(r)];
+    t.resize(lengths[static_cast<std::size_t>(r)]);
+    for (std::uint64_t at = 0; at < t.size(); at += kPiece)
+      MPI_Recv(&t[at], static_cast<int>(std::min<std::uint64_t>(kPiece, t.size() - at)), MPI_CHAR, r, 0,
+               MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  }
+  return all;
+#else
+  return {text};
+#endif
+}
+
+void MpiWorld::abort(int code) const {
+#ifdef PUSHPRED_HAVE_MPI
+  if (initialised_) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  std::exit(code);
+}
+
+}  // namespace pushpred

@@ -1,0 +1,44 @@
+#pragma once
+// The MPI job a process runs in (issue 12): `mpirun -np N pushpred predict ...` splits the inputs over the N ranks
+// as `--shard R+1/N` would (shard.hpp), and the ranks send their partial outputs to rank 0, which writes what one
+// process writes. MPI is optional at build time (CMake's find_package(MPI COMPONENTS C)); mpi_built() says whether
+// this build has it. MPI is initialised only in a process that a launcher started (mpirun, mpiexec, srun: one of
+// OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK is set), so a plain run never touches it.
+#include <string>
+#include <vector>
+
+namespace pushpred {
+
+/// True when this build was made with MPI.
+bool mpi_built();
+
+/// The number of processes a launcher says this one is part of (OMPI_COMM_WORLD_SIZE or PMI_SIZE), 1 when not
+/// launched by one. Reads the environment only; does not initialise MPI.
+int mpi_launch_size();
+
+/// This process's place in its MPI job. The first call initialises MPI when the process was launched by a
+/// launcher (and MPI is built); MPI is finalised at exit. Without a launcher: rank 0 of 1.
+class MpiWorld {
+ public:
+  /// Throws InputError when launched as one of several processes by a build without MPI (each would do the whole
+  /// job and write the same output).
+  static MpiWorld& get();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool root() const { return rank_ == 0; }
+
+  /// Every rank's `text` on rank 0, in rank order (rank 0's own first); an empty list on the other ranks. Called by
+  /// every rank alike. Texts may be longer than an MPI count (sent in pieces).
+  std::vector<std::string> gather_to_root(const std::string& text) const;
+
+  /// Stops every rank of the job with `code` (after an error on one rank that the others cannot know of).
+  [[noreturn]] void abort(int code) const;
+
+ private:
+  MpiWorld();
+  int rank_ = 0, size_ = 1;
+  bool initialised_ = false;
+};
+
+}  // namespace pushpred

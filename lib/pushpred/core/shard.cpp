@@ -1,0 +1,292 @@
+#include "pushpred/core/shard.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/output_files.hpp"
+#include "pushpred/core/version.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pushpred {
+namespace {
+
+constexpr int kPartialFormat = 1;
+constexpr const char* kManifestName = "partial.json";
+
+std::string dump(const nlohmann::json& doc, int indent) {
+  return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+/// A non-negative decimal integer of at most 7 digits, or nothing.
+std::optional<int> small_count(const std::string& text) {
+  if (text.empty() || text.size() > 7) return std::nullopt;
+  for (char c : text)
+    if (c < '0' || c > '9') return std::nullopt;
+  return std::stoi(text);
+}
+
+std::string part_error(const PartialOutput& part, const std::string& what) {
+  return about(plain_text(part.name), what);
+}
+
+/// A file an item lists must stay inside the output: relative, no "..".
+void require_relative_inside(const std::string& name) {
+  const fs::path p(name);
+  bool ok = !name.empty() && p.is_relative();
+  for (const auto& part : p)
+    if (part == "..") ok = false;
+  if (!ok) throw InputError("its item lists the file '" + plain_text(name) + "', which is not a path inside the output");
+}
+
+}  // namespace
+
+nlohmann::json exact_number_json(double x) {
+  if (std::isfinite(x)) return x;
+  return std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
+}
+
+double exact_number(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    const std::string s = j.get<std::string>();
+    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
+  }
+  throw InputError("'" + plain_text(j.dump()) + "' is not a number");
+}
+
+ShardSpec parse_shard_spec(const std::string& text) {
+  const std::string shown = "--shard '" + plain_text(text) + "'";
+  const auto slash = text.find('/');
+  if (slash == std::string::npos)
+    throw InputError(shown + ": expected I/N, share I of N (e.g. 1/4), 1 <= I <= N");
+  const auto index = small_count(text.substr(0, slash));
+  const auto count = small_count(text.substr(slash + 1));
+  if (!index || !count)
+    throw InputError(shown + ": expected I/N with I and N whole numbers (e.g. 1/4), 1 <= I <= N");
+  if (*count < 1 || *count > 1000000) throw InputError(shown + ": N must be between 1 and 1000000");
+  if (*index < 1 || *index > *count)
+    throw InputError(shown + ": I must be between 1 and N (" + std::to_string(*count) + "); shards count from 1");
+  return {*index, *count};
+}
+
+std::vector<std::size_t> shard_positions(const std::vector<fs::path>& inputs, const ShardSpec& shard) {
+  std::vector<std::size_t> order(inputs.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return inputs[a].string() < inputs[b].string(); });
+  std::vector<std::size_t> mine;
+  for (std::size_t k = 0; k < order.size(); ++k)
+    if (static_cast<int>(k % static_cast<std::size_t>(shard.count)) == shard.index - 1) mine.push_back(order[k]);
+  std::sort(mine.begin(), mine.end());
+  return mine;
+}
+
+std::string inputs_fingerprint(const std::vector<fs::path>& inputs) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto add = [&h](unsigned char c) {
+    h ^= c;
+    h *= 1099511628211ull;
+  };
+  for (const auto& p : inputs) {
+    for (unsigned char c : p.string()) add(c);
+    add(0);  // a separator no path holds
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+void FileSink::write(const std::string& name, const std::string& text) {
+  if (out_) {
+    write_text_atomically(out_->path(name), text);
+    return;
+  }
+  const std::lock_guard<std::mutex> lock(mutex_);
+  files_[name] = text;
+}
+
+nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, const std::vector<fs::path>& inputs,
+                                const nlohmann::json& options, const std::vector<PartialItem>& items) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& item : items) {
+    nlohmann::json entry = {{"index", item.index}};
+    if (item.result) {
+      entry["result"] = *item.result;
+      entry["files"] = item.files;
+    } else if (item.failure) {
+      entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
+    }
+    list.push_back(std::move(entry));
+  }
+  return {{"pushpred_partial", kPartialFormat},
+          {"pushpred_version", kVersion},
+          {"command", command},
+          {"shard", {{"index", shard.index}, {"count", shard.count}}},
+          {"inputs", {{"count", inputs.size()}, {"fingerprint", inputs_fingerprint(inputs)}}},
+          {"options", options},
+          {"items", list}};
+}
+
+void write_partial_output(StagedOutput& out, const nlohmann::json& manifest) {
+  write_text_atomically(out.path(kManifestName), json_file_text(manifest));
+  out.commit();
+}
+
+PartialOutput read_partial_output(const fs::path& folder) {
+  const std::string name = folder.string();
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw InputError(about(plain_text(name), fs::exists(folder, ec) ? "not a folder (a merge reads the folders "
+                                                                      "that --shard runs wrote)"
+                                                                    : "no such folder"));
+  const fs::path manifest_path = folder / kManifestName;
+  std::ifstream in(manifest_path, std::ios::binary);
+  if (!in)
+    throw InputError(about(plain_text(name), std::string("no ") + kManifestName +
+                                                 ": not a partial output of pushpred (make them with --shard I/N)"));
+  std::ostringstream text;
+  text << in.rdbuf();
+  PartialOutput part;
+  part.name = name;
+  try {
+    part.manifest = nlohmann::json::parse(text.str());
+  } catch (const std::exception& e) {
+    throw InputError(about(plain_text(manifest_path.string()), std::string("not valid JSON: ") + e.what()));
+  }
+  part.read_file = [folder, name](const std::string& relative) {
+    std::ifstream f(folder / relative, std::ios::binary);
+    if (!f) throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is missing"));
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  return part;
+}
+
+std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::string, std::string>& files) {
+  return dump({{"manifest", manifest}, {"files", files}}, -1);
+}
+
+PartialOutput partial_output_from_bundle(const std::string& name, const std::string& bundle) {
+  PartialOutput part;
+  part.name = name;
+  auto doc = std::make_shared<nlohmann::json>();
+  try {
+    *doc = nlohmann::json::parse(bundle);
+    part.manifest = std::move(doc->at("manifest"));
+  } catch (const std::exception& e) {
+    throw InputError(about(plain_text(name), std::string("its partial output is not readable: ") + e.what()));
+  }
+  part.read_file = [doc, name](const std::string& relative) {
+    const auto& files = (*doc)["files"];
+    const auto it = files.find(relative);
+    if (it == files.end() || !it->is_string())
+      throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is missing"));
+    return it->get<std::string>();
+  };
+  return part;
+}
+
+MergedParts check_partial_outputs(const std::vector<PartialOutput>& parts) {
+  if (parts.empty()) throw InputError("merge: no partial outputs given");
+  MergedParts merged;
+  const PartialOutput& first = parts.front();
+  std::size_t count = 0;
+  std::string fingerprint;
+  int shards = 0;
+  std::map<int, const PartialOutput*> seen;
+  std::vector<std::optional<MergedItem>> items;
+  for (const auto& part : parts) {
+    const auto& m = part.manifest;
+    try {
+      if (!m.is_object() || m.value("pushpred_partial", 0) != kPartialFormat)
+        throw InputError("not a partial output of pushpred (no \"pushpred_partial\": 1)");
+      const std::string command = m.at("command").get<std::string>();
+      const int index = m.at("shard").at("index").get<int>();
+      const int n = m.at("shard").at("count").get<int>();
+      const std::size_t inputs = m.at("inputs").at("count").get<std::size_t>();
+      const std::string print = m.at("inputs").at("fingerprint").get<std::string>();
+      const std::string version = m.at("pushpred_version").get<std::string>();
+      if (n < 1 || index < 1 || index > n) throw InputError("its shard " + std::to_string(index) + "/" +
+                                                            std::to_string(n) + " is not a share I/N");
+      if (&part == &first) {
+        merged.command = command;
+        merged.options = m.at("options");
+        count = inputs;
+        fingerprint = print;
+        shards = n;
+        items.resize(count);
+      } else {
+        const std::string other = " than " + plain_text(first.name);
+        if (command != merged.command)
+          throw InputError("it is a partial output of `" + command + "`, not of `" + merged.command + "` as " +
+                           plain_text(first.name));
+        if (version != first.manifest.at("pushpred_version").get<std::string>())
+          throw InputError("written by pushpred " + version + ", a different version" + other);
+        if (n != shards)
+          throw InputError("it is shard " + std::to_string(index) + "/" + std::to_string(n) + ", but " +
+                           plain_text(first.name) + " was split into " + std::to_string(shards));
+        if (inputs != count || print != fingerprint)
+          throw InputError("its run was given other inputs" + other + " (" + std::to_string(inputs) + " against " +
+                           std::to_string(count) + ", or another list or order): give every shard the same inputs");
+        if (m.at("options") != merged.options)
+          throw InputError("its run had other options" + other + ": give every shard the same options");
+      }
+      if (seen.count(index))
+        throw InputError("it is shard " + std::to_string(index) + "/" + std::to_string(n) + ", as is " +
+                         plain_text(seen[index]->name));
+      seen[index] = &part;
+      for (const auto& entry : m.at("items")) {
+        MergedItem mi;
+        mi.part = &part;
+        mi.item.index = entry.at("index").get<std::size_t>();
+        if (mi.item.index >= count)
+          throw InputError("its item " + std::to_string(mi.item.index) + " is beyond the " + std::to_string(count) +
+                           " inputs");
+        if (entry.contains("result")) {
+          mi.item.result = entry.at("result");
+          mi.item.files = entry.at("files").get<std::vector<std::string>>();
+          for (const auto& f : mi.item.files) require_relative_inside(f);
+        } else {
+          const auto& f = entry.at("failure");
+          mi.item.failure = BatchFailure{f.at("source").get<std::string>(), f.at("reason").get<std::string>()};
+        }
+        if (items[mi.item.index])
+          throw InputError("input " + std::to_string(mi.item.index + 1) + " is also in " +
+                           plain_text(items[mi.item.index]->part->name));
+        items[mi.item.index] = std::move(mi);
+      }
+    } catch (const InputError& e) {
+      throw InputError(part_error(part, e.what()));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(part_error(part, std::string("partial.json is not pushpred's partial format: ") + e.what()));
+    }
+  }
+  std::string missing;
+  for (int i = 1; i <= shards; ++i)
+    if (!seen.count(i)) missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(shards);
+  if (!missing.empty())
+    throw InputError("merge: shard" + std::string(missing.find(',') == std::string::npos ? " " : "s ") + missing +
+                     " missing: give the partial output of every shard");
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    if (!items[k])
+      throw InputError("merge: input " + std::to_string(k + 1) + " of " + std::to_string(count) +
+                       " is in no part (a part was changed after its run?)");
+    merged.items.push_back(std::move(*items[k]));
+  }
+  return merged;
+}
+
+}  // namespace pushpred

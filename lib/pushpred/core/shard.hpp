@@ -1,0 +1,145 @@
+#pragma once
+// Splitting a batch over processes and putting it back together (issue 12): `--shard I/N` runs share I of N of a
+// command's inputs and writes a *partial output*; `pushpred merge` combines the partial outputs of shards 1..N into
+// exactly what one run over every input writes; an MPI run (mpi_world.hpp) does both in one job, its ranks sending
+// their partial outputs to rank 0.
+//
+// The split: the expanded inputs (expand_inputs, in the order given) are sorted by path, and the k-th of the sorted
+// list (k = 0, 1, ...) goes to shard (k mod N) + 1. Each item keeps its position in the list as given, so that a
+// merge puts results and failures back in the order one unsharded run has them. Every shard must be given the same
+// inputs in the same order and the same options: a partial output records how many inputs there were, a
+// fingerprint of their list and the command's options, and a merge refuses parts that differ in any of them.
+//
+// A partial output is a folder (written as a StagedOutput, so never half-written) holding `partial.json`:
+//
+//   {"pushpred_partial": 1, "pushpred_version": ..., "command": "predict", "shard": {"index": I, "count": N},
+//    "inputs": {"count": M, "fingerprint": "..."}, "options": {...},
+//    "items": [{"index": k, "result": {...}, "files": ["predictions/x.csv"]},
+//              {"index": j, "failure": {"source": ..., "reason": ...}}]}
+//
+// and each item's files, at the relative paths the item lists (the files one run writes for that item).
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pushpred/core/batch.hpp"
+#include "pushpred/core/output_files.hpp"
+
+namespace pushpred {
+
+/// What a batch command did: the failures to list, how many inputs gave results, and what it prints on stdout.
+/// `partial`: a shard's partial output was written (its failures are listed, but a merge decides the exit code).
+/// `quiet`: an MPI rank other than 0 (rank 0 lists and prints everything). A command with its own exit rule sets
+/// `exit_code` and puts what it says on stderr in `notes` (then `failures` and `used` are not read).
+struct BatchRunOutcome {
+  std::vector<BatchFailure> failures;
+  std::size_t used = 0;
+  std::string report;
+  bool partial = false;
+  bool quiet = false;
+  std::optional<int> exit_code;
+  std::string notes;
+};
+
+/// `--shard I/N`: share `index` (1-based) of `count`. 1/1 holds every input (and is still written as a partial
+/// output: an array job of one task).
+struct ShardSpec {
+  int index = 1;
+  int count = 1;
+  std::string text() const { return std::to_string(index) + "/" + std::to_string(count); }
+};
+
+/// A double for a partial output: a JSON number that reads back to the same bits (nlohmann writes the shortest
+/// digits that do), or "nan", "inf", "-inf" for the non-finite ones JSON has no number for.
+nlohmann::json exact_number_json(double x);
+/// The double exact_number_json wrote; throws InputError for anything else.
+double exact_number(const nlohmann::json& j);
+
+/// Parses "I/N" (1 <= I <= N, decimal integers, N at most 1,000,000); throws InputError naming --shard and the
+/// problem otherwise ("0/2", "3/2", "x", "1/0", "1/2/3", "").
+ShardSpec parse_shard_spec(const std::string& text);
+
+/// The positions (in `inputs` as given) of the items of `shard`: the sorted list's k-th item for every k with
+/// k mod count == index - 1, in the order given. Equal paths keep their order given.
+std::vector<std::size_t> shard_positions(const std::vector<std::filesystem::path>& inputs, const ShardSpec& shard);
+
+/// A fingerprint of the input list as given (FNV-1a, 64 bits, of the paths and their order), in hexadecimal.
+std::string inputs_fingerprint(const std::vector<std::filesystem::path>& inputs);
+
+/// Where the files of one item go while a batch runs: into a staged folder (a shard, or a whole run), or into
+/// memory (an MPI rank's share, sent to rank 0). Safe to call from several threads.
+class FileSink {
+ public:
+  /// Into the staged folder `out` (which must outlive the sink).
+  explicit FileSink(const StagedOutput& out) : out_(&out) {}
+  /// Into memory: files() holds them.
+  FileSink() = default;
+
+  /// Writes `text` at the relative path `name` (write_text_atomically, or kept in memory).
+  void write(const std::string& name, const std::string& text);
+  /// The files kept in memory, by relative path.
+  const std::map<std::string, std::string>& files() const { return files_; }
+  std::map<std::string, std::string> take_files() { return std::move(files_); }
+
+ private:
+  const StagedOutput* out_ = nullptr;
+  std::map<std::string, std::string> files_;
+  std::mutex mutex_;
+};
+
+/// One item of a sharded batch: its position among all inputs, and its result (as the command encodes it) with the
+/// files it wrote, or its failure.
+struct PartialItem {
+  std::size_t index = 0;
+  std::optional<nlohmann::json> result;
+  std::vector<std::string> files;  ///< relative paths
+  std::optional<BatchFailure> failure;
+};
+
+/// The partial.json of one shard (see the top of this file). `options` is whatever the command needs to write its
+/// outputs and to tell two runs apart.
+nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard,
+                                const std::vector<std::filesystem::path>& inputs, const nlohmann::json& options,
+                                const std::vector<PartialItem>& items);
+
+/// Writes `manifest` as out's partial.json and commits `out` (the item's files are in it already).
+void write_partial_output(StagedOutput& out, const nlohmann::json& manifest);
+
+/// A partial output as a merge reads it: its name (the folder, or "rank R" of an MPI run), its partial.json, and
+/// how to read one of its files by relative path (throws InputError naming the part when it is missing).
+struct PartialOutput {
+  std::string name;
+  nlohmann::json manifest;
+  std::function<std::string(const std::string&)> read_file;
+};
+
+/// Reads the partial output in `folder`; throws InputError naming the folder when it is not one (no partial.json,
+/// not JSON, not pushpred's partial format).
+PartialOutput read_partial_output(const std::filesystem::path& folder);
+
+/// A partial output held in memory (an MPI rank's): `bundle` is partial_bundle's text.
+PartialOutput partial_output_from_bundle(const std::string& name, const std::string& bundle);
+/// One text holding a manifest and its files, to send to another process.
+std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::string, std::string>& files);
+
+/// The items of every part, checked to be one whole batch, in input order: the same command, version, inputs and
+/// options in every part; shards 1..N each given once; every input's item present exactly once. Each item comes with
+/// the part that holds it. Throws InputError naming the part and the problem otherwise.
+struct MergedItem {
+  PartialItem item;
+  const PartialOutput* part = nullptr;
+};
+struct MergedParts {
+  std::string command;
+  nlohmann::json options;
+  std::vector<MergedItem> items;  ///< one per input, in the order given
+};
+MergedParts check_partial_outputs(const std::vector<PartialOutput>& parts);
+
+}  // namespace pushpred

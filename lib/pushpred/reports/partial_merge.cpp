@@ -1,0 +1,30 @@
+#include "pushpred/reports/partial_merge.hpp"
+
+#include <filesystem>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/reports/prediction_batch.hpp"
+#include "pushpred/reports/validation_batch.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pushpred {
+
+BatchRunOutcome merge_partial_outputs(const std::vector<std::string>& part_folders, const std::string& out_folder) {
+  std::vector<PartialOutput> parts;
+  std::error_code ec;
+  for (const auto& folder : part_folders) {
+    if (fs::exists(out_folder, ec) && fs::equivalent(folder, out_folder, ec))
+      throw InputError("--out " + plain_text(out_folder) + " is one of the parts; merge into another folder");
+    parts.push_back(read_partial_output(folder));
+  }
+  const MergedParts merged = check_partial_outputs(parts);
+  if (merged.command != "predict" && merged.command != kValidationCommand)
+    throw InputError("merge: the parts are partial outputs of `" + plain_text(merged.command) +
+                     "`, which this pushpred cannot merge");
+  StagedOutput out(out_folder);
+  if (merged.command == kValidationCommand) return write_merged_validation(merged, out);
+  return write_merged_predictions(merged, out);
+}
+
+}  // namespace pushpred

@@ -1,0 +1,352 @@
+#include "pushpred/reports/prediction_batch.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/mpi_world.hpp"
+#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/reports/prediction_summary.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pushpred {
+namespace {
+
+constexpr const char* kCommand = "predict";
+
+// --- Exact numbers: nlohmann writes a finite double with the digits that read back to the same bits.
+
+nlohmann::json num(double x) { return exact_number_json(x); }
+double num_from(const nlohmann::json& j) { return exact_number(j); }
+
+template <class Vector>
+nlohmann::json vec(const Vector& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) out.push_back(num(v(i)));
+  return out;
+}
+
+Eigen::Vector3d vec3_from(const nlohmann::json& j) {
+  if (j.size() != 3) throw InputError("a 3-vector has " + std::to_string(j.size()) + " entries");
+  return {num_from(j[0]), num_from(j[1]), num_from(j[2])};
+}
+
+nlohmann::json relation_exact(const RelationParameters& p) {
+  nlohmann::json cov = nlohmann::json::array();
+  for (const auto& c : p.covariance) cov.push_back({num(c(0, 0)), num(c(0, 1)), num(c(1, 0)), num(c(1, 1))});
+  return {{"estimator", p.estimator},         {"beta", vec(p.beta)},
+          {"eps", vec(p.eps)},                {"covariance", cov},
+          {"residual_std", vec(p.residual_std)}, {"samples", p.samples},
+          {"effective_samples", num(p.effective_samples)}, {"intervals", p.intervals},
+          {"loss_scale", vec(p.loss_scale)}};
+}
+
+RelationParameters relation_from(const nlohmann::json& j) {
+  RelationParameters p;
+  p.estimator = j.at("estimator").get<std::string>();
+  p.beta = vec3_from(j.at("beta"));
+  p.eps = vec3_from(j.at("eps"));
+  const auto& cov = j.at("covariance");
+  if (cov.size() != 3) throw InputError("a relation's covariance has " + std::to_string(cov.size()) + " channels");
+  for (int c = 0; c < 3; ++c) {
+    const auto& m = cov[static_cast<std::size_t>(c)];
+    p.covariance[static_cast<std::size_t>(c)] << num_from(m.at(0)), num_from(m.at(1)), num_from(m.at(2)),
+        num_from(m.at(3));
+  }
+  p.residual_std = vec3_from(j.at("residual_std"));
+  p.samples = j.at("samples").get<long>();
+  p.effective_samples = num_from(j.at("effective_samples"));
+  p.intervals = j.at("intervals").get<long>();
+  p.loss_scale = vec3_from(j.at("loss_scale"));
+  return p;
+}
+
+nlohmann::json errors_exact(const PredictionErrors& e) {
+  return {num(e.pos_mm_mean),    num(e.x_mm_mean),     num(e.x_mm_std),
+          num(e.y_mm_mean),      num(e.y_mm_std),      num(e.theta_deg_mean),
+          num(e.theta_deg_std),  num(e.final_pos_mm),  num(e.final_theta_deg)};
+}
+
+PredictionErrors errors_from(const nlohmann::json& j) {
+  if (j.size() != 9) throw InputError("prediction errors hold " + std::to_string(j.size()) + " numbers, not 9");
+  PredictionErrors e;
+  double* fields[] = {&e.pos_mm_mean,    &e.x_mm_mean,     &e.x_mm_std,     &e.y_mm_mean,       &e.y_mm_std,
+                      &e.theta_deg_mean, &e.theta_deg_std, &e.final_pos_mm, &e.final_theta_deg};
+  for (std::size_t k = 0; k < 9; ++k) *fields[k] = num_from(j[k]);
+  return e;
+}
+
+nlohmann::json interval_exact(const TimeInterval& t) { return {num(t.t0_s), num(t.t1_s)}; }
+TimeInterval interval_from(const nlohmann::json& j) { return {num_from(j.at(0)), num_from(j.at(1))}; }
+
+// --- The outputs of one whole run, from its studies (a whole run's, or the merged parts').
+
+/// Writes summary.json and tables.md and commits `out`, unless no input gave a result (then nothing is written).
+BatchRunOutcome write_prediction_outputs(const Batch<PushStudy>& batch, const nlohmann::json& options,
+                                         StagedOutput& out) {
+  BatchRunOutcome outcome;
+  outcome.failures = batch.failures;
+  outcome.used = batch.results.size();
+  if (batch.results.empty()) return outcome;  // nothing written
+  const nlohmann::json summary = prediction_summary_json(batch, options);
+  write_text_atomically(out.path("summary.json"), json_file_text(summary));
+  write_text_atomically(out.path("tables.md"),
+                        "Mean over phases of each phase's mean position error [mm] / yaw error [deg]\n\n" +
+                            grouped_errors_markdown(batch.results) + "\n" +
+                            losing_phases_markdown(batch.results, "quasi_static", {"hold", "const_velocity"}));
+  out.commit();
+
+  std::ostringstream report;
+  report << "predicted " << batch.results.size() << " pushes (" << options.at("intervals").get<int>()
+         << " intervals over the " << options.at("span").get<std::string>() << " span); summary in "
+         << out.destination().string() << "/summary.json\n";
+  for (const auto& method : options.at("methods")) {
+    const std::string name = method.get<std::string>();
+    if (!summary["aggregate"].contains(name)) continue;
+    const auto& e = summary["aggregate"][name];
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-15s position %6.2f mm (x %6.2f, y %6.2f)  theta %6.2f deg\n", name.c_str(),
+                  e["pos_mm_mean"].get<double>(), e["x_mm_mean"].get<double>(), e["y_mm_mean"].get<double>(),
+                  e["theta_deg_mean"].get<double>());
+    report << line;
+  }
+  outcome.report = report.str();
+  return outcome;
+}
+
+}  // namespace
+
+BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput& out) {
+  if (merged.command != kCommand)
+    throw InputError("merge: the parts are partial outputs of `" + merged.command + "`, which cannot be merged");
+  // What the summary and the printed report read of the options, checked before anything is written.
+  const nlohmann::json& options = merged.options.contains("summary") ? merged.options["summary"] : merged.options;
+  const auto is_names = [](const nlohmann::json& list) {
+    if (!list.is_array()) return false;
+    for (const auto& n : list)
+      if (!n.is_string()) return false;
+    return true;
+  };
+  if (!options.is_object() || !options.contains("intervals") || !options["intervals"].is_number_integer() ||
+      !options.contains("span") || !options["span"].is_string() || !options.contains("methods") ||
+      !is_names(options["methods"]))
+    throw InputError("merge: " + plain_text(merged.items.empty() ? std::string("the parts")
+                                                                 : merged.items.front().part->name) +
+                     ": its partial.json's options are not those of `predict`");
+  Batch<PushStudy> batch;
+  for (const auto& m : merged.items) {
+    if (m.item.failure) {
+      batch.failures.push_back(*m.item.failure);
+      continue;
+    }
+    try {
+      batch.results.push_back(push_study_from_exact_json(*m.item.result));
+    } catch (const std::exception& e) {
+      throw InputError(about(plain_text(m.part->name), "the result of input " + std::to_string(m.item.index + 1) +
+                                                           " is not readable: " + e.what()));
+    }
+    for (const auto& file : m.item.files) write_text_atomically(out.path(file), m.part->read_file(file));
+  }
+  return write_prediction_outputs(batch, options, out);
+}
+
+namespace {
+
+nlohmann::json predict_options_json(const PredictRun& run) {
+  // "summary": what summary.json says; "settings": the rest that changes a result, so that a merge refuses parts
+  // run with other values.
+  return {{"summary", prediction_options_json(run.study)},
+          {"settings",
+           {{"mu", num(run.study.friction_coefficient)},
+            {"shape", run.shape},
+            {"rate_hz", num(run.preprocess.rate_hz)}}}};
+}
+
+struct StudiedPush {
+  PushStudy study;
+  std::string file;  ///< its predictions CSV, relative to the output
+};
+
+}  // namespace
+
+nlohmann::json push_study_exact_json(const PushStudy& s) {
+  nlohmann::json intervals = nlohmann::json::array();
+  for (const auto& t : s.intervals) intervals.push_back(interval_exact(t));
+  nlohmann::json phases = nlohmann::json::array();
+  for (const auto& r : s.phases) {
+    nlohmann::json errors = nlohmann::json::object(), parameters = nlohmann::json::object();
+    for (const auto& [name, e] : r.errors) errors[name] = errors_exact(e);
+    for (const auto& [name, list] : r.method_parameters) {
+      nlohmann::json l = nlohmann::json::array();
+      for (const auto& q : list)
+        l.push_back({{"name", q.name}, {"value", num(q.value)}, {"std", num(q.std)}, {"unit", q.unit},
+                     {"source", q.source}});
+      parameters[name] = l;
+    }
+    nlohmann::json predicted = nlohmann::json::array();
+    for (const auto& [name, poses] : r.predicted) predicted.push_back(name);
+    phases.push_back({{"phase", r.phase},
+                      {"interval", interval_exact(r.interval)},
+                      {"relation", relation_exact(r.relation)},
+                      {"note", r.note},
+                      {"predicted", predicted},
+                      {"errors", errors},
+                      {"method_notes", r.method_notes},
+                      {"method_parameters", parameters},
+                      {"initial_velocity", vec(r.initial_velocity)},
+                      {"corrected_relation", relation_exact(r.corrected_relation)}});
+  }
+  nlohmann::json seconds = nlohmann::json::object();
+  for (const auto& [name, t] : s.method_seconds) seconds[name] = num(t);
+  return {{"source", s.source},
+          {"span", s.span},
+          {"methods", s.methods},
+          {"intervals", intervals},
+          {"phases", phases},
+          {"estimator_seconds", num(s.estimator_seconds)},
+          {"observer_seconds", num(s.observer_seconds)},
+          {"method_seconds", seconds}};
+}
+
+PushStudy push_study_from_exact_json(const nlohmann::json& j) {
+  try {
+    PushStudy s;
+    s.source = j.at("source").get<std::string>();
+    s.span = j.at("span").get<std::string>();
+    s.methods = j.at("methods").get<std::vector<std::string>>();
+    for (const auto& t : j.at("intervals")) s.intervals.push_back(interval_from(t));
+    for (const auto& p : j.at("phases")) {
+      PhaseResult r;
+      r.phase = p.at("phase").get<int>();
+      r.interval = interval_from(p.at("interval"));
+      r.relation = relation_from(p.at("relation"));
+      r.note = p.at("note").get<std::string>();
+      for (const auto& name : p.at("predicted")) r.predicted[name.get<std::string>()].resize(0, 3);
+      for (const auto& [name, e] : p.at("errors").items()) r.errors[name] = errors_from(e);
+      r.method_notes = p.at("method_notes").get<std::map<std::string, std::string>>();
+      for (const auto& [name, list] : p.at("method_parameters").items())
+        for (const auto& q : list)
+          r.method_parameters[name].push_back({q.at("name").get<std::string>(), num_from(q.at("value")),
+                                               num_from(q.at("std")), q.at("unit").get<std::string>(),
+                                               q.at("source").get<std::string>()});
+      r.initial_velocity = vec3_from(p.at("initial_velocity"));
+      r.corrected_relation = relation_from(p.at("corrected_relation"));
+      r.measured.resize(0, 3);
+      s.phases.push_back(std::move(r));
+    }
+    s.estimator_seconds = num_from(j.at("estimator_seconds"));
+    s.observer_seconds = num_from(j.at("observer_seconds"));
+    for (const auto& [name, t] : j.at("method_seconds").items()) s.method_seconds[name] = num_from(t);
+    return s;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("not a study written by pushpred: ") + e.what());
+  }
+}
+
+BatchRunOutcome run_predict(const PredictRun& run) {
+  const std::vector<fs::path> inputs = expand_inputs(run.inputs);
+  const MpiWorld& world = MpiWorld::get();
+  const bool mpi = world.size() > 1;
+  if (mpi && run.shard)
+    throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the inputs already; use one or "
+                     "the other");
+  const bool partial = mpi || run.shard.has_value();
+  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : run.shard.value_or(ShardSpec{});
+
+  // The output folder first, so that a bad one fails before any work (under MPI, only rank 0 writes; if its folder
+  // is bad, it stops the whole job).
+  std::optional<StagedOutput> out;
+  if (!mpi || world.root()) {
+    try {
+      out.emplace(run.out);
+    } catch (const std::exception& e) {
+      if (!mpi) throw;
+      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+      world.abort(2);
+    }
+  }
+  std::optional<FileSink> sink;  // under MPI, in memory: every rank's files travel to rank 0 with its results
+  if (mpi) sink.emplace();
+  else sink.emplace(*out);
+
+  const auto job = [&](const fs::path& path) {
+    StudiedPush p{run_prediction_study(load_push(path, run.shape, run.preprocess), run.study),
+                  "predictions/" + path.stem().string() + ".csv"};
+    sink->write(p.file, predictions_csv(p.study));
+    drop_samples(p.study);  // the summary and tables need only errors and parameters
+    return p;
+  };
+
+  if (!partial) {
+    BatchProgress progress(kCommand, "pushes", inputs.size());
+    Batch<PushStudy> batch;
+    for (auto& item : run_batch_items(inputs, job, run.jobs, &progress)) {
+      if (item.result) batch.results.push_back(std::move(item.result->study));
+      if (item.failure) batch.failures.push_back(std::move(*item.failure));
+    }
+    return write_prediction_outputs(batch, prediction_options_json(run.study), *out);
+  }
+
+  const std::vector<std::size_t> positions = shard_positions(inputs, shard);
+  std::vector<fs::path> mine;
+  for (std::size_t k : positions) mine.push_back(inputs[k]);
+  std::vector<PartialItem> items;
+  {
+    const std::string label = mpi ? "predict (rank 0 of " + std::to_string(world.size()) + " ranks)"
+                                  : "predict (shard " + shard.text() + ")";
+    BatchProgress progress(label, "pushes", mine.size(), world.root());
+    auto outcomes = run_batch_items(mine, job, run.jobs, &progress);
+    for (std::size_t k = 0; k < outcomes.size(); ++k) {
+      PartialItem item;
+      item.index = positions[k];
+      if (outcomes[k].result) {
+        item.result = push_study_exact_json(outcomes[k].result->study);
+        item.files = {outcomes[k].result->file};
+      } else {
+        item.failure = outcomes[k].failure;
+      }
+      items.push_back(std::move(item));
+    }
+  }
+  const nlohmann::json manifest = partial_manifest(kCommand, shard, inputs, predict_options_json(run), items);
+
+  if (mpi) {
+    const auto bundles = world.gather_to_root(partial_bundle(manifest, sink->take_files()));
+    if (!world.root()) {
+      BatchRunOutcome quiet;
+      quiet.quiet = true;
+      return quiet;
+    }
+    try {
+      std::vector<PartialOutput> parts;
+      for (std::size_t r = 0; r < bundles.size(); ++r)
+        parts.push_back(partial_output_from_bundle("rank " + std::to_string(r), bundles[r]));
+      return write_merged_predictions(check_partial_outputs(parts), *out);
+    } catch (const std::exception& e) {
+      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+      world.abort(2);
+    }
+  }
+
+  write_partial_output(*out, manifest);
+  BatchRunOutcome outcome;
+  outcome.partial = true;
+  for (const auto& item : items) {
+    if (item.failure) outcome.failures.push_back(*item.failure);
+    else ++outcome.used;
+  }
+  outcome.report = "predicted " + std::to_string(outcome.used) + " of the " + std::to_string(mine.size()) +
+                   " pushes of shard " + shard.text() + " (" + std::to_string(inputs.size()) +
+                   " inputs in all); partial output in " + out->destination().string() +
+                   "; when every shard is done: pushpred merge --out DIR PART...\n";
+  return outcome;
+}
+
+}  // namespace pushpred

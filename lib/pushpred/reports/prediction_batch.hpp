@@ -1,0 +1,48 @@
+#pragma once
+// `pushpred predict` as a batch: the whole run over every input, one shard of it (`--shard I/N`, a partial output),
+// an MPI job (`mpirun -np N`, rank 0 writes), and `pushpred merge`, which turns the shards' partial outputs into
+// what the whole run writes, byte for byte (core/shard.hpp has the split and the partial format). The apps only
+// parse arguments and call these.
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pushpred/core/batch.hpp"
+#include "pushpred/core/output_files.hpp"
+#include "pushpred/core/shard.hpp"
+#include "pushpred/prediction/prediction_study.hpp"
+#include "pushpred/preprocessing/synchronised_push.hpp"
+
+namespace pushpred {
+
+/// A study as exact JSON, for a partial output: every field drop_samples keeps, doubles written so that they read
+/// back to the same bits (non-finite ones as "nan", "inf", "-inf").
+nlohmann::json push_study_exact_json(const PushStudy& study);
+/// The study push_study_exact_json wrote (without samples, as drop_samples leaves it); throws InputError on a
+/// malformed document.
+PushStudy push_study_from_exact_json(const nlohmann::json& doc);
+
+/// `pushpred predict FILE... --out DIR`.
+struct PredictRun {
+  std::vector<std::string> inputs;  ///< files or folders, as given
+  std::string out;
+  std::string shape;
+  StudyOptions study;
+  PreprocessOptions preprocess;
+  int jobs = 1;
+  std::optional<ShardSpec> shard;  ///< given (1/1 included): a partial output of that share; none: the whole run
+};
+
+/// Runs the study on every input (or on the shard's, or on this MPI rank's) and writes the outputs: summary.json,
+/// tables.md and predictions/NAME.csv for a whole run, or the partial output of a shard. Launched by mpirun as one
+/// of N ranks: the ranks split the inputs as --shard R+1/N and rank 0 writes what one process would. Throws
+/// InputError (nothing written) for a bad output folder, or --shard under mpirun.
+BatchRunOutcome run_predict(const PredictRun& run);
+
+/// The checked parts of a `predict` run (check_partial_outputs) written to `out` as the whole run writes them: each
+/// item's files in input order, summary.json and tables.md; committed unless no input gave a result.
+BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput& out);
+
+}  // namespace pushpred

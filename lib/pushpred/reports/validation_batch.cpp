@@ -1,0 +1,268 @@
+#include "pushpred/reports/validation_batch.hpp"
+
+#include <unistd.h>
+
+#include <exception>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/mpi_world.hpp"
+#include "pushpred/reports/validation_report.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pushpred {
+namespace {
+
+nlohmann::json errors_exact(const ErrorSummary& e) {
+  return {e.phases,
+          exact_number_json(e.pos_mm_mean),
+          exact_number_json(e.x_mm_mean),
+          exact_number_json(e.y_mm_mean),
+          exact_number_json(e.theta_deg_mean),
+          exact_number_json(e.final_pos_mm),
+          exact_number_json(e.final_theta_deg)};
+}
+
+ErrorSummary errors_from(const nlohmann::json& j) {
+  if (j.size() != 7) throw InputError("an error summary holds " + std::to_string(j.size()) + " numbers, not 7");
+  ErrorSummary e;
+  e.phases = j[0].get<int>();
+  double* fields[] = {&e.pos_mm_mean, &e.x_mm_mean, &e.y_mm_mean, &e.theta_deg_mean, &e.final_pos_mm,
+                      &e.final_theta_deg};
+  for (std::size_t k = 0; k < 6; ++k) *fields[k] = exact_number(j[k + 1]);
+  return e;
+}
+
+/// What the outputs read of the options and what tells two runs apart (--jobs changes nothing).
+nlohmann::json options_json(const ValidationOptions& o) {
+  return {{"trials_per_kind", o.trials_per_kind},
+          {"seed", o.seed},
+          {"kinds", o.kinds},
+          {"min_pushes", o.min_pushes},
+          {"max_pushes", o.max_pushes},
+          {"min_floor_multiple", exact_number_json(o.min_floor_multiple)},
+          {"max_floor_multiple", exact_number_json(o.max_floor_multiple)},
+          {"relevance_fraction", exact_number_json(o.diagnosis.relevance_fraction)},
+          {"bic_threshold", exact_number_json(o.diagnosis.bic_threshold)},
+          {"fit_base_settings", o.diagnosis.fit_base_settings}};
+}
+
+ValidationOptions options_from(const nlohmann::json& j) {
+  try {
+    ValidationOptions o;
+    o.trials_per_kind = j.at("trials_per_kind").get<int>();
+    o.seed = j.at("seed").get<std::uint64_t>();
+    o.kinds = j.at("kinds").get<std::vector<std::string>>();
+    o.min_pushes = j.at("min_pushes").get<int>();
+    o.max_pushes = j.at("max_pushes").get<int>();
+    o.min_floor_multiple = exact_number(j.at("min_floor_multiple"));
+    o.max_floor_multiple = exact_number(j.at("max_floor_multiple"));
+    o.diagnosis.relevance_fraction = exact_number(j.at("relevance_fraction"));
+    o.diagnosis.bic_threshold = exact_number(j.at("bic_threshold"));
+    o.diagnosis.fit_base_settings = j.at("fit_base_settings").get<bool>();
+    return o;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("its options are not those of validate-diagnosis: ") + e.what());
+  }
+}
+
+/// Writes validation.json and validation.md, commits `out`, and says what the whole run says.
+BatchRunOutcome write_validation_outputs(const ValidationResult& r, StagedOutput& out) {
+  write_text_atomically(out.path("validation.json"), validation_json(r).dump(2) + "\n");
+  write_text_atomically(out.path("validation.md"), validation_markdown(r));
+  out.commit();
+  const ValidationSummary s = summarise_validation(r);
+  std::ostringstream report;
+  report << "right kind named at >= 2 floors: " << s.named_at_twice_floor << " / " << s.effect_trials_at_twice_floor
+         << "; nothing named on clean: " << s.clean_nothing_named << " / " << s.clean_trials
+         << "; corrected below the paper: " << s.after_below_paper << " / " << s.compared
+         << ", below const_velocity: " << s.after_below_const_velocity << " / " << s.compared << "\n"
+         << "report in " << out.destination().string() << "/validation.md\n";
+  BatchRunOutcome outcome;
+  outcome.report = report.str();
+  if (s.failed > 0) outcome.notes = std::to_string(s.failed) + " trial(s) could not be diagnosed (listed in validation.md)\n";
+  outcome.exit_code = s.failed > 0 ? 1 : 0;
+  return outcome;
+}
+
+/// Trials done on stderr: on a terminal a line redrawn in place, otherwise every tenth and the last.
+std::function<void(int, int)> progress_printer(bool enabled) {
+  if (!enabled) return {};
+  const bool terminal = isatty(STDERR_FILENO) != 0;
+  return [terminal](int done, int total) {
+    if (terminal) {
+      std::cerr << "\rtrials " << done << " / " << total << std::flush;
+      if (done == total) std::cerr << "\n";
+    } else if (done == total || done % 10 == 0) {
+      std::cerr << "trials " << done << " / " << total << "\n";
+    }
+  };
+}
+
+}  // namespace
+
+nlohmann::json validation_trial_exact_json(const ValidationTrial& t) {
+  return {{"index", t.index},
+          {"seed", t.seed},
+          {"true_kind", t.true_kind},
+          {"amount", exact_number_json(t.amount)},
+          {"floor", exact_number_json(t.floor)},
+          {"floor_multiple", exact_number_json(t.floor_multiple)},
+          {"shape", t.shape},
+          {"surface_friction", exact_number_json(t.surface_friction)},
+          {"contact_friction", exact_number_json(t.contact_friction)},
+          {"contact_stiffness_N_m", exact_number_json(t.contact_stiffness_N_m)},
+          {"pressure_rim_weight", exact_number_json(t.pressure_rim_weight)},
+          {"pushes", t.pushes},
+          {"named", t.named},
+          {"negligible", t.negligible},
+          {"true_named", t.true_named},
+          {"fitted_amount", exact_number_json(t.fitted_amount)},
+          {"true_score", exact_number_json(t.true_score)},
+          {"true_passed", t.true_passed},
+          {"true_negligible", t.true_negligible},
+          {"true_amount", exact_number_json(t.true_amount)},
+          {"true_floor", exact_number_json(t.true_floor)},
+          {"true_note", t.true_note},
+          {"errors",
+           {errors_exact(t.before), errors_exact(t.base), errors_exact(t.after), errors_exact(t.hold),
+            errors_exact(t.const_velocity), errors_exact(t.quasi_static)}},
+          {"failure", t.failure}};
+}
+
+ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
+  try {
+    ValidationTrial t;
+    t.index = j.at("index").get<int>();
+    t.seed = j.at("seed").get<std::uint64_t>();
+    t.true_kind = j.at("true_kind").get<std::string>();
+    t.amount = exact_number(j.at("amount"));
+    t.floor = exact_number(j.at("floor"));
+    t.floor_multiple = exact_number(j.at("floor_multiple"));
+    t.shape = j.at("shape").get<std::string>();
+    t.surface_friction = exact_number(j.at("surface_friction"));
+    t.contact_friction = exact_number(j.at("contact_friction"));
+    t.contact_stiffness_N_m = exact_number(j.at("contact_stiffness_N_m"));
+    t.pressure_rim_weight = exact_number(j.at("pressure_rim_weight"));
+    t.pushes = j.at("pushes").get<int>();
+    t.named = j.at("named").get<std::vector<std::string>>();
+    t.negligible = j.at("negligible").get<std::vector<std::string>>();
+    t.true_named = j.at("true_named").get<bool>();
+    t.fitted_amount = exact_number(j.at("fitted_amount"));
+    t.true_score = exact_number(j.at("true_score"));
+    t.true_passed = j.at("true_passed").get<bool>();
+    t.true_negligible = j.at("true_negligible").get<bool>();
+    t.true_amount = exact_number(j.at("true_amount"));
+    t.true_floor = exact_number(j.at("true_floor"));
+    t.true_note = j.at("true_note").get<std::string>();
+    const auto& e = j.at("errors");
+    if (e.size() != 6) throw InputError("a trial holds " + std::to_string(e.size()) + " error summaries, not 6");
+    t.before = errors_from(e[0]);
+    t.base = errors_from(e[1]);
+    t.after = errors_from(e[2]);
+    t.hold = errors_from(e[3]);
+    t.const_velocity = errors_from(e[4]);
+    t.quasi_static = errors_from(e[5]);
+    t.failure = j.at("failure").get<std::string>();
+    return t;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("not a trial written by pushpred: ") + e.what());
+  }
+}
+
+BatchRunOutcome run_validation(const ValidateRun& run) {
+  run.options.validate();  // before any work: a bad kind or range is an input error, nothing written
+  const MpiWorld& world = MpiWorld::get();
+  const bool mpi = world.size() > 1;
+  if (mpi && run.shard)
+    throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the trials already; use one or "
+                     "the other");
+  std::optional<StagedOutput> out;  // checked before the long run; under MPI only rank 0 writes
+  if (!mpi || world.root()) {
+    try {
+      out.emplace(run.out);
+    } catch (const std::exception& e) {
+      if (!mpi) throw;
+      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+      world.abort(2);
+    }
+  }
+  if (!mpi && !run.shard)
+    return write_validation_outputs(validate_diagnosis(run.options, progress_printer(run.progress)), *out);
+
+  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : *run.shard;
+  const int count = validation_trial_count(run.options);
+  std::vector<int> mine;
+  for (int k = 0; k < count; ++k)
+    if (k % shard.count == shard.index - 1) mine.push_back(k);
+  const ValidationResult r =
+      validate_diagnosis_trials(run.options, mine, progress_printer(run.progress && world.root()));
+  std::vector<PartialItem> items;
+  for (const auto& t : r.trials) {
+    PartialItem item;
+    item.index = static_cast<std::size_t>(t.index);
+    item.result = validation_trial_exact_json(t);
+    items.push_back(std::move(item));
+  }
+  // The trials are the inputs: their count is what a merge compares (the options carry the seed and the kinds).
+  std::vector<fs::path> trials;
+  for (int k = 0; k < count; ++k) trials.emplace_back("trial " + std::to_string(k));
+  const nlohmann::json manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), items);
+
+  if (mpi) {
+    const auto bundles = world.gather_to_root(partial_bundle(manifest, {}));
+    if (!world.root()) {
+      BatchRunOutcome quiet;
+      quiet.quiet = true;
+      return quiet;
+    }
+    try {
+      std::vector<PartialOutput> parts;
+      for (std::size_t k = 0; k < bundles.size(); ++k)
+        parts.push_back(partial_output_from_bundle("rank " + std::to_string(k), bundles[k]));
+      return write_merged_validation(check_partial_outputs(parts), *out);
+    } catch (const std::exception& e) {
+      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+      world.abort(2);
+    }
+  }
+
+  write_partial_output(*out, manifest);
+  int failed = 0;
+  for (const auto& t : r.trials) failed += !t.failure.empty();
+  BatchRunOutcome outcome;
+  outcome.partial = true;
+  outcome.report = "ran " + std::to_string(r.trials.size()) + " of the " + std::to_string(count) +
+                   " trials (shard " + shard.text() + "); partial output in " + out->destination().string() +
+                   "; when every shard is done: pushpred merge --out DIR PART...\n";
+  if (failed > 0) outcome.notes = std::to_string(failed) + " trial(s) of this shard could not be diagnosed\n";
+  outcome.exit_code = failed > 0 ? 1 : 0;
+  return outcome;
+}
+
+BatchRunOutcome write_merged_validation(const MergedParts& merged, StagedOutput& out) {
+  ValidationResult r;
+  try {
+    r.options = options_from(merged.options);
+  } catch (const InputError& e) {
+    throw InputError("merge: " + plain_text(merged.items.empty() ? std::string("the parts")
+                                                                 : merged.items.front().part->name) +
+                     ": " + e.what());
+  }
+  for (const auto& m : merged.items) {
+    try {
+      if (!m.item.result) throw InputError("it lists no result");
+      r.trials.push_back(validation_trial_from_exact_json(*m.item.result));
+      if (r.trials.back().index != static_cast<int>(m.item.index)) throw InputError("its index differs");
+    } catch (const std::exception& e) {
+      throw InputError(about(plain_text(m.part->name),
+                             "trial " + std::to_string(m.item.index) + " is not readable: " + e.what()));
+    }
+  }
+  return write_validation_outputs(r, out);
+}
+
+}  // namespace pushpred

@@ -1,0 +1,134 @@
+#!/usr/bin/env bash
+# --shard I/N and `pushpred merge` (issue 12): the partial outputs of every shard, merged, are the output of one run
+# byte for byte (diff -r), with the same stdout, failure list and exit code; bad shard specs, --shard on a
+# subcommand that cannot split, and parts that are not every shard of one run are refused with exit 2 and no output.
+# The same for validate-diagnosis's trials.
+set -u
+bin=$1
+data=$2
+source "$(dirname "$0")/cli_support.sh"
+
+files=()
+for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=20' 'shape=rect1' 'shape=ellip3_a=0_v=10' 'shape=butter_a=0_v=50'; do
+  files+=("$(ls "$data"/abs/*"$pattern"*.h5 | head -1)")
+done
+files+=("$tmp/missing.h5")  # a failure: it goes into a shard's partial output and the merged failure list
+
+check() {  # check DESCRIPTION COMMAND...: counts a pass when COMMAND succeeds
+  local what=$1
+  shift
+  if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $what"; fi
+}
+
+"$bin" predict "${files[@]}" --out "$tmp/whole" --jobs 1 >"$tmp/whole.out" 2>"$tmp/whole.err"
+whole_code=$?
+check "the whole run exits 1 (the missing file)" [ "$whole_code" -eq 1 ]
+sed -i "s#$tmp/whole#OUT#g" "$tmp/whole.out"
+
+# merged N NAME: runs shards 1/N ... N/N (the last ones with 2 jobs), merges them in reverse order into $tmp/NAME and
+# compares everything with the whole run.
+merged() {
+  local n=$1 name=$2 parts=()
+  for ((i = 1; i <= n; i++)); do
+    "$bin" predict "${files[@]}" --out "$tmp/$name.part$i" --shard "$i/$n" --jobs $((i % 2 + 1)) >"$tmp/$name.part$i.out" 2>&1
+    check "$name: shard $i/$n wrote its partial output" [ -f "$tmp/$name.part$i/partial.json" ]
+    check "$name: shard $i/$n wrote no summary" [ ! -e "$tmp/$name.part$i/summary.json" ]
+    parts=("$tmp/$name.part$i" "${parts[@]}")
+  done
+  "$bin" merge --out "$tmp/$name" "${parts[@]}" >"$tmp/$name.out" 2>"$tmp/$name.err"
+  local code=$?
+  check "$name: merge exits as the whole run ($whole_code), got $code" [ "$code" -eq "$whole_code" ]
+  if diff -r "$tmp/whole" "$tmp/$name" >/dev/null; then passed=$((passed + 1)); else
+    failed=$((failed + 1)); echo "FAIL: $name: merged output differs from the whole run"; diff -r "$tmp/whole" "$tmp/$name" | head -5
+  fi
+  sed -i "s#$tmp/$name#OUT#g" "$tmp/$name.out"
+  check "$name: merge prints what the whole run prints" cmp -s "$tmp/whole.out" "$tmp/$name.out"
+  check "$name: the same failures are listed" diff <(grep -E '^FAILED' "$tmp/whole.err") <(grep -E '^FAILED' "$tmp/$name.err")
+}
+
+merged 2 two
+# The sorted list dealt out: shard 1/2 takes the 1st, 3rd and 5th of the sorted names.
+mapfile -t sorted < <(printf '%s\n' "${files[@]}" | LC_ALL=C sort)
+for k in 0 2 4; do
+  stem=$(basename "${sorted[$k]}" .h5)
+  [ -e "${sorted[$k]}" ] && check "shard 1/2 predicted sorted input $k" [ -f "$tmp/two.part1/predictions/$stem.csv" ]
+done
+for k in 1 3 5; do
+  stem=$(basename "${sorted[$k]}" .h5)
+  check "shard 1/2 left sorted input $k to shard 2/2" [ ! -e "$tmp/two.part1/predictions/$stem.csv" ]
+done
+expect_in "$tmp/whole/summary.json" '"failures"' "the whole run lists failures"
+expect_in "$tmp/two.part1.out" "partial output in" "a shard says where its partial output is"
+merged 1 one     # --shard 1/1 is a partial output too (an array job of one task), merged alone
+merged 4 four
+merged 8 eight   # more shards than inputs: two shards have nothing to do
+
+# Bad shard specs: a clear error naming --shard, exit 2, nothing written.
+for spec in 0/2 3/2 x 1/0 2 1/2/3 ""; do
+  expect_exit 2 "--shard '$spec' refused" -- "$bin" predict "${files[0]}" --out "$tmp/bad" --shard "$spec"
+  expect_in "$tmp/err" "--shard '$spec'" "the error names --shard '$spec'"
+  check "--shard '$spec' wrote nothing" [ ! -e "$tmp/bad" ]
+done
+
+# Subcommands that cannot split yet refuse --shard by name, before reading anything.
+expect_exit 2 "inspect --shard refused" -- "$bin" inspect "${files[0]}" --shard 1/2
+expect_in "$tmp/err" "inspect\` cannot split its inputs" "inspect says it cannot shard"
+expect_exit 2 "fit-pid --shard refused" -- "$bin" fit-pid "${files[0]}" --out "$tmp/bad" --shard 1/2
+check "fit-pid --shard wrote nothing" [ ! -e "$tmp/bad" ]
+for sub in compare diagnose; do
+  expect_exit 2 "$sub --shard refused" -- "$bin" "$sub" "${files[0]}" --out "$tmp/bad" --shard 1/2
+done
+check "no refused subcommand wrote anything" [ ! -e "$tmp/bad" ]
+
+# validate-diagnosis: trial k goes to shard k mod N + 1; two trials as 2 and 3 shards (one with none), merged.
+validate=(validate-diagnosis --trials 1 --kinds none,force_offset --min-pushes 4 --max-pushes 4 --quick-base --seed 9000
+          --jobs 1)
+"$bin" "${validate[@]}" --out "$tmp/vwhole" >"$tmp/vwhole.out" 2>/dev/null
+vcode=$?
+sed -i "s#$tmp/vwhole#OUT#g" "$tmp/vwhole.out"
+for n in 2 3; do
+  parts=()
+  for ((i = 1; i <= n; i++)); do
+    "$bin" "${validate[@]}" --out "$tmp/v$n.part$i" --shard "$i/$n" >/dev/null 2>&1
+    parts+=("$tmp/v$n.part$i")
+  done
+  "$bin" merge --out "$tmp/v$n" "${parts[@]}" >"$tmp/v$n.out" 2>/dev/null
+  code=$?
+  check "validate-diagnosis $n shards: merge exits as the whole run ($vcode), got $code" [ "$code" -eq "$vcode" ]
+  if diff -r "$tmp/vwhole" "$tmp/v$n" >/dev/null; then passed=$((passed + 1)); else
+    failed=$((failed + 1)); echo "FAIL: validate-diagnosis $n shards: merged output differs"; diff -r "$tmp/vwhole" "$tmp/v$n" | head -5
+  fi
+  sed -i "s#$tmp/v$n#OUT#g" "$tmp/v$n.out"
+  check "validate-diagnosis $n shards: merge prints what the whole run prints" cmp -s "$tmp/vwhole.out" "$tmp/v$n.out"
+done
+expect_in "$tmp/v2.part1/partial.json" '"true_kind": "none"' "shard 1/2 ran trial 0 (clean)"
+if grep -qF '"true_kind": "force_offset"' "$tmp/v2.part1/partial.json"; then
+  failed=$((failed + 1)); echo "FAIL: shard 1/2 ran trial 1"; else passed=$((passed + 1)); fi
+expect_exit 2 "validate-diagnosis --shard 3/2 refused" -- "$bin" "${validate[@]}" --out "$tmp/bad" --shard 3/2
+expect_exit 2 "a predict part merged with a validate-diagnosis part" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" \
+  "$tmp/v2.part2"
+expect_in "$tmp/err" "not of \`predict\`" "the mixed parts are named"
+check "no refused run wrote anything" [ ! -e "$tmp/bad" ]
+
+# Parts that are not every shard of one run.
+expect_exit 2 "a missing shard" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1"
+expect_in "$tmp/err" "shard 2/2 missing" "the missing shard is named"
+expect_exit 2 "a shard given twice" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" "$tmp/two.part1"
+expect_in "$tmp/err" "as is" "the repeated shard is named"
+expect_exit 2 "shards of two splits" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" "$tmp/four.part2"
+expect_exit 2 "a folder that is no partial output" -- "$bin" merge --out "$tmp/m" "$tmp/whole" "$tmp/two.part2"
+expect_in "$tmp/err" "no partial.json" "a whole run's folder is not a part"
+"$bin" predict "${files[@]:0:3}" --out "$tmp/other.part2" --shard 2/2 --jobs 1 >/dev/null 2>&1
+expect_exit 2 "shards given other inputs" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" "$tmp/other.part2"
+expect_in "$tmp/err" "other inputs" "other inputs are named"
+"$bin" predict "${files[@]}" --out "$tmp/opt.part2" --shard 2/2 --jobs 1 --intervals 3 >/dev/null 2>&1
+expect_exit 2 "shards run with other options" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" "$tmp/opt.part2"
+expect_in "$tmp/err" "other options" "other options are named"
+cp -r "$tmp/two.part2" "$tmp/broken.part2"
+rm "$tmp"/broken.part2/predictions/*.csv
+expect_exit 2 "a part whose file is gone" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" "$tmp/broken.part2"
+expect_in "$tmp/err" "is missing" "the missing file is named"
+check "no refused merge wrote anything" [ ! -e "$tmp/m" ]
+expect_exit 2 "--out is one of the parts" -- "$bin" merge --out "$tmp/two.part1" "$tmp/two.part1" "$tmp/two.part2"
+check "the part is still there" [ -f "$tmp/two.part1/partial.json" ]
+finish

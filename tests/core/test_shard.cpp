@@ -1,0 +1,173 @@
+// core/shard.hpp: the --shard I/N spec, the split of the inputs, and the checks a merge makes on the partial outputs
+// (every shard of one run, once). Expected values are written out by hand.
+#include <boost/test/unit_test.hpp>
+#include <string>
+#include <vector>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/shard.hpp"
+
+using namespace pushpred;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The error message of `f()`, or "" when it does not throw InputError.
+template <class F>
+std::string input_error(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// A partial output in memory of shard `index`/`count` over `inputs`, one result per item at `positions`.
+PartialOutput part(int index, int count, const std::vector<fs::path>& inputs, const std::vector<std::size_t>& positions,
+                   const nlohmann::json& options = {{"o", 1}}) {
+  std::vector<PartialItem> items;
+  for (std::size_t k : positions) {
+    PartialItem item;
+    item.index = k;
+    if (k == 1) {
+      item.failure = BatchFailure{inputs[k].string(), "cannot read"};
+    } else {
+      item.result = nlohmann::json{{"k", k}};
+      item.files = {"out/" + std::to_string(k) + ".csv"};
+    }
+    items.push_back(item);
+  }
+  std::map<std::string, std::string> files;
+  for (const auto& item : items)
+    for (const auto& f : item.files) files[f] = "text of " + f;
+  const auto manifest = partial_manifest("predict", {index, count}, inputs, options, items);
+  return partial_output_from_bundle("part" + std::to_string(index), partial_bundle(manifest, files));
+}
+
+const std::vector<fs::path> kInputs{"d/c.h5", "d/a.h5", "d/e.h5", "d/b.h5", "d/d.h5"};
+
+}  // namespace
+
+BOOST_AUTO_TEST_SUITE(shard_spec)
+
+BOOST_AUTO_TEST_CASE(a_good_spec_reads_as_share_and_count) {
+  const ShardSpec s = parse_shard_spec("2/3");
+  BOOST_TEST(s.index == 2);
+  BOOST_TEST(s.count == 3);
+  BOOST_TEST(parse_shard_spec("1/1").count == 1);
+  BOOST_TEST(parse_shard_spec("7/7").text() == "7/7");
+}
+
+BOOST_AUTO_TEST_CASE(a_bad_spec_names_the_flag_and_the_problem) {
+  for (const std::string bad : {"0/2", "3/2", "x", "", "1/0", "1/2/3", "-1/2", "1/", "/2", "1.5/2", " 1/2", "1/99999999"}) {
+    const std::string message = input_error([&] { parse_shard_spec(bad); });
+    BOOST_TEST_INFO("spec '" << bad << "'");
+    BOOST_TEST(contains(message, "--shard '" + bad + "'"));
+  }
+  BOOST_TEST(contains(input_error([] { parse_shard_spec("3/2"); }), "I must be between 1 and N (2)"));
+  BOOST_TEST(contains(input_error([] { parse_shard_spec("0/2"); }), "shards count from 1"));
+}
+
+BOOST_AUTO_TEST_CASE(the_sorted_list_is_dealt_out_and_each_share_keeps_the_order_given) {
+  // Sorted: a(1) b(3) c(0) d(4) e(2); shard 1 of 2 takes sorted 0, 2, 4 = a, c, e = positions 1, 0, 2.
+  BOOST_TEST(shard_positions(kInputs, {1, 2}) == (std::vector<std::size_t>{0, 1, 2}));
+  BOOST_TEST(shard_positions(kInputs, {2, 2}) == (std::vector<std::size_t>{3, 4}));
+  BOOST_TEST(shard_positions(kInputs, {3, 3}) == (std::vector<std::size_t>{0}));  // sorted 2: c
+  BOOST_TEST(shard_positions(kInputs, {1, 1}) == (std::vector<std::size_t>{0, 1, 2, 3, 4}));
+  BOOST_TEST(shard_positions(kInputs, {7, 9}).empty());  // more shards than inputs: some get none
+}
+
+BOOST_AUTO_TEST_CASE(the_fingerprint_depends_on_the_list_and_its_order) {
+  const auto reordered = std::vector<fs::path>{kInputs[1], kInputs[0], kInputs[2], kInputs[3], kInputs[4]};
+  BOOST_TEST(inputs_fingerprint(kInputs) == inputs_fingerprint(kInputs));
+  BOOST_TEST(inputs_fingerprint(kInputs) != inputs_fingerprint(reordered));
+  BOOST_TEST(inputs_fingerprint({"ab", "c"}) != inputs_fingerprint({"a", "bc"}));
+  BOOST_TEST(inputs_fingerprint(kInputs).size() == 16u);
+}
+
+BOOST_AUTO_TEST_SUITE_END()
+
+BOOST_AUTO_TEST_SUITE(merge_checks)
+
+BOOST_AUTO_TEST_CASE(every_shard_once_gives_every_item_in_the_order_given) {
+  const std::vector<PartialOutput> parts{part(2, 2, kInputs, {3, 4}), part(1, 2, kInputs, {0, 1, 2})};
+  const MergedParts merged = check_partial_outputs(parts);
+  BOOST_TEST(merged.command == "predict");
+  BOOST_TEST(merged.options == (nlohmann::json{{"o", 1}}));
+  BOOST_REQUIRE(merged.items.size() == 5u);
+  for (std::size_t k = 0; k < 5; ++k) BOOST_TEST(merged.items[k].item.index == k);
+  BOOST_TEST(merged.items[1].item.failure.has_value());
+  BOOST_TEST(merged.items[1].item.failure->reason == "cannot read");
+  BOOST_TEST(merged.items[3].part == &parts[0]);
+  BOOST_TEST(merged.items[3].part->read_file("out/3.csv") == "text of out/3.csv");
+  BOOST_TEST(contains(input_error([&] { merged.items[3].part->read_file("out/9.csv"); }), "part2: its file out/9.csv"));
+}
+
+BOOST_AUTO_TEST_CASE(a_missing_or_repeated_shard_is_named) {
+  BOOST_TEST(contains(input_error([] { check_partial_outputs({part(1, 3, kInputs, {0, 1})}); }),
+                      "shards 2/3, 3/3 missing"));
+  BOOST_TEST(contains(input_error([] {
+                        check_partial_outputs({part(1, 2, kInputs, {0, 1, 2}), part(1, 2, kInputs, {0, 1, 2})});
+                      }),
+                      "part1: it is shard 1/2, as is part1"));
+  BOOST_TEST(contains(input_error([] { check_partial_outputs({}); }), "no partial outputs"));
+}
+
+BOOST_AUTO_TEST_CASE(parts_of_different_runs_are_refused) {
+  auto other_inputs = kInputs;
+  other_inputs[4] = "d/z.h5";
+  BOOST_TEST(contains(input_error([&] {
+                        check_partial_outputs({part(1, 2, kInputs, {0, 1, 2}), part(2, 2, other_inputs, {3, 4})});
+                      }),
+                      "part2: its run was given other inputs"));
+  BOOST_TEST(contains(input_error([] {
+                        check_partial_outputs(
+                            {part(1, 2, kInputs, {0, 1, 2}), part(2, 2, kInputs, {3, 4}, {{"o", 2}})});
+                      }),
+                      "part2: its run had other options"));
+  BOOST_TEST(contains(input_error([] {
+                        check_partial_outputs({part(1, 2, kInputs, {0, 1, 2}), part(2, 3, kInputs, {1})});
+                      }),
+                      "was split into 2"));
+}
+
+BOOST_AUTO_TEST_CASE(a_part_that_lost_an_item_or_holds_one_twice_is_refused) {
+  BOOST_TEST(contains(input_error([] {
+                        check_partial_outputs({part(1, 2, kInputs, {0, 2}), part(2, 2, kInputs, {3, 4})});
+                      }),
+                      "input 2 of 5 is in no part"));
+  BOOST_TEST(contains(input_error([] {
+                        check_partial_outputs({part(1, 2, kInputs, {0, 1, 2}), part(2, 2, kInputs, {2, 3, 4})});
+                      }),
+                      "part2: input 3 is also in part1"));
+}
+
+BOOST_AUTO_TEST_CASE(a_listed_file_outside_the_output_is_refused) {
+  PartialItem item;
+  item.index = 0;
+  item.result = nlohmann::json::object();
+  item.files = {"../escape.csv"};
+  const auto manifest = partial_manifest("predict", {1, 1}, {"a.h5"}, {}, {item});
+  const std::string message =
+      input_error([&] { check_partial_outputs({partial_output_from_bundle("p", partial_bundle(manifest, {}))}); });
+  BOOST_TEST(contains(message, "not a path inside the output"));
+}
+
+BOOST_AUTO_TEST_CASE(a_folder_that_is_no_partial_output_says_so) {
+  BOOST_TEST(contains(input_error([] { read_partial_output("/nonexistent/part"); }), "no such folder"));
+  BOOST_TEST(contains(input_error([] { read_partial_output("."); }), "not a partial output of pushpred"));
+  BOOST_TEST(contains(input_error([] { partial_output_from_bundle("rank 1", "{"); }), "rank 1: its partial output"));
+}
+
+BOOST_AUTO_TEST_CASE(a_memory_sink_keeps_what_was_written) {
+  FileSink sink;
+  sink.write("a/b.csv", "1");
+  sink.write("c.csv", "2");
+  BOOST_TEST(sink.files().size() == 2u);
+  BOOST_TEST(sink.files().at("a/b.csv") == "1");
+}
+
+BOOST_AUTO_TEST_SUITE_END()
