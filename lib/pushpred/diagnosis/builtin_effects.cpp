@@ -11,7 +11,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/diagnosis/residual_regression.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 
 namespace pushpred {
 

@@ -45,7 +45,7 @@
 #include "pushpred/prediction/planned_force.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "pushpred/systems/continuous_system.hpp"
 #include "pushpred/systems/cvode_integrator.hpp"
 

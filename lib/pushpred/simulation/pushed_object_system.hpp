@@ -23,7 +23,7 @@
 
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/shape_table.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/pusher_path.hpp"
 #include "pushpred/systems/continuous_system.hpp"
 
