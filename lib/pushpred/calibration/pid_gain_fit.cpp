@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/nominal_inertia.hpp"
 #include "pushpred/observers/estimation_span.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/observers/resimulation.hpp"
