@@ -9,10 +9,11 @@
 #include <optional>
 
 #include "commands.hpp"
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/calibration/pid_gain_fit.hpp"
 #include "pushpred/core/batch.hpp"
 #include "pushpred/core/output_files.hpp"
-#include "pushpred/estimators/pid_gain_fit.hpp"
+#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/reports/pid_fit_report.hpp"
 
 namespace pushpred::app {
 namespace {

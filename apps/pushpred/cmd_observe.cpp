@@ -10,6 +10,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/observers/observation.hpp"
+#include "pushpred/reports/observation_report.hpp"
 #include "pushpred/reports/plotting.hpp"
 
 namespace pushpred::app {

@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/core/error.hpp"
+#include "pushpred/reports/simulation_comparison.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred::app {

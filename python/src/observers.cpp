@@ -7,7 +7,7 @@
 
 #include "conversions.hpp"
 #include "pushpred/core/error.hpp"
-#include "pushpred/estimators/pid_gain_fit.hpp"
+#include "pushpred/calibration/pid_gain_fit.hpp"
 #include "pushpred/observers/observation.hpp"
 
 namespace pushpred::python {

@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/pushed_object_system.hpp"
 #include "pushpred/simulation/simulator.hpp"
 

@@ -1,4 +1,5 @@
 // The physics of the simulated object: Newton's laws with distributed Coulomb friction and a compliant rod.
+#define BOOST_TEST_MODULE simulation
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 

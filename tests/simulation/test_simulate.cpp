@@ -9,6 +9,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reports/inspection.hpp"
+#include "pushpred/reports/simulation_comparison.hpp"
 #include "pushpred/simulation/simulator.hpp"
 #include "test_support.hpp"
 

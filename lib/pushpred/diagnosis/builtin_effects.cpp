@@ -11,13 +11,14 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/diagnosis/residual_regression.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
+#include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
 
 namespace {
 
-/// The footprint as area elements (simulation/outline.hpp), for shapes with an outline: element centres in the
+/// The footprint as area elements (mechanics/outline.hpp), for shapes with an outline: element centres in the
 /// body frame (origin at the tracked centre) and their share of the weight under uniform pressure.
 struct FrictionElements {
   std::vector<Eigen::Vector2d> centre_m;
@@ -55,20 +56,16 @@ template <class Multiplier>
 Eigen::Vector3d footprint_friction(const FrictionElements& el, const Eigen::Vector3d& pose, const Eigen::Vector3d& v,
                                    double weight_N, Multiplier&& multiplier) {
   const double c = std::cos(pose(2)), s = std::sin(pose(2));
-  const double reg2 = kFrictionRegularisation_m_s * kFrictionRegularisation_m_s;
-  Eigen::Vector3d w = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < el.share.size(); ++i) {
-    const Eigen::Vector2d r(c * el.centre_m[i].x() - s * el.centre_m[i].y(), s * el.centre_m[i].x() + c * el.centre_m[i].y());
-    const Eigen::Vector2d vi(v(0) - v(2) * r.y(), v(1) + v(2) * r.x());
-    const double speed2 = vi.squaredNorm();
-    const double m = multiplier(i, Eigen::Vector2d(pose(0) + r.x(), pose(1) + r.y()), std::sqrt(speed2));
-    if (m == 0) continue;
-    const Eigen::Vector2d f = -(m * el.share[i] * weight_N / std::sqrt(speed2 + reg2)) * vi;
-    w(0) += f.x();
-    w(1) += f.y();
-    w(2) += r.x() * f.y() - r.y() * f.x();
-  }
-  return w;
+  return footprint_friction_wrench(
+      el.share.size(),
+      [&](std::size_t i) {
+        return Eigen::Vector2d(c * el.centre_m[i].x() - s * el.centre_m[i].y(),
+                               s * el.centre_m[i].x() + c * el.centre_m[i].y());
+      },
+      v.head<2>(), v(2), kFrictionRegularisation_m_s, [&](std::size_t i, const Eigen::Vector2d& r, double speed2) {
+        return multiplier(i, Eigen::Vector2d(pose(0) + r.x(), pose(1) + r.y()), std::sqrt(speed2)) * el.share[i] *
+               weight_N;
+      });
 }
 
 /// The ellipsoidal limit surface, for shapes without an outline: -(v, rho^2 omega) / s times the weight.

@@ -11,7 +11,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis_run.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/nominal_inertia.hpp"
 #include "pushpred/observers/estimation_span.hpp"
 #include "pushpred/systems/exact_discretisation.hpp"
 #include "pushpred/systems/linear_system.hpp"

@@ -29,6 +29,9 @@ void PredictionSystem::derivative(double t, const Eigen::Ref<const Eigen::Vector
   plan_.signal.evaluate_within(t, lo_, hi_, u);
   Eigen::Vector3d f = u + model_.beta.cwiseProduct(u) + model_.eps;
   if (model_.coulomb_force_N > 0) {
+    // The regularised Coulomb law of mechanics/support_friction.hpp on the whole body, written out rather than
+    // called: |v| comes from std::hypot here, whose square differs from |v|^2 in the last bit, and
+    // regularised_coulomb_force would move the `simple` baseline's predictions in the 9th digit.
     const double speed = std::hypot(x(3), x(4));
     const double scale = model_.coulomb_force_N / std::sqrt(speed * speed + std::pow(model_.coulomb_speed_scale_m_s, 2));
     f(0) -= scale * x(3);

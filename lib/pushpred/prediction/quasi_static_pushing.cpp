@@ -12,48 +12,6 @@ namespace {
 
 Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
-class ShapeOutline final : public ContactOutline {
- public:
-  explicit ShapeOutline(const ShapeInfo& shape) : outline_(shape) {}
-  Outline::Closest closest(const Eigen::Vector2d& q) const override { return outline_.closest(q); }
-
- private:
-  Outline outline_;
-};
-
-class StraightEdge final : public ContactOutline {
- public:
-  StraightEdge(const Eigen::Vector2d& point, const Eigen::Vector2d& normal) : point_(point), normal_(normal.normalized()) {}
-  Outline::Closest closest(const Eigen::Vector2d& q) const override {
-    Outline::Closest c;
-    c.signed_distance_m = (q - point_).dot(normal_);
-    c.point_m = q - c.signed_distance_m * normal_;
-    c.normal = normal_;
-    return c;
-  }
-
- private:
-  Eigen::Vector2d point_, normal_;
-};
-
-class CircularEdge final : public ContactOutline {
- public:
-  CircularEdge(const Eigen::Vector2d& centre, double radius) : centre_(centre), radius_(radius) {}
-  Outline::Closest closest(const Eigen::Vector2d& q) const override {
-    Outline::Closest c;
-    const Eigen::Vector2d away = q - centre_;
-    const double distance = away.norm();
-    c.normal = distance > 0 ? (away / distance).eval() : Eigen::Vector2d::UnitX().eval();
-    c.point_m = centre_ + radius_ * c.normal;
-    c.signed_distance_m = distance - radius_;
-    return c;
-  }
-
- private:
-  Eigen::Vector2d centre_;
-  double radius_;
-};
-
 }  // namespace
 
 void QuasiStaticParameters::validate() const {
@@ -69,32 +27,6 @@ void QuasiStaticParameters::validate() const {
   require_positive_finite(creep_speed_m_s, "quasi-static model: creep speed");
   if (!std::isfinite(contact_offset_m) || !(rod_radius_m + contact_offset_m > 0))
     throw InputError("quasi-static model: contact offset must be finite and keep the rod radius positive");
-}
-
-double uniform_pressure_torque_ratio(const Footprint& footprint, const Eigen::Vector2d& centre) {
-  if (!(footprint.total_area_m2 > 0)) throw InputError("torque ratio: empty footprint");
-  double moment = 0;
-  for (size_t i = 0; i < footprint.area_m2.size(); ++i)
-    moment += footprint.area_m2[i] * (footprint.centre_m[i] - centre).norm();
-  return moment / footprint.total_area_m2;
-}
-
-Eigen::Vector3d integrated_friction_wrench(const Footprint& footprint, const Eigen::Vector2d& centre,
-                                           double normal_force_N, double mu, const Eigen::Vector2d& v,
-                                           double omega) {
-  Eigen::Vector3d w = Eigen::Vector3d::Zero();
-  if (v.squaredNorm() == 0 && omega == 0) return w;
-  const double pressure = mu * normal_force_N / footprint.total_area_m2;
-  for (size_t i = 0; i < footprint.area_m2.size(); ++i) {
-    const Eigen::Vector2d r = footprint.centre_m[i] - centre;
-    const Eigen::Vector2d vi = v + omega * perp(r);
-    const double speed = vi.norm();
-    if (speed == 0) continue;
-    const Eigen::Vector2d f = -(pressure * footprint.area_m2[i] / speed) * vi;
-    w.head<2>() += f;
-    w(2) += perp(r).dot(f);
-  }
-  return w;
 }
 
 const char* contact_mode_name(ContactMode mode) {
@@ -134,22 +66,6 @@ QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& rc, const Eigen::Ve
   m.omega_rad_s = k * rp.dot(fe) / c2;
   m.mode = s > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight;
   return m;
-}
-
-std::shared_ptr<const ContactOutline> shape_outline(const ShapeInfo& shape) {
-  return std::make_shared<ShapeOutline>(shape);
-}
-
-std::shared_ptr<const ContactOutline> straight_edge(const Eigen::Vector2d& point, const Eigen::Vector2d& normal) {
-  if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0))
-    throw InputError("straight edge: point and normal must be finite and the normal non-zero");
-  return std::make_shared<StraightEdge>(point, normal);
-}
-
-std::shared_ptr<const ContactOutline> circular_edge(const Eigen::Vector2d& centre, double radius) {
-  if (!centre.allFinite() || !(radius > 0) || !std::isfinite(radius))
-    throw InputError("circular edge: centre must be finite and the radius positive");
-  return std::make_shared<CircularEdge>(centre, radius);
 }
 
 PlannedTipPath::PlannedTipPath(PlannedTipVelocity velocity, const Eigen::Vector2d& start)

@@ -42,10 +42,11 @@
 #include <string>
 #include <vector>
 
+#include "pushpred/mechanics/contact_outline.hpp"
+#include "pushpred/mechanics/support_friction.hpp"
 #include "pushpred/prediction/planned_force.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
-#include "pushpred/simulation/outline.hpp"
 #include "pushpred/systems/continuous_system.hpp"
 #include "pushpred/systems/cvode_integrator.hpp"
 
@@ -73,18 +74,6 @@ struct QuasiStaticParameters {
   void validate() const;
 };
 
-/// c for a uniform pressure over `footprint` about `centre_m` (body frame): the mean distance of the footprint's
-/// area from the centre, M_max / F_max of Coulomb friction integrated over it. For a square of side a it is
-/// a (sqrt 2 + ln(1 + sqrt 2)) / 6 = 0.3826 a.
-double uniform_pressure_torque_ratio(const Footprint& footprint, const Eigen::Vector2d& centre_m);
-
-/// The support's friction wrench [f_x, f_y [N], m [N m]] of Coulomb friction integrated over `footprint` (uniform
-/// pressure carrying `normal_force_N`, coefficient mu) for the twist (v of `centre_m`, omega), body frame. The
-/// exact limit surface that the ellipsoid approximates. Returns zero for a zero twist.
-Eigen::Vector3d integrated_friction_wrench(const Footprint& footprint, const Eigen::Vector2d& centre_m,
-                                           double normal_force_N, double mu, const Eigen::Vector2d& velocity_m_s,
-                                           double omega_rad_s);
-
 /// How the contact behaves at one instant.
 enum class ContactMode { None, Sticking, SlidingLeft, SlidingRight };  ///< Left: sliding along +t
 const char* contact_mode_name(ContactMode mode);
@@ -102,25 +91,6 @@ struct QuasiStaticMotion {
 QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& contact_from_cof_m, const Eigen::Vector2d& inward_normal,
                                       const Eigen::Vector2d& pusher_velocity_m_s, double pusher_friction,
                                       double torque_ratio_m);
-
-/// The outline the model pushes on, in the body frame: closest point, outward normal and signed distance of a
-/// point. Must not allocate.
-class ContactOutline {
- public:
-  virtual ~ContactOutline() = default;
-  virtual Outline::Closest closest(const Eigen::Vector2d& point_body_m) const = 0;
-};
-
-/// The shape table's outline (outline.hpp); throws InputError for a shape without one (butter).
-std::shared_ptr<const ContactOutline> shape_outline(const ShapeInfo& shape);
-
-/// A straight edge through `point_body_m` with outward normal `outward_normal_body` (body frame): the local
-/// outline where the shape's is not known.
-std::shared_ptr<const ContactOutline> straight_edge(const Eigen::Vector2d& point_body_m,
-                                                    const Eigen::Vector2d& outward_normal_body);
-
-/// A circle of `radius_m` about `centre_body_m` (body frame), the object inside: a convex local outline.
-std::shared_ptr<const ContactOutline> circular_edge(const Eigen::Vector2d& centre_body_m, double radius_m);
 
 /// The planned tip path: the planned tip velocity (planned_force.hpp) integrated from the tip's position at its
 /// start; piecewise linear, exact for the held velocity.

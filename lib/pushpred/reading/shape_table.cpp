@@ -160,12 +160,4 @@ double signed_distance_to_outline(const ShapeInfo& shape, const Eigen::Vector2d&
   return inside ? -best : best;
 }
 
-Eigen::Vector3d nominal_inertia(const ShapeInfo& shape, double mass_kg, double inertia_kgm2) {
-  const double m = mass_kg > 0 ? mass_kg : shape.mass_kg;
-  const double I = inertia_kgm2 > 0 ? inertia_kgm2 : shape.inertia_kgm2;
-  require_positive_finite(m, "mass of shape '" + shape.name + "' [kg]");
-  require_positive_finite(I, "moment of inertia of shape '" + shape.name + "' [kg m^2]");
-  return {m, m, I};
-}
-
 }  // namespace pushpred

@@ -23,11 +23,6 @@ struct ShapeInfo {
   bool has_outline() const { return geometry != Geometry::Unlisted; }
 };
 
-/// The nominal generalized inertia M = (m, m, I) [kg, kg, kg m^2] of `shape`: `mass_kg` and `inertia_kgm2` where
-/// positive (a user's override, as the observers' options give), else the shape table's. Throws InputError naming
-/// the shape when either is not positive and finite.
-Eigen::Vector3d nominal_inertia(const ShapeInfo& shape, double mass_kg = 0, double inertia_kgm2 = 0);
-
 /// Outline of the object in its body frame, counter-clockwise, as a closed polygon (last vertex != first).
 /// Curved outlines are sampled with `points_per_curve` vertices. Throws InputError for an unlisted outline.
 std::vector<Eigen::Vector2d> outline_polygon(const ShapeInfo& shape, int points_per_curve = 72);

@@ -9,7 +9,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/version.hpp"
-#include "pushpred/observers/observation.hpp"
+#include "pushpred/reports/observation_report.hpp"
 #include "pushpred/reports/plotting.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 #include "pushpred/simulation/simulator.hpp"

@@ -7,13 +7,12 @@
 #include <string>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
 namespace {
 
 Eigen::Matrix2d rotation(double yaw) { return Eigen::Rotation2Dd(yaw).toRotationMatrix(); }
-
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 }  // namespace
 
@@ -123,7 +122,7 @@ RodWrench PushedObjectSystem::rod_wrench(double t, const Eigen::Ref<const Eigen:
                             std::sqrt(slip * slip + contact_.regularisation_m_s * contact_.regularisation_m_s);
   w.touching = true;
   w.force_on_object_N = -normal * n + tangential * tangent;
-  w.torque_about_rod_Nm = cross(w.contact_point_m - w.rod_centre_m, w.force_on_object_N);
+  w.torque_about_rod_Nm = planar_moment(w.contact_point_m - w.rod_centre_m, w.force_on_object_N);
   return w;
 }
 
@@ -131,33 +130,28 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
   const Eigen::Matrix2d R = rotation(x(2));
   const Eigen::Vector2d v_body = R.transpose() * x.segment<2>(3);
   const double omega = x(5);
-  const double eps2 = support_.regularisation_m_s * support_.regularisation_m_s;
   const bool stribeck = support_.stribeck_excess > 0;
   const bool patch = support_.patch_excess != 0;
   const double vs2 = support_.stribeck_speed_m_s * support_.stribeck_speed_m_s;
-  Eigen::Vector2d force_body = Eigen::Vector2d::Zero();
-  double torque = 0;
-  for (size_t i = 0; i < load_.size(); ++i) {
-    const Eigen::Vector2d& r = element_from_mass_centre_[i];
-    const Eigen::Vector2d v(v_body.x() - omega * r.y(), v_body.y() + omega * r.x());
-    const double speed2 = v.squaredNorm();
-    double mu = support_.coefficient;
-    if (stribeck) mu *= 1 + support_.stribeck_excess * std::exp(-speed2 / vs2);
-    if (patch) {
-      const Eigen::Vector2d where = x.head<2>() + R * r;
-      const double inside =
-          (support_.patch_radius_m + 0.5 * support_.patch_edge_m - (where - support_.patch_centre_m).norm()) /
-          support_.patch_edge_m;
-      const double s = std::clamp(inside, 0.0, 1.0);
-      mu *= 1 + support_.patch_excess * s * s * (3 - 2 * s);  // smooth step: the force stays continuous
-    }
-    const Eigen::Vector2d f = -(mu * load_[i] / std::sqrt(speed2 + eps2)) * v;
-    force_body += f;
-    torque += r.x() * f.y() - r.y() * f.x();
-  }
+  // In the body frame, about the mass centre: each element's mu (Stribeck rise, patch) times its load.
+  const Eigen::Vector3d body = footprint_friction_wrench(
+      load_.size(), [&](std::size_t i) { return element_from_mass_centre_[i]; }, v_body, omega,
+      support_.regularisation_m_s, [&](std::size_t i, const Eigen::Vector2d& r, double speed2) {
+        double mu = support_.coefficient;
+        if (stribeck) mu *= 1 + support_.stribeck_excess * std::exp(-speed2 / vs2);
+        if (patch) {
+          const Eigen::Vector2d where = x.head<2>() + R * r;
+          const double inside =
+              (support_.patch_radius_m + 0.5 * support_.patch_edge_m - (where - support_.patch_centre_m).norm()) /
+              support_.patch_edge_m;
+          const double s = std::clamp(inside, 0.0, 1.0);
+          mu *= 1 + support_.patch_excess * s * s * (3 - 2 * s);  // smooth step: the force stays continuous
+        }
+        return mu * load_[i];
+      });
   PlanarWrench w;
-  w.force_N = R * force_body;
-  w.torque_Nm = torque;
+  w.force_N = R * body.head<2>();
+  w.torque_Nm = body(2);
   if (support_.viscous_per_kg > 0) {
     w.force_N -= support_.viscous_per_kg * object_.mass_kg * x.segment<2>(3);
     w.torque_Nm -= support_.viscous_per_kg * object_.inertia_kgm2 * omega;
@@ -173,7 +167,7 @@ void PushedObjectSystem::derivative(double t, const Eigen::Ref<const Eigen::Vect
   double torque = support.torque_Nm;
   if (rod.touching) {
     force += rod.force_on_object_N;
-    torque += cross(rod.contact_point_m - x.head<2>(), rod.force_on_object_N);
+    torque += planar_moment(rod.contact_point_m - x.head<2>(), rod.force_on_object_N);
   }
   xdot.head<3>() = x.tail<3>();
   xdot.segment<2>(3) = force / object_.mass_kg;

@@ -11,7 +11,8 @@
 // - support friction, distributed over the footprint (area elements of Footprint): each element carries a share
 //   of the weight m g (uniform pressure, tilted to a plane just enough that the centre of pressure lies under
 //   the mass centre, so that the object is in moment balance on the table) and resists its own velocity with
-//   Coulomb friction mu |N_i| v_i / sqrt(|v_i|^2 + eps^2); eps regularises the stick phase so the object stops.
+//   Coulomb friction mu |N_i| v_i / sqrt(|v_i|^2 + eps^2) (mechanics/support_friction.hpp); eps regularises the
+//   stick phase so the object stops.
 //   Optional: Stribeck rise of mu at low element speed, a disk patch of other friction, viscous drag.
 // - the rod: a circle of radius r whose centre is on the PusherPath. Penetration delta = r - d, d the signed
 //   distance of the rod centre to the outline; normal force k delta + c delta_dot (the damping blended in
@@ -23,7 +24,7 @@
 
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/shape_table.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/pusher_path.hpp"
 #include "pushpred/systems/continuous_system.hpp"
 

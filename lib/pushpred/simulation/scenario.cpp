@@ -7,7 +7,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/reading/shape_table.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 
 namespace pushpred {
 namespace detail {

@@ -1,4 +1,4 @@
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// PID gains of the section II-B force reconstruction fitted by Ceres (estimators/pid_gain_fit.hpp).
+// PID gains of the section II-B force reconstruction fitted by Ceres (calibration/pid_gain_fit.hpp).
 #define BOOST_TEST_MODULE pid_gain_fit
 #include <boost/test/unit_test.hpp>
 
@@ -9,8 +9,9 @@
 #include <string>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/estimators/pid_gain_fit.hpp"
+#include "pushpred/calibration/pid_gain_fit.hpp"
 #include "pushpred/reading/shape_table.hpp"
+#include "pushpred/reports/pid_fit_report.hpp"
 #include "test_support.hpp"
 
 using namespace pushpred;
@@ -84,7 +85,7 @@ BOOST_AUTO_TEST_SUITE(pid_gain_fit)
 
 BOOST_AUTO_TEST_CASE(the_noise_scales_are_measured_while_the_object_rests_before_the_push) {
   const SyntheticSpec spec = noisy_spec();
-  const PidFitNoise noise = measure_rest_noise(synthetic_push(spec));
+  const RestNoise noise = measure_rest_noise(synthetic_push(spec));
   // The rest ends the margin (0.02 s) before the push begins at 0.2 s.
   BOOST_TEST(noise.rest_end_s > spec.rest_s - 0.03);
   BOOST_TEST(noise.rest_end_s < spec.rest_s);

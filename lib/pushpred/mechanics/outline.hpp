@@ -1,8 +1,8 @@
 #pragma once
-// The object's outline and footprint as the simulator needs them in its hot loop: closest point, signed
-// distance and outward normal of a point (no allocation, exact for ellipses rather than a sampled polygon),
-// the dataset's contact-side convention, and a grid of area elements for friction distributed over the
-// footprint. Everything is in the body frame of reading/shape_table.hpp (origin at the tracked centre), metres.
+// The object's outline and footprint, shared by the simulator, the quasi-static prediction model and the
+// diagnosis's friction laws (hence in mechanics, below all three): closest point, signed distance and outward
+// normal of a point (no allocation, exact for ellipses rather than a sampled polygon), the dataset's contact-side
+// convention, and a grid of area elements for friction distributed over the footprint. Everything is in the body frame of reading/shape_table.hpp (origin at the tracked centre), metres.
 //
 // Contact sides (the file names' `i` and `s`), checked against the real recordings:
 // - polygons: side i runs counter-clockwise from vertex i to vertex i+1 and `s` goes from 0 at vertex i to 1 at

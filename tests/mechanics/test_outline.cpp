@@ -1,11 +1,11 @@
-#define BOOST_TEST_MODULE simulation
+#define BOOST_TEST_MODULE mechanics
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
-#include "pushpred/simulation/outline.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "test_support.hpp"
 
 using namespace pushpred;

@@ -1,6 +1,8 @@
 #pragma once
 // PID gains of the paper's force reconstruction (section II-B, observers/pid_force_reconstruction.hpp) fitted by
-// Ceres instead of by trial and error. The gains should make the simulated object track the measured pose to
+// Ceres instead of by trial and error: the calibration of an observer (not an estimator of the relation
+// d = beta u + eps, hence a stage of its own above observers). The study's files are written by
+// reports/pid_fit_report.hpp; the rest at the start and its noise are found by preprocessing/rest_noise.hpp. The gains should make the simulated object track the measured pose to
 // within the pose sensor's noise while keeping the reconstructed total force f_hat no rougher than the force
 // sensor's noise allows. Least squares over grid samples k and channels c:
 //
@@ -8,7 +10,7 @@
 //   roughness  sqrt(lambda) (f_hat,c(k+1) - f_hat,ck) / sigma_df_c            k = 0 .. n-2
 //
 // sigma_pose_c [m, m, rad] and sigma_df_c [N, N, N m] are measured on each push while the object rests before the
-// push begins (measure_rest_noise); lambda (default 1) weighs the two. Translation gains (kp, ki, kd) are shared
+// push begins (measure_rest_noise, preprocessing/rest_noise.hpp); lambda (default 1) weighs the two. Translation gains (kp, ki, kd) are shared
 // by x and y and fitted on the x and y residuals, rotation gains (lp, li, ld) on the rotation residuals: two
 // independent three-parameter problems. Each gain g enters Ceres as p = ln(g / 1e-6) (positive gains, relative
 // steps; the residuals clamp g to [1e-6, 1e6]). A residual evaluation is one run of the reconstruction over the
@@ -22,7 +24,6 @@
 // rotation gains lie there (ld / I is about 1.4e4 1/s for I = 0.0018 kg m^2). So Ceres starts from the best of the
 // given gains and a few triple-pole designs of increasing bandwidth (PidGainFitOptions::start_bandwidths_rad_s).
 #include <ceres/solver.h>
-#include <nlohmann/json.hpp>
 
 #include <Eigen/Core>
 #include <cmath>
@@ -33,35 +34,9 @@
 
 #include "pushpred/core/batch.hpp"
 #include "pushpred/observers/pid_force_reconstruction.hpp"
+#include "pushpred/preprocessing/rest_noise.hpp"
 
 namespace pushpred {
-
-/// How the rest at the start of a push is found. The real recordings start with the object still and the pusher
-/// either in free air or already touching it (about half of them: the force reads a steady 1 to 3 N from the
-/// first sample, so "before contact" would leave no rest); the rest therefore ends where the push begins: the
-/// first sample at which the object has left its rest level (median of the first `reference_s`) by `moved_m`
-/// or `moved_rad`, or the pusher's force f_C has changed from its rest level by `force_change_N`, less `margin_s`.
-struct RestNoiseOptions {
-  double reference_s = 0.04;            ///< the rest level is the median over the first this-long [s]
-  double moved_m = 0.5e-3;              ///< the object has moved once it is this far from its rest level [m]...
-  double moved_rad = 0.5 * M_PI / 180;  ///< ...or has turned this far [rad]...
-  double force_change_N = 0.25;         ///< ...or |f_C - rest level| exceeds this [N] (the push has begun)
-  double margin_s = 0.02;               ///< the rest ends this long before that onset [s]
-  double min_rest_s = 0.1;              ///< shorter rests cannot measure the noise [s]
-  void validate() const;
-};
-
-/// The noise scales of one push, measured over its rest [rest_start_s, rest_end_s] (grid times).
-struct PidFitNoise {
-  /// sigma_pose: standard deviation of the pose about its least-squares line (a line absorbs slow drift)
-  /// [m, m, rad].
-  Eigen::Vector3d pose = Eigen::Vector3d::Ones();
-  /// sigma_df: RMS of the step u(k+1) - u(k) of the applied input u (applied_input(); during the rest only the
-  /// sensor's noise moves it) [N, N, N m]. The same step of f_hat is what the roughness residual measures.
-  Eigen::Vector3d force_step = Eigen::Vector3d::Ones();
-  double rest_start_s = 0, rest_end_s = 0;
-  long rest_samples = 0;
-};
 
 /// Why the PID fit cannot use `push`, or empty when it can: a frozen force sensor (d_hat = f_hat - u is then
 /// meaningless), or a rest at the start too short to measure the noise.
@@ -69,13 +44,13 @@ std::string pid_fit_unsuitable_reason(const SynchronisedPush& push, const RestNo
 
 /// Noise scales from the rest at the start of the push. Throws InputError when the push is unsuitable (above) or a
 /// measured scale is zero (a frozen stream).
-PidFitNoise measure_rest_noise(const SynchronisedPush& push, const RestNoiseOptions& options = {});
+RestNoise measure_rest_noise(const SynchronisedPush& push, const RestNoiseOptions& options = {});
 
 /// One push to fit on: the push, its noise scales, and the span the reconstruction runs over (the whole push by
 /// default, rest included: the rest is where the gains show how much sensor noise they pass into f_hat).
 struct PidFitPush {
   SynchronisedPush push;
-  PidFitNoise noise;
+  RestNoise noise;
   double t_start_s = 0;
   double t_end_s = std::numeric_limits<double>::infinity();  ///< clamped to the push's duration
 };
@@ -151,15 +126,36 @@ struct PidGainQuality {
 };
 PidGainQuality assess_pid_gains(const PidFitPush& push, const PidGains& gains, const PidGainFitOptions& options);
 
-/// The reconstructed forces as CSV, one row per grid sample: t_s, then per channel (x [N], y [N], rotation [N m])
-/// the applied input u, the observer's d_hat, and the PID's d_hat with the paper's and with `fitted` gains.
-std::string pid_fit_forces_csv(const PidFitPush& push, const PidGains& fitted, const PidGainFitOptions& options);
+/// The forces a gain set reconstructs on one push, beside the observer's, over the push's span: the applied input
+/// u and the estimates of the unknown force (d_hat [N, N, N m] per grid sample) of the disturbance observer, of the
+/// PID with the paper's gains and of the PID with `fitted` gains. reports/pid_fit_report.hpp writes them as CSV.
+struct PidFitForces {
+  DisturbanceEstimate dob, paper, fitted;
+};
+PidFitForces pid_fit_forces(const PidFitPush& push, const PidGains& fitted, const PidGainFitOptions& options);
+
+/// Gains are fitted in [kPidGainFloor, kPidGainCeiling] (log-parameterised, clamped in the residuals); a gain at the
+/// floor is one the objective has no use for.
+constexpr double kPidGainFloor = 1e-6, kPidGainCeiling = 1e6;
+
+/// The channels a problem fits: translation x and y (0, 2), rotation (2, 1).
+struct PidFitChannels {
+  int first, count;
+};
+PidFitChannels pid_fit_channels(PidFitProblem problem);
+
+/// The objective's two sums for `problem` over assessments: tracking and roughness, each summed over the
+/// problem's channels and the pushes.
+struct PidObjectiveTerms {
+  double tracking = 0, roughness = 0;
+};
+PidObjectiveTerms pid_objective_terms(const std::vector<const PidGainQuality*>& qualities, PidFitProblem problem);
 
 /// The objective of `problem` (1/2 (tracking + lambda roughness), summed over its channels and the pushes),
 /// from assessments: what Ceres minimises, up to the integrator's accuracy.
 double pid_objective(const std::vector<PidGainQuality>& qualities, PidFitProblem problem, double lambda);
 
-// The study `pushpred fit-pid` runs and its report.
+// The study `pushpred fit-pid` runs (its files: reports/pid_fit_report.hpp).
 
 struct PidFitStudyOptions {
   PidGainFitOptions fit;
@@ -168,7 +164,7 @@ struct PidFitStudyOptions {
 
 struct PidFitPushResult {
   std::string source;
-  PidFitNoise noise;
+  RestNoise noise;
   PidGainQuality paper, joint;                 ///< with the paper's gains and with the joint fit's
   std::optional<PidGainFit> own;               ///< the per-push fit
   std::optional<PidGainQuality> own_quality;   ///< with the per-push fit's gains
@@ -186,11 +182,5 @@ struct PidFitStudy {
 /// Fits jointly (and per push when asked) and assesses every push with the paper's and the fitted gains.
 /// Throws InputError for an empty set or bad options.
 PidFitStudy run_pid_fit_study(const std::vector<PidFitPush>& pushes, const PidFitStudyOptions& options);
-
-/// pid_gains.json: gains (paper, joint, per push), objective terms before and after, noise scales, and per push
-/// the tracking RMS [mm, deg], roughness and RMS difference from the observer's d_hat, before and after.
-nlohmann::json pid_fit_json(const PidFitStudy& study);
-/// pid_fit.md: the same as tables.
-std::string pid_fit_markdown(const PidFitStudy& study);
 
 }  // namespace pushpred

@@ -1,0 +1,36 @@
+# The stage graph in docs/architecture.md against the one the build declares (lib/CMakeLists.txt writes it to
+# the build folder as stage_graph.mmd). Run with cmake -P:
+#   -DGRAPH=<build>/stage_graph.mmd -DDOC=<source>/docs/architecture.md [-DMODE=update]
+# MODE=check (the default, the test stage_graph_doc) fails when the doc's Mermaid block differs from GRAPH;
+# MODE=update (the target update_stage_graph_doc) writes GRAPH into the doc's block.
+cmake_minimum_required(VERSION 3.22)
+if(NOT DEFINED MODE)
+  set(MODE check)
+endif()
+set(begin_marker "<!-- stage graph: generated from the build (update_stage_graph_doc), do not edit -->\n```mermaid\n")
+set(end_marker "```\n")
+file(READ "${GRAPH}" graph)
+file(READ "${DOC}" doc)
+string(FIND "${doc}" "${begin_marker}" begin)
+if(begin EQUAL -1)
+  message(FATAL_ERROR "${DOC} has no block starting with the line: <!-- stage graph: generated from the build ...")
+endif()
+string(LENGTH "${begin_marker}" begin_length)
+math(EXPR block_start "${begin} + ${begin_length}")
+string(SUBSTRING "${doc}" ${block_start} -1 rest)
+string(FIND "${rest}" "${end_marker}" block_length)
+if(block_length EQUAL -1)
+  message(FATAL_ERROR "${DOC}: the stage graph's Mermaid block is not closed")
+endif()
+string(SUBSTRING "${rest}" 0 ${block_length} documented)
+if(MODE STREQUAL "update")
+  string(SUBSTRING "${doc}" 0 ${block_start} head)
+  string(SUBSTRING "${rest}" ${block_length} -1 tail)
+  file(WRITE "${DOC}" "${head}${graph}${tail}")
+  message(STATUS "wrote the build's stage graph into ${DOC}")
+elseif(NOT documented STREQUAL graph)
+  message(FATAL_ERROR "The stage graph in ${DOC} is not the build's.\nDocumented:\n${documented}\nBuilt:\n${graph}\n"
+                      "Update it with: cmake --build <build> --target update_stage_graph_doc")
+else()
+  message(STATUS "the stage graph in ${DOC} is the build's")
+endif()
