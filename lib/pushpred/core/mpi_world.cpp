@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <exception>
+#include <iostream>
 #include <string>
 
 #include "pushpred/core/error.hpp"
@@ -110,6 +112,26 @@ void MpiWorld::abort(int code) const {
   if (initialised_) MPI_Abort(MPI_COMM_WORLD, code);
 #endif
   std::exit(code);
+}
+
+BatchRunOutcome merge_at_root(const MpiWorld& world, const nlohmann::json& manifest,
+                              const std::map<std::string, std::string>& files,
+                              const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
+  const auto bundles = world.gather_to_root(partial_bundle(manifest, files));
+  if (!world.root()) {
+    BatchRunOutcome quiet;
+    quiet.quiet = true;
+    return quiet;
+  }
+  try {
+    std::vector<PartialOutput> parts;
+    for (std::size_t r = 0; r < bundles.size(); ++r)
+      parts.push_back(partial_output_from_bundle("rank " + std::to_string(r), bundles[r]));
+    return write_merged(check_partial_outputs(parts));
+  } catch (const std::exception& e) {
+    std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+    world.abort(2);
+  }
 }
 
 }  // namespace pushpred

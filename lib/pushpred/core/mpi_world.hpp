@@ -4,8 +4,13 @@
 // process writes. MPI is optional at build time (CMake's find_package(MPI COMPONENTS C)); mpi_built() says whether
 // this build has it. MPI is initialised only in a process that a launcher started (mpirun, mpiexec, srun: one of
 // OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK is set), so a plain run never touches it.
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "pushpred/core/shard.hpp"
 
 namespace pushpred {
 
@@ -40,5 +45,12 @@ class MpiWorld {
   int rank_ = 0, size_ = 1;
   bool initialised_ = false;
 };
+
+/// Ends a batch run under mpirun: every rank's partial output (`manifest` and its `files`) is gathered at rank 0,
+/// which checks the parts as one batch (check_partial_outputs) and writes them with `write_merged`; the other ranks
+/// return a quiet outcome. A failure of the check or the write is printed and stops every rank with exit code 2.
+BatchRunOutcome merge_at_root(const MpiWorld& world, const nlohmann::json& manifest,
+                              const std::map<std::string, std::string>& files,
+                              const std::function<BatchRunOutcome(const MergedParts&)>& write_merged);
 
 }  // namespace pushpred

@@ -317,23 +317,9 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   }
   const nlohmann::json manifest = partial_manifest(kCommand, shard, inputs, predict_options_json(run), items);
 
-  if (mpi) {
-    const auto bundles = world.gather_to_root(partial_bundle(manifest, sink->take_files()));
-    if (!world.root()) {
-      BatchRunOutcome quiet;
-      quiet.quiet = true;
-      return quiet;
-    }
-    try {
-      std::vector<PartialOutput> parts;
-      for (std::size_t r = 0; r < bundles.size(); ++r)
-        parts.push_back(partial_output_from_bundle("rank " + std::to_string(r), bundles[r]));
-      return write_merged_predictions(check_partial_outputs(parts), *out);
-    } catch (const std::exception& e) {
-      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
-      world.abort(2);
-    }
-  }
+  if (mpi)
+    return merge_at_root(world, manifest, sink->take_files(),
+                         [&](const MergedParts& merged) { return write_merged_predictions(merged, *out); });
 
   write_partial_output(*out, manifest);
   BatchRunOutcome outcome;

@@ -212,23 +212,9 @@ BatchRunOutcome run_validation(const ValidateRun& run) {
   for (int k = 0; k < count; ++k) trials.emplace_back("trial " + std::to_string(k));
   const nlohmann::json manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), items);
 
-  if (mpi) {
-    const auto bundles = world.gather_to_root(partial_bundle(manifest, {}));
-    if (!world.root()) {
-      BatchRunOutcome quiet;
-      quiet.quiet = true;
-      return quiet;
-    }
-    try {
-      std::vector<PartialOutput> parts;
-      for (std::size_t k = 0; k < bundles.size(); ++k)
-        parts.push_back(partial_output_from_bundle("rank " + std::to_string(k), bundles[k]));
-      return write_merged_validation(check_partial_outputs(parts), *out);
-    } catch (const std::exception& e) {
-      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
-      world.abort(2);
-    }
-  }
+  if (mpi)
+    return merge_at_root(world, manifest, {},
+                         [&](const MergedParts& merged) { return write_merged_validation(merged, *out); });
 
   write_partial_output(*out, manifest);
   int failed = 0;
