@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <boost/test/unit_test.hpp>
 #include <cerrno>
 #include <chrono>
@@ -310,6 +311,31 @@ BOOST_AUTO_TEST_CASE(a_crash_or_a_hang_in_the_child_costs_only_that_job) {
                           return std::string(e.what()) == "f.h5: reading the HDF5 file took longer than 1 s and was stopped";
                         });
   BOOST_TEST(run_isolated("f.h5", "reading", [] { return std::string("still works"); }) == "still works");
+}
+
+// A child forked while another worker is mid-item could inherit a lock that worker holds (AddressSanitizer's
+// allocator keeps its locks across fork); the fork waits until the other worker has left its item. The child is a
+// copy of the parent at the fork, so what it sees of the other worker's progress says when the fork happened. The
+// forking thread is inside an item of its own, as a batch's worker is, and steps out of it for the fork.
+BOOST_AUTO_TEST_CASE(a_fork_waits_until_no_other_worker_is_inside_an_item) {
+  static std::atomic<bool> other_inside{false}, other_done{false};
+  std::thread other([] {
+    const ForkSafeWork item;
+    other_inside = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    other_done = true;
+  });
+  while (!other_inside) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::string seen;
+  {
+    const ForkSafeWork item;
+    seen = run_isolated("f.h5", "reading", [] { return std::string(other_done ? "after" : "during"); });
+  }
+  other.join();
+  BOOST_TEST(seen == "after");
+  // Items are free to start again once the fork is done.
+  const ForkSafeWork again;
+  BOOST_TEST(run_isolated("f.h5", "reading", [] { return std::string("again"); }) == "again");
 }
 
 BOOST_AUTO_TEST_SUITE_END()

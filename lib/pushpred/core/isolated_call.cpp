@@ -10,8 +10,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <mutex>
 
 #include "pushpred/core/error.hpp"
 
@@ -77,20 +79,86 @@ double now_s() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+/// ForkSafeWork's bookkeeping: how many threads are inside a stretch of work, and whether a fork is under way. A
+/// fork waits for the count to reach zero; a stretch waits for the fork to end. One fork at a time.
+struct ForkGate {
+  std::mutex mutex;
+  std::condition_variable changed;
+  int working = 0;
+  bool forking = false;
+};
+
+ForkGate& fork_gate() {
+  static ForkGate gate;
+  return gate;
+}
+
+thread_local int work_depth = 0;  // ForkSafeWork scopes open on this thread
+
+void enter_work() {
+  ForkGate& g = fork_gate();
+  std::unique_lock<std::mutex> lock(g.mutex);
+  g.changed.wait(lock, [&] { return !g.forking; });
+  ++g.working;
+}
+
+void leave_work() {
+  ForkGate& g = fork_gate();
+  const std::lock_guard<std::mutex> lock(g.mutex);
+  --g.working;
+  g.changed.notify_all();
+}
+
+/// fork() at a quiet moment (ForkSafeWork): this thread steps out of its stretch of work, waits until no other
+/// thread is in one, forks, and steps back in (in the parent). The gate's mutex is not held across the fork. The
+/// stop signals are blocked across the fork: a child must never run the parent's clean-up handler (it would remove
+/// the parent's output behind its back), so the child returns with them blocked and `previous` holding the mask to
+/// restore once it has reset its handlers; the parent's mask is restored here.
+pid_t quiet_fork(sigset_t& previous) {
+  ForkGate& g = fork_gate();
+  const bool inside = work_depth > 0;
+  {
+    std::unique_lock<std::mutex> lock(g.mutex);
+    if (inside) {
+      --g.working;
+      g.changed.notify_all();
+    }
+    g.changed.wait(lock, [&] { return !g.forking; });
+    g.forking = true;
+    g.changed.wait(lock, [&] { return g.working == 0; });
+  }
+  sigset_t stop;
+  sigemptyset(&stop);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stop, sig);
+  pthread_sigmask(SIG_BLOCK, &stop, &previous);
+  const pid_t child = fork();
+  if (child == 0) return child;  // the child never touches the gate: it only serves or runs its job, then _exits
+  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  {
+    const std::lock_guard<std::mutex> lock(g.mutex);
+    g.forking = false;
+    if (inside) ++g.working;
+    g.changed.notify_all();
+  }
+  return child;
+}
+
 }  // namespace
+
+ForkSafeWork::ForkSafeWork() {
+  if (work_depth++ == 0) enter_work();
+}
+
+ForkSafeWork::~ForkSafeWork() {
+  if (--work_depth == 0) leave_work();
+}
 
 std::string run_isolated(const std::string& source, const std::string& what, const std::function<std::string()>& job,
                          double timeout_s) {
   int fds[2];
   if (pipe(fds) != 0) throw InputError(about(source, what + ": cannot create a pipe: " + std::strerror(errno)));
-  // The stop signals are blocked across fork: a child must never run the parent's clean-up handler (it would
-  // remove the parent's output behind its back), so it only takes them after resetting its handlers.
-  sigset_t stop, previous;
-  sigemptyset(&stop);
-  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stop, sig);
-  pthread_sigmask(SIG_BLOCK, &stop, &previous);
-  const pid_t child = fork();
-  if (child != 0) pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  sigset_t previous;
+  const pid_t child = quiet_fork(previous);
   if (child < 0) {
     close(fds[0]);
     close(fds[1]);
@@ -170,14 +238,9 @@ void IsolatedServer::start(const std::string& source) {
   int fds[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
     throw InputError(about(source, what_ + ": cannot create a socket pair: " + std::strerror(errno)));
-  // As run_isolated: the stop signals are blocked across fork, the child takes them after resetting its handlers.
-  sigset_t stop_signals, previous;
-  sigemptyset(&stop_signals);
-  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stop_signals, sig);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+  sigset_t previous;
   const pid_t parent = getpid();
-  const pid_t child = fork();
-  if (child != 0) pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  const pid_t child = quiet_fork(previous);
   if (child < 0) {
     close(fds[0]);
     close(fds[1]);

@@ -14,6 +14,22 @@ namespace pushpred {
 std::string run_isolated(const std::string& source, const std::string& what, const std::function<std::string()>& job,
                          double timeout_s = 60.0);
 
+/// A stretch of work on one of several threads (a batch's item, parallel_batch.hpp). The forks above wait until no
+/// other thread is inside such a stretch, and the stretches wait while a fork is under way, so that no child is
+/// forked while another thread of the batch holds a lock the child would need: AddressSanitizer's allocator keeps
+/// its locks across fork, and a reader child that found one held hung until its time-out (the sanitizer suite,
+/// --jobs 2). glibc's own malloc survives that; the quiet moment makes the forks safe whatever the allocator. A
+/// thread that forks from inside its stretch steps out of it for the fork. Threads of the caller's own program are
+/// not covered: a program that allocates on other threads while pushpred reads files runs with its allocator's
+/// guarantees.
+class ForkSafeWork {
+ public:
+  ForkSafeWork();
+  ~ForkSafeWork();
+  ForkSafeWork(const ForkSafeWork&) = delete;
+  ForkSafeWork& operator=(const ForkSafeWork&) = delete;
+};
+
 /// A child process that runs one kind of risky job again and again: forked on the first call and kept, so that a
 /// batch pays for one fork (and the copy-on-write faults that follow it) rather than one per file, which made reading
 /// the slowest stage of `pushpred predict` (docs/performance.md). Each call sends a request and gets the handler's

@@ -3,7 +3,8 @@
 // free, and the results and failures are put back in input order, so that what a command writes does not depend on
 // the number of jobs or on timing (tests/apps/cli_jobs.sh compares --jobs 1 and 2 byte for byte). A job must be
 // safe to run on several threads at once: pushpred's studies are (each keeps its own state; the CVODE integrators
-// are per thread, cvode_integrator.hpp), and the HDF5 reader runs in a child process of its own.
+// are per thread, cvode_integrator.hpp), and the HDF5 reader runs in a child process of its own, forked while no other
+// worker is inside an item (ForkSafeWork, isolated_call.hpp).
 //
 // While the batch runs, BatchProgress reports on stderr: on a terminal a bar redrawn in place (items done of all,
 // rate, time left); otherwise a plain line at most every 10 s, so that a log holds a few lines and a short run none.
@@ -22,20 +23,12 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
+#include "pushpred/core/isolated_call.hpp"
 
 namespace pushpred {
 
-/// All cores: std::thread::hardware_concurrency(), or 1 where it is not known. One in a build with AddressSanitizer:
-/// the HDF5 reader forks its child from the worker threads, and a fork while another thread holds the instrumented
-/// allocator's lock can leave the child hung (one real file's read timed out in the sanitizer suite after --jobs
-/// came in; the Release build's glibc resets its malloc locks across fork). `--jobs N` still asks for more.
-inline int default_jobs() {
-#if defined(__SANITIZE_ADDRESS__)
-  return 1;
-#else
-  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-#endif
-}
+/// All cores: std::thread::hardware_concurrency(), or 1 where it is not known.
+inline int default_jobs() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
 
 class BatchProgress {
  public:
@@ -121,6 +114,7 @@ auto run_batch_items(const std::vector<std::filesystem::path>& inputs, Job&& job
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
     for (std::size_t i = next++; i < n; i = next++) {
+      const ForkSafeWork working;  // the HDF5 reader's forks wait for a moment when no other worker is busy
       // The sequential run_batch on one input: the same results and the same failure text.
       Batch<Result> one = run_batch(std::vector<std::filesystem::path>{inputs[i]}, job);
       if (!one.results.empty()) items[i].result.emplace(std::move(one.results.front()));
