@@ -85,6 +85,7 @@ struct ForkGate {
   std::mutex mutex;
   std::condition_variable changed;
   int working = 0;
+  int starting = 0;  // threads announced by ForkSafeThreadStarts and not yet running their own code
   bool forking = false;
 };
 
@@ -125,7 +126,7 @@ pid_t quiet_fork(sigset_t& previous) {
     }
     g.changed.wait(lock, [&] { return !g.forking; });
     g.forking = true;
-    g.changed.wait(lock, [&] { return g.working == 0; });
+    g.changed.wait(lock, [&] { return g.working == 0 && g.starting == 0; });
   }
   sigset_t stop;
   sigemptyset(&stop);
@@ -151,6 +152,28 @@ ForkSafeWork::ForkSafeWork() {
 
 ForkSafeWork::~ForkSafeWork() {
   if (--work_depth == 0) leave_work();
+}
+
+ForkSafeThreadStarts::ForkSafeThreadStarts(int count) : pending_(count) {
+  ForkGate& g = fork_gate();
+  std::unique_lock<std::mutex> lock(g.mutex);
+  g.changed.wait(lock, [&] { return !g.forking; });
+  g.starting += count;
+}
+
+void ForkSafeThreadStarts::started() {
+  ForkGate& g = fork_gate();
+  const std::lock_guard<std::mutex> lock(g.mutex);
+  --pending_;
+  --g.starting;
+  g.changed.notify_all();
+}
+
+ForkSafeThreadStarts::~ForkSafeThreadStarts() {
+  ForkGate& g = fork_gate();
+  const std::lock_guard<std::mutex> lock(g.mutex);
+  g.starting -= pending_;
+  g.changed.notify_all();
 }
 
 std::string run_isolated(const std::string& source, const std::string& what, const std::function<std::string()>& job,

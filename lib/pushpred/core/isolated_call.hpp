@@ -30,6 +30,22 @@ class ForkSafeWork {
   ForkSafeWork& operator=(const ForkSafeWork&) = delete;
 };
 
+/// Worker threads about to be started, for ForkSafeWork: a thread's start-up (the sanitizer's per-thread allocator
+/// cache) and the spawning thread's are not quiet moments either, so the forks wait from this object's construction
+/// until each of the `count` threads has called started() as the first thing it does (or this object is gone).
+/// The spawning thread must not allocate between the last thread's creation and its join: reserve beforehand.
+class ForkSafeThreadStarts {
+ public:
+  explicit ForkSafeThreadStarts(int count);
+  ~ForkSafeThreadStarts();
+  ForkSafeThreadStarts(const ForkSafeThreadStarts&) = delete;
+  ForkSafeThreadStarts& operator=(const ForkSafeThreadStarts&) = delete;
+  void started();
+
+ private:
+  int pending_;
+};
+
 /// A child process that runs one kind of risky job again and again: forked on the first call and kept, so that a
 /// batch pays for one fork (and the copy-on-write faults that follow it) rather than one per file, which made reading
 /// the slowest stage of `pushpred predict` (docs/performance.md). Each call sends a request and gets the handler's

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -126,9 +127,26 @@ auto run_batch_items(const std::vector<std::filesystem::path>& inputs, Job&& job
   if (threads <= 1) {
     work();
   } else {
+    // Forks (the HDF5 reader's) wait while threads start (ForkSafeThreadStarts) and while a worker is inside an item;
+    // the workers end together, after the last item, so that no thread's tear-down overlaps a fork either.
+    std::mutex end_mutex;
+    std::condition_variable end_changed;
+    std::size_t ended = 0;
     std::vector<std::thread> pool;
-    for (std::size_t t = 0; t < threads; ++t) pool.emplace_back(work);
-    for (auto& t : pool) t.join();
+    pool.reserve(threads);
+    {
+      ForkSafeThreadStarts starts(static_cast<int>(threads));
+      for (std::size_t t = 0; t < threads; ++t)
+        pool.emplace_back([&] {
+          starts.started();
+          work();
+          std::unique_lock<std::mutex> lock(end_mutex);
+          ++ended;
+          end_changed.notify_all();
+          end_changed.wait(lock, [&] { return ended == threads; });
+        });
+      for (auto& t : pool) t.join();
+    }
   }
   if (progress) progress->finish();
   return items;
