@@ -153,8 +153,8 @@ done
 expect_in "$tmp/dwhole.err" "FAILED $tmp/missing.h5" "the missing file is listed"
 expect_in "$tmp/dwhole.err" "FAILED rect1_on_abs" "the object that cannot be diagnosed is listed"
 # The objects sorted: ellip1, ellip3, hex, rect1; shard 1/2 takes the 1st and 3rd.
-check "diagnose shard 1/2 took ellip1 and hex" [ -f "$tmp/d2.part1/ellip1_on_abs/diagnosis.json" ] \
-  && [ -f "$tmp/d2.part1/hex_on_abs/diagnosis.json" ]
+check "diagnose shard 1/2 took ellip1" [ -f "$tmp/d2.part1/ellip1_on_abs/diagnosis.json" ]
+check "diagnose shard 1/2 took hex" [ -f "$tmp/d2.part1/hex_on_abs/diagnosis.json" ]
 check "diagnose shard 1/2 left ellip3 to shard 2/2" [ ! -e "$tmp/d2.part1/ellip3_on_abs" ]
 check "diagnose shard 2/2 took ellip3" [ -f "$tmp/d2.part2/ellip3_on_abs/diagnosis.json" ]
 expect_in "$tmp/d2.part1.out" "partial output in" "a diagnose shard says where its partial output is"
@@ -171,6 +171,15 @@ expect_in "$tmp/err" "other inputs" "other diagnose inputs are named"
 expect_exit 2 "a diagnose part merged with a predict part" -- "$bin" merge --out "$tmp/m" "$tmp/d2.part1" \
   "$tmp/two.part2"
 check "no refused diagnose merge wrote anything" [ ! -e "$tmp/m" ]
+# No object can be diagnosed (every push has a frozen sensor): the merge, like the whole run, exits 2, writes nothing.
+mapfile -t frozen < <(ls "$data"/abs/*shape=rect1_*.h5 | head -2)
+"$bin" "${diagnose[@]}" "${frozen[@]}" --out "$tmp/fwhole" >/dev/null 2>"$tmp/fwhole.err"
+check "diagnose --per-object of frozen pushes only exits 2" [ $? -eq 2 ]
+"$bin" "${diagnose[@]}" "${frozen[@]}" --out "$tmp/f.part1" --shard 1/1 >/dev/null 2>&1
+expect_exit 2 "the merge of a run with no object diagnosed" -- "$bin" merge --out "$tmp/f" "$tmp/f.part1"
+check "it lists what the whole run lists" diff "$tmp/fwhole.err" "$tmp/err"
+check "the whole run wrote nothing" [ ! -e "$tmp/fwhole" ]
+check "the merge wrote nothing" [ ! -e "$tmp/f" ]
 
 # Parts that are not every shard of one run.
 expect_exit 2 "a missing shard" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1"
