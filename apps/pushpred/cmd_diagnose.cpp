@@ -2,29 +2,22 @@
 // tests a library of candidate physical effects against it, adds the selected ones and reports the prediction
 // error before and after on held-out phases (DIR/diagnosis.json, DIR/report.md, plots). With --per-object, a batch
 // of several objects or surfaces is diagnosed one object at a time: DIR/<shape>_on_<surface>/ each, and
-// DIR/overview.md and DIR/overview.json side by side.
-#include <atomic>
-#include <cstdio>
-#include <filesystem>
-#include <iostream>
+// DIR/overview.md and DIR/overview.json side by side; `--shard I/N` then runs share I of N of the objects as a
+// partial output for `pushpred merge`, and under mpirun the ranks split the objects (reports/diagnosis_batch.hpp).
 #include <memory>
-#include <thread>
 
 #include "commands.hpp"
 #include "study_arguments.hpp"
-#include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/core/parallel_batch.hpp"
-#include "pushpred/diagnosis/diagnosis.hpp"
-#include "pushpred/diagnosis/push_groups.hpp"
-#include "pushpred/reports/diagnosis_report.hpp"
+#include "pushpred/reports/diagnosis_batch.hpp"
 
 namespace pushpred::app {
 namespace {
 
 struct DiagnoseArgs {
   std::vector<std::string> files;
-  std::string out, shape;
+  std::string out, shape, shard;
+  bool shard_given = false;  ///< --shard was given (an empty spec is an error, not the whole run)
   StudyArguments study;
   double bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
@@ -34,94 +27,21 @@ struct DiagnoseArgs {
 };
 
 int run_diagnose(const DiagnoseArgs& a) {
-  DiagnosisOptions o;
-  o.study = a.study.options();
-  o.bic_threshold = a.bic_threshold;
-  o.relevance_fraction = a.relevance_fraction;
-  o.fit_base_settings = !a.quick_base;
-  o.validate();
-  EffectLibrary library = EffectLibrary::standard();
-  for (const auto& kind : a.exclude) library.remove(kind);
-  PreprocessOptions pre;
-  pre.rate_hz = a.rate_hz;
-
-  const auto inputs = expand_inputs(a.files);
-  const Batch<SynchronisedPush> loaded = run_batch(
-      inputs, [&](const std::filesystem::path& path) { return load_push(path, a.shape, pre); }, a.jobs, nullptr);
-  for (const auto& f : loaded.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
-  if (loaded.results.empty()) throw InputError("no push could be read; nothing written");
-  const std::size_t loaded_count = loaded.results.size();
-  std::vector<PushGroup> groups = group_by_object(loaded.results);
-  if (groups.size() > 1 && !a.per_object) {
-    std::string names;
-    for (const auto& g : groups) names += (names.empty() ? "" : ", ") + g.name() + " (" + std::to_string(g.pushes.size()) + ")";
-    throw InputError("the pushes are of " + std::to_string(groups.size()) + " objects or surfaces: " + names +
-                     "; a diagnosis fits one object on one surface: give one, or pass --per-object");
-  }
-
-  if (!a.per_object) {
-    DiagnosisResult result = diagnose(groups.front().pushes, library, o);
-    // Pushes read but left out by the diagnosis; the unreadable ones were listed above.
-    for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
-    result.failures.insert(result.failures.begin(), loaded.failures.begin(), loaded.failures.end());
-    StagedOutput out(a.out);
-    write_diagnosis_report(result, o, out, !a.no_plots);
-    out.commit();
-    for (const auto& line : result.log) std::cout << line << "\n";
-    std::cout << diagnosis_summary_text(result);
-    std::cout << "report in " << a.out << "/report.md, data in " << a.out << "/diagnosis.json\n";
-    return result.failures.empty() ? 0 : 1;
-  }
-
-  // One diagnosis per object, the objects shared out over the jobs: a group that cannot be diagnosed is reported
-  // and the others go on. What each prints is kept and printed in the objects' order, whatever the jobs.
-  StagedOutput out(a.out);
-  std::vector<DiagnosisGroupOutcome> outcomes(groups.size());
-  std::vector<std::string> printed(groups.size()), complaints(groups.size());
-  std::vector<std::size_t> left_out_of(groups.size(), 0);
-  BatchProgress progress("diagnose", "objects", groups.size());
-  std::atomic<std::size_t> next{0};
-  const auto one_object = [&](std::size_t i) {
-    PushGroup& g = groups[i];
-    DiagnosisGroupOutcome outcome{g.name(), g.pushes.size(), std::nullopt, ""};
-    try {
-      DiagnosisResult result = diagnose(g.pushes, library, o);
-      write_diagnosis_report(result, o, out.path(g.name()), !a.no_plots);
-      printed[i] = diagnosis_summary_text(result);
-      for (const auto& f : result.failures) complaints[i] += "LEFT OUT " + f.source + ": " + f.reason + "\n";
-      left_out_of[i] = result.failures.size();
-      outcome.result = std::move(result);
-    } catch (const InputError& e) {
-      outcome.error = e.what();
-      complaints[i] += "FAILED " + g.name() + ": " + e.what() + "\n";
-    }
-    outcomes[i] = std::move(outcome);
-    progress.item_done();
-  };
-  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(a.jobs), groups.size());
-  std::vector<std::thread> pool;
-  for (std::size_t t = 0; t < threads; ++t)
-    pool.emplace_back([&] {
-      for (std::size_t i = next++; i < groups.size(); i = next++) one_object(i);
-    });
-  for (auto& t : pool) t.join();
-  progress.finish();
-  std::size_t left_out = 0;
-  for (std::size_t i = 0; i < groups.size(); ++i) {
-    std::cout << printed[i];
-    std::cerr << complaints[i];
-    left_out += left_out_of[i];
-  }
-  std::size_t failed_groups = 0;
-  for (const auto& g : outcomes) failed_groups += g.result ? 0 : 1;
-  if (failed_groups == outcomes.size()) throw InputError("no object could be diagnosed; nothing written");
-  write_text_atomically(out.path("overview.md"), diagnosis_overview_markdown(outcomes));
-  write_text_atomically(out.path("overview.json"), json_text(diagnosis_overview_json(outcomes)));
-  out.commit();
-  std::cout << outcomes.size() - failed_groups << " of " << outcomes.size() << " objects diagnosed (" << loaded_count
-            << " pushes read); overview in " << a.out << "/overview.md\n";
-  if (failed_groups > 0) std::cerr << failed_groups << " of " << outcomes.size() << " objects failed\n";
-  return failed_groups == 0 && left_out == 0 && loaded.failures.empty() ? 0 : 1;
+  DiagnoseRun run;
+  if (a.shard_given) run.shard = parse_shard_spec(a.shard);
+  run.options.study = a.study.options();
+  run.options.bic_threshold = a.bic_threshold;
+  run.options.relevance_fraction = a.relevance_fraction;
+  run.options.fit_base_settings = !a.quick_base;
+  run.exclude = a.exclude;
+  run.preprocess.rate_hz = a.rate_hz;
+  run.inputs = a.files;
+  run.out = a.out;
+  run.shape = a.shape;
+  run.per_object = a.per_object;
+  run.plots = !a.no_plots;
+  run.jobs = a.jobs;
+  return finish_outcome(pushpred::run_diagnose(run));
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
@@ -149,8 +69,17 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "Files read, and with --per-object objects diagnosed, in parallel (default: all cores); the output "
                   "does not depend on it")
       ->check(CLI::PositiveNumber);
-  add_shard_refusal(*sub);
-  sub->callback([a, &run] { run = [a] { return run_diagnose(*a); }; });
+  auto* shard = sub->add_option("--shard", a->shard,
+                                 "With --per-object only: only share I of N of the objects (the objects sorted by "
+                                 "name, the k-th goes to share k mod N + 1; every share reads every file); writes a "
+                                 "partial output folder that `pushpred merge` combines with the other shares' into "
+                                 "what one run writes. Under mpirun -np N (with --per-object) the ranks split the "
+                                 "objects so, and rank 0 writes the whole output")
+                    ->type_name("I/N");
+  sub->callback([a, shard, &run] {
+    a->shard_given = shard->count() > 0;
+    run = [a] { return run_diagnose(*a); };
+  });
 });
 
 }  // namespace

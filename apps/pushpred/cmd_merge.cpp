@@ -17,7 +17,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<MergeArgs>();
   auto* sub = app.add_subcommand(
       "merge", "Combine the partial outputs of --shard 1/N ... N/N runs into the output of one run (predict, "
-             "validate-diagnosis)");
+             "validate-diagnosis, diagnose --per-object)");
   sub->add_option("parts", a->parts, "The partial output folders, one per shard, in any order")->required();
   sub->add_option("--out", a->out, "Output folder: what one run over every input writes")->required();
   sub->callback([a, &run] {

@@ -37,7 +37,8 @@ void add_shard_refusal(CLI::App& sub) {
   shard_refusals().push_back(sub.get_name());
   static std::string ignored;  // never read: run_selected refuses the flag
   sub.add_option("--shard", ignored,
-                 "Not supported by `" + sub.get_name() + "` yet (only by predict and validate-diagnosis): refused");
+                 "Not supported by `" + sub.get_name() +
+                     "` yet (only by predict, validate-diagnosis and diagnose --per-object): refused");
 }
 
 int run_selected(CLI::App& app) {
@@ -45,12 +46,14 @@ int run_selected(CLI::App& app) {
     const std::string& name = sub->get_name();
     for (const auto& refusing : shard_refusals())
       if (refusing == name && sub->count("--shard") > 0)
-        throw InputError("--shard: `" + name + "` cannot split its inputs into shards yet (only `predict` and "
-                         "`validate-diagnosis` can); run it on every input, or split the inputs yourself");
+        throw InputError("--shard: `" + name + "` cannot split its inputs into shards yet (only `predict`, "
+                         "`validate-diagnosis` and `diagnose --per-object` can); run it on every input, or split the "
+                         "inputs yourself");
     // Several processes started by mpirun would each do the whole job and write the same output.
-    if (name != "predict" && name != "validate-diagnosis" && mpi_launch_size() > 1)
-      throw InputError("`" + name + "` does not run under mpirun (only `predict` and `validate-diagnosis` split their "
-                       "work over MPI ranks); run it as one process");
+    // diagnose refuses mpirun itself without --per-object.
+    if (name != "predict" && name != "validate-diagnosis" && name != "diagnose" && mpi_launch_size() > 1)
+      throw InputError("`" + name + "` does not run under mpirun (only `predict`, `validate-diagnosis` and `diagnose "
+                       "--per-object` split their work over MPI ranks); run it as one process");
   }
   return selected_runner() ? selected_runner()() : 0;
 }

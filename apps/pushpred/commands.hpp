@@ -33,7 +33,7 @@ inline constexpr int kExitNothingDone = 2;
 /// a batch of `inputs` items with `used` of them giving results.
 int report_failures(const std::vector<BatchFailure>& failures, std::size_t used, const std::string& label = "FAILED");
 
-/// Adds `--shard I/N` to a subcommand that cannot split its inputs yet (every one but predict): given, it is
+/// Adds `--shard I/N` to a subcommand that cannot split its inputs yet (compare, inspect, fit-pid): given, it is
 /// refused with an error naming the subcommand, exit 2, before anything is read or written.
 void add_shard_refusal(CLI::App& sub);
 

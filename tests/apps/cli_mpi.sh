@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# `mpirun -np 2 pushpred predict` and `validate-diagnosis` (issue 12): the ranks split the pushes and rank 0 writes what one process writes,
+# `mpirun -np 2 pushpred predict`, `validate-diagnosis` and `diagnose --per-object` (issue 12): the ranks split the
+# pushes (trials, objects) and rank 0 writes what one process writes,
 # byte for byte (diff -r against --jobs 1), with the same stdout, failure list and exit code. Loopback only: the
 # shared-memory and self transports of Open MPI on this machine.
 set -u
@@ -51,6 +52,34 @@ vcode=$?
 timeout 600 "${mpi[@]}" "$bin" "${validate[@]}" --out "$tmp/vmpi" >/dev/null 2>&1
 check "validate-diagnosis under mpirun exits as the plain run ($vcode)" [ $? -eq "$vcode" ]
 check "validate-diagnosis under mpirun writes the same output" diff -r "$tmp/vplain" "$tmp/vmpi"
+
+# diagnose --per-object: the ranks split the objects (every rank reads every file); rank 0 writes what one process
+# writes, the plots included (sent as bytes). Three objects, one of which fails, and a missing file.
+dfiles=()
+for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=50'; do
+  mapfile -t -O "${#dfiles[@]}" dfiles < <(ls "$data"/abs/*"$pattern"*.h5 | head -2)
+done
+dfiles+=("$(ls "$data"/abs/*shape=rect1_*.h5 | head -1)" "$tmp/missing.h5")
+diagnose=(diagnose --per-object --quick-base --intervals 3 --jobs 1)
+"$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/dplain" >"$tmp/dplain.out" 2>"$tmp/dplain.err"
+dcode=$?
+timeout 600 "${mpi[@]}" "$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/dmpi" >"$tmp/dmpi.out" 2>"$tmp/dmpi.err"
+code=$?
+check "diagnose --per-object under mpirun exits as the plain run ($dcode), got $code" [ "$code" -eq "$dcode" ]
+if diff -r "$tmp/dplain" "$tmp/dmpi" >/dev/null; then passed=$((passed + 1)); else
+  failed=$((failed + 1)); echo "FAIL: the MPI diagnose output differs from the plain run"
+  diff -r "$tmp/dplain" "$tmp/dmpi" | head -5
+  sed 's/^/  err: /' "$tmp/dmpi.err" | head -20
+fi
+sed -i "s#$tmp/dplain#OUT#g" "$tmp/dplain.out"
+sed -i "s#$tmp/dmpi#OUT#g" "$tmp/dmpi.out"
+check "diagnose: rank 0 prints what the plain run prints, once" cmp -s "$tmp/dplain.out" "$tmp/dmpi.out"
+check "diagnose: the same failures are listed, once" \
+  diff <(grep -E '^(FAILED|LEFT OUT|[0-9]+ of)' "$tmp/dplain.err") <(grep -E '^(FAILED|LEFT OUT|[0-9]+ of)' "$tmp/dmpi.err")
+expect_in "$tmp/dplain.out" "2 of 3 objects diagnosed" "the plain diagnose run diagnosed two objects"
+timeout 600 "${mpi[@]}" "$bin" diagnose "${dfiles[0]}" --out "$tmp/bad" >"$tmp/out" 2>"$tmp/err"
+check "diagnose without --per-object under mpirun fails" [ $? -ne 0 ]
+expect_in "$tmp/err" "only with --per-object" "diagnose without --per-object under mpirun is explained"
 
 # What cannot run under MPI says so, and writes nothing.
 timeout 600 "${mpi[@]}" "$bin" predict "${files[0]}" --out "$tmp/bad" --shard 1/2 >"$tmp/out" 2>"$tmp/err"

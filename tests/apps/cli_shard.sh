@@ -2,7 +2,7 @@
 # --shard I/N and `pushpred merge` (issue 12): the partial outputs of every shard, merged, are the output of one run
 # byte for byte (diff -r), with the same stdout, failure list and exit code; bad shard specs, --shard on a
 # subcommand that cannot split, and parts that are not every shard of one run are refused with exit 2 and no output.
-# The same for validate-diagnosis's trials.
+# The same for validate-diagnosis's trials and diagnose --per-object's objects.
 set -u
 bin=$1
 data=$2
@@ -80,9 +80,11 @@ expect_exit 2 "inspect --shard refused" -- "$bin" inspect "${files[0]}" --shard 
 expect_in "$tmp/err" "inspect\` cannot split its inputs" "inspect says it cannot shard"
 expect_exit 2 "fit-pid --shard refused" -- "$bin" fit-pid "${files[0]}" --out "$tmp/bad" --shard 1/2
 check "fit-pid --shard wrote nothing" [ ! -e "$tmp/bad" ]
-for sub in compare diagnose; do
-  expect_exit 2 "$sub --shard refused" -- "$bin" "$sub" "${files[0]}" --out "$tmp/bad" --shard 1/2
-done
+expect_exit 2 "compare --shard refused" -- "$bin" compare "${files[0]}" --out "$tmp/bad" --shard 1/2
+# diagnose splits only --per-object runs: one object is one unit.
+expect_exit 2 "diagnose --shard without --per-object refused" -- "$bin" diagnose "${files[0]}" --out "$tmp/bad" \
+  --shard 1/2
+expect_in "$tmp/err" "--shard 1/2: \`diagnose\` splits its work only with --per-object" "diagnose says why"
 check "no refused subcommand wrote anything" [ ! -e "$tmp/bad" ]
 
 # validate-diagnosis: trial k goes to shard k mod N + 1; two trials as 2 and 3 shards (one with none), merged.
@@ -114,6 +116,70 @@ expect_exit 2 "a predict part merged with a validate-diagnosis part" -- "$bin" m
   "$tmp/v2.part2"
 expect_in "$tmp/err" "not of \`predict\`" "the mixed parts are named"
 check "no refused run wrote anything" [ ! -e "$tmp/bad" ]
+
+# diagnose --per-object: the unit is one object (a diagnosis each); every shard reads every file, the objects sorted
+# by name are dealt out. Four objects (one fails: its one push has a frozen force sensor) and a missing file, whole
+# and as 1, 2 and 3 shards merged.
+dfiles=()
+for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=50' 'shape=ellip3_a=0_v=75'; do
+  mapfile -t -O "${#dfiles[@]}" dfiles < <(ls "$data"/abs/*"$pattern"*.h5 | head -2)
+done
+dfiles+=("$(ls "$data"/abs/*shape=rect1_*.h5 | head -1)" "$tmp/missing.h5")
+diagnose=(diagnose --per-object --no-plots --quick-base --intervals 3 --jobs 1)
+"$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/dwhole" >"$tmp/dwhole.out" 2>"$tmp/dwhole.err"
+dcode=$?
+check "diagnose --per-object: the whole run exits 1 (a failed object, a missing file), got $dcode" [ "$dcode" -eq 1 ]
+expect_in "$tmp/dwhole.out" "3 of 4 objects diagnosed (7 pushes read)" "the whole run diagnosed three objects"
+sed -i "s#$tmp/dwhole#OUT#g" "$tmp/dwhole.out"
+for n in 1 2 3; do
+  parts=()
+  for ((i = 1; i <= n; i++)); do
+    "$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/d$n.part$i" --shard "$i/$n" >"$tmp/d$n.part$i.out" 2>&1
+    check "diagnose $n shards: shard $i/$n wrote its partial output" [ -f "$tmp/d$n.part$i/partial.json" ]
+    check "diagnose $n shards: shard $i/$n wrote no overview" [ ! -e "$tmp/d$n.part$i/overview.md" ]
+    parts=("$tmp/d$n.part$i" "${parts[@]}")
+  done
+  "$bin" merge --out "$tmp/d$n" "${parts[@]}" >"$tmp/d$n.out" 2>"$tmp/d$n.err"
+  code=$?
+  check "diagnose $n shards: merge exits as the whole run ($dcode), got $code" [ "$code" -eq "$dcode" ]
+  if diff -r "$tmp/dwhole" "$tmp/d$n" >/dev/null; then passed=$((passed + 1)); else
+    failed=$((failed + 1)); echo "FAIL: diagnose $n shards: merged output differs"; diff -r "$tmp/dwhole" "$tmp/d$n" | head -5
+  fi
+  sed -i "s#$tmp/d$n#OUT#g" "$tmp/d$n.out"
+  check "diagnose $n shards: merge prints what the whole run prints" cmp -s "$tmp/dwhole.out" "$tmp/d$n.out"
+  check "diagnose $n shards: the same failures are listed" \
+    diff <(grep -E '^(FAILED|LEFT OUT|[0-9]+ of)' "$tmp/dwhole.err") <(grep -E '^(FAILED|LEFT OUT|[0-9]+ of)' "$tmp/d$n.err")
+done
+expect_in "$tmp/dwhole.err" "FAILED $tmp/missing.h5" "the missing file is listed"
+expect_in "$tmp/dwhole.err" "FAILED rect1_on_abs" "the object that cannot be diagnosed is listed"
+# The objects sorted: ellip1, ellip3, hex, rect1; shard 1/2 takes the 1st and 3rd.
+check "diagnose shard 1/2 took ellip1" [ -f "$tmp/d2.part1/ellip1_on_abs/diagnosis.json" ]
+check "diagnose shard 1/2 took hex" [ -f "$tmp/d2.part1/hex_on_abs/diagnosis.json" ]
+check "diagnose shard 1/2 left ellip3 to shard 2/2" [ ! -e "$tmp/d2.part1/ellip3_on_abs" ]
+check "diagnose shard 2/2 took ellip3" [ -f "$tmp/d2.part2/ellip3_on_abs/diagnosis.json" ]
+expect_in "$tmp/d2.part1.out" "partial output in" "a diagnose shard says where its partial output is"
+expect_exit 2 "diagnose --per-object --shard 3/2 refused" -- "$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/bad" \
+  --shard 3/2
+expect_in "$tmp/err" "--shard '3/2'" "the error names --shard"
+check "the refused diagnose wrote nothing" [ ! -e "$tmp/bad" ]
+"$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/dopt.part2" --shard 2/2 --bic-threshold 12 >/dev/null 2>&1
+expect_exit 2 "diagnose shards run with other options" -- "$bin" merge --out "$tmp/m" "$tmp/d2.part1" "$tmp/dopt.part2"
+expect_in "$tmp/err" "other options" "other diagnose options are named"
+"$bin" "${diagnose[@]}" "${dfiles[@]:0:4}" --out "$tmp/dother.part2" --shard 2/2 >/dev/null 2>&1
+expect_exit 2 "diagnose shards given other inputs" -- "$bin" merge --out "$tmp/m" "$tmp/d2.part1" "$tmp/dother.part2"
+expect_in "$tmp/err" "other inputs" "other diagnose inputs are named"
+expect_exit 2 "a diagnose part merged with a predict part" -- "$bin" merge --out "$tmp/m" "$tmp/d2.part1" \
+  "$tmp/two.part2"
+check "no refused diagnose merge wrote anything" [ ! -e "$tmp/m" ]
+# No object can be diagnosed (every push has a frozen sensor): the merge, like the whole run, exits 2, writes nothing.
+mapfile -t frozen < <(ls "$data"/abs/*shape=rect1_*.h5 | head -2)
+"$bin" "${diagnose[@]}" "${frozen[@]}" --out "$tmp/fwhole" >/dev/null 2>"$tmp/fwhole.err"
+check "diagnose --per-object of frozen pushes only exits 2" [ $? -eq 2 ]
+"$bin" "${diagnose[@]}" "${frozen[@]}" --out "$tmp/f.part1" --shard 1/1 >/dev/null 2>&1
+expect_exit 2 "the merge of a run with no object diagnosed" -- "$bin" merge --out "$tmp/f" "$tmp/f.part1"
+check "it lists what the whole run lists" diff "$tmp/fwhole.err" "$tmp/err"
+check "the whole run wrote nothing" [ ! -e "$tmp/fwhole" ]
+check "the merge wrote nothing" [ ! -e "$tmp/f" ]
 
 # Parts that are not every shard of one run.
 expect_exit 2 "a missing shard" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1"

@@ -162,6 +162,25 @@ BOOST_AUTO_TEST_CASE(a_folder_that_is_no_partial_output_says_so) {
   BOOST_TEST(contains(input_error([] { partial_output_from_bundle("rank 1", "{"); }), "rank 1: its partial output"));
 }
 
+BOOST_AUTO_TEST_CASE(a_bundle_carries_binary_files_byte_for_byte) {
+  // A plot is binary (PNG: bytes above 127, NUL); JSON text alone would replace what is not UTF-8.
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  png += std::string("\0\xff\xfe", 3);
+  std::map<std::string, std::string> files;
+  for (std::size_t n = 0; n <= png.size(); ++n) files["f" + std::to_string(n)] = png.substr(0, n);  // every padding
+  const auto part = partial_output_from_bundle("rank 1", partial_bundle({{"k", 1}}, files));
+  for (const auto& [name, bytes] : files) BOOST_TEST(part.read_file(name) == bytes);
+  BOOST_TEST(contains(input_error([&] { part.read_file("nothing"); }), "is missing"));
+  const auto garbled = partial_output_from_bundle("rank 2", R"({"manifest": {}, "files": {"a": "QQ=A"}})");
+  BOOST_TEST(contains(input_error([&] { garbled.read_file("a"); }), "rank 2: its file a is garbled"));
+}
+
+BOOST_AUTO_TEST_CASE(a_partial_manifest_of_units_that_are_not_files) {
+  const auto m = partial_manifest("diagnose", {1, 2}, 3, "abc", {{"o", 1}}, {});
+  BOOST_TEST(m["inputs"]["count"].get<std::size_t>() == 3u);
+  BOOST_TEST(m["inputs"]["fingerprint"].get<std::string>() == "abc");
+}
+
 BOOST_AUTO_TEST_CASE(a_memory_sink_keeps_what_was_written) {
   FileSink sink;
   sink.write("a/b.csv", "1");

@@ -1,5 +1,6 @@
 #pragma once
-// The MPI job a process runs in (issue 12): `mpirun -np N pushpred predict ...` splits the inputs over the N ranks
+// The MPI job a process runs in (issue 12): `mpirun -np N pushpred predict ...` (validate-diagnosis, diagnose
+// --per-object) splits the inputs over the N ranks
 // as `--shard R+1/N` would (shard.hpp), and the ranks send their partial outputs to rank 0, which writes what one
 // process writes. MPI is optional at build time (CMake's find_package(MPI COMPONENTS C)); mpi_built() says whether
 // this build has it. MPI is initialised only in a process that a launcher started (mpirun, mpiexec, srun: one of

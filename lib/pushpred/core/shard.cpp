@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <numeric>
@@ -46,6 +47,47 @@ void require_relative_inside(const std::string& name) {
   for (const auto& part : p)
     if (part == "..") ok = false;
   if (!ok) throw InputError("its item lists the file '" + plain_text(name) + "', which is not a path inside the output");
+}
+
+constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+std::string to_base64(const std::string& bytes) {
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t v = 0;
+    for (std::size_t k = 0; k < 3; ++k)
+      v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kBase64[(v >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
+std::string from_base64(const std::string& text, const std::string& part, const std::string& file) {
+  const auto bad = [&] { return InputError(about(plain_text(part), "its file " + plain_text(file) + " is garbled")); };
+  if (text.size() % 4 != 0) throw bad();
+  std::string out;
+  out.reserve(text.size() / 4 * 3);
+  for (std::size_t i = 0; i < text.size(); i += 4) {
+    std::uint32_t v = 0;
+    int pad = 0;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const char c = text[i + k];
+      const char* at = c == '\0' ? nullptr : std::strchr(kBase64, c);
+      if (c == '=' && i + 4 == text.size() && k >= 2) {
+        ++pad;
+        v <<= 6;
+        continue;
+      }
+      if (!at || pad > 0) throw bad();
+      v = (v << 6) | static_cast<std::uint32_t>(at - kBase64);
+    }
+    out += static_cast<char>((v >> 16) & 255);
+    if (pad < 2) out += static_cast<char>((v >> 8) & 255);
+    if (pad < 1) out += static_cast<char>(v & 255);
+  }
+  return out;
 }
 
 }  // namespace
@@ -119,6 +161,12 @@ void FileSink::write(const std::string& name, const std::string& text) {
 
 nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, const std::vector<fs::path>& inputs,
                                 const nlohmann::json& options, const std::vector<PartialItem>& items) {
+  return partial_manifest(command, shard, inputs.size(), inputs_fingerprint(inputs), options, items);
+}
+
+nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
+                                const std::string& fingerprint, const nlohmann::json& options,
+                                const std::vector<PartialItem>& items) {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& item : items) {
     nlohmann::json entry = {{"index", item.index}};
@@ -134,7 +182,7 @@ nlohmann::json partial_manifest(const std::string& command, const ShardSpec& sha
           {"pushpred_version", kVersion},
           {"command", command},
           {"shard", {{"index", shard.index}, {"count", shard.count}}},
-          {"inputs", {{"count", inputs.size()}, {"fingerprint", inputs_fingerprint(inputs)}}},
+          {"inputs", {{"count", count}, {"fingerprint", fingerprint}}},
           {"options", options},
           {"items", list}};
 }
@@ -176,7 +224,9 @@ PartialOutput read_partial_output(const fs::path& folder) {
 }
 
 std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::string, std::string>& files) {
-  return dump({{"manifest", manifest}, {"files", files}}, -1);
+  nlohmann::json encoded = nlohmann::json::object();  // base64: a file may be binary (a plot), JSON text is UTF-8
+  for (const auto& [name, bytes] : files) encoded[name] = to_base64(bytes);
+  return dump({{"manifest", manifest}, {"files", encoded}}, -1);
 }
 
 PartialOutput partial_output_from_bundle(const std::string& name, const std::string& bundle) {
@@ -194,7 +244,7 @@ PartialOutput partial_output_from_bundle(const std::string& name, const std::str
     const auto it = files.find(relative);
     if (it == files.end() || !it->is_string())
       throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is missing"));
-    return it->get<std::string>();
+    return from_base64(it->get<std::string>(), name, relative);
   };
   return part;
 }

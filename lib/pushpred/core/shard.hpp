@@ -1,6 +1,6 @@
 #pragma once
 // Splitting a batch over processes and putting it back together (issue 12): `--shard I/N` runs share I of N of a
-// command's inputs and writes a *partial output*; `pushpred merge` combines the partial outputs of shards 1..N into
+// command's inputs (of `diagnose --per-object`'s objects, reports/diagnosis_batch.hpp) and writes a *partial output*; `pushpred merge` combines the partial outputs of shards 1..N into
 // exactly what one run over every input writes; an MPI run (mpi_world.hpp) does both in one job, its ranks sending
 // their partial outputs to rank 0.
 //
@@ -108,6 +108,12 @@ nlohmann::json partial_manifest(const std::string& command, const ShardSpec& sha
                                 const std::vector<std::filesystem::path>& inputs, const nlohmann::json& options,
                                 const std::vector<PartialItem>& items);
 
+/// The same for a batch whose units are not its input files (`diagnose --per-object`: the objects): `count` units,
+/// and a `fingerprint` of whatever tells its inputs apart.
+nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
+                                const std::string& fingerprint, const nlohmann::json& options,
+                                const std::vector<PartialItem>& items);
+
 /// Writes `manifest` as out's partial.json and commits `out` (the item's files are in it already).
 void write_partial_output(StagedOutput& out, const nlohmann::json& manifest);
 
@@ -125,7 +131,8 @@ PartialOutput read_partial_output(const std::filesystem::path& folder);
 
 /// A partial output held in memory (an MPI rank's): `bundle` is partial_bundle's text.
 PartialOutput partial_output_from_bundle(const std::string& name, const std::string& bundle);
-/// One text holding a manifest and its files, to send to another process.
+/// One text holding a manifest and its files (base64-encoded: a file may be binary, e.g. a plot), to send to another
+/// process.
 std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::string, std::string>& files);
 
 /// The items of every part, checked to be one whole batch, in input order: the same command, version, inputs and

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/reports/diagnosis_batch.hpp"
 #include "pushpred/reports/prediction_batch.hpp"
 #include "pushpred/reports/validation_batch.hpp"
 
@@ -19,11 +20,12 @@ BatchRunOutcome merge_partial_outputs(const std::vector<std::string>& part_folde
     parts.push_back(read_partial_output(folder));
   }
   const MergedParts merged = check_partial_outputs(parts);
-  if (merged.command != "predict" && merged.command != kValidationCommand)
+  if (merged.command != "predict" && merged.command != kValidationCommand && merged.command != kDiagnoseCommand)
     throw InputError("merge: the parts are partial outputs of `" + plain_text(merged.command) +
                      "`, which this pushpred cannot merge");
   StagedOutput out(out_folder);
   if (merged.command == kValidationCommand) return write_merged_validation(merged, out);
+  if (merged.command == kDiagnoseCommand) return write_merged_diagnoses(merged, out);
   return write_merged_predictions(merged, out);
 }
 

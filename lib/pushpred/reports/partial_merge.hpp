@@ -1,6 +1,6 @@
 #pragma once
 // `pushpred merge --out DIR PART...`: the partial outputs of `--shard 1/N` ... `N/N` runs (core/shard.hpp) combined
-// into what one run writes, for every subcommand that can shard (predict, validate-diagnosis).
+// into what one run writes, for every subcommand that can shard (predict, validate-diagnosis, diagnose --per-object).
 #include <string>
 #include <vector>
 

@@ -1,0 +1,415 @@
+#include "pushpred/reports/diagnosis_batch.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/mpi_world.hpp"
+#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/diagnosis/push_groups.hpp"
+#include "pushpred/reports/diagnosis_report.hpp"
+#include "pushpred/reports/prediction_summary.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pushpred {
+namespace {
+
+nlohmann::json num(double x) { return exact_number_json(x); }
+
+/// One object's diagnosis as a per-object run reports it: its outcome (for the overview), what it prints on stdout
+/// and on stderr, and how many of its pushes the diagnosis left out.
+struct ObjectDone {
+  DiagnosisGroupOutcome outcome;
+  std::string printed;
+  std::string complaints;
+  std::size_t left_out = 0;
+};
+
+// --- An object's outcome in a partial output: what the overview and the printed report read of it, exactly.
+
+nlohmann::json errors_exact(const ErrorSummary& e) {
+  return {e.phases,          num(e.pos_mm_mean),  num(e.x_mm_mean),         num(e.y_mm_mean),
+          num(e.theta_deg_mean), num(e.final_pos_mm), num(e.final_theta_deg)};
+}
+
+ErrorSummary errors_from(const nlohmann::json& j) {
+  if (!j.is_array() || j.size() != 7) throw InputError("an error summary does not hold 7 numbers");
+  ErrorSummary e;
+  e.phases = j[0].get<int>();
+  double* fields[] = {&e.pos_mm_mean, &e.x_mm_mean, &e.y_mm_mean, &e.theta_deg_mean, &e.final_pos_mm,
+                      &e.final_theta_deg};
+  for (std::size_t k = 0; k < 6; ++k) *fields[k] = exact_number(j[k + 1]);
+  return e;
+}
+
+nlohmann::json object_exact_json(const ObjectDone& d) {
+  nlohmann::json j = {{"name", d.outcome.name},       {"pushes", d.outcome.pushes}, {"printed", d.printed},
+                      {"complaints", d.complaints},   {"left_out", d.left_out},     {"error", d.outcome.error}};
+  if (!d.outcome.result) {
+    j["overview"] = nullptr;
+    return j;
+  }
+  // The overview reads the object's shape and surface, its selected effects and six error summaries.
+  const DiagnosisResult& r = *d.outcome.result;
+  nlohmann::json selected = nlohmann::json::array();
+  for (const auto& e : r.effects)
+    if (e.selected) selected.push_back({{"kind", e.kind}, {"structural", e.structural}});
+  j["overview"] = {{"shape", r.shape},
+                   {"surface", r.surface},
+                   {"selected", selected},
+                   {"errors",
+                    {errors_exact(r.error_before), errors_exact(r.error_base), errors_exact(r.error_after),
+                     errors_exact(r.hold), errors_exact(r.const_velocity), errors_exact(r.quasi_static)}}};
+  return j;
+}
+
+ObjectDone object_from_exact_json(const nlohmann::json& j) {
+  try {
+    ObjectDone d;
+    d.outcome.name = j.at("name").get<std::string>();
+    d.outcome.pushes = j.at("pushes").get<std::size_t>();
+    d.outcome.error = j.at("error").get<std::string>();
+    d.printed = j.at("printed").get<std::string>();
+    d.complaints = j.at("complaints").get<std::string>();
+    d.left_out = j.at("left_out").get<std::size_t>();
+    const auto& o = j.at("overview");
+    if (o.is_null()) return d;
+    DiagnosisResult r;
+    r.shape = o.at("shape").get<std::string>();
+    r.surface = o.at("surface").get<std::string>();
+    for (const auto& e : o.at("selected")) {
+      EffectReport report;
+      report.kind = e.at("kind").get<std::string>();
+      report.structural = e.at("structural").get<bool>();
+      report.selected = true;
+      r.effects.push_back(std::move(report));
+    }
+    const auto& errors = o.at("errors");
+    if (!errors.is_array() || errors.size() != 6) throw InputError("an object does not hold 6 error summaries");
+    r.error_before = errors_from(errors[0]);
+    r.error_base = errors_from(errors[1]);
+    r.error_after = errors_from(errors[2]);
+    r.hold = errors_from(errors[3]);
+    r.const_velocity = errors_from(errors[4]);
+    r.quasi_static = errors_from(errors[5]);
+    d.outcome.result = std::move(r);
+    return d;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("not an object's diagnosis written by pushpred: ") + e.what());
+  }
+}
+
+/// What tells two per-object runs apart (--jobs changes nothing), and what the merge prints of the reading: how
+/// many pushes were read and which inputs could not be (the same in every shard, since every shard reads all).
+nlohmann::json options_json(const DiagnoseRun& run, std::size_t pushes_read, const std::vector<BatchFailure>& failed) {
+  const DiagnosisOptions& o = run.options;
+  nlohmann::json failures = nlohmann::json::array();
+  for (const auto& f : failed) failures.push_back({{"source", f.source}, {"reason", f.reason}});
+  return {{"per_object", true},
+          {"study", prediction_options_json(o.study)},
+          {"settings",
+           {{"mu", num(o.study.friction_coefficient)},
+            {"shape", run.shape},
+            {"rate_hz", num(run.preprocess.rate_hz)},
+            {"bic_threshold", num(o.bic_threshold)},
+            {"relevance_fraction", num(o.relevance_fraction)},
+            {"fit_base_settings", o.fit_base_settings},
+            {"max_refits", o.max_refits},
+            {"exclude", run.exclude},
+            {"plots", run.plots}}},
+          {"read", {{"pushes", pushes_read}, {"failures", failures}}}};
+}
+
+std::string failure_lines(const std::vector<BatchFailure>& failures) {
+  std::string s;
+  for (const auto& f : failures) s += "FAILED " + f.source + ": " + f.reason + "\n";
+  return s;
+}
+
+/// The end of a per-object run (a whole run's, or the merged parts'): overview.md and overview.json written and
+/// `out` committed, and what the run prints: each object's report in order, then the count; on stderr
+/// `read_failures` (the unreadable inputs, when not listed already), each object's complaints, the failed count.
+/// When no object could be diagnosed nothing is written and the exit code is 2.
+BatchRunOutcome finish_per_object(std::vector<ObjectDone> objects, std::size_t pushes_read, bool read_failed,
+                                  const std::string& read_failures, StagedOutput& out) {
+  BatchRunOutcome outcome;
+  outcome.notes = read_failures;
+  std::vector<DiagnosisGroupOutcome> outcomes;
+  std::size_t left_out = 0, failed = 0;
+  for (auto& d : objects) {
+    outcome.report += d.printed;
+    outcome.notes += d.complaints;
+    left_out += d.left_out;
+    failed += d.outcome.result ? 0 : 1;
+    outcomes.push_back(std::move(d.outcome));
+  }
+  if (failed == outcomes.size()) {
+    outcome.notes += "pushpred: error: no object could be diagnosed; nothing written\n";
+    outcome.exit_code = 2;
+    return outcome;
+  }
+  write_text_atomically(out.path("overview.md"), diagnosis_overview_markdown(outcomes));
+  write_text_atomically(out.path("overview.json"), json_file_text(diagnosis_overview_json(outcomes)));
+  out.commit();
+  outcome.report += std::to_string(outcomes.size() - failed) + " of " + std::to_string(outcomes.size()) +
+                    " objects diagnosed (" + std::to_string(pushes_read) + " pushes read); overview in " +
+                    out.destination().string() + "/overview.md\n";
+  if (failed > 0)
+    outcome.notes += std::to_string(failed) + " of " + std::to_string(outcomes.size()) + " objects failed\n";
+  outcome.exit_code = failed == 0 && left_out == 0 && !read_failed ? 0 : 1;
+  return outcome;
+}
+
+BatchRunOutcome merged_diagnoses(const MergedParts& merged, StagedOutput& out, bool list_read_failures) {
+  if (merged.command != kDiagnoseCommand)
+    throw InputError("merge: the parts are partial outputs of `" + plain_text(merged.command) +
+                     "`, not of `diagnose`");
+  const std::string first = merged.items.empty() ? std::string("the parts") : merged.items.front().part->name;
+  std::size_t pushes_read = 0;
+  std::vector<BatchFailure> read_failures;
+  try {
+    if (!merged.options.at("per_object").get<bool>()) throw InputError("not --per-object");
+    const auto& read = merged.options.at("read");
+    pushes_read = read.at("pushes").get<std::size_t>();
+    for (const auto& f : read.at("failures"))
+      read_failures.push_back({f.at("source").get<std::string>(), f.at("reason").get<std::string>()});
+  } catch (const std::exception&) {
+    throw InputError("merge: " + plain_text(first) + ": its partial.json's options are not those of `diagnose "
+                                                     "--per-object`");
+  }
+  std::vector<ObjectDone> objects;
+  for (const auto& m : merged.items) {
+    try {
+      if (!m.item.result) throw InputError("it lists no result");
+      objects.push_back(object_from_exact_json(*m.item.result));
+    } catch (const std::exception& e) {
+      throw InputError(about(plain_text(m.part->name),
+                             "object " + std::to_string(m.item.index + 1) + " is not readable: " + e.what()));
+    }
+  }
+  for (const auto& m : merged.items)
+    for (const auto& file : m.item.files) write_text_atomically(out.path(file), m.part->read_file(file));
+  return finish_per_object(std::move(objects), pushes_read, !read_failures.empty(),
+                           list_read_failures ? failure_lines(read_failures) : std::string(), out);
+}
+
+/// The files under `folder`, as sorted paths relative to its parent (`name/...`).
+std::vector<std::string> files_under(const fs::path& folder, const std::string& name) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) return files;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) files.push_back(name + "/" + fs::relative(entry.path(), folder).generic_string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string read_binary(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(about(plain_text(path.string()), "cannot be read back"));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// A folder of this process's own, removed with everything in it (an MPI rank's objects are written here and sent
+/// to rank 0).
+struct ScratchFolder {
+  fs::path path;
+  explicit ScratchFolder(int rank) {
+    path = fs::temp_directory_path() /
+           ("pushpred-diagnose-" + std::to_string(::getpid()) + "-rank" + std::to_string(rank));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~ScratchFolder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+};
+
+}  // namespace
+
+BatchRunOutcome write_merged_diagnoses(const MergedParts& merged, StagedOutput& out) {
+  return merged_diagnoses(merged, out, true);
+}
+
+BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
+  const DiagnosisOptions& o = run.options;
+  o.validate();
+  EffectLibrary library = EffectLibrary::standard();
+  for (const auto& kind : run.exclude) library.remove(kind);
+
+  const MpiWorld& world = MpiWorld::get();
+  const bool mpi = world.size() > 1;
+  if (mpi && run.shard)
+    throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the objects already; use one "
+                     "or the other");
+  if (run.shard && !run.per_object)
+    throw InputError("--shard " + run.shard->text() + ": `diagnose` splits its work only with --per-object (one "
+                     "object is one unit of work, and a diagnosis of one object cannot be split); drop --shard, or "
+                     "pass --per-object for a batch of several objects");
+  if (mpi && !run.per_object)
+    throw InputError("`diagnose` runs under mpirun only with --per-object (the ranks split the objects; a diagnosis "
+                     "of one object is one process's work); run it as one process");
+  const bool speaks = !mpi || world.root();
+
+  // Every shard and every rank reads every input: the groups are known only once the files are read.
+  const auto inputs = expand_inputs(run.inputs);
+  const Batch<SynchronisedPush> loaded = run_batch(
+      inputs, [&](const fs::path& path) { return load_push(path, run.shape, run.preprocess); }, run.jobs, nullptr);
+  if (speaks)
+    for (const auto& f : loaded.failures) std::cerr << "FAILED " << f.source << ": " << f.reason << "\n";
+  if (loaded.results.empty()) {
+    if (!speaks) {  // rank 0 says it
+      BatchRunOutcome quiet;
+      quiet.quiet = true;
+      return quiet;
+    }
+    throw InputError("no push could be read; nothing written");
+  }
+  const std::size_t loaded_count = loaded.results.size();
+  std::vector<PushGroup> groups = group_by_object(loaded.results);
+  if (groups.size() > 1 && !run.per_object) {
+    std::string names;
+    for (const auto& g : groups)
+      names += (names.empty() ? "" : ", ") + g.name() + " (" + std::to_string(g.pushes.size()) + ")";
+    throw InputError("the pushes are of " + std::to_string(groups.size()) + " objects or surfaces: " + names +
+                     "; a diagnosis fits one object on one surface: give one, or pass --per-object");
+  }
+
+  if (!run.per_object) {
+    DiagnosisResult result = diagnose(groups.front().pushes, library, o);
+    // Pushes read but left out by the diagnosis; the unreadable ones were listed above.
+    for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
+    result.failures.insert(result.failures.begin(), loaded.failures.begin(), loaded.failures.end());
+    StagedOutput out(run.out);
+    write_diagnosis_report(result, o, out, run.plots);
+    out.commit();
+    BatchRunOutcome outcome;
+    for (const auto& line : result.log) outcome.report += line + "\n";
+    outcome.report += diagnosis_summary_text(result);
+    outcome.report += "report in " + run.out + "/report.md, data in " + run.out + "/diagnosis.json\n";
+    outcome.exit_code = result.failures.empty() ? 0 : 1;
+    return outcome;
+  }
+
+  // One diagnosis per object: all of them, or the shard's, or this rank's (the sorted groups dealt out as
+  // shard_positions deals out inputs).
+  const bool partial = mpi || run.shard.has_value();
+  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : run.shard.value_or(ShardSpec{});
+  std::vector<std::size_t> mine;
+  std::vector<fs::path> names;
+  for (const auto& g : groups) names.emplace_back(g.name());
+  if (partial) {
+    mine = shard_positions(names, shard);
+  } else {
+    for (std::size_t i = 0; i < groups.size(); ++i) mine.push_back(i);
+  }
+
+  std::optional<StagedOutput> out;  // under MPI only rank 0 writes; a bad folder there stops the whole job
+  if (speaks) {
+    try {
+      out.emplace(run.out);
+    } catch (const std::exception& e) {
+      if (!mpi) throw;
+      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+      world.abort(2);
+    }
+  }
+  std::optional<ScratchFolder> scratch;  // under MPI each rank's objects go through memory to rank 0
+  if (mpi) scratch.emplace(world.rank());
+  const auto folder_of = [&](const std::string& name) { return mpi ? scratch->path / name : out->path(name); };
+
+  // The objects shared out over the jobs: an object that cannot be diagnosed is reported and the others go on.
+  // What each prints is kept and printed in the objects' order, whatever the jobs.
+  std::vector<ObjectDone> done(mine.size());
+  {
+    const std::string label = mpi       ? "diagnose (rank 0 of " + std::to_string(world.size()) + " ranks)"
+                              : partial ? "diagnose (shard " + shard.text() + ")"
+                                        : std::string("diagnose");
+    BatchProgress progress(label, "objects", mine.size(), speaks);
+    std::atomic<std::size_t> next{0};
+    const auto one_object = [&](std::size_t k) {
+      PushGroup& g = groups[mine[k]];
+      ObjectDone& d = done[k];
+      d.outcome = DiagnosisGroupOutcome{g.name(), g.pushes.size(), std::nullopt, ""};
+      try {
+        DiagnosisResult result = diagnose(g.pushes, library, o);
+        write_diagnosis_report(result, o, folder_of(g.name()), run.plots);
+        d.printed = diagnosis_summary_text(result);
+        for (const auto& f : result.failures) d.complaints += "LEFT OUT " + f.source + ": " + f.reason + "\n";
+        d.left_out = result.failures.size();
+        d.outcome.result = std::move(result);
+      } catch (const InputError& e) {
+        d.outcome.error = e.what();
+        d.complaints += "FAILED " + g.name() + ": " + e.what() + "\n";
+      }
+      progress.item_done();
+    };
+    const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(1, run.jobs)), mine.size());
+    std::vector<std::thread> pool;
+    for (std::size_t t = 0; t < threads; ++t)
+      pool.emplace_back([&] {
+        for (std::size_t k = next++; k < mine.size(); k = next++) one_object(k);
+      });
+    for (auto& t : pool) t.join();
+    progress.finish();
+  }
+  if (!partial) return finish_per_object(std::move(done), loaded_count, !loaded.failures.empty(), "", *out);
+
+  std::vector<PartialItem> items;
+  std::map<std::string, std::string> files;  // under MPI: every file of this rank's objects, sent to rank 0
+  bool anything_failed = !loaded.failures.empty();
+  std::string complaints;
+  std::size_t diagnosed = 0;
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    const ObjectDone& d = done[k];
+    PartialItem item;
+    item.index = mine[k];
+    item.result = object_exact_json(d);
+    item.files = files_under(folder_of(d.outcome.name), d.outcome.name);
+    if (mpi)
+      for (const auto& f : item.files) files[f] = read_binary(scratch->path / f);
+    anything_failed = anything_failed || !d.outcome.result || d.left_out > 0;
+    diagnosed += d.outcome.result ? 1 : 0;
+    complaints += d.complaints;
+    items.push_back(std::move(item));
+  }
+  // The units are the objects; the fingerprint covers the input files as given and the objects they make.
+  std::vector<fs::path> listed = inputs;
+  listed.emplace_back("");
+  listed.insert(listed.end(), names.begin(), names.end());
+  const nlohmann::json manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
+                                                   options_json(run, loaded_count, loaded.failures), items);
+  if (mpi) {
+    scratch.reset();
+    return merge_at_root(world, manifest, files,
+                         [&](const MergedParts& merged) { return merged_diagnoses(merged, *out, false); });
+  }
+
+  write_partial_output(*out, manifest);
+  BatchRunOutcome outcome;
+  outcome.partial = true;
+  outcome.report = "diagnosed " + std::to_string(diagnosed) + " of the " + std::to_string(mine.size()) +
+                   " objects of shard " + shard.text() + " (" + std::to_string(groups.size()) +
+                   " objects in all); partial output in " + out->destination().string() +
+                   "; when every shard is done: pushpred merge --out DIR PART...\n";
+  outcome.notes = complaints;
+  outcome.exit_code = anything_failed ? 1 : 0;
+  return outcome;
+}
+
+}  // namespace pushpred
