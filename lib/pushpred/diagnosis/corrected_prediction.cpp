@@ -16,7 +16,7 @@ void ForceLawTerm::add(double, const PlanarState& state, const Eigen::Vector3d& 
   s.velocity = state.tail<3>();
   s.input = planned_input;
   s.start_pose = start_pose_;
-  generalized_force += law_.force(s, shape_);
+  generalized_force += law_.force(s, shape_, footprint_);
 }
 
 QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
@@ -25,6 +25,7 @@ QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<Fitted
     : stop_force_N_(stop_force_N),
       laws_(std::move(laws)),
       shape_(std::move(shape)),
+      footprint_(FrictionFootprint::of(shape_)),
       start_pose_(start_pose),
       pusher_stop_(std::move(pusher_stop)) {
   if (!(stop_force_N_ > 0) || !std::isfinite(stop_force_N_))
@@ -71,14 +72,14 @@ void QuasiStaticPushTerm::add(double t_s, const PlanarState& x, const Eigen::Vec
   const double moving = moving_weight(t_s);
   Eigen::Vector3d kinetic = Eigen::Vector3d::Zero();
   if (coulomb_from_stop_force_)
-    kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
+    kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_, footprint_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
   if (!laws_.empty()) {
     EffectState st;
     st.pose = x.head<3>();
     st.velocity = v;
     st.input = u;
     st.start_pose = start_pose_;
-    for (const auto& law : laws_) kinetic += law.force(st, shape_);
+    for (const auto& law : laws_) kinetic += law.force(st, shape_, footprint_);
   }
   // Pushed: the push balances the friction. Not pressing: the small force and friction act, at rest static
   // friction holds. Pressing but the pusher stopped: its force is a reaction that does no work, friction alone
@@ -137,10 +138,11 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
   Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(n, 3);
   bool replaces_relation = false;
   for (const auto& law : laws) replaces_relation = replaces_relation || law.effect->replaces_relation();
+  const FrictionFootprint footprint = FrictionFootprint::of(push.shape);
   for (Eigen::Index k = 0; k < n; ++k) {
     const EffectState s = d.state(k);
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
-    for (const auto& law : laws) f += law.force(s, push.shape);
+    for (const auto& law : laws) f += law.force(s, push.shape, footprint);
     raw.row(k) = f.transpose();
   }
   out = d.as_observed(raw);

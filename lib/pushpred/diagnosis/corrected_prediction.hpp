@@ -15,8 +15,12 @@ namespace pushpred {
 /// A force law as a term of the prediction model: its generalized force at the predicted state and planned input.
 class ForceLawTerm final : public GeneralizedForceTerm {
  public:
+  /// Resolves the shape's friction footprint here, once (FrictionFootprint), not in add().
   ForceLawTerm(FittedForceLaw law, ShapeInfo shape, const Eigen::Vector3d& start_pose)
-      : law_(std::move(law)), shape_(std::move(shape)), start_pose_(start_pose) {}
+      : law_(std::move(law)),
+        shape_(std::move(shape)),
+        footprint_(FrictionFootprint::of(shape_)),
+        start_pose_(start_pose) {}
   std::string name() const override { return law_.effect->kind(); }
   void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
            Eigen::Vector3d& generalized_force) const override;
@@ -24,6 +28,7 @@ class ForceLawTerm final : public GeneralizedForceTerm {
  private:
   FittedForceLaw law_;
   ShapeInfo shape_;
+  FrictionFootprint footprint_;  // of shape_
   Eigen::Vector3d start_pose_;
 };
 
@@ -50,7 +55,8 @@ struct PusherStopCriterion {
 
 class QuasiStaticPushTerm final : public GeneralizedForceTerm {
  public:
-  /// Throws InputError for a stop force or, with `pusher_stop`, a stop speed that is not positive.
+  /// Throws InputError for a stop force or, with `pusher_stop`, a stop speed that is not positive. Resolves the
+  /// shape's friction footprint here, once (FrictionFootprint), not in add().
   QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
                       const Eigen::Vector3d& start_pose, std::optional<PusherStopCriterion> pusher_stop = std::nullopt);
   std::string name() const override { return "quasi_static"; }
@@ -65,6 +71,7 @@ class QuasiStaticPushTerm final : public GeneralizedForceTerm {
   double stop_force_N_;
   std::vector<FittedForceLaw> laws_;
   ShapeInfo shape_;
+  FrictionFootprint footprint_;  // of shape_
   Eigen::Vector3d start_pose_;
   bool coulomb_from_stop_force_ = true;
   std::optional<PusherStopCriterion> pusher_stop_;
