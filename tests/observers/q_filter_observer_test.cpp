@@ -27,13 +27,15 @@ class AnalyticQFilter final : public ContinuousSystem {
   AnalyticQFilter(double zeta, double wn, std::function<double(double)> input)
       : zeta_(zeta), wn_(wn), input_(std::move(input)) {}
   int state_size() const override { return 3; }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override {
+  void derivative(const IntegrationInterval&, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override {
     xdot(0) = x(1);
     xdot(1) = x(2);
     xdot(2) = wn_ * wn_ * (input_(t) - x(1)) - 2 * zeta_ * wn_ * x(2);
   }
   bool has_jacobian() const override { return true; }
-  void jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const override {
+  void jacobian(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>&,
+                Eigen::Ref<Eigen::MatrixXd> J) const override {
     J << 0, 1, 0, 0, 0, 1, 0, -wn_ * wn_, -2 * zeta_ * wn_;
   }
 

@@ -9,8 +9,8 @@
 
 namespace pushpred {
 
-void ForceLawTerm::add(double, const PlanarState& state, const Eigen::Vector3d& planned_input,
-                       Eigen::Vector3d& generalized_force) const {
+void ForceLawTerm::add(const IntegrationInterval&, double, const PlanarState& state,
+                       const Eigen::Vector3d& planned_input, Eigen::Vector3d& generalized_force) const {
   EffectState s;
   s.pose = state.head<3>();
   s.velocity = state.tail<3>();
@@ -37,39 +37,33 @@ QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<Fitted
       throw InputError("quasi-static push law: the pusher's stop speed must be positive");
     if (pusher_stop_->planned_tip.signal.channels() != 2)
       throw InputError("quasi-static push law: the planned tip velocity must have 2 channels");
-    interval_lo_s_ = pusher_stop_->planned_tip.t0_s;
-    interval_hi_s_ = pusher_stop_->planned_tip.t1_s;
   }
-}
-
-void QuasiStaticPushTerm::enter_interval(double t_lo_s, double t_hi_s) const {
-  interval_lo_s_ = t_lo_s;
-  interval_hi_s_ = t_hi_s;
 }
 
 double QuasiStaticPushTerm::pressing_weight(double applied) const {
   return 1 - 1.0 / (1.0 + std::exp(std::clamp((applied - stop_force_N_) / (0.05 * stop_force_N_), -50.0, 50.0)));
 }
 
-double QuasiStaticPushTerm::moving_weight(double t_s) const {
+double QuasiStaticPushTerm::moving_weight(const IntegrationInterval& interval, double t_s) const {
   if (!pusher_stop_) return 1;
   Eigen::Vector2d tip_velocity;
-  pusher_stop_->planned_tip.signal.evaluate_within(t_s, interval_lo_s_, interval_hi_s_, tip_velocity);
+  pusher_stop_->planned_tip.signal.evaluate_within(t_s, interval.t0_s, interval.t1_s, tip_velocity);
   const double v_stop = pusher_stop_->stop_speed_m_s;
   return 1.0 / (1.0 + std::exp(std::clamp(-(tip_velocity.norm() - v_stop) / (0.05 * v_stop), -50.0, 50.0)));
 }
 
-double QuasiStaticPushTerm::push_weight(double t_s, double applied) const {
-  return pressing_weight(applied) * moving_weight(t_s);
+double QuasiStaticPushTerm::push_weight(const IntegrationInterval& interval, double t_s, double applied) const {
+  return pressing_weight(applied) * moving_weight(interval, t_s);
 }
 
-void QuasiStaticPushTerm::add(double t_s, const PlanarState& x, const Eigen::Vector3d& u, Eigen::Vector3d& f) const {
+void QuasiStaticPushTerm::add(const IntegrationInterval& interval, double t_s, const PlanarState& x,
+                              const Eigen::Vector3d& u, Eigen::Vector3d& f) const {
   const Eigen::Vector3d v = x.tail<3>();
   const double s = sliding_speed(v, shape_);
   const double reg = std::sqrt(s * s + kFrictionRegularisation_m_s * kFrictionRegularisation_m_s);
   const double g = s / reg;
   const double pressing = pressing_weight(u.head<2>().norm());
-  const double moving = moving_weight(t_s);
+  const double moving = moving_weight(interval, t_s);
   Eigen::Vector3d kinetic = Eigen::Vector3d::Zero();
   if (coulomb_from_stop_force_)
     kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_, footprint_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
