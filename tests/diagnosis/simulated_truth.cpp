@@ -30,6 +30,7 @@ double position_friction_truth(const std::vector<PushScenario>& scenarios, std::
     const PusherPath path(Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitX(), 0.0, PusherMotion{});
     const PushedObjectSystem a(shape, ObjectProperties::nominal(shape), with, RodContact{}, path);
     const PushedObjectSystem b(shape, ObjectProperties::nominal(shape), without, RodContact{}, path);
+    const FrictionFootprint footprint = FrictionFootprint::of(shape);
     for (Eigen::Index k = 0; k < sim.t_s.size(); ++k) {
       Eigen::VectorXd x(6);
       x << sim.tracked_pose.row(k).transpose(), sim.mass_centre_velocity.row(k).transpose();
@@ -37,7 +38,7 @@ double position_friction_truth(const std::vector<PushScenario>& scenarios, std::
       const PlanarWrench wa = a.support_wrench(x), wb = b.support_wrench(x);
       const Eigen::Vector2d extra = wa.force_N - wb.force_N;
       const double travelled = (sim.tracked_pose.row(k).head<2>() - sim.tracked_pose.row(0).head<2>()).norm();
-      const Eigen::Vector3d phi = travelled * coulomb_friction_wrench(x.head<3>(), x.tail<3>(), shape);
+      const Eigen::Vector3d phi = travelled * coulomb_friction_wrench(x.head<3>(), x.tail<3>(), shape, footprint);
       num += phi.head<2>().dot(extra);
       den += phi.head<2>().squaredNorm();
     }

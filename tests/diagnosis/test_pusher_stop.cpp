@@ -101,12 +101,11 @@ BOOST_AUTO_TEST_CASE(the_push_weight_needs_force_and_motion) {
   tip.t1_s = 0.6;
   tip.rate_hz = 1 / 0.3;
   const QuasiStaticPushTerm term(s.stop_force_N, {}, s.shape, Eigen::Vector3d::Zero(), PusherStopCriterion{tip, 0.002});
-  term.enter_interval(0.0, 0.3);
-  BOOST_TEST(term.push_weight(0.1, 3.0) > 0.99);   // pressing, tip at 10 mm/s
-  BOOST_TEST(term.push_weight(0.1, 1.0) < 0.01);   // tip moving, force below F_stop
-  BOOST_TEST(term.push_weight(0.3, 3.0) > 0.99);   // the interval's end reads the value held inside it
-  term.enter_interval(0.3, 0.6);
-  BOOST_TEST(term.push_weight(0.3, 3.0) < 0.01);   // tip at 1 mm/s, below 2 mm/s: no push however hard it presses
+  const IntegrationInterval first{0.0, 0.3}, second{0.3, 0.6};
+  BOOST_TEST(term.push_weight(first, 0.1, 3.0) > 0.99);   // pressing, tip at 10 mm/s
+  BOOST_TEST(term.push_weight(first, 0.1, 1.0) < 0.01);   // tip moving, force below F_stop
+  BOOST_TEST(term.push_weight(first, 0.3, 3.0) > 0.99);   // the interval's end reads the value held inside it
+  BOOST_TEST(term.push_weight(second, 0.3, 3.0) < 0.01);  // tip at 1 mm/s, below 2 mm/s: no push however hard it presses
   BOOST_CHECK_THROW(QuasiStaticPushTerm(s.stop_force_N, {}, s.shape, Eigen::Vector3d::Zero(),
                                         PusherStopCriterion{tip, 0.0}),
                     InputError);

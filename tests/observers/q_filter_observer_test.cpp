@@ -27,13 +27,15 @@ class AnalyticQFilter final : public ContinuousSystem {
   AnalyticQFilter(double zeta, double wn, std::function<double(double)> input)
       : zeta_(zeta), wn_(wn), input_(std::move(input)) {}
   int state_size() const override { return 3; }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override {
+  void derivative(const IntegrationInterval&, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override {
     xdot(0) = x(1);
     xdot(1) = x(2);
     xdot(2) = wn_ * wn_ * (input_(t) - x(1)) - 2 * zeta_ * wn_ * x(2);
   }
   bool has_jacobian() const override { return true; }
-  void jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const override {
+  void jacobian(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>&,
+                Eigen::Ref<Eigen::MatrixXd> J) const override {
     J << 0, 1, 0, 0, 0, 1, 0, -wn_ * wn_, -2 * zeta_ * wn_;
   }
 
@@ -255,6 +257,40 @@ BOOST_AUTO_TEST_CASE(reported_as_interval_means_the_estimate_does_not_depend_on_
   BOOST_TEST(std::abs(mean_shift(1)) < 0.01);
   BOOST_TEST(std::abs(mean_shift(2)) < 1e-4);
   BOOST_TEST(std::abs(point_shift(0)) > 100 * std::abs(mean_shift(0)));
+}
+
+BOOST_AUTO_TEST_CASE(the_interval_mean_formula_matches_a_direct_integration) {
+  // z'' = wn^2 (x - z) - 2 zeta wn z' integrated by RK4 in fine steps across one interval of an input that is
+  // first-order held (a ramp) and, separately, zero-order held (a constant), from a state far from equilibrium; the
+  // mean of z by Simpson's rule on the same steps, against q_filter_interval_mean from the end states alone.
+  const double zeta = 1 / std::sqrt(2.0), wn = 300.0, h = 0.004;
+  for (const bool ramp : {true, false}) {
+    const double x0 = 1.7, x1 = ramp ? -0.4 : x0;
+    const auto x = [&](double t) { return x0 + (x1 - x0) * t / h; };
+    const auto f = [&](double t, const Eigen::Vector2d& s) {
+      return Eigen::Vector2d(s(1), wn * wn * (x(t) - s(0)) - 2 * zeta * wn * s(1));
+    };
+    const int steps = 4000;  // even, for Simpson's rule
+    const double dt = h / steps;
+    Eigen::Vector2d s(0.3, 25.0);
+    const Eigen::Vector2d start = s;
+    double integral = s(0);
+    for (int i = 0; i < steps; ++i) {
+      const double t = i * dt;
+      const Eigen::Vector2d k1 = f(t, s), k2 = f(t + dt / 2, s + dt / 2 * k1), k3 = f(t + dt / 2, s + dt / 2 * k2),
+                            k4 = f(t + dt, s + dt * k3);
+      s += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      integral += (i + 1 == steps ? 1 : (i % 2 == 0 ? 4 : 2)) * s(0);
+    }
+    const double direct = integral * dt / 3 / h;
+    const double formula = q_filter_interval_mean(0.5 * (x0 + x1), s(0) - start(0), s(1) - start(1), zeta, wn, h);
+    BOOST_TEST_CONTEXT((ramp ? "first-order hold" : "zero-order hold")) {
+      BOOST_TEST(formula == direct, boost::test_tools::tolerance(1e-9));
+      // The mean differs from both ends' values: the test would see a formula that used a point value.
+      BOOST_TEST(std::abs(direct - s(0)) > 1e-3);
+      BOOST_TEST(std::abs(direct - start(0)) > 1e-3);
+    }
+  }
 }
 
 BOOST_AUTO_TEST_CASE(bad_options_and_empty_spans_are_clear_errors) {

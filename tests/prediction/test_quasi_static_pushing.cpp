@@ -220,7 +220,8 @@ class Drag final : public GeneralizedForceTerm {
  public:
   Drag(double c_per_s, double mass_kg, double inertia_kgm2) : c_(c_per_s), m_(mass_kg), i_(inertia_kgm2) {}
   std::string name() const override { return "drag"; }
-  void add(double, const PlanarState& x, const Eigen::Vector3d&, Eigen::Vector3d& f) const override {
+  void add(const IntegrationInterval&, double, const PlanarState& x, const Eigen::Vector3d&,
+           Eigen::Vector3d& f) const override {
     f += -c_ * Eigen::Vector3d(m_ * x(3), m_ * x(4), i_ * x(5));
   }
 

@@ -20,12 +20,14 @@ class HarmonicOscillator final : public ContinuousSystem {
  public:
   HarmonicOscillator(double w, bool with_jacobian) : w_(w), with_jacobian_(with_jacobian) {}
   int state_size() const override { return 2; }
-  void derivative(double, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override {
+  void derivative(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override {
     xdot(0) = x(1);
     xdot(1) = -w_ * w_ * x(0);
   }
   bool has_jacobian() const override { return with_jacobian_; }
-  void jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const override {
+  void jacobian(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>&,
+                Eigen::Ref<Eigen::MatrixXd> J) const override {
     J << 0, 1, -w_ * w_, 0;
   }
 
@@ -38,7 +40,8 @@ class HarmonicOscillator final : public ContinuousSystem {
 class BlowUp final : public ContinuousSystem {
  public:
   int state_size() const override { return 1; }
-  void derivative(double, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override {
+  void derivative(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override {
     xdot(0) = x(0) * x(0);
   }
 };
@@ -46,7 +49,8 @@ class BlowUp final : public ContinuousSystem {
 class Throwing final : public ContinuousSystem {
  public:
   int state_size() const override { return 1; }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd> xdot) const override {
+  void derivative(const IntegrationInterval&, double t, const Eigen::Ref<const Eigen::VectorXd>&,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override {
     if (t > 0.5) throw std::domain_error("input undefined after 0.5 s");
     xdot(0) = 1;
   }
@@ -55,7 +59,8 @@ class Throwing final : public ContinuousSystem {
 class Stateless final : public ContinuousSystem {
  public:
   int state_size() const override { return 0; }
-  void derivative(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) const override {}
+  void derivative(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>&,
+                  Eigen::Ref<Eigen::VectorXd>) const override {}
 };
 
 IntegratorOptions tight(IntegratorOptions::Method method = IntegratorOptions::Method::Bdf) {

@@ -76,7 +76,9 @@ long allocations_in(const std::function<void()>& call) {
 }
 
 /// derivative() and jacobian() of `system` at many times across [t0, t1], inside and outside the intervals the
-/// integrator would enter, from a state that moves: none may allocate (after a first call, which may fill a cache).
+/// integrator would enter, from a state that moves: none may allocate (after a first call, which may fill a cache),
+/// and none may resolve a friction footprint (FrictionFootprint::of, which takes a lock): the terms resolve it when
+/// they are built.
 void check_no_allocation(const std::string& what, const ContinuousSystem& system, double t0, double t1,
                          const Eigen::VectorXd& x0) {
   BOOST_TEST_CONTEXT(what) {
@@ -85,19 +87,25 @@ void check_no_allocation(const std::string& what, const ContinuousSystem& system
     Eigen::VectorXd x = x0, xdot(n);
     Eigen::MatrixXd J(n, n);
     const int steps = 97;
-    // One call first: a cache filled on a shape's first use (the diagnosis's footprint elements) is not the hot loop.
-    system.derivative(t0, x, xdot);
+    // One call first: a cache filled on first use is not the hot loop.
+    system.derivative(IntegrationInterval{}, t0, x, xdot);
+    const long resolutions = FrictionFootprint::resolutions();
     const long count = allocations_in([&] {
       for (int k = 0; k <= steps; ++k) {
         const double t = t0 + (t1 - t0) * k / steps;
-        // The integrator announces each jump-free interval; here alternately one around t and none at all.
-        if (k % 2 == 0) system.enter_interval(t0 + (t1 - t0) * (k / 2) * 2 / steps, t0 + (t1 - t0) * (k / 2 + 1) * 2 / steps);
-        system.derivative(t, x, xdot);
-        if (system.has_jacobian()) system.jacobian(t, x, J);
+        // The integrator passes its jump-free interval; here alternately one around t and none at all.
+        const IntegrationInterval interval =
+            k % 2 == 0 ? IntegrationInterval{t0 + (t1 - t0) * (k / 2) * 2 / steps, t0 + (t1 - t0) * (k / 2 + 1) * 2 / steps}
+                       : IntegrationInterval{};
+        system.derivative(interval, t, x, xdot);
+        if (system.has_jacobian()) system.jacobian(interval, t, x, J);
         x += 1e-3 * xdot;  // a state that moves as an integration would
       }
     });
     BOOST_TEST(count == 0, what << ": " << count << " allocations in " << steps + 1 << " calls");
+    BOOST_TEST(FrictionFootprint::resolutions() == resolutions,
+               what << ": " << FrictionFootprint::resolutions() - resolutions << " footprint look-ups (locks) in "
+                    << steps + 1 << " calls");
     BOOST_TEST(xdot.allFinite());
   }
 }
@@ -172,6 +180,20 @@ BOOST_AUTO_TEST_CASE(linear_systems_do_not_allocate) {
   check_no_allocation("two inputs (PID)", pid, 0, 1, Eigen::VectorXd::Zero(9));
   const LinearSystem body = double_integrator(Eigen::Vector3d(1.3, 1.3, 2e-3), signal(3, 20, 10.0, Hold::Zero));
   check_no_allocation("double integrator", body, 0, 2, Eigen::VectorXd::Zero(6));
+}
+
+BOOST_AUTO_TEST_CASE(the_look_up_counter_sees_a_look_up) {
+  // The test of the test: resolving a footprint is counted, and the legacy per-call form resolves on every call.
+  const ShapeInfo& s = shape("rect1");
+  const long before = FrictionFootprint::resolutions();
+  const FrictionFootprint footprint = FrictionFootprint::of(s);
+  BOOST_TEST(FrictionFootprint::resolutions() == before + 1);
+  BOOST_TEST(footprint.elements() != nullptr);
+  const Eigen::Vector3d pose(0.1, 0.2, 0.3), v(0.02, -0.01, 0.1);
+  const Eigen::Vector3d resolved = coulomb_friction_wrench(pose, v, s, footprint);
+  BOOST_TEST(FrictionFootprint::resolutions() == before + 1);
+  BOOST_TEST((coulomb_friction_wrench(pose, v, s) - resolved).norm() == 0.0);
+  BOOST_TEST(FrictionFootprint::resolutions() == before + 2);
 }
 
 BOOST_AUTO_TEST_CASE(prediction_systems_do_not_allocate) {

@@ -1,6 +1,7 @@
 #include "pushpred/diagnosis/builtin_effects.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -17,19 +18,14 @@
 namespace pushpred {
 
 namespace {
+std::atomic<long> footprint_resolutions{0};
+}  // namespace
 
-/// The footprint as area elements (mechanics/outline.hpp), for shapes with an outline: element centres in the
-/// body frame (origin at the tracked centre) and their share of the weight under uniform pressure.
-struct FrictionElements {
-  std::vector<Eigen::Vector2d> centre_m;
-  std::vector<double> share;
-};
-
-const FrictionElements* friction_elements(const ShapeInfo& shape) {
-  if (!shape.has_outline()) return nullptr;
+FrictionFootprint FrictionFootprint::of(const ShapeInfo& shape) {
+  footprint_resolutions.fetch_add(1, std::memory_order_relaxed);
+  if (!shape.has_outline()) return FrictionFootprint(nullptr);
   static std::mutex mutex;
-  // Looked up by a string_view (std::less<>): the prediction model's right-hand side calls this, and must not
-  // allocate (tests/systems/no_allocation_test.cpp); only a shape's first call makes its key.
+  // Only the first resolution of a shape builds its elements; the key needs no allocation to be looked up.
   static std::map<std::string, std::unique_ptr<FrictionElements>, std::less<>> cache;
   char key[160];
   const int length = std::snprintf(key, sizeof key, "%s/%d/%.9g/%.9g", shape.name.c_str(),
@@ -37,7 +33,7 @@ const FrictionElements* friction_elements(const ShapeInfo& shape) {
   const std::string_view key_view(key, static_cast<std::size_t>(std::clamp(length, 0, static_cast<int>(sizeof key) - 1)));
   const std::lock_guard<std::mutex> lock(mutex);
   const auto found = cache.find(key_view);
-  if (found != cache.end()) return found->second.get();
+  if (found != cache.end()) return FrictionFootprint(found->second.get());
   auto& slot = cache[std::string(key_view)];
   if (!slot) {
     const Footprint footprint = make_footprint(Outline(shape), 16, 4);
@@ -46,8 +42,12 @@ const FrictionElements* friction_elements(const ShapeInfo& shape) {
     for (double a : footprint.area_m2) e->share.push_back(a / footprint.total_area_m2);
     slot = std::move(e);
   }
-  return slot.get();
+  return FrictionFootprint(slot.get());
 }
+
+long FrictionFootprint::resolutions() { return footprint_resolutions.load(std::memory_order_relaxed); }
+
+namespace {
 
 /// Unit-coefficient Coulomb friction wrench (force [N], torque about the tracked centre [N m]) of the footprint
 /// sliding with twist `v` at `pose`, each element's share scaled by multiplier(element index, world position,
@@ -82,17 +82,22 @@ Eigen::Vector3d limit_surface_friction(const Eigen::Vector3d& v, const ShapeInfo
   return coulomb_friction_wrench(Eigen::Vector3d::Zero(), v, shape);
 }
 
-Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape) {
+Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
+                                        const FrictionFootprint& footprint) {
   const double weight = shape.mass_kg * kStandardGravity_m_s2;
-  if (const FrictionElements* el = friction_elements(shape))
+  if (const FrictionElements* el = footprint.elements())
     return footprint_friction(*el, pose, v, weight, [](std::size_t, const Eigen::Vector2d&, double) { return 1.0; });
   return ellipsoid_friction(v, shape, weight);
 }
 
+Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape) {
+  return coulomb_friction_wrench(pose, v, shape, FrictionFootprint::of(shape));
+}
+
 Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
-                                         double speed_scale_m_s) {
+                                         const FrictionFootprint& footprint, double speed_scale_m_s) {
   const double weight = shape.mass_kg * kStandardGravity_m_s2;
-  if (const FrictionElements* el = friction_elements(shape))
+  if (const FrictionElements* el = footprint.elements())
     return footprint_friction(*el, pose, v, weight, [&](std::size_t, const Eigen::Vector2d&, double speed) {
       const double r = speed / speed_scale_m_s;
       return std::exp(-r * r);
@@ -101,14 +106,24 @@ Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eige
   return std::exp(-r * r) * ellipsoid_friction(v, shape, weight);
 }
 
+Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
+                                         double speed_scale_m_s) {
+  return stribeck_friction_wrench(pose, v, shape, FrictionFootprint::of(shape), speed_scale_m_s);
+}
+
 Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
-                                         const Eigen::Vector2d& origin_m, int axis) {
+                                         const FrictionFootprint& footprint, const Eigen::Vector2d& origin_m, int axis) {
   const double weight = shape.mass_kg * kStandardGravity_m_s2;
-  if (const FrictionElements* el = friction_elements(shape))
+  if (const FrictionElements* el = footprint.elements())
     return footprint_friction(*el, pose, v, weight, [&](std::size_t, const Eigen::Vector2d& where, double) {
       return where(axis) - origin_m(axis);
     });
   return (pose(axis) - origin_m(axis)) * ellipsoid_friction(v, shape, weight);
+}
+
+Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
+                                         const Eigen::Vector2d& origin_m, int axis) {
+  return position_friction_wrench(pose, v, shape, FrictionFootprint::of(shape), origin_m, axis);
 }
 
 double sliding_speed(const Eigen::Vector3d& v, const ShapeInfo& shape) {
@@ -212,9 +227,10 @@ class TimeOffsetEffect final : public CandidateEffect {
     std::vector<std::vector<char>> used;
     for (const auto& d : pushes) {
       Eigen::MatrixX3d raw(d.rows(), 3);
+      const FrictionFootprint footprint = FrictionFootprint::of(d.push.shape);
       for (Eigen::Index k = 0; k < d.rows(); ++k) {
         const EffectState st = d.state(k);
-        raw.row(k) = coulomb_friction_wrench(st.pose, st.velocity, d.push.shape).transpose();
+        raw.row(k) = coulomb_friction_wrench(st.pose, st.velocity, d.push.shape, footprint).transpose();
       }
       coulomb.push_back(d.as_observed(raw));
       used.push_back(friction_law_samples(d));
@@ -391,7 +407,17 @@ class ViscousFrictionEffect final : public CandidateEffect {
   }
 };
 
-class CoulombFrictionEffect final : public CandidateEffect {
+/// A force law of the support's friction over the footprint: evaluated with the footprint resolved beforehand
+/// (resolved_unit_force, which the prediction model's terms and the regressors call); unit_force() resolves it.
+class FootprintFrictionLaw : public CandidateEffect {
+ public:
+  bool is_force_law() const override { return true; }
+  Eigen::Vector3d unit_force(int parameter, double setting, const EffectState& s, const ShapeInfo& shape) const final {
+    return resolved_unit_force(parameter, setting, s, shape, FrictionFootprint::of(shape));
+  }
+};
+
+class CoulombFrictionEffect final : public FootprintFrictionLaw {
  public:
   std::string kind() const override { return "coulomb_friction"; }
   std::string description() const override {
@@ -405,9 +431,9 @@ class CoulombFrictionEffect final : public CandidateEffect {
     CandidateEffect::apply(theta, setting, self, c);
     c.quasi_static.fallback_friction_coefficient = theta(0);
   }
-  bool is_force_law() const override { return true; }
-  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
-    return coulomb_friction_wrench(s.pose, s.velocity, shape);
+  Eigen::Vector3d resolved_unit_force(int, double, const EffectState& s, const ShapeInfo& shape,
+                                      const FrictionFootprint& footprint) const override {
+    return coulomb_friction_wrench(s.pose, s.velocity, shape, footprint);
   }
 };
 
@@ -415,7 +441,7 @@ class CoulombFrictionEffect final : public CandidateEffect {
 /// (a base that loads its rim or its middle more, a slightly uneven table), which no physical effect of the
 /// library describes; fitted as a nuisance beside mu when the data resolve it, so the torque channel's misfit is not
 /// read as a mass-centre offset or a low-speed friction.
-class FrictionTorqueEffect final : public CandidateEffect {
+class FrictionTorqueEffect final : public FootprintFrictionLaw {
  public:
   std::string kind() const override { return "friction_torque"; }
   std::string description() const override {
@@ -427,13 +453,13 @@ class FrictionTorqueEffect final : public CandidateEffect {
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return std::abs(theta(0)) < 1 ? "" : "a friction torque coefficient change of 1 or more";
   }
-  bool is_force_law() const override { return true; }
-  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
-    return {0.0, 0.0, coulomb_friction_wrench(s.pose, s.velocity, shape)(2)};
+  Eigen::Vector3d resolved_unit_force(int, double, const EffectState& s, const ShapeInfo& shape,
+                                      const FrictionFootprint& footprint) const override {
+    return {0.0, 0.0, coulomb_friction_wrench(s.pose, s.velocity, shape, footprint)(2)};
   }
 };
 
-class StribeckFrictionEffect final : public CandidateEffect {
+class StribeckFrictionEffect final : public FootprintFrictionLaw {
   /// The extra friction mu_s m g e, e the RMS share of the low-speed term over the data's resolved sliding speeds
   /// at the typical Stribeck speed 10 mm/s (FloorContext::low_speed_exposure), against kappa mu m g:
   /// mu_s >= kappa mu / e. Fast pushes spend little time at low speed, so there the term cannot matter. Unlike the
@@ -461,13 +487,13 @@ class StribeckFrictionEffect final : public CandidateEffect {
   std::vector<EffectParameter> parameters() const override { return {{"mu_s", "-"}}; }
   std::vector<double> settings() const override { return {0.005, 0.01, 0.02, 0.04}; }
   EffectParameter setting_name() const override { return {"v_s", "m/s"}; }
-  bool is_force_law() const override { return true; }
-  Eigen::Vector3d unit_force(int, double v_s, const EffectState& s, const ShapeInfo& shape) const override {
-    return stribeck_friction_wrench(s.pose, s.velocity, shape, v_s);
+  Eigen::Vector3d resolved_unit_force(int, double v_s, const EffectState& s, const ShapeInfo& shape,
+                                      const FrictionFootprint& footprint) const override {
+    return stribeck_friction_wrench(s.pose, s.velocity, shape, footprint, v_s);
   }
 };
 
-class PositionFrictionEffect final : public CandidateEffect {
+class PositionFrictionEffect final : public FootprintFrictionLaw {
   double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
   /// The relative friction change over the typical travel, g L, against kappa: g >= kappa / L. Not against the
   /// push-to-push spread of mu: pushes that travel over different stretches of a changing friction each fit their
@@ -500,9 +526,10 @@ class PositionFrictionEffect final : public CandidateEffect {
            "g |r - r0| times the Coulomb law";
   }
   std::vector<EffectParameter> parameters() const override { return {{"g", "1/m"}}; }
-  bool is_force_law() const override { return true; }
-  Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
-    return (s.pose.head<2>() - s.start_pose.head<2>()).norm() * coulomb_friction_wrench(s.pose, s.velocity, shape);
+  Eigen::Vector3d resolved_unit_force(int, double, const EffectState& s, const ShapeInfo& shape,
+                                      const FrictionFootprint& footprint) const override {
+    return (s.pose.head<2>() - s.start_pose.head<2>()).norm() *
+           coulomb_friction_wrench(s.pose, s.velocity, shape, footprint);
   }
 };
 

@@ -65,15 +65,28 @@ std::unique_ptr<CandidateEffect> make_pusher_stop_effect();
 std::unique_ptr<CandidateEffect> make_pushing_model_effect();
 
 /// Unit-coefficient Coulomb friction wrench of the object on the table (multiply by mu): force [N] and torque
-/// about the tracked centre [N m] when the tracked centre is at `pose` and moves with twist `velocity`. For a shape
-/// with an outline, summed over the footprint's area elements under uniform pressure (each element resisting its
-/// own velocity, v_i / sqrt(|v_i|^2 + v_reg^2)); otherwise the ellipsoidal limit surface above.
+/// about the tracked centre [N m], world frame, when the tracked centre is at `pose` (x, y [m], yaw [rad]) and
+/// moves with twist `velocity` (x', y' [m/s], yaw' [rad/s]). For a shape with an outline, summed over the
+/// footprint's area elements under uniform pressure (each element resisting its own velocity,
+/// v_i / sqrt(|v_i|^2 + v_reg^2)); otherwise the ellipsoidal limit surface above. `footprint` is
+/// FrictionFootprint::of(shape), resolved once by the caller (candidate_effect.hpp): no lock, no allocation, so
+/// right-hand sides call this form.
 Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
-                                        const ShapeInfo& shape);
+                                        const ShapeInfo& shape, const FrictionFootprint& footprint);
 /// The same with each element's share scaled by exp(-(|v_i| / v_s)^2) (ellipsoid: the sliding speed s).
 Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
+                                         const ShapeInfo& shape, const FrictionFootprint& footprint,
+                                         double speed_scale_m_s);
+/// The same with each element's share scaled by its world coordinate `axis` (0: x, 1: y) minus origin_m(axis) [m].
+Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
+                                         const ShapeInfo& shape, const FrictionFootprint& footprint,
+                                         const Eigen::Vector2d& origin_m, int axis);
+/// The three laws above resolving the footprint on each call (FrictionFootprint::of: a lock and a cache look-up),
+/// for one-off evaluations; not for right-hand sides.
+Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
+                                        const ShapeInfo& shape);
+Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
                                          const ShapeInfo& shape, double speed_scale_m_s);
-/// The same with each element's share scaled by its world coordinate `axis` (0: x, 1: y) minus origin_m(axis).
 Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
                                          const ShapeInfo& shape, const Eigen::Vector2d& origin_m, int axis);
 /// coulomb_friction_wrench at yaw 0 (orientation matters only for the footprint's torque arms).

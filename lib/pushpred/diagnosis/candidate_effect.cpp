@@ -27,11 +27,16 @@ const char* effect_test_name(EffectTest test) {
   return "?";
 }
 
-Eigen::Vector3d FittedForceLaw::force(const EffectState& state, const ShapeInfo& shape) const {
+Eigen::Vector3d FittedForceLaw::force(const EffectState& state, const ShapeInfo& shape,
+                                      const FrictionFootprint& footprint) const {
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   for (Eigen::Index j = 0; j < theta.size(); ++j)
-    f += theta(j) * effect->unit_force(static_cast<int>(j), setting, state, shape);
+    f += theta(j) * effect->resolved_unit_force(static_cast<int>(j), setting, state, shape, footprint);
   return f;
+}
+
+Eigen::Vector3d FittedForceLaw::force(const EffectState& state, const ShapeInfo& shape) const {
+  return force(state, shape, FrictionFootprint::of(shape));
 }
 
 bool ModelCorrection::empty() const {
@@ -105,9 +110,11 @@ std::vector<Eigen::MatrixX3d> CandidateEffect::regressors(const DiagnosisPush& p
   const int k = static_cast<int>(parameters().size());
   const Eigen::Index n = push.rows();
   std::vector<Eigen::MatrixX3d> out(k, Eigen::MatrixX3d(n, 3));
+  const FrictionFootprint footprint = FrictionFootprint::of(push.push.shape);
   for (Eigen::Index row = 0; row < n; ++row) {
     const EffectState s = push.state(row);
-    for (int j = 0; j < k; ++j) out[j].row(row) = unit_force(j, setting, s, push.push.shape).transpose();
+    for (int j = 0; j < k; ++j)
+      out[j].row(row) = resolved_unit_force(j, setting, s, push.push.shape, footprint).transpose();
   }
   for (auto& column : out) column = push.as_observed(column);
   return out;
@@ -115,6 +122,11 @@ std::vector<Eigen::MatrixX3d> CandidateEffect::regressors(const DiagnosisPush& p
 
 Eigen::Vector3d CandidateEffect::unit_force(int, double, const EffectState&, const ShapeInfo&) const {
   throw InputError("effect " + kind() + " is not a force law");
+}
+
+Eigen::Vector3d CandidateEffect::resolved_unit_force(int parameter, double setting, const EffectState& state,
+                                                     const ShapeInfo& shape, const FrictionFootprint&) const {
+  return unit_force(parameter, setting, state, shape);
 }
 
 DirectFit CandidateEffect::fit_directly(const std::vector<DiagnosisPush>&) const {

@@ -51,12 +51,43 @@ struct EffectState {
   Eigen::Vector3d start_pose = Eigen::Vector3d::Zero();  ///< the push's first measured pose
 };
 
+/// An object's footprint on its support as area elements (mechanics/outline.hpp, 16 cells across, 4 subsamples),
+/// for the friction laws (builtin_effects.hpp): element centres in the body frame, origin at the tracked centre
+/// [m], and each element's share of the weight under uniform pressure [-] (the shares sum to 1).
+struct FrictionElements {
+  std::vector<Eigen::Vector2d> centre_m;
+  std::vector<double> share;
+};
+
+/// A shape's friction footprint, resolved once when whatever evaluates a friction law is built (a prediction
+/// model's force term, a push's regressors), so that the evaluation itself, inside a right-hand side, neither
+/// formats a key nor takes a lock nor searches a cache. A small value: it refers to elements held by a shape-keyed
+/// cache for the rest of the program. A shape without an outline has no elements: its friction laws use the
+/// ellipsoidal limit surface of its mass and inertia.
+class FrictionFootprint {
+ public:
+  /// The footprint of `shape` (keyed by its name, geometry and dimensions; mass and inertia do not matter). Takes
+  /// a lock and, on a shape's first use, builds the elements: call it when building, not while integrating.
+  static FrictionFootprint of(const ShapeInfo& shape);
+  /// The elements, or null for a shape without an outline.
+  const FrictionElements* elements() const { return elements_; }
+  /// How often of() has been called in this process: tests check that a right-hand side never calls it.
+  static long resolutions();
+
+ private:
+  explicit FrictionFootprint(const FrictionElements* elements) : elements_(elements) {}
+  const FrictionElements* elements_ = nullptr;
+};
+
 /// A force law with fitted parameters, as the correction carries it.
 struct FittedForceLaw {
   std::shared_ptr<const CandidateEffect> effect;
   Eigen::VectorXd theta;  ///< in the units of effect->parameters()
   double setting = 0;     ///< the setting chosen from effect->settings() (0 when it has none)
-  /// Generalized force [f_x, f_y] [N], torque [N m] of the law at `state`.
+  /// Generalized force [f_x, f_y] [N], torque [N m] of the law at `state`, `footprint` being
+  /// FrictionFootprint::of(shape) resolved beforehand (CandidateEffect::resolved_unit_force). No lock, no cache.
+  Eigen::Vector3d force(const EffectState& state, const ShapeInfo& shape, const FrictionFootprint& footprint) const;
+  /// The same, resolving the footprint on each call (a lock): not for right-hand sides.
   Eigen::Vector3d force(const EffectState& state, const ShapeInfo& shape) const;
 };
 
@@ -184,6 +215,12 @@ class CandidateEffect {
   virtual bool is_force_law() const { return false; }
   virtual Eigen::Vector3d unit_force(int parameter, double setting, const EffectState& state,
                                      const ShapeInfo& shape) const;
+  /// unit_force() with the shape's friction footprint resolved beforehand (`footprint` is
+  /// FrictionFootprint::of(shape)): what the prediction model's terms and the regressors call, each having resolved
+  /// the footprint once when it was built. The library's friction laws override it so that evaluating them inside
+  /// a right-hand side takes no lock. Default: unit_force(parameter, setting, state, shape).
+  virtual Eigen::Vector3d resolved_unit_force(int parameter, double setting, const EffectState& state,
+                                              const ShapeInfo& shape, const FrictionFootprint& footprint) const;
 
   /// Direct effects, and prediction effects with parameters: estimates theta from the fit pushes (as corrected so
   /// far). For prediction effects the score is not used.

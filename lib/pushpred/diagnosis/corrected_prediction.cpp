@@ -9,14 +9,14 @@
 
 namespace pushpred {
 
-void ForceLawTerm::add(double, const PlanarState& state, const Eigen::Vector3d& planned_input,
-                       Eigen::Vector3d& generalized_force) const {
+void ForceLawTerm::add(const IntegrationInterval&, double, const PlanarState& state,
+                       const Eigen::Vector3d& planned_input, Eigen::Vector3d& generalized_force) const {
   EffectState s;
   s.pose = state.head<3>();
   s.velocity = state.tail<3>();
   s.input = planned_input;
   s.start_pose = start_pose_;
-  generalized_force += law_.force(s, shape_);
+  generalized_force += law_.force(s, shape_, footprint_);
 }
 
 QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
@@ -25,6 +25,7 @@ QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<Fitted
     : stop_force_N_(stop_force_N),
       laws_(std::move(laws)),
       shape_(std::move(shape)),
+      footprint_(FrictionFootprint::of(shape_)),
       start_pose_(start_pose),
       pusher_stop_(std::move(pusher_stop)) {
   if (!(stop_force_N_ > 0) || !std::isfinite(stop_force_N_))
@@ -36,49 +37,43 @@ QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<Fitted
       throw InputError("quasi-static push law: the pusher's stop speed must be positive");
     if (pusher_stop_->planned_tip.signal.channels() != 2)
       throw InputError("quasi-static push law: the planned tip velocity must have 2 channels");
-    interval_lo_s_ = pusher_stop_->planned_tip.t0_s;
-    interval_hi_s_ = pusher_stop_->planned_tip.t1_s;
   }
-}
-
-void QuasiStaticPushTerm::enter_interval(double t_lo_s, double t_hi_s) const {
-  interval_lo_s_ = t_lo_s;
-  interval_hi_s_ = t_hi_s;
 }
 
 double QuasiStaticPushTerm::pressing_weight(double applied) const {
   return 1 - 1.0 / (1.0 + std::exp(std::clamp((applied - stop_force_N_) / (0.05 * stop_force_N_), -50.0, 50.0)));
 }
 
-double QuasiStaticPushTerm::moving_weight(double t_s) const {
+double QuasiStaticPushTerm::moving_weight(const IntegrationInterval& interval, double t_s) const {
   if (!pusher_stop_) return 1;
   Eigen::Vector2d tip_velocity;
-  pusher_stop_->planned_tip.signal.evaluate_within(t_s, interval_lo_s_, interval_hi_s_, tip_velocity);
+  pusher_stop_->planned_tip.signal.evaluate_within(t_s, interval.t0_s, interval.t1_s, tip_velocity);
   const double v_stop = pusher_stop_->stop_speed_m_s;
   return 1.0 / (1.0 + std::exp(std::clamp(-(tip_velocity.norm() - v_stop) / (0.05 * v_stop), -50.0, 50.0)));
 }
 
-double QuasiStaticPushTerm::push_weight(double t_s, double applied) const {
-  return pressing_weight(applied) * moving_weight(t_s);
+double QuasiStaticPushTerm::push_weight(const IntegrationInterval& interval, double t_s, double applied) const {
+  return pressing_weight(applied) * moving_weight(interval, t_s);
 }
 
-void QuasiStaticPushTerm::add(double t_s, const PlanarState& x, const Eigen::Vector3d& u, Eigen::Vector3d& f) const {
+void QuasiStaticPushTerm::add(const IntegrationInterval& interval, double t_s, const PlanarState& x,
+                              const Eigen::Vector3d& u, Eigen::Vector3d& f) const {
   const Eigen::Vector3d v = x.tail<3>();
   const double s = sliding_speed(v, shape_);
   const double reg = std::sqrt(s * s + kFrictionRegularisation_m_s * kFrictionRegularisation_m_s);
   const double g = s / reg;
   const double pressing = pressing_weight(u.head<2>().norm());
-  const double moving = moving_weight(t_s);
+  const double moving = moving_weight(interval, t_s);
   Eigen::Vector3d kinetic = Eigen::Vector3d::Zero();
   if (coulomb_from_stop_force_)
-    kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
+    kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_, footprint_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
   if (!laws_.empty()) {
     EffectState st;
     st.pose = x.head<3>();
     st.velocity = v;
     st.input = u;
     st.start_pose = start_pose_;
-    for (const auto& law : laws_) kinetic += law.force(st, shape_);
+    for (const auto& law : laws_) kinetic += law.force(st, shape_, footprint_);
   }
   // Pushed: the push balances the friction. Not pressing: the small force and friction act, at rest static
   // friction holds. Pressing but the pusher stopped: its force is a reaction that does no work, friction alone
@@ -137,10 +132,11 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
   Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(n, 3);
   bool replaces_relation = false;
   for (const auto& law : laws) replaces_relation = replaces_relation || law.effect->replaces_relation();
+  const FrictionFootprint footprint = FrictionFootprint::of(push.shape);
   for (Eigen::Index k = 0; k < n; ++k) {
     const EffectState s = d.state(k);
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
-    for (const auto& law : laws) f += law.force(s, push.shape);
+    for (const auto& law : laws) f += law.force(s, push.shape, footprint);
     raw.row(k) = f.transpose();
   }
   out = d.as_observed(raw);

@@ -15,15 +15,20 @@ namespace pushpred {
 /// A force law as a term of the prediction model: its generalized force at the predicted state and planned input.
 class ForceLawTerm final : public GeneralizedForceTerm {
  public:
+  /// Resolves the shape's friction footprint here, once (FrictionFootprint), not in add().
   ForceLawTerm(FittedForceLaw law, ShapeInfo shape, const Eigen::Vector3d& start_pose)
-      : law_(std::move(law)), shape_(std::move(shape)), start_pose_(start_pose) {}
+      : law_(std::move(law)),
+        shape_(std::move(shape)),
+        footprint_(FrictionFootprint::of(shape_)),
+        start_pose_(start_pose) {}
   std::string name() const override { return law_.effect->kind(); }
-  void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
-           Eigen::Vector3d& generalized_force) const override;
+  void add(const IntegrationInterval& interval, double t_s, const PlanarState& state,
+           const Eigen::Vector3d& planned_input, Eigen::Vector3d& generalized_force) const override;
 
  private:
   FittedForceLaw law_;
   ShapeInfo shape_;
+  FrictionFootprint footprint_;  // of shape_
   Eigen::Vector3d start_pose_;
 };
 
@@ -50,30 +55,31 @@ struct PusherStopCriterion {
 
 class QuasiStaticPushTerm final : public GeneralizedForceTerm {
  public:
-  /// Throws InputError for a stop force or, with `pusher_stop`, a stop speed that is not positive.
+  /// Throws InputError for a stop force or, with `pusher_stop`, a stop speed that is not positive. Resolves the
+  /// shape's friction footprint here, once (FrictionFootprint), not in add().
   QuasiStaticPushTerm(double stop_force_N, std::vector<FittedForceLaw> laws, ShapeInfo shape,
                       const Eigen::Vector3d& start_pose, std::optional<PusherStopCriterion> pusher_stop = std::nullopt);
   std::string name() const override { return "quasi_static"; }
-  void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
-           Eigen::Vector3d& generalized_force) const override;
-  void enter_interval(double t_lo_s, double t_hi_s) const override;
-  /// The weight of "pushed", (1 - w) m above, for an applied force of magnitude `applied_force_N` at time t_s,
-  /// inside the interval last entered: the force criterion, times the pusher's motion criterion when there is one.
-  double push_weight(double t_s, double applied_force_N) const;
+  /// The planned tip velocity as held inside `interval`, the integrator's jump-free interval around t_s.
+  void add(const IntegrationInterval& interval, double t_s, const PlanarState& state,
+           const Eigen::Vector3d& planned_input, Eigen::Vector3d& generalized_force) const override;
+  /// The weight of "pushed", (1 - w) m above, for an applied force of magnitude `applied_force_N` at time t_s
+  /// inside `interval` (empty: the tip velocity held at t_s itself): the force criterion, times the pusher's
+  /// motion criterion when there is one.
+  double push_weight(const IntegrationInterval& interval, double t_s, double applied_force_N) const;
 
  private:
   double stop_force_N_;
   std::vector<FittedForceLaw> laws_;
   ShapeInfo shape_;
+  FrictionFootprint footprint_;  // of shape_
   Eigen::Vector3d start_pose_;
   bool coulomb_from_stop_force_ = true;
   std::optional<PusherStopCriterion> pusher_stop_;
-  // The interval between the plan's jumps being integrated (PredictionSystem::enter_interval), so that the held
-  // tip velocity is read as held inside it.
-  mutable double interval_lo_s_ = 0, interval_hi_s_ = 0;
 
   double pressing_weight(double applied_force_N) const;  ///< 1 - w
-  double moving_weight(double t_s) const;                ///< m (1 without the criterion)
+  /// m (1 without the criterion), the held tip velocity read as held inside `interval`.
+  double moving_weight(const IntegrationInterval& interval, double t_s) const;
 };
 
 /// The push's force level for the quasi-static law: mean |f_C| over the samples of `identification` where the

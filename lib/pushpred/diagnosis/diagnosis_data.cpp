@@ -62,12 +62,12 @@ Eigen::MatrixXd q_filter(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& valu
       if (rate) rate->col(c) = states.col(2 * c + 1);
       continue;
     }
-    // Over [t_{k-1}, t_k] (z'' = wn^2 (x - z) - 2 zeta wn z' integrated): mean z = mean x - (D z' + 2 zeta wn D z) /
-    // (wn^2 h), mean z' = D z / h, mean x the trapezoid under first-order hold.
+    // Over [t_{k-1}, t_k]: the observer's interval mean (q_filter_interval_mean), mean x the trapezoid under
+    // first-order hold; mean z' = D z / h.
     for (Eigen::Index k = 1; k < n; ++k) {
       const double h = t_s(k) - t_s(k - 1);
       const double dz = states(k, 2 * c) - states(k - 1, 2 * c), dv = states(k, 2 * c + 1) - states(k - 1, 2 * c + 1);
-      out(k, c) = 0.5 * (values(k - 1, c) + values(k, c)) - (dv + 2 * zeta * wn * dz) / (wn * wn * h);
+      out(k, c) = q_filter_interval_mean(0.5 * (values(k - 1, c) + values(k, c)), dz, dv, zeta, wn, h);
       if (rate) (*rate)(k, c) = dz / h;
     }
     out(0, c) = out(1, c);

@@ -48,7 +48,7 @@ Prepared prepare(const QFilterObserver& observer, const SynchronisedPush& push, 
 }
 
 // Interval means of the outputs (see the header): with h = t_k - t_{k-1} and D the difference over the interval,
-//   mean M z'' = M D q2 / h,   mean Q u = mean u - (D p2 + 2 zeta wn D p1) / (wn^2 h)   (from p2' = wn^2 (u - p1) - ...),
+//   mean M z'' = M D q2 / h,   mean Q u = q_filter_interval_mean(mean u, D p1, D p2, ...),
 //   mean u = (u_{k-1} + u_k) / 2 under first-order hold, u_{k-1} under zero-order.
 // The velocity is the point value q2(t_k).
 DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, const Eigen::MatrixXd& X) {
@@ -61,13 +61,12 @@ DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, 
   e.d_hat.resize(n, 3);
   e.total.resize(n, 3);
   e.velocity.resize(n, 3);
-  const double wn2 = o.wn_rad_s * o.wn_rad_s, two_zeta_wn = 2 * o.zeta * o.wn_rad_s;
   for (Eigen::Index k = 1; k < n; ++k) {
     const double h = e.t_s(k) - e.t_s(k - 1);
     for (int c = 0; c < 3; ++c) {
       const auto delta = [&](int state) { return X(k, 4 * c + state) - X(k - 1, 4 * c + state); };
       const double u_mean = o.hold == Hold::First ? 0.5 * (e.u(k - 1, c) + e.u(k, c)) : e.u(k - 1, c);
-      const double qu_mean = u_mean - (delta(3) + two_zeta_wn * delta(2)) / (wn2 * h);
+      const double qu_mean = q_filter_interval_mean(u_mean, delta(2), delta(3), o.zeta, o.wn_rad_s, h);
       e.total(k, c) = p.model.inertia(c) * delta(1) / h;
       e.d_hat(k, c) = e.total(k, c) - qu_mean;
     }

@@ -61,6 +61,18 @@ struct QFilterObserverOptions {
   void validate() const;
 };
 
+/// The mean over one sample interval of length h_s [s] of a Q filter's output z = Q x (Q as above), from the
+/// change of the filter's states over the interval, dz = z(t_k) - z(t_{k-1}) and dz_rate = z'(t_k) - z'(t_{k-1}),
+/// and the mean of its input x over the interval (input_mean: (x_{k-1} + x_k) / 2 under first-order hold,
+/// x_{k-1} under zero-order hold). Integrating z'' = wn^2 (x - z) - 2 zeta wn z' over the interval:
+///     mean z = mean x - (dz_rate + 2 zeta wn dz) / (wn^2 h).
+/// The mean of z' is dz / h. Exact for any input, whatever its hold; in the units of x. The observer reports d_hat
+/// and the total through it, and the diagnosis its Q-filtered inputs (diagnosis_data.hpp, q_filter).
+inline double q_filter_interval_mean(double input_mean, double dz, double dz_rate, double zeta, double wn_rad_s,
+                                     double h_s) {
+  return input_mean - (dz_rate + 2 * zeta * wn_rad_s * dz) / (wn_rad_s * wn_rad_s * h_s);
+}
+
 /// The observer of all three channels as one linear system: x' = A x + B [y; u], with the point outputs
 /// d_hat = C x + D [y; u], velocity = C_velocity x, Q u = C_filtered_input x (estimate() reports interval means). 12 states (channel c owns states 4c..4c+3 = q1, q2, p1, p2), 6 inputs
 /// (y_x, y_y, theta, u_x, u_y, u_theta).

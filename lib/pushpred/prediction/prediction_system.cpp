@@ -19,14 +19,12 @@ PredictionSystem::PredictionSystem(PredictionModel model, PlannedForce plan)
     : model_(std::move(model)), plan_(std::move(plan)) {
   model_.validate();
   if (plan_.signal.channels() != 3) throw InputError("planned force must have 3 channels");
-  lo_ = plan_.t0_s;
-  hi_ = plan_.t1_s;
 }
 
-void PredictionSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
-                                  Eigen::Ref<Eigen::VectorXd> xdot) const {
+void PredictionSystem::derivative(const IntegrationInterval& interval, double t,
+                                  const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const {
   Eigen::Vector3d u;
-  plan_.signal.evaluate_within(t, lo_, hi_, u);
+  plan_.signal.evaluate_within(t, interval.t0_s, interval.t1_s, u);
   Eigen::Vector3d f = u + model_.beta.cwiseProduct(u) + model_.eps;
   if (model_.coulomb_force_N > 0) {
     // The regularised Coulomb law of mechanics/support_friction.hpp on the whole body, written out rather than
@@ -39,7 +37,7 @@ void PredictionSystem::derivative(double t, const Eigen::Ref<const Eigen::Vector
   }
   if (!model_.extra_terms.empty()) {
     const PlanarState s = x;
-    for (const auto& term : model_.extra_terms) term->add(t, s, u, f);
+    for (const auto& term : model_.extra_terms) term->add(interval, t, s, u, f);
   }
   xdot.head<3>() = x.tail<3>();
   xdot(3) = f(0) / model_.mass_kg;
@@ -50,7 +48,8 @@ void PredictionSystem::derivative(double t, const Eigen::Ref<const Eigen::Vector
 // The extra terms have no Jacobian of their own: with them CVODE takes difference quotients.
 bool PredictionSystem::has_jacobian() const { return model_.extra_terms.empty(); }
 
-void PredictionSystem::jacobian(double, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const {
+void PredictionSystem::jacobian(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                Eigen::Ref<Eigen::MatrixXd> J) const {
   // The kinematics, and the regularised Coulomb friction f = -F v / sqrt(|v|^2 + s^2) on the velocity:
   // df/dv = -F ((|v|^2 + s^2) I - v v^T) / (|v|^2 + s^2)^(3/2).
   J.setZero();

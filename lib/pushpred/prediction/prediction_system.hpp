@@ -22,17 +22,16 @@ namespace pushpred {
 using PlanarState = Eigen::Matrix<double, 6, 1>;  ///< x, y [m], theta [rad], vx, vy [m/s], omega [rad/s]
 
 /// A force term a user or the diagnosis adds to the prediction model: adds its generalized force
-/// [f_x, f_y] [N], torque [N m] given the time, state and planned input. Must not allocate.
+/// [f_x, f_y] [N], torque [N m] (world frame, torque about the tracked centre) given the time [s], state and
+/// planned input. `interval` is the integrator's jump-free interval around t_s (IntegrationInterval), for a term
+/// that holds a zero-order-held signal of its own on the plan's times and must read it as held inside the interval,
+/// also at its end (SampledSignal::evaluate_within); other terms ignore it. Must not allocate; keeps no state.
 class GeneralizedForceTerm {
  public:
   virtual ~GeneralizedForceTerm() = default;
   virtual std::string name() const = 0;
-  virtual void add(double t_s, const PlanarState& state, const Eigen::Vector3d& planned_input,
-                   Eigen::Vector3d& generalized_force) const = 0;
-  /// Called with each interval between the plan's jumps before it is integrated (PredictionSystem::enter_interval),
-  /// for a term that holds a zero-order-held signal of its own on the plan's times and must read it as held
-  /// inside the interval, also at its end (SampledSignal::evaluate_within). Default: nothing.
-  virtual void enter_interval(double /*t_lo_s*/, double /*t_hi_s*/) const {}
+  virtual void add(const IntegrationInterval& interval, double t_s, const PlanarState& state,
+                   const Eigen::Vector3d& planned_input, Eigen::Vector3d& generalized_force) const = 0;
 };
 
 struct PredictionModel {
@@ -55,24 +54,21 @@ class PredictionSystem final : public ContinuousSystem {
  public:
   PredictionSystem(PredictionModel model, PlannedForce plan);
   int state_size() const override { return 6; }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  /// The plan's force as held inside `interval`; the extra terms get the same interval.
+  void derivative(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override;
   /// Newton's law under a held force (the relation model) is a double integrator, not stiff: Adams. Coulomb
   /// friction, regularised over v_s = 1 mm/s, pulls a slow object's velocity to rest at mu g / v_s (1400 1/s for
   /// the `simple` baseline) against 0.1 s plan steps, and the diagnosis's force laws are regularised alike: BDF.
   bool stiff() const override { return model_.coulomb_force_N > 0 || !model_.extra_terms.empty(); }
   bool has_jacobian() const override;
-  void jacobian(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const override;
+  void jacobian(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                Eigen::Ref<Eigen::MatrixXd> J) const override;
   std::vector<double> discontinuities(double t0, double t1) const override { return plan_.signal.jumps(t0, t1); }
-  void enter_interval(double t0, double t1) const override {
-    lo_ = t0;
-    hi_ = t1;
-    for (const auto& term : model_.extra_terms) term->enter_interval(t0, t1);
-  }
 
  private:
   PredictionModel model_;
   PlannedForce plan_;
-  mutable double lo_ = 0, hi_ = 0;
 };
 
 /// Predicted poses (n x 3: x, y, theta) at `output_times_s` from `pose0` and `velocity0` at plan.t0_s.

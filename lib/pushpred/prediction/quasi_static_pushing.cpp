@@ -98,8 +98,6 @@ QuasiStaticPushSystem::QuasiStaticPushSystem(QuasiStaticObject object, QuasiStat
   require_positive_finite(object_.mass_kg, "quasi-static model: mass");
   require_positive_finite(object_.inertia_kgm2, "quasi-static model: inertia");
   if (!object_.outline) throw InputError("quasi-static model: no outline to push on");
-  lo_ = path_.velocity().t0_s;
-  hi_ = path_.velocity().t1_s;
 }
 
 std::vector<double> QuasiStaticPushSystem::discontinuities(double t0, double t1) const {
@@ -139,9 +137,10 @@ QuasiStaticPushSystem::Push QuasiStaticPushSystem::push_within(double t, double 
   return push;
 }
 
-void QuasiStaticPushSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+void QuasiStaticPushSystem::derivative(const IntegrationInterval& interval, double t,
+                                       const Eigen::Ref<const Eigen::VectorXd>& x,
                                        Eigen::Ref<Eigen::VectorXd> xdot) const {
-  const Push push = push_within(t, lo_, hi_, x);
+  const Push push = push_within(t, interval.t0_s, interval.t1_s, x);
   const Eigen::Vector2d v = x.segment<2>(3);
   const double omega = x(5);
   const double c = p_.torque_ratio_m;
@@ -156,7 +155,7 @@ void QuasiStaticPushSystem::derivative(double t, const Eigen::Ref<const Eigen::V
     PlanarState state;
     state << x.head<3>(), xdot.head<2>(), omega;  // the tracked centre's pose and twist
     Eigen::Vector3d generalized = Eigen::Vector3d::Zero();
-    for (const auto& term : object_.free_slide_terms) term->add(t, state, Eigen::Vector3d::Zero(), generalized);
+    for (const auto& term : object_.free_slide_terms) term->add(interval, t, state, Eigen::Vector3d::Zero(), generalized);
     const double raw = std::sqrt(v.squaredNorm() + c * c * omega * omega);
     generalized *= raw / s;
     free_acceleration = generalized.head<2>() / object_.mass_kg;

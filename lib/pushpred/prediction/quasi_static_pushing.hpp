@@ -125,15 +125,13 @@ class QuasiStaticPushSystem final : public ContinuousSystem {
   /// Throws InputError for bad parameters, a non-positive mass or inertia, or no outline.
   QuasiStaticPushSystem(QuasiStaticObject object, QuasiStaticParameters parameters, PlannedTipPath path);
   int state_size() const override { return 6; }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  /// The planned tip as held inside `interval`; the free-slide terms get the same interval.
+  void derivative(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override;
   /// Stiff: the velocity relaxes to the quasi-static one with tau (25 ms) and the support friction, regularised
   /// over 0.1 mm/s, stops a free object at mu g / creep speed (3e4 1/s): BDF (difference-quotient Jacobian).
   bool stiff() const override { return true; }
   std::vector<double> discontinuities(double t0, double t1) const override;
-  void enter_interval(double t0, double t1) const override {
-    lo_ = t0;
-    hi_ = t1;
-  }
 
   /// What the push does at (t, x): the push's weight w, the quasi-static motion and the penetration [m]; the
   /// planned tip as held from t on.
@@ -153,7 +151,6 @@ class QuasiStaticPushSystem final : public ContinuousSystem {
   QuasiStaticObject object_;
   QuasiStaticParameters p_;
   PlannedTipPath path_;
-  mutable double lo_ = 0, hi_ = 0;
 };
 
 /// Predicted tracked poses (n x 3) at `output_times_s` from `pose0` and tracked-centre velocity `velocity0` at the

@@ -100,34 +100,33 @@ SynchronisedPush load_case(int n, const ReproductionOptions& o, const StagedOutp
   return p;
 }
 
-}  // namespace
-
-ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOutput& out, std::ostream& log) {
-  if (!o.case_files.empty() && o.case_files.size() != 6)
-    throw InputError("reproduce: give six rect2 recordings for cases 1-6, or none to simulate them");
-  ReproductionResult result;
-  std::vector<std::string>& notes = result.plot_notes;
-  std::ostringstream md;
-  const bool simulated = o.case_files.empty();
-
-  // --- The six cases -------------------------------------------------------------------------------------
-  std::vector<SynchronisedPush> pushes;
-  for (int n = 1; n <= 6; ++n) pushes.push_back(load_case(n, o, out, log));
+/// The study options of the reproduction: the user's, with the paper's two methods (its proposed `dob` and its
+/// `simple` baseline, which Table II and figures 7-9 compare) always run, before the methods chosen
+/// (StudyOptions::methods, default every built-in one).
+StudyOptions paper_study_options(const ReproductionOptions& o) {
   StudyOptions study_options = o.study;
-  // The paper's Table II and figures 7-9 compare its proposed method with its simple baseline: both always run,
-  // before the methods chosen (StudyOptions::methods, default every built-in one).
   if (study_options.methods.empty()) study_options.methods = prediction_method_names();
   for (const char* paper_method : {"simple", "dob"})
     if (std::find(study_options.methods.begin(), study_options.methods.end(), paper_method) ==
         study_options.methods.end())
       study_options.methods.insert(study_options.methods.begin(), paper_method);
+  return study_options;
+}
+
+/// The prediction study of each of the six cases, on abs's friction coefficient unless the options give one.
+std::vector<PushStudy> study_cases(const std::vector<SynchronisedPush>& pushes, const StudyOptions& study_options) {
+  std::vector<PushStudy> cases;
   for (int n = 1; n <= 6; ++n) {
     StudyOptions so = study_options;
     if (so.friction_coefficient < 0) so.friction_coefficient = surface_friction_coefficient("abs");
-    result.cases.push_back(run_prediction_study(pushes[n - 1], so));
-    result.cases.back().source = pushes[n - 1].source;
+    cases.push_back(run_prediction_study(pushes[n - 1], so));
+    cases.back().source = pushes[n - 1].source;
   }
+  return cases;
+}
 
+/// The report's title and how it was made.
+void write_introduction(std::ostream& md, const StudyOptions& study_options, bool simulated) {
   md << "# Reproduction of Kim, \"Position prediction using disturbance observer for planar pushing\"\n\n"
      << "Made by `pushpred reproduce` (pushpred " << kVersion << "). Schedule: " << study_options.schedule.intervals
      << " equal intervals over the **" << schedule_span_name(study_options.schedule.span)
@@ -143,8 +142,10 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
           "--case N`), with sensor noise and clock jitter measured on the real recordings (docs/simulator.md). The "
           "recordings used are in `cases/`. Numbers for these cases therefore test the method on a known physics, "
           "not the paper's data; the real-data study follows in the second part.\n\n";
+}
 
-  // Table I
+/// Table I (the cases, the paper's and as measured here) and Table II (the measurements).
+void write_tables(std::ostream& md, const std::vector<SynchronisedPush>& pushes, bool simulated) {
   md << "## Table I: push data cases\n\n| case | acceleration [m/s^2] (paper) | velocity [m/s] (paper) | acceleration "
         "[m/s^2] (here) | velocity [m/s] (here) | peak tip speed [mm/s] (measured) | duration [s] | object travel [mm] "
         "| object rotation [deg] |\n|---|---|---|---|---|---|---|---|---|\n";
@@ -171,9 +172,12 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
      << "| theta | the object orientation with respect to {R} | `object_pose` yaw, unwrapped |\n"
      << "| -f_C^{rbt} | the reaction force measured at the tip in {rbt} | `ft_wrench` fx, fy; f_C is its negative |\n"
      << "| -T_C^{rbt} | the reaction torque measured at the tip in {rbt} | `ft_wrench` tz; T_C is its negative |\n\n";
+}
 
-  // --- Figures 2 and 4: observer against PID on case 1 ---------------------------------------------------
-  const Observation obs = observe_push(pushes[0]);
+/// Figures 2 and 4: the observer against the PID reconstruction on case 1.
+void write_figures_2_and_4(std::ostream& md, const SynchronisedPush& case1, const StagedOutput& out,
+                           std::vector<std::string>& notes) {
+  const Observation obs = observe_push(case1);
   for (const auto& f : observation_files(obs)) write_text_atomically(out.path("fig2_4/" + f.name), f.text);
   for (const auto& s : observation_plot_scripts()) {
     const PlotRun run = run_gnuplot(out.path("fig2_4/" + s));
@@ -183,252 +187,262 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
      << "![DOB and PID force and torque](fig2_4/forces.png)\n\n![pose re-simulated from the estimated total force]"
         "(fig2_4/trajectory.png)\n\n```\n"
      << observation_summary(obs) << "```\n\n";
+}
 
-  // --- Figure 5: u against d_hat, all cases, with the fitted lines --------------------------------------
-  {
-    std::ostringstream dat;
-    dat << "# case u_x d_x u_y d_y u_rot d_rot  [N, N, N, N, N m, N m]\n";
-    std::vector<Eigen::MatrixX3d> us, ds;
-    Eigen::Index rows = 0;
-    for (int n = 1; n <= 6; ++n) {
-      const DisturbanceEstimate e = make_disturbance_estimator(study_options.observer)->estimate(pushes[n - 1]);
-      for (Eigen::Index k = 0; k < e.t_s.size(); k += 2)
-        dat << n << " " << e.u(k, 0) << " " << e.d_hat(k, 0) << " " << e.u(k, 1) << " " << e.d_hat(k, 1) << " "
-            << e.u(k, 2) << " " << e.d_hat(k, 2) << "\n";
-      us.push_back(e.u);
-      ds.push_back(e.d_hat);
-      rows += e.u.rows();
-    }
-    Eigen::MatrixX3d U(rows, 3), D(rows, 3);
-    for (size_t i = 0, r = 0; i < us.size(); r += static_cast<size_t>(us[i].rows()), ++i) {
-      U.middleRows(static_cast<Eigen::Index>(r), us[i].rows()) = us[i];
-      D.middleRows(static_cast<Eigen::Index>(r), ds[i].rows()) = ds[i];
-    }
-    const RelationParameters all = least_squares_relation(U, D);
-    write_text_atomically(out.path("fig5.dat"), dat.str());
-    std::ostringstream gp;
-    gp << png_terminal("fig5.png", 1500, 560) << "set multiplot layout 1,3\nset key below horizontal maxcols 4\n";
-    const char* titles[3] = {"x force [N]", "y force [N]", "torque [N m]"};
-    for (int c = 0; c < 3; ++c)
-      gp << "set title " << gnuplot_quoted(titles[c]) << "\nset xlabel 'u (applied)'\nset ylabel 'd hat (estimated)'\n"
-         << "plot for [n=1:6] 'fig5.dat' using ($1==n ? $" << 2 + 2 * c << " : 1/0):" << 3 + 2 * c
-         << " with points pt 7 ps 0.3 title sprintf('case %d', n), " << all.beta(c) << "*x + " << all.eps(c)
-         << " with lines lw 2 lc 'black' title 'fit over all cases'\n";
-    gp << "unset multiplot\n";
-    draw(out, "fig5.gp", gp.str(), notes);
-    md << "## Figure 5: applied input against estimated disturbance\n\n![u against d_hat](fig5.png)\n\n"
-       << "Least-squares lines over all six cases (every observer sample), and the RLS fit of each case after its "
-          "last identification interval:\n\n| | beta x | eps x [N] | beta y | eps y [N] | beta rot | eps rot [N m] |\n"
-          "|---|---|---|---|---|---|---|\n"
-       << "| all cases | " << fmt("%.3f", all.beta(0)) << " | " << fmt("%.3f", all.eps(0)) << " | "
-       << fmt("%.3f", all.beta(1)) << " | " << fmt("%.3f", all.eps(1)) << " | " << fmt("%.3f", all.beta(2)) << " | "
-       << fmt("%.5f", all.eps(2)) << " |\n";
-    for (int n = 1; n <= 6; ++n) {
-      const RelationParameters& p = result.cases[n - 1].phases.back().relation;
-      md << "| case " << n << " | " << fmt("%.3f", p.beta(0)) << " | " << fmt("%.3f", p.eps(0)) << " | "
-         << fmt("%.3f", p.beta(1)) << " | " << fmt("%.3f", p.eps(1)) << " | " << fmt("%.3f", p.beta(2)) << " | "
-         << fmt("%.5f", p.eps(2)) << " |\n";
-    }
-    md << "\nThe paper finds beta near -1 (the unknown force cancels most of the applied one, as it must for "
-          "pushes at constant velocity) and the same lines for all cases, with the accelerating cases 5 and 6 "
-          "spreading away from the main cluster.\n\n";
+/// Figure 5: u against d_hat over all cases, with the least-squares lines and each case's RLS fit.
+void write_figure_5(std::ostream& md, const std::vector<SynchronisedPush>& pushes, const std::vector<PushStudy>& cases,
+                    const StudyOptions& study_options, const StagedOutput& out, std::vector<std::string>& notes) {
+  std::ostringstream dat;
+  dat << "# case u_x d_x u_y d_y u_rot d_rot  [N, N, N, N, N m, N m]\n";
+  std::vector<Eigen::MatrixX3d> us, ds;
+  Eigen::Index rows = 0;
+  for (int n = 1; n <= 6; ++n) {
+    const DisturbanceEstimate e = make_disturbance_estimator(study_options.observer)->estimate(pushes[n - 1]);
+    for (Eigen::Index k = 0; k < e.t_s.size(); k += 2)
+      dat << n << " " << e.u(k, 0) << " " << e.d_hat(k, 0) << " " << e.u(k, 1) << " " << e.d_hat(k, 1) << " "
+          << e.u(k, 2) << " " << e.d_hat(k, 2) << "\n";
+    us.push_back(e.u);
+    ds.push_back(e.d_hat);
+    rows += e.u.rows();
   }
-
-  // --- Figure 6: switching between identification and prediction (case 1, x) ----------------------------
-  {
-    const PushStudy& s = result.cases[0];
-    const SynchronisedPush& p = pushes[0];
-    std::ostringstream dat;
-    dat << "# t_s measured_fx_N planned_fx_N dhat_x_N (planned only in prediction phases, d_hat in identification)\n";
-    const Eigen::MatrixX3d u = p.applied_input();
-    std::vector<PlannedForce> plans;
-    for (const auto& ph : s.phases)
-      plans.push_back(plan_from_measurement(p, ph.interval.t0_s, ph.interval.t1_s, study_options.plan_rate_hz));
-    for (Eigen::Index k = 0; k < p.size(); ++k) {
-      const double t = p.t_s(k);
-      std::string planned = "NaN", dhat = "NaN";
-      for (const auto& plan : plans)
-        if (t >= plan.t0_s && t < plan.t1_s) planned = std::to_string(plan.signal(t)(0));
-      for (const auto& id : s.identification)
-        if (id.t_s.size() && t >= id.t_s(0) && t <= id.t_s(id.t_s.size() - 1))
-          dhat = std::to_string(id.d_hat(std::min<Eigen::Index>(id.t_s.size() - 1, p.index_at(t) - p.index_at(id.t_s(0))), 0));
-      dat << t << " " << u(k, 0) << " " << planned << " " << dhat << "\n";
-    }
-    write_text_atomically(out.path("fig6.dat"), dat.str());
-    std::ostringstream gp;
-    gp << png_terminal("fig6.png", 1200, 500) << "set xlabel 'time [s]'\nset ylabel 'x force [N]'\nset key outside\n";
-    for (const auto& iv : s.intervals) gp << "set arrow from " << iv.t0_s << ", graph 0 to " << iv.t0_s << ", graph 1 nohead dt 3\n";
-    gp << "plot 'fig6.dat' using 1:2 with lines lc 'blue' title 'measured f_x', '' using 1:3 with steps lw 2 lc "
-          "'magenta' title 'planned f_x (10 Hz, held)', '' using 1:4 with lines dt 2 lw 2 lc 'red' title 'd hat "
-          "(identification)'\n";
-    draw(out, "fig6.gp", gp.str(), notes);
-    md << "## Figure 6: identification and prediction alternate (case 1)\n\n![switching](fig6.png)\n\n";
+  Eigen::MatrixX3d U(rows, 3), D(rows, 3);
+  for (size_t i = 0, r = 0; i < us.size(); r += static_cast<size_t>(us[i].rows()), ++i) {
+    U.middleRows(static_cast<Eigen::Index>(r), us[i].rows()) = us[i];
+    D.middleRows(static_cast<Eigen::Index>(r), ds[i].rows()) = ds[i];
   }
-
-  // --- Figures 7 and 8: prediction errors per case and per phase -----------------------------------------
-  {
-    md << "## Figure 7: mean and standard deviation of the prediction errors per case\n\n"
-       << "Means over the three prediction phases of each case.\n\n";
-    std::ostringstream dat;
-    dat << "# case dob_x dob_x_std simple_x simple_x_std dob_y dob_y_std simple_y simple_y_std dob_th dob_th_std "
-           "simple_th simple_th_std\n";
-    for (const std::string method : {"dob", "simple"}) {
-      md << "**" << method << "**\n\n" << kErrorsHeader;
-      for (int n = 1; n <= 6; ++n) md << errors_row("case " + std::to_string(n), phase_mean(result.cases[n - 1], method));
-      md << "\n";
-    }
-    for (int n = 1; n <= 6; ++n) {
-      const PredictionErrors d = phase_mean(result.cases[n - 1], "dob"), s = phase_mean(result.cases[n - 1], "simple");
-      dat << n << " " << d.x_mm_mean << " " << d.x_mm_std << " " << s.x_mm_mean << " " << s.x_mm_std << " " << d.y_mm_mean
-          << " " << d.y_mm_std << " " << s.y_mm_mean << " " << s.y_mm_std << " " << d.theta_deg_mean << " "
-          << d.theta_deg_std << " " << s.theta_deg_mean << " " << s.theta_deg_std << "\n";
-    }
-    write_text_atomically(out.path("fig7.dat"), dat.str());
-    std::ostringstream gp;
-    gp << png_terminal("fig7.png", 1500, 500)
-       << "set multiplot layout 1,3\nset style data histogram\nset style histogram errorbars gap 2 lw 1\nset style "
-          "fill solid 0.6\nset logscale y\nset xlabel 'case'\n";
-    const char* labels[3] = {"x error [mm]", "y error [mm]", "yaw error [deg]"};
-    for (int c = 0; c < 3; ++c)
-      gp << "set ylabel " << gnuplot_quoted(labels[c]) << "\nplot 'fig7.dat' using " << 2 + 4 * c << ":" << 3 + 4 * c
-         << ":xtic(1) title 'proposed (dob)', '' using " << 4 + 4 * c << ":" << 5 + 4 * c << " title 'simple'\n";
-    gp << "unset multiplot\n";
-    draw(out, "fig7.gp", gp.str(), notes);
-    md << "![errors per case](fig7.png)\n\n## Figure 8: prediction errors in every phase\n\n"
-       << "| case | phase | dob x [mm] | dob y [mm] | dob yaw [deg] | simple x [mm] | simple y [mm] | simple yaw [deg] |\n"
-          "|---|---|---|---|---|---|---|---|\n";
-    std::ostringstream dat8;
-    dat8 << "# case phase dob_pos_mm simple_pos_mm dob_th simple_th\n";
-    for (int n = 1; n <= 6; ++n)
-      for (const auto& ph : result.cases[n - 1].phases) {
-        const auto& d = ph.errors.at("dob");
-        const auto& s = ph.errors.at("simple");
-        md << "| " << n << " | " << ph.phase << " | " << fmt("%.2f", d.x_mm_mean) << " | " << fmt("%.2f", d.y_mm_mean)
-           << " | " << fmt("%.2f", d.theta_deg_mean) << " | " << fmt("%.2f", s.x_mm_mean) << " | "
-           << fmt("%.2f", s.y_mm_mean) << " | " << fmt("%.2f", s.theta_deg_mean) << " |\n";
-        dat8 << n << " " << ph.phase << " " << mean_position_error(d) << " " << mean_position_error(s) << " "
-             << d.theta_deg_mean << " " << s.theta_deg_mean << "\n";
-      }
-    write_text_atomically(out.path("fig8.dat"), dat8.str());
-    std::ostringstream gp8;
-    gp8 << png_terminal("fig8.png", 1200, 500)
-        << "set multiplot layout 1,2\nset logscale y\nset xlabel 'prediction phase'\nset xtics 1\nset key outside\n"
-        << "set ylabel 'mean position error [mm]'\nplot for [n=1:6] 'fig8.dat' using ($1==n ? $2 : 1/0):3 with "
-           "linespoints title sprintf('dob, case %d', n), for [n=1:6] '' using ($1==n ? $2 : 1/0):4 with linespoints "
-           "dt 2 title sprintf('simple, case %d', n)\n"
-        << "set ylabel 'mean yaw error [deg]'\nplot for [n=1:6] 'fig8.dat' using ($1==n ? $2 : 1/0):5 with linespoints "
-           "title sprintf('dob, case %d', n), for [n=1:6] '' using ($1==n ? $2 : 1/0):6 with linespoints dt 2 title "
-           "sprintf('simple, case %d', n)\nunset multiplot\n";
-    draw(out, "fig8.gp", gp8.str(), notes);
-    md << "\n![errors per phase](fig8.png)\n\n";
+  const RelationParameters all = least_squares_relation(U, D);
+  write_text_atomically(out.path("fig5.dat"), dat.str());
+  std::ostringstream gp;
+  gp << png_terminal("fig5.png", 1500, 560) << "set multiplot layout 1,3\nset key below horizontal maxcols 4\n";
+  const char* titles[3] = {"x force [N]", "y force [N]", "torque [N m]"};
+  for (int c = 0; c < 3; ++c)
+    gp << "set title " << gnuplot_quoted(titles[c]) << "\nset xlabel 'u (applied)'\nset ylabel 'd hat (estimated)'\n"
+       << "plot for [n=1:6] 'fig5.dat' using ($1==n ? $" << 2 + 2 * c << " : 1/0):" << 3 + 2 * c
+       << " with points pt 7 ps 0.3 title sprintf('case %d', n), " << all.beta(c) << "*x + " << all.eps(c)
+       << " with lines lw 2 lc 'black' title 'fit over all cases'\n";
+  gp << "unset multiplot\n";
+  draw(out, "fig5.gp", gp.str(), notes);
+  md << "## Figure 5: applied input against estimated disturbance\n\n![u against d_hat](fig5.png)\n\n"
+     << "Least-squares lines over all six cases (every observer sample), and the RLS fit of each case after its "
+        "last identification interval:\n\n| | beta x | eps x [N] | beta y | eps y [N] | beta rot | eps rot [N m] |\n"
+        "|---|---|---|---|---|---|---|\n"
+     << "| all cases | " << fmt("%.3f", all.beta(0)) << " | " << fmt("%.3f", all.eps(0)) << " | "
+     << fmt("%.3f", all.beta(1)) << " | " << fmt("%.3f", all.eps(1)) << " | " << fmt("%.3f", all.beta(2)) << " | "
+     << fmt("%.5f", all.eps(2)) << " |\n";
+  for (int n = 1; n <= 6; ++n) {
+    const RelationParameters& p = cases[n - 1].phases.back().relation;
+    md << "| case " << n << " | " << fmt("%.3f", p.beta(0)) << " | " << fmt("%.3f", p.eps(0)) << " | "
+       << fmt("%.3f", p.beta(1)) << " | " << fmt("%.3f", p.eps(1)) << " | " << fmt("%.3f", p.beta(2)) << " | "
+       << fmt("%.5f", p.eps(2)) << " |\n";
   }
+  md << "\nThe paper finds beta near -1 (the unknown force cancels most of the applied one, as it must for "
+        "pushes at constant velocity) and the same lines for all cases, with the accelerating cases 5 and 6 "
+        "spreading away from the main cluster.\n\n";
+}
 
-  // --- Figure 9: the best prediction ----------------------------------------------------------------------
-  {
-    int best_case = 1;
-    const PhaseResult* best = nullptr;
-    // Among phases in which the object moves (at least 5 mm): a phase at rest is trivially "predicted".
-    for (int n = 1; n <= 6; ++n)
-      for (const auto& ph : result.cases[n - 1].phases) {
-        const Eigen::Index last = ph.measured.rows() - 1;
-        const double travel_mm = kMm * (ph.measured.row(last).head<2>() - ph.measured.row(0).head<2>()).norm();
-        if (travel_mm < 5.0) continue;
-        if (!best || mean_position_error(ph.errors.at("dob")) < mean_position_error(best->errors.at("dob"))) {
-          best = &ph;
-          best_case = n;
-        }
-      }
-    if (!best) throw InputError("reproduce: no prediction phase of the six cases moves the object");
-    std::ostringstream dat;
-    dat << "# t_s measured_x_mm measured_y_mm measured_theta_deg dob_x dob_y dob_theta simple_x simple_y simple_theta\n";
-    for (Eigen::Index j = 0; j < best->t_s.size(); ++j) {
-      dat << best->t_s(j);
-      for (const Eigen::MatrixX3d* m : {&best->measured, &best->predicted.at("dob"), &best->predicted.at("simple")})
-        dat << " " << kMm * (*m)(j, 0) << " " << kMm * (*m)(j, 1) << " " << kDeg * (*m)(j, 2);
-      dat << "\n";
-    }
-    write_text_atomically(out.path("fig9.dat"), dat.str());
-    std::ostringstream gp;
-    gp << png_terminal("fig9.png", 1500, 450) << "set multiplot layout 1,3\nset xlabel 'time [s]'\nset key bottom\n";
-    const char* labels[3] = {"x [mm]", "y [mm]", "yaw [deg]"};
-    for (int c = 0; c < 3; ++c)
-      gp << "set ylabel " << gnuplot_quoted(labels[c]) << "\nplot 'fig9.dat' using 1:" << 2 + c
-         << " with lines lw 2 lc 'black' title 'measured', '' using 1:" << 5 + c << " with lines lw 2 lc 'red' title "
-         << "'proposed (dob)', '' using 1:" << 8 + c << " with lines dt 2 lc 'blue' title 'simple'\n";
-    gp << "unset multiplot\n";
-    draw(out, "fig9.gp", gp.str(), notes);
-    md << "## Figure 9: the best prediction\n\nAmong the phases in which the object moves at least 5 mm: case " << best_case << ", phase " << best->phase << " (mean x/y error "
-       << fmt("%.2f", best->errors.at("dob").x_mm_mean) << "/" << fmt("%.2f", best->errors.at("dob").y_mm_mean)
-       << " mm; the paper's best is the first phase of case 3).\n\n![best prediction](fig9.png)\n\n";
+/// Figure 6: the switching between identification and prediction (case 1, x channel).
+void write_figure_6(std::ostream& md, const PushStudy& s, const SynchronisedPush& p, const StudyOptions& study_options,
+                    const StagedOutput& out, std::vector<std::string>& notes) {
+  std::ostringstream dat;
+  dat << "# t_s measured_fx_N planned_fx_N dhat_x_N (planned only in prediction phases, d_hat in identification)\n";
+  const Eigen::MatrixX3d u = p.applied_input();
+  std::vector<PlannedForce> plans;
+  for (const auto& ph : s.phases)
+    plans.push_back(plan_from_measurement(p, ph.interval.t0_s, ph.interval.t1_s, study_options.plan_rate_hz));
+  for (Eigen::Index k = 0; k < p.size(); ++k) {
+    const double t = p.t_s(k);
+    std::string planned = "NaN", dhat = "NaN";
+    for (const auto& plan : plans)
+      if (t >= plan.t0_s && t < plan.t1_s) planned = std::to_string(plan.signal(t)(0));
+    for (const auto& id : s.identification)
+      if (id.t_s.size() && t >= id.t_s(0) && t <= id.t_s(id.t_s.size() - 1))
+        dhat = std::to_string(id.d_hat(std::min<Eigen::Index>(id.t_s.size() - 1, p.index_at(t) - p.index_at(id.t_s(0))), 0));
+    dat << t << " " << u(k, 0) << " " << planned << " " << dhat << "\n";
   }
+  write_text_atomically(out.path("fig6.dat"), dat.str());
+  std::ostringstream gp;
+  gp << png_terminal("fig6.png", 1200, 500) << "set xlabel 'time [s]'\nset ylabel 'x force [N]'\nset key outside\n";
+  for (const auto& iv : s.intervals) gp << "set arrow from " << iv.t0_s << ", graph 0 to " << iv.t0_s << ", graph 1 nohead dt 3\n";
+  gp << "plot 'fig6.dat' using 1:2 with lines lc 'blue' title 'measured f_x', '' using 1:3 with steps lw 2 lc "
+        "'magenta' title 'planned f_x (10 Hz, held)', '' using 1:4 with lines dt 2 lw 2 lc 'red' title 'd hat "
+        "(identification)'\n";
+  draw(out, "fig6.gp", gp.str(), notes);
+  md << "## Figure 6: identification and prediction alternate (case 1)\n\n![switching](fig6.png)\n\n";
+}
 
-  // --- The paper's claims against these numbers -------------------------------------------------------------
-  {
-    const auto agg = aggregate_errors(result.cases);
-    const PredictionErrors& d = agg.at("dob");
-    const PredictionErrors& s = agg.at("simple");
-    double worst_pos = 0, worst_theta = 0;
-    for (const auto& st : result.cases)
-      for (const auto& ph : st.phases) {
-        worst_pos = std::max({worst_pos, ph.errors.at("dob").x_mm_mean, ph.errors.at("dob").y_mm_mean});
-        worst_theta = std::max(worst_theta, ph.errors.at("dob").theta_deg_mean);
-      }
-    md << "## The paper's claims, checked on these cases\n\n"
-       << "| claim | here |\n|---|---|\n"
-       << "| the proposed errors are up to 10 times smaller than the simple algorithm's | simple / dob mean error: x "
-       << fmt("%.1f", s.x_mm_mean / d.x_mm_mean) << "x, y " << fmt("%.1f", s.y_mm_mean / d.y_mm_mean) << "x, yaw "
-       << fmt("%.1f", s.theta_deg_mean / d.theta_deg_mean) << "x |\n"
-       << "| mean x and y errors well below 10 mm in every phase | worst phase mean " << fmt("%.2f", worst_pos)
-       << " mm |\n"
-       << "| mean yaw errors below 20 degrees | worst phase mean " << fmt("%.2f", worst_theta) << " deg |\n\n"
-       << "Over all phases of the six cases:\n\n"
-       << kErrorsHeader;
-    for (const auto& name : result.cases.front().methods) md << errors_row(name, agg.at(name));
+/// Figures 7 and 8: the prediction errors of dob and simple per case and per phase.
+void write_figures_7_and_8(std::ostream& md, const std::vector<PushStudy>& cases, const StagedOutput& out,
+                           std::vector<std::string>& notes) {
+  md << "## Figure 7: mean and standard deviation of the prediction errors per case\n\n"
+     << "Means over the three prediction phases of each case.\n\n";
+  std::ostringstream dat;
+  dat << "# case dob_x dob_x_std simple_x simple_x_std dob_y dob_y_std simple_y simple_y_std dob_th dob_th_std "
+         "simple_th simple_th_std\n";
+  for (const std::string method : {"dob", "simple"}) {
+    md << "**" << method << "**\n\n" << kErrorsHeader;
+    for (int n = 1; n <= 6; ++n) md << errors_row("case " + std::to_string(n), phase_mean(cases[n - 1], method));
     md << "\n";
   }
+  for (int n = 1; n <= 6; ++n) {
+    const PredictionErrors d = phase_mean(cases[n - 1], "dob"), s = phase_mean(cases[n - 1], "simple");
+    dat << n << " " << d.x_mm_mean << " " << d.x_mm_std << " " << s.x_mm_mean << " " << s.x_mm_std << " " << d.y_mm_mean
+        << " " << d.y_mm_std << " " << s.y_mm_mean << " " << s.y_mm_std << " " << d.theta_deg_mean << " "
+        << d.theta_deg_std << " " << s.theta_deg_mean << " " << s.theta_deg_std << "\n";
+  }
+  write_text_atomically(out.path("fig7.dat"), dat.str());
+  std::ostringstream gp;
+  gp << png_terminal("fig7.png", 1500, 500)
+     << "set multiplot layout 1,3\nset style data histogram\nset style histogram errorbars gap 2 lw 1\nset style "
+        "fill solid 0.6\nset logscale y\nset xlabel 'case'\n";
+  const char* labels[3] = {"x error [mm]", "y error [mm]", "yaw error [deg]"};
+  for (int c = 0; c < 3; ++c)
+    gp << "set ylabel " << gnuplot_quoted(labels[c]) << "\nplot 'fig7.dat' using " << 2 + 4 * c << ":" << 3 + 4 * c
+       << ":xtic(1) title 'proposed (dob)', '' using " << 4 + 4 * c << ":" << 5 + 4 * c << " title 'simple'\n";
+  gp << "unset multiplot\n";
+  draw(out, "fig7.gp", gp.str(), notes);
+  md << "![errors per case](fig7.png)\n\n## Figure 8: prediction errors in every phase\n\n"
+     << "| case | phase | dob x [mm] | dob y [mm] | dob yaw [deg] | simple x [mm] | simple y [mm] | simple yaw [deg] |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  std::ostringstream dat8;
+  dat8 << "# case phase dob_pos_mm simple_pos_mm dob_th simple_th\n";
+  for (int n = 1; n <= 6; ++n)
+    for (const auto& ph : cases[n - 1].phases) {
+      const auto& d = ph.errors.at("dob");
+      const auto& s = ph.errors.at("simple");
+      md << "| " << n << " | " << ph.phase << " | " << fmt("%.2f", d.x_mm_mean) << " | " << fmt("%.2f", d.y_mm_mean)
+         << " | " << fmt("%.2f", d.theta_deg_mean) << " | " << fmt("%.2f", s.x_mm_mean) << " | "
+         << fmt("%.2f", s.y_mm_mean) << " | " << fmt("%.2f", s.theta_deg_mean) << " |\n";
+      dat8 << n << " " << ph.phase << " " << mean_position_error(d) << " " << mean_position_error(s) << " "
+           << d.theta_deg_mean << " " << s.theta_deg_mean << "\n";
+    }
+  write_text_atomically(out.path("fig8.dat"), dat8.str());
+  std::ostringstream gp8;
+  gp8 << png_terminal("fig8.png", 1200, 500)
+      << "set multiplot layout 1,2\nset logscale y\nset xlabel 'prediction phase'\nset xtics 1\nset key outside\n"
+      << "set ylabel 'mean position error [mm]'\nplot for [n=1:6] 'fig8.dat' using ($1==n ? $2 : 1/0):3 with "
+         "linespoints title sprintf('dob, case %d', n), for [n=1:6] '' using ($1==n ? $2 : 1/0):4 with linespoints "
+         "dt 2 title sprintf('simple, case %d', n)\n"
+      << "set ylabel 'mean yaw error [deg]'\nplot for [n=1:6] 'fig8.dat' using ($1==n ? $2 : 1/0):5 with linespoints "
+         "title sprintf('dob, case %d', n), for [n=1:6] '' using ($1==n ? $2 : 1/0):6 with linespoints dt 2 title "
+         "sprintf('simple, case %d', n)\nunset multiplot\n";
+  draw(out, "fig8.gp", gp8.str(), notes);
+  md << "\n![errors per phase](fig8.png)\n\n";
+}
 
-  // --- The same study over every real ABS push ------------------------------------------------------------
-  if (!o.data_folder.empty()) {
-    const auto files = list_recordings(o.data_folder, "abs");
-    log << "real data: " << files.size() << " ABS pushes from " << o.data_folder.string() << "\n";
-    result.real = run_batch(files, [&](const std::filesystem::path& path) {
-      return run_prediction_study(load_push(path), study_options);
-    });
-    md << "# The same study over every real ABS push\n\n"
-       << result.real.results.size() << " of " << files.size() << " pushes predicted; the others are listed below with "
-       << "the reason. Means over all phases of the pushes of each shape.\n\n";
-    std::map<std::string, std::vector<PushStudy>> by_shape;
-    for (const auto& s : result.real.results) by_shape[shape_of(s.source)].push_back(s);
-    by_shape["all"] = result.real.results;
-    md << "| shape | pushes | method | x [mm] | y [mm] | yaw [deg] | final position [mm] | final yaw [deg] |\n"
-          "|---|---|---|---|---|---|---|---|\n";
-    for (const auto& [shape, studies] : by_shape) {
-      if (studies.empty()) continue;
-      const auto agg = aggregate_errors(studies);
-      for (const auto& name : studies.front().methods) {
-        const auto& e = agg.at(name);
-        md << "| " << shape << " | " << studies.size() << " | " << name << " | " << fmt("%.2f", e.x_mm_mean) << " | "
-           << fmt("%.2f", e.y_mm_mean) << " | " << fmt("%.2f", e.theta_deg_mean) << " | " << fmt("%.2f", e.final_pos_mm)
-           << " | " << fmt("%.2f", e.final_theta_deg) << " |\n";
+/// Figure 9: dob's best prediction among the phases in which the object moves.
+void write_figure_9(std::ostream& md, const std::vector<PushStudy>& cases, const StagedOutput& out,
+                    std::vector<std::string>& notes) {
+  int best_case = 1;
+  const PhaseResult* best = nullptr;
+  // Among phases in which the object moves (at least 5 mm): a phase at rest is trivially "predicted".
+  for (int n = 1; n <= 6; ++n)
+    for (const auto& ph : cases[n - 1].phases) {
+      const Eigen::Index last = ph.measured.rows() - 1;
+      const double travel_mm = kMm * (ph.measured.row(last).head<2>() - ph.measured.row(0).head<2>()).norm();
+      if (travel_mm < 5.0) continue;
+      if (!best || mean_position_error(ph.errors.at("dob")) < mean_position_error(best->errors.at("dob"))) {
+        best = &ph;
+        best_case = n;
       }
     }
-    md << "\nMean over phases of each phase's mean position error [mm] / yaw error [deg], per object and per pusher "
-          "speed:\n\n"
-       << grouped_errors_markdown(result.real.results);
-    if (!result.real.failures.empty()) {
-      md << "\nPushes left out:\n\n";
-      for (const auto& f : result.real.failures)
-        md << "- `" << std::filesystem::path(f.source).filename().string() << "`: " << f.reason << "\n";
-    }
-    md << "\n";
+  if (!best) throw InputError("reproduce: no prediction phase of the six cases moves the object");
+  std::ostringstream dat;
+  dat << "# t_s measured_x_mm measured_y_mm measured_theta_deg dob_x dob_y dob_theta simple_x simple_y simple_theta\n";
+  for (Eigen::Index j = 0; j < best->t_s.size(); ++j) {
+    dat << best->t_s(j);
+    for (const Eigen::MatrixX3d* m : {&best->measured, &best->predicted.at("dob"), &best->predicted.at("simple")})
+      dat << " " << kMm * (*m)(j, 0) << " " << kMm * (*m)(j, 1) << " " << kDeg * (*m)(j, 2);
+    dat << "\n";
   }
+  write_text_atomically(out.path("fig9.dat"), dat.str());
+  std::ostringstream gp;
+  gp << png_terminal("fig9.png", 1500, 450) << "set multiplot layout 1,3\nset xlabel 'time [s]'\nset key bottom\n";
+  const char* labels[3] = {"x [mm]", "y [mm]", "yaw [deg]"};
+  for (int c = 0; c < 3; ++c)
+    gp << "set ylabel " << gnuplot_quoted(labels[c]) << "\nplot 'fig9.dat' using 1:" << 2 + c
+       << " with lines lw 2 lc 'black' title 'measured', '' using 1:" << 5 + c << " with lines lw 2 lc 'red' title "
+       << "'proposed (dob)', '' using 1:" << 8 + c << " with lines dt 2 lc 'blue' title 'simple'\n";
+  gp << "unset multiplot\n";
+  draw(out, "fig9.gp", gp.str(), notes);
+  md << "## Figure 9: the best prediction\n\nAmong the phases in which the object moves at least 5 mm: case " << best_case << ", phase " << best->phase << " (mean x/y error "
+     << fmt("%.2f", best->errors.at("dob").x_mm_mean) << "/" << fmt("%.2f", best->errors.at("dob").y_mm_mean)
+     << " mm; the paper's best is the first phase of case 3).\n\n![best prediction](fig9.png)\n\n";
+}
 
+/// The paper's claims against the six cases' numbers, and the errors of every method over all their phases.
+void write_claims(std::ostream& md, const std::vector<PushStudy>& cases) {
+  const auto agg = aggregate_errors(cases);
+  const PredictionErrors& d = agg.at("dob");
+  const PredictionErrors& s = agg.at("simple");
+  double worst_pos = 0, worst_theta = 0;
+  for (const auto& st : cases)
+    for (const auto& ph : st.phases) {
+      worst_pos = std::max({worst_pos, ph.errors.at("dob").x_mm_mean, ph.errors.at("dob").y_mm_mean});
+      worst_theta = std::max(worst_theta, ph.errors.at("dob").theta_deg_mean);
+    }
+  md << "## The paper's claims, checked on these cases\n\n"
+     << "| claim | here |\n|---|---|\n"
+     << "| the proposed errors are up to 10 times smaller than the simple algorithm's | simple / dob mean error: x "
+     << fmt("%.1f", s.x_mm_mean / d.x_mm_mean) << "x, y " << fmt("%.1f", s.y_mm_mean / d.y_mm_mean) << "x, yaw "
+     << fmt("%.1f", s.theta_deg_mean / d.theta_deg_mean) << "x |\n"
+     << "| mean x and y errors well below 10 mm in every phase | worst phase mean " << fmt("%.2f", worst_pos)
+     << " mm |\n"
+     << "| mean yaw errors below 20 degrees | worst phase mean " << fmt("%.2f", worst_theta) << " deg |\n\n"
+     << "Over all phases of the six cases:\n\n"
+     << kErrorsHeader;
+  for (const auto& name : cases.front().methods) md << errors_row(name, agg.at(name));
+  md << "\n";
+}
+
+/// The same study over every real ABS push of `data_folder`: runs it, writes its section and returns it.
+Batch<PushStudy> study_real_pushes(std::ostream& md, const std::filesystem::path& data_folder,
+                                   const StudyOptions& study_options, std::ostream& log) {
+  const auto files = list_recordings(data_folder, "abs");
+  log << "real data: " << files.size() << " ABS pushes from " << data_folder.string() << "\n";
+  Batch<PushStudy> real = run_batch(files, [&](const std::filesystem::path& path) {
+    return run_prediction_study(load_push(path), study_options);
+  });
+  md << "# The same study over every real ABS push\n\n"
+     << real.results.size() << " of " << files.size() << " pushes predicted; the others are listed below with "
+     << "the reason. Means over all phases of the pushes of each shape.\n\n";
+  std::map<std::string, std::vector<PushStudy>> by_shape;
+  for (const auto& s : real.results) by_shape[shape_of(s.source)].push_back(s);
+  by_shape["all"] = real.results;
+  md << "| shape | pushes | method | x [mm] | y [mm] | yaw [deg] | final position [mm] | final yaw [deg] |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  for (const auto& [shape, studies] : by_shape) {
+    if (studies.empty()) continue;
+    const auto agg = aggregate_errors(studies);
+    for (const auto& name : studies.front().methods) {
+      const auto& e = agg.at(name);
+      md << "| " << shape << " | " << studies.size() << " | " << name << " | " << fmt("%.2f", e.x_mm_mean) << " | "
+         << fmt("%.2f", e.y_mm_mean) << " | " << fmt("%.2f", e.theta_deg_mean) << " | " << fmt("%.2f", e.final_pos_mm)
+         << " | " << fmt("%.2f", e.final_theta_deg) << " |\n";
+    }
+  }
+  md << "\nMean over phases of each phase's mean position error [mm] / yaw error [deg], per object and per pusher "
+        "speed:\n\n"
+     << grouped_errors_markdown(real.results);
+  if (!real.failures.empty()) {
+    md << "\nPushes left out:\n\n";
+    for (const auto& f : real.failures)
+      md << "- `" << std::filesystem::path(f.source).filename().string() << "`: " << f.reason << "\n";
+  }
+  md << "\n";
+  return real;
+}
+
+/// The plots gnuplot could not draw, and why.
+void write_plot_notes(std::ostream& md, const std::vector<std::string>& notes) {
   if (!notes.empty()) {
     md << "## Plots not drawn\n\n";
     for (const auto& n : notes) md << "- " << n << "\n";
   }
-  write_text_atomically(out.path("report.md"), md.str());
+}
 
+/// summary.json: every study (the cases, then the real pushes), their errors by group.
+void write_summary(const StagedOutput& out, const ReproductionResult& result, const StudyOptions& study_options,
+                   bool simulated) {
   Batch<PushStudy> all;
   all.results = result.cases;
   all.results.insert(all.results.end(), result.real.results.begin(), result.real.results.end());
@@ -440,6 +454,35 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
   summary["aggregate_by_group"] = groups;
   summary["paper_cases_simulated"] = simulated;
   write_text_atomically(out.path("summary.json"), summary.dump(2) + "\n");
+}
+
+}  // namespace
+
+ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOutput& out, std::ostream& log) {
+  if (!o.case_files.empty() && o.case_files.size() != 6)
+    throw InputError("reproduce: give six rect2 recordings for cases 1-6, or none to simulate them");
+  ReproductionResult result;
+  std::vector<std::string>& notes = result.plot_notes;
+  std::ostringstream md;
+  const bool simulated = o.case_files.empty();
+
+  std::vector<SynchronisedPush> pushes;
+  for (int n = 1; n <= 6; ++n) pushes.push_back(load_case(n, o, out, log));
+  const StudyOptions study_options = paper_study_options(o);
+  result.cases = study_cases(pushes, study_options);
+
+  write_introduction(md, study_options, simulated);
+  write_tables(md, pushes, simulated);
+  write_figures_2_and_4(md, pushes[0], out, notes);
+  write_figure_5(md, pushes, result.cases, study_options, out, notes);
+  write_figure_6(md, result.cases[0], pushes[0], study_options, out, notes);
+  write_figures_7_and_8(md, result.cases, out, notes);
+  write_figure_9(md, result.cases, out, notes);
+  write_claims(md, result.cases);
+  if (!o.data_folder.empty()) result.real = study_real_pushes(md, o.data_folder, study_options, log);
+  write_plot_notes(md, notes);
+  write_text_atomically(out.path("report.md"), md.str());
+  write_summary(out, result, study_options, simulated);
   return result;
 }
 

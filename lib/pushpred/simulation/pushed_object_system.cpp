@@ -159,7 +159,7 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
   return w;
 }
 
-void PushedObjectSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+void PushedObjectSystem::derivative(const IntegrationInterval&, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                                     Eigen::Ref<Eigen::VectorXd> xdot) const {
   const PlanarWrench support = support_wrench(x);
   const RodWrench rod = rod_wrench(t, x);

@@ -91,7 +91,8 @@ class PushedObjectSystem final : public ContinuousSystem {
                      const RodContact& contact, const PusherPath& path);
 
   int state_size() const override { return 6; }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+  /// The pusher path has no held inputs: `interval` is not used.
+  void derivative(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                   Eigen::Ref<Eigen::VectorXd> xdot) const override;
   /// Stiff: the rod's contact (1e4 N/m, 25 N s/m) and the friction regularised over 1e-5 m/s act in well under a
   /// millisecond: BDF (difference-quotient Jacobian).

@@ -77,6 +77,7 @@ IntegratorOptions::Method IntegratorOptions::resolved_for(const ContinuousSystem
 
 struct CvodeIntegrator::Impl {
   const ContinuousSystem* system = nullptr;  // the system of the solve under way (or the bound one)
+  IntegrationInterval interval;              // the jump-free interval being integrated, passed to the system
   IntegratorOptions options;                 // the bound system's
   IntegratorOptions::Method method;          // Bdf or Adams, fixed when CVODE's memory is created
   int n = 0;
@@ -108,7 +109,7 @@ struct CvodeIntegrator::Impl {
     try {
       const Eigen::Map<const Eigen::VectorXd> x(N_VGetArrayPointer(y), self->n);
       Eigen::Map<Eigen::VectorXd> xdot(N_VGetArrayPointer(ydot), self->n);
-      self->system->derivative(t, x, xdot);
+      self->system->derivative(self->interval, t, x, xdot);
       return xdot.allFinite() ? 0 : 1;  // recoverable: CVODE retries with a smaller step
     } catch (...) {
       self->callback_error = std::current_exception();
@@ -123,7 +124,7 @@ struct CvodeIntegrator::Impl {
       const Eigen::Map<const Eigen::VectorXd> x(N_VGetArrayPointer(y), self->n);
       // SUNDIALS dense matrices are column-major with leading dimension n, as Eigen's default.
       Eigen::Map<Eigen::MatrixXd> jac(SUNDenseMatrix_Data(J), self->n, self->n);
-      self->system->jacobian(t, x, jac);
+      self->system->jacobian(self->interval, t, x, jac);
       return 0;
     } catch (...) {
       self->callback_error = std::current_exception();
@@ -269,7 +270,7 @@ Eigen::MatrixXd CvodeIntegrator::solve(const ContinuousSystem& system, const Int
       m.add_counters();
       ++m.stats.reinitialisations;
     }
-    system.enter_interval(a, b);
+    m.interval = IntegrationInterval{a, b};
     m.check(CVodeReInit(mem, a, m.y.get()), "CVodeReInit", a);
     m.check(CVodeSetStopTime(mem, b), "CVodeSetStopTime", a);
     double t = a;

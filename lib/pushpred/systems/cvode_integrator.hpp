@@ -5,7 +5,8 @@
 // only re-initialises CVODE (CVodeReInit), so nothing is allocated per phase or per push (integrate() keeps one
 // integrator per thread and configuration). It stops at every discontinuity the system declares and
 // re-initialises there, so no step straddles a jump of a held input; a kink (a first-order-held input) is not a
-// jump and the integration goes on across it. CVODE failures become SolverError naming the CVODE flag and the time.
+// jump and the integration goes on across it. The interval being integrated is the integrator's state, passed to
+// the system with each right-hand side (IntegrationInterval, continuous_system.hpp); the system keeps none. CVODE failures become SolverError naming the CVODE flag and the time.
 //
 // Method: Adams with fixed-point iteration for a system that says it is not stiff (no Jacobian, no linear
 // algebra: a step costs a few right-hand sides), BDF with Newton iteration and the dense direct solver for a stiff

@@ -32,12 +32,12 @@ LinearSystem::LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, std::vector<Sam
   stiff_ = std::isfinite(shortest_s) ? fastest * shortest_s > 2.0 : fastest > 0;
 }
 
-void LinearSystem::derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+void LinearSystem::derivative(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                               Eigen::Ref<Eigen::VectorXd> xdot) const {
   Eigen::Index at = 0;
   for (const auto& in : inputs_) {
     auto u = u_.segment(at, in.channels());
-    if (interval_hi_ > interval_lo_) in.evaluate_within(t, interval_lo_, interval_hi_, u);
+    if (!interval.empty()) in.evaluate_within(t, interval.t0_s, interval.t1_s, u);
     else in.evaluate(t, u);
     at += in.channels();
   }
@@ -54,13 +54,9 @@ std::vector<double> LinearSystem::discontinuities(double t0, double t1) const {
   return all;  // the integrator sorts and merges
 }
 
-void LinearSystem::jacobian(double, const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::MatrixXd> J) const {
+void LinearSystem::jacobian(const IntegrationInterval&, double, const Eigen::Ref<const Eigen::VectorXd>&,
+                            Eigen::Ref<Eigen::MatrixXd> J) const {
   J = A_;
-}
-
-void LinearSystem::enter_interval(double t0, double t1) const {
-  interval_lo_ = t0;
-  interval_hi_ = t1;
 }
 
 LinearSystem double_integrator(const Eigen::VectorXd& inertia, SampledSignal force) {

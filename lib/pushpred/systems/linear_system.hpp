@@ -3,7 +3,9 @@
 // double integrator M r'' = F(t) built on it. Every continuous system of pushpred is of this kind, so CVODE
 // gets the exact Jacobian (A) and the jumps of zero-order-held inputs.
 //
-// The input buffer is mutable (derivative() must not allocate), so one system serves one integration at a time.
+// The system keeps no integration state (the interval being integrated comes with each call). Its only mutable
+// member is a scratch buffer for the stacked inputs, so that derivative() does not allocate: its value means
+// nothing between calls, but it makes one system usable by one thread at a time.
 #include <Eigen/Core>
 #include <vector>
 
@@ -22,16 +24,18 @@ class LinearSystem final : public ContinuousSystem {
   LinearSystem(Eigen::MatrixXd A, Eigen::MatrixXd B, std::vector<SampledSignal> inputs);
 
   int state_size() const override { return static_cast<int>(A_.rows()); }
-  void derivative(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> xdot) const override;
+  /// A x + B u(t), the zero-order-held inputs as held inside `interval`.
+  void derivative(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                  Eigen::Ref<Eigen::VectorXd> xdot) const override;
   /// Stiff when a step as long as the shortest input sample interval h would take the fastest eigenvalue of A
   /// outside where Adams is stable and its fixed-point iteration converges (|h lambda| > 2). The PID
   /// reconstruction's rotation (ld / I near 8000 1/s, 4 ms samples: |h lambda| = 32) is stiff; the Q-filter
   /// observer (|lambda| = wn = 300 rad/s: 1.2) and the double integrator (lambda = 0) are not.
   bool stiff() const override { return stiff_; }
   bool has_jacobian() const override { return true; }
-  void jacobian(double t, const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::MatrixXd> J) const override;
+  void jacobian(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                Eigen::Ref<Eigen::MatrixXd> J) const override;
   std::vector<double> discontinuities(double t0, double t1) const override;
-  void enter_interval(double t0, double t1) const override;
 
   const Eigen::MatrixXd& A() const { return A_; }
   const Eigen::MatrixXd& B() const { return B_; }
@@ -41,8 +45,8 @@ class LinearSystem final : public ContinuousSystem {
   Eigen::MatrixXd A_, B_;
   std::vector<SampledSignal> inputs_;
   bool stiff_ = true;
-  mutable Eigen::VectorXd u_;              // stacked inputs at the current derivative() call
-  mutable double interval_lo_ = 0, interval_hi_ = 0;  // the jump-free interval being integrated
+  // Scratch, not state: the stacked inputs inside one derivative() call, kept only so that it does not allocate.
+  mutable Eigen::VectorXd u_;
 };
 
 /// M r'' = F(t) per channel: states [r (n), r' (n)], input F (n channels, held as `force` is). `inertia` holds
