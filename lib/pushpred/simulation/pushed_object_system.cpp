@@ -7,6 +7,7 @@
 #include <string>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/nominal_inertia.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
@@ -18,8 +19,9 @@ Eigen::Matrix2d rotation(double yaw) { return Eigen::Rotation2Dd(yaw).toRotation
 
 ObjectProperties ObjectProperties::nominal(const ShapeInfo& shape) {
   ObjectProperties p;
-  p.mass_kg = shape.mass_kg;
-  p.inertia_kgm2 = shape.inertia_kgm2;
+  const Eigen::Vector3d inertia = nominal_inertia(shape);  // the choice every model makes (mechanics/)
+  p.mass_kg = inertia(0);
+  p.inertia_kgm2 = inertia(2);
   p.mass_centre_m = shape.centroid_m;
   return p;
 }
