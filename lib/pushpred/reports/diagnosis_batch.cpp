@@ -37,21 +37,6 @@ struct ObjectDone {
 
 // --- An object's outcome in a partial output: what the overview and the printed report read of it, exactly.
 
-nlohmann::json errors_exact(const ErrorSummary& e) {
-  return {e.phases,          num(e.pos_mm_mean),  num(e.x_mm_mean),         num(e.y_mm_mean),
-          num(e.theta_deg_mean), num(e.final_pos_mm), num(e.final_theta_deg)};
-}
-
-ErrorSummary errors_from(const nlohmann::json& j) {
-  if (!j.is_array() || j.size() != 7) throw InputError("an error summary does not hold 7 numbers");
-  ErrorSummary e;
-  e.phases = j[0].get<int>();
-  double* fields[] = {&e.pos_mm_mean, &e.x_mm_mean, &e.y_mm_mean, &e.theta_deg_mean, &e.final_pos_mm,
-                      &e.final_theta_deg};
-  for (std::size_t k = 0; k < 6; ++k) *fields[k] = exact_number(j[k + 1]);
-  return e;
-}
-
 nlohmann::json object_exact_json(const ObjectDone& d) {
   nlohmann::json j = {{"name", d.outcome.name},       {"pushes", d.outcome.pushes}, {"printed", d.printed},
                       {"complaints", d.complaints},   {"left_out", d.left_out},     {"error", d.outcome.error}};
@@ -68,8 +53,8 @@ nlohmann::json object_exact_json(const ObjectDone& d) {
                    {"surface", r.surface},
                    {"selected", selected},
                    {"errors",
-                    {errors_exact(r.error_before), errors_exact(r.error_base), errors_exact(r.error_after),
-                     errors_exact(r.hold), errors_exact(r.const_velocity), errors_exact(r.quasi_static)}}};
+                    {error_summary_exact_json(r.error_before), error_summary_exact_json(r.error_base), error_summary_exact_json(r.error_after),
+                     error_summary_exact_json(r.hold), error_summary_exact_json(r.const_velocity), error_summary_exact_json(r.quasi_static)}}};
   return j;
 }
 
@@ -96,12 +81,12 @@ ObjectDone object_from_exact_json(const nlohmann::json& j) {
     }
     const auto& errors = o.at("errors");
     if (!errors.is_array() || errors.size() != 6) throw InputError("an object does not hold 6 error summaries");
-    r.error_before = errors_from(errors[0]);
-    r.error_base = errors_from(errors[1]);
-    r.error_after = errors_from(errors[2]);
-    r.hold = errors_from(errors[3]);
-    r.const_velocity = errors_from(errors[4]);
-    r.quasi_static = errors_from(errors[5]);
+    r.error_before = error_summary_from_exact_json(errors[0]);
+    r.error_base = error_summary_from_exact_json(errors[1]);
+    r.error_after = error_summary_from_exact_json(errors[2]);
+    r.hold = error_summary_from_exact_json(errors[3]);
+    r.const_velocity = error_summary_from_exact_json(errors[4]);
+    r.quasi_static = error_summary_from_exact_json(errors[5]);
     d.outcome.result = std::move(r);
     return d;
   } catch (const nlohmann::json::exception& e) {

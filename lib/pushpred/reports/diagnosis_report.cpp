@@ -7,6 +7,8 @@
 #include <utility>
 #include <sstream>
 
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/shard.hpp"
 #include "pushpred/core/version.hpp"
 #include "pushpred/reports/plotting.hpp"
 
@@ -623,6 +625,27 @@ nlohmann::json diagnosis_overview_json(const std::vector<DiagnosisGroupOutcome>&
     out.push_back(j);
   }
   return {{"pushpred_version", kVersion}, {"objects", out}};
+}
+
+nlohmann::json error_summary_exact_json(const ErrorSummary& e) {
+  return {e.phases,
+          exact_number_json(e.pos_mm_mean),
+          exact_number_json(e.x_mm_mean),
+          exact_number_json(e.y_mm_mean),
+          exact_number_json(e.theta_deg_mean),
+          exact_number_json(e.final_pos_mm),
+          exact_number_json(e.final_theta_deg)};
+}
+
+ErrorSummary error_summary_from_exact_json(const nlohmann::json& j) {
+  if (!j.is_array()) throw InputError("an error summary is not an array of 7 numbers");
+  if (j.size() != 7) throw InputError("an error summary holds " + std::to_string(j.size()) + " numbers, not 7");
+  ErrorSummary e;
+  e.phases = j[0].get<int>();
+  double* fields[] = {&e.pos_mm_mean, &e.x_mm_mean, &e.y_mm_mean, &e.theta_deg_mean, &e.final_pos_mm,
+                      &e.final_theta_deg};
+  for (std::size_t k = 0; k < 6; ++k) *fields[k] = exact_number(j[k + 1]);
+  return e;
 }
 
 }  // namespace pushpred

@@ -9,32 +9,13 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/mpi_world.hpp"
+#include "pushpred/reports/diagnosis_report.hpp"
 #include "pushpred/reports/validation_report.hpp"
 
 namespace fs = std::filesystem;
 
 namespace pushpred {
 namespace {
-
-nlohmann::json errors_exact(const ErrorSummary& e) {
-  return {e.phases,
-          exact_number_json(e.pos_mm_mean),
-          exact_number_json(e.x_mm_mean),
-          exact_number_json(e.y_mm_mean),
-          exact_number_json(e.theta_deg_mean),
-          exact_number_json(e.final_pos_mm),
-          exact_number_json(e.final_theta_deg)};
-}
-
-ErrorSummary errors_from(const nlohmann::json& j) {
-  if (j.size() != 7) throw InputError("an error summary holds " + std::to_string(j.size()) + " numbers, not 7");
-  ErrorSummary e;
-  e.phases = j[0].get<int>();
-  double* fields[] = {&e.pos_mm_mean, &e.x_mm_mean, &e.y_mm_mean, &e.theta_deg_mean, &e.final_pos_mm,
-                      &e.final_theta_deg};
-  for (std::size_t k = 0; k < 6; ++k) *fields[k] = exact_number(j[k + 1]);
-  return e;
-}
 
 /// What the outputs read of the options and what tells two runs apart (--jobs changes nothing).
 nlohmann::json options_json(const ValidationOptions& o) {
@@ -128,8 +109,8 @@ nlohmann::json validation_trial_exact_json(const ValidationTrial& t) {
           {"true_floor", exact_number_json(t.true_floor)},
           {"true_note", t.true_note},
           {"errors",
-           {errors_exact(t.before), errors_exact(t.base), errors_exact(t.after), errors_exact(t.hold),
-            errors_exact(t.const_velocity), errors_exact(t.quasi_static)}},
+           {error_summary_exact_json(t.before), error_summary_exact_json(t.base), error_summary_exact_json(t.after), error_summary_exact_json(t.hold),
+            error_summary_exact_json(t.const_velocity), error_summary_exact_json(t.quasi_static)}},
           {"failure", t.failure}};
 }
 
@@ -160,12 +141,12 @@ ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
     t.true_note = j.at("true_note").get<std::string>();
     const auto& e = j.at("errors");
     if (e.size() != 6) throw InputError("a trial holds " + std::to_string(e.size()) + " error summaries, not 6");
-    t.before = errors_from(e[0]);
-    t.base = errors_from(e[1]);
-    t.after = errors_from(e[2]);
-    t.hold = errors_from(e[3]);
-    t.const_velocity = errors_from(e[4]);
-    t.quasi_static = errors_from(e[5]);
+    t.before = error_summary_from_exact_json(e[0]);
+    t.base = error_summary_from_exact_json(e[1]);
+    t.after = error_summary_from_exact_json(e[2]);
+    t.hold = error_summary_from_exact_json(e[3]);
+    t.const_velocity = error_summary_from_exact_json(e[4]);
+    t.quasi_static = error_summary_from_exact_json(e[5]);
     t.failure = j.at("failure").get<std::string>();
     return t;
   } catch (const nlohmann::json::exception& e) {
