@@ -114,6 +114,18 @@ void MpiWorld::abort(int code) const {
   std::exit(code);
 }
 
+void open_output_at_root(const MpiWorld& world, const std::string& out, std::optional<StagedOutput>& staged) {
+  const bool mpi = world.size() > 1;
+  if (mpi && !world.root()) return;
+  try {
+    staged.emplace(out);
+  } catch (const std::exception& e) {
+    if (!mpi) throw;
+    std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+    world.abort(2);
+  }
+}
+
 BatchRunOutcome merge_at_root(const MpiWorld& world, const nlohmann::json& manifest,
                               const std::map<std::string, std::string>& files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {

@@ -8,9 +8,11 @@
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "pushpred/core/output_files.hpp"
 #include "pushpred/core/shard.hpp"
 
 namespace pushpred {
@@ -46,6 +48,12 @@ class MpiWorld {
   int rank_ = 0, size_ = 1;
   bool initialised_ = false;
 };
+
+/// Opens a batch's output folder `out` into `staged`, first, so that a bad one fails before any work: on rank 0 only
+/// under mpirun (`staged` stays empty on the other ranks, which do not write), always in a plain run. A bad folder
+/// throws (InputError) in a plain run; under mpirun it is printed and stops every rank with exit code 2. (An output
+/// parameter: a StagedOutput cannot be moved.)
+void open_output_at_root(const MpiWorld& world, const std::string& out, std::optional<StagedOutput>& staged);
 
 /// Ends a batch run under mpirun: every rank's partial output (`manifest` and its `files`) is gathered at rank 0,
 /// which checks the parts as one batch (check_partial_outputs) and writes them with `write_merged`; the other ranks

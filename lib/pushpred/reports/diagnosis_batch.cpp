@@ -304,16 +304,8 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
     for (std::size_t i = 0; i < groups.size(); ++i) mine.push_back(i);
   }
 
-  std::optional<StagedOutput> out;  // under MPI only rank 0 writes; a bad folder there stops the whole job
-  if (speaks) {
-    try {
-      out.emplace(run.out);
-    } catch (const std::exception& e) {
-      if (!mpi) throw;
-      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
-      world.abort(2);
-    }
-  }
+  std::optional<StagedOutput> out;  // under MPI only rank 0 writes
+  open_output_at_root(world, run.out, out);
   std::optional<ScratchFolder> scratch;  // under MPI each rank's objects go through memory to rank 0
   if (mpi) scratch.emplace(world.rank());
   const auto folder_of = [&](const std::string& name) { return mpi ? scratch->path / name : out->path(name); };

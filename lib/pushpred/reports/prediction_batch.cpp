@@ -263,15 +263,7 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   // The output folder first, so that a bad one fails before any work (under MPI, only rank 0 writes; if its folder
   // is bad, it stops the whole job).
   std::optional<StagedOutput> out;
-  if (!mpi || world.root()) {
-    try {
-      out.emplace(run.out);
-    } catch (const std::exception& e) {
-      if (!mpi) throw;
-      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
-      world.abort(2);
-    }
-  }
+  open_output_at_root(world, run.out, out);
   std::optional<FileSink> sink;  // under MPI, in memory: every rank's files travel to rank 0 with its results
   if (mpi) sink.emplace();
   else sink.emplace(*out);

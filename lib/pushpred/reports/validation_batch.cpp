@@ -161,16 +161,8 @@ BatchRunOutcome run_validation(const ValidateRun& run) {
   if (mpi && run.shard)
     throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the trials already; use one or "
                      "the other");
-  std::optional<StagedOutput> out;  // checked before the long run; under MPI only rank 0 writes
-  if (!mpi || world.root()) {
-    try {
-      out.emplace(run.out);
-    } catch (const std::exception& e) {
-      if (!mpi) throw;
-      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
-      world.abort(2);
-    }
-  }
+  std::optional<StagedOutput> out;  // checked before the long run
+  open_output_at_root(world, run.out, out);
   if (!mpi && !run.shard)
     return write_validation_outputs(validate_diagnosis(run.options, progress_printer(run.progress)), *out);
 
