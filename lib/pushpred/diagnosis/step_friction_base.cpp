@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 #include "pushpred/diagnosis/effect_floor.hpp"
@@ -93,13 +94,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
       if (own.size() >= 3) {
         // Robust: 1.4826 x the median absolute deviation. A push that hardly slides gives a wild mu of its own
         // (seen on real pushes: a standard deviation of 2.8 around mu 0.35), which says nothing of the surface.
-        std::vector<double> sorted = own;
-        std::sort(sorted.begin(), sorted.end());
-        const double median = sorted[sorted.size() / 2];
-        std::vector<double> deviation;
-        for (double x : own) deviation.push_back(std::abs(x - median));
-        std::sort(deviation.begin(), deviation.end());
-        spread = 1.4826 * deviation[deviation.size() / 2];
+        spread = robust_spread(own);
       }
     }
   }

@@ -1,0 +1,27 @@
+#include "pushpred/core/robust_statistics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pushpred {
+
+double median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  const double upper = *middle;
+  if (values.size() % 2 != 0) return upper;
+  return 0.5 * (upper + *std::max_element(values.begin(), middle));
+}
+
+double robust_spread(const std::vector<double>& values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const double centre = median(values);
+  std::vector<double> deviation;
+  deviation.reserve(values.size());
+  for (double x : values) deviation.push_back(std::abs(x - centre));
+  return 1.4826 * median(std::move(deviation));
+}
+
+}  // namespace pushpred

@@ -1,0 +1,16 @@
+#pragma once
+// Robust location and scale of a small sample (per-push estimates, per-window means): the median and the median
+// absolute deviation resist the one wild value that a short or barely moving push gives.
+
+#include <vector>
+
+namespace pushpred {
+
+/// The middle value; the mean of the two middle values for an even count. NaN for an empty sample.
+double median(std::vector<double> values);
+
+/// 1.4826 x the median absolute deviation from the median: a normal distribution's standard deviation, estimated
+/// so that fewer than half the values can move it far. NaN for an empty sample.
+double robust_spread(const std::vector<double>& values);
+
+}  // namespace pushpred
