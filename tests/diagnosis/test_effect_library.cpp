@@ -70,6 +70,27 @@ BOOST_AUTO_TEST_CASE(two_pushes_whose_rest_forces_disagree_show_no_sensor_bias) 
   BOOST_TEST(!(f.score > DiagnosisOptions{}.bic_threshold));
 }
 
+BOOST_AUTO_TEST_CASE(drag_and_a_friction_gradient_matter_only_beyond_what_a_changed_mu_takes_up) {
+  // At one speed a drag is a changed mu, and a friction gradient's mean along the travel is one too: the floors
+  // count what is left. Speeds 20, 40, 60 mm/s spread by 20 mm/s about their mean: c >= kappa mu g / 0.02 m/s.
+  FloorContext c;
+  c.mass_kg = 1.0;
+  c.friction_coefficient = 0.4;
+  c.relevance_fraction = 0.05;
+  c.sliding_speed_m_s = 0.045;
+  c.travel_m = 0.03;
+  c.sliding_speeds_m_s = {0.02, 0.04, 0.06};
+  const auto drag = EffectLibrary::standard().find("viscous_friction");
+  BOOST_TEST(drag->floor(c).amount == 0.05 * 0.4 * 9.81 / 0.02, boost::test_tools::tolerance(1e-12));
+  // Without listed speeds, the typical speed.
+  FloorContext unlisted = c;
+  unlisted.sliding_speeds_m_s.clear();
+  BOOST_TEST(drag->floor(unlisted).amount == 0.05 * 0.4 * 9.81 / 0.045, boost::test_tools::tolerance(1e-12));
+  // A ramp g s over travels spread evenly over 0 to L = 30 mm: about its mean, RMS g L / sqrt(12) >= kappa.
+  const auto gradient = EffectLibrary::standard().find("position_friction");
+  BOOST_TEST(gradient->floor(c).amount == std::sqrt(12.0) * 0.05 / 0.03, boost::test_tools::tolerance(1e-12));
+}
+
 BOOST_AUTO_TEST_CASE(a_mass_centre_offset_beyond_half_the_radius_of_gyration_is_not_a_mass_centre_offset) {
   const auto com = EffectLibrary::standard().find("com_offset");
   FloorContext rect2;

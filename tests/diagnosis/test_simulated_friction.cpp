@@ -61,21 +61,48 @@ BOOST_AUTO_TEST_CASE(extra_friction_at_low_speed_is_diagnosed_as_stribeck_fricti
   check_held_out_error_drops(r);
 }
 
-BOOST_AUTO_TEST_CASE(a_friction_patch_on_the_way_is_diagnosed_as_position_friction) {
+namespace {
+
+/// Twelve pushes long enough to run onto a friction patch of relative excess drawn in [lo, hi] (seed 15).
+struct PatchCase {
+  double truth = 0;  ///< the friction gradient g [1/m] the patch gives on these pushes (simulated_truth.hpp)
+  DiagnosisResult result;
+};
+PatchCase diagnose_patch(double lo, double hi) {
   std::mt19937_64 rng(15);
-  const double amount = draw(rng, 0.5, 1.0);  // a patch of half as much again to twice the friction
+  const double amount = draw(rng, lo, hi);
   DrawRanges ranges;
   ranges.length_min_m = 0.04;  // long enough to run onto the patch
   ranges.length_max_m = 0.06;
   const auto scenarios = draw_scenarios(rng, 12, {{"position_friction", amount}}, ranges);
   std::vector<SynchronisedPush> pushes;
-  const double truth = pushpred::testing::position_friction_truth(scenarios, pushes);
-  const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
-  log_result(r);
-  check_only(r, {"position_friction"});
-  const EffectReport& e = report(r, "position_friction");
-  check_near(e.theta(0), e.theta_std(0), truth, 0.25, "g [1/m]");
-  check_held_out_error_drops(r);
+  PatchCase c;
+  c.truth = pushpred::testing::position_friction_truth(scenarios, pushes);
+  c.result = diagnose(pushes, EffectLibrary::standard(), fast_options());
+  log_result(c.result);
+  return c;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_friction_patch_on_the_way_is_diagnosed_as_position_friction) {
+  // Three to four times the friction on the patch (the validation's largest is four times).
+  const PatchCase c = diagnose_patch(2.0, 3.0);
+  check_only(c.result, {"position_friction"});
+  const EffectReport& e = report(c.result, "position_friction");
+  check_near(e.theta(0), e.theta_std(0), c.truth, 0.25, "g [1/m]");
+  check_held_out_error_drops(c.result);
+}
+
+BOOST_AUTO_TEST_CASE(a_mild_friction_patch_is_significant_but_negligible) {
+  // Half as much again to twice the friction on a 2 cm patch: the gradient is measured, but about its mean (which
+  // the base model's mu takes up) it changes the friction by less than kappa, so it is reported, not found.
+  const PatchCase c = diagnose_patch(0.5, 1.0);
+  check_only(c.result, {});
+  const EffectReport& e = report(c.result, "position_friction");
+  BOOST_TEST(e.passed_test);
+  BOOST_TEST(e.negligible);
+  check_near(e.theta(0), e.theta_std(0), c.truth, 0.25, "g [1/m]");
 }
 
 BOOST_AUTO_TEST_CASE(a_heavier_object_is_diagnosed_as_an_inertia_mismatch) {

@@ -386,9 +386,19 @@ class ForceOffsetEffect final : public CandidateEffect {
 };
 
 class ViscousFrictionEffect final : public CandidateEffect {
-  /// The drag c m v at the typical sliding speed against kappa mu m g: c >= kappa mu g / v.
+  /// The drag c m v against kappa mu m g, where the drag differs from what a changed mu gives: the base model's
+  /// Coulomb friction, fitted on the same data, takes up the drag at the data's mean speed (at one speed the two
+  /// are the same force), so only c m times the speeds' spread about their mean is left to matter:
+  /// c >= kappa mu g / sd(v). Without listed speeds, the typical (RMS) sliding speed: c >= kappa mu g / v.
   EffectFloor floor(const FloorContext& c) const override {
-    if (!(c.sliding_speed_m_s > 0) || !(c.friction_force_N() > 0)) return unknown_floor("the sliding speed");
+    if (!(c.friction_force_N() > 0)) return unknown_floor("the friction force");
+    const double spread = c.sliding_speed_spread_m_s();
+    if (spread > 0)
+      return {c.relevance_fraction * c.friction_coefficient * kStandardGravity_m_s2 / spread,
+              friction_basis(c) + printed(" at the spread of the sliding speeds about their mean, %.1f mm/s "
+                                          "(a changed mu takes up the drag at the mean speed)",
+                                          1e3 * spread)};
+    if (!(c.sliding_speed_m_s > 0)) return unknown_floor("the sliding speed");
     return {c.relevance_fraction * c.friction_coefficient * kStandardGravity_m_s2 / c.sliding_speed_m_s,
             friction_basis(c) + printed(" at the typical sliding speed %.1f mm/s", 1e3 * c.sliding_speed_m_s)};
   }
@@ -495,14 +505,19 @@ class StribeckFrictionEffect final : public FootprintFrictionLaw {
 
 class PositionFrictionEffect final : public FootprintFrictionLaw {
   double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
-  /// The relative friction change over the typical travel, g L, against kappa: g >= kappa / L. Not against the
-  /// push-to-push spread of mu: pushes that travel over different stretches of a changing friction each fit their
-  /// own mu, so that spread holds the effect itself (as for Stribeck friction).
+  /// The relative friction change g s along the travel, against kappa, where it differs from what a changed mu
+  /// gives: the base model's Coulomb friction, fitted on the same data, takes up its mean, so what is left to
+  /// matter is its spread about that mean, g L / sqrt(12) for travels spread evenly over 0 to the typical travel
+  /// L: g >= sqrt(12) kappa / L. Not against the push-to-push spread of mu: pushes that travel over different
+  /// stretches of a changing friction each fit their own mu, so that spread holds the effect itself (as for
+  /// Stribeck friction).
   EffectFloor floor(const FloorContext& c) const override {
     if (!(c.travel_m > 0) || !(c.friction_coefficient > 0)) return unknown_floor("the travel");
-    const double share = c.relevance_fraction;
-    return {share / c.travel_m, printed("a friction change of %.0f %% over the typical travel %.1f mm", 100 * share,
-                                        1e3 * c.travel_m)};
+    const double change = std::sqrt(12.0) * c.relevance_fraction;
+    return {change / c.travel_m,
+            printed("a friction change of %.0f %% over the typical travel %.1f mm (%.0f %% about its mean, which a "
+                    "changed mu takes up)",
+                    100 * change, 1e3 * c.travel_m, 100 * c.relevance_fraction)};
   }
  public:
   std::string implausible(const Eigen::VectorXd& theta) const override {

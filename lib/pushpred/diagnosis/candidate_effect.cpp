@@ -18,6 +18,17 @@ double FloorContext::low_speed_exposure(double v_s) const {
   return std::sqrt(sum / static_cast<double>(sliding_speeds_m_s.size()));
 }
 
+double FloorContext::sliding_speed_spread_m_s() const {
+  const std::size_t n = sliding_speeds_m_s.size();
+  if (n < 2) return 0.0;
+  double mean = 0;
+  for (double v : sliding_speeds_m_s) mean += v;
+  mean /= static_cast<double>(n);
+  double sum = 0;
+  for (double v : sliding_speeds_m_s) sum += (v - mean) * (v - mean);
+  return std::sqrt(sum / static_cast<double>(n - 1));
+}
+
 const char* effect_test_name(EffectTest test) {
   switch (test) {
     case EffectTest::Regression: return "regression";

@@ -168,6 +168,9 @@ struct FloorContext {
   /// RMS over the sliding speeds of exp(-(v / v_s)^2), the share of a low-speed (Stribeck) term that acts on the
   /// data; zero when no speeds are listed.
   double low_speed_exposure(double v_s_m_s) const;
+  /// Standard deviation of the sliding speeds about their mean [m/s] (0 with fewer than two listed): how far the
+  /// data's speeds vary, which is what tells a speed-dependent force from a changed mu.
+  double sliding_speed_spread_m_s() const;
 };
 
 /// The smallest amount of an effect that matters, in the unit of CandidateEffect::amount(), and why.

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/simulator.hpp"
@@ -93,6 +94,9 @@ FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, 
 
 /// The largest Stribeck excess drawn (relative to mu): static friction twice the sliding friction.
 constexpr double kMaxStribeckExcess = 1.0;
+/// The friction patch's largest relative excess: four times the support's friction on it (rubber on a plastic
+/// table, mu about 1, against the validation's 0.2-0.6).
+constexpr double kMaxPatchExcess = 3.0;
 /// Rounds of the floor's fixed point for friction laws (draw_validation_trial).
 constexpr int kFloorRounds = 4;
 
@@ -225,10 +229,17 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     // floor is large (an object that hardly accelerates) the drawn multiple of the floor is then smaller. Friction at
     // rest at most twice the sliding friction (a Stribeck excess of 1): where the pushes spend too little time at low
     // speed for the term to matter below that, the drawn multiple is smaller, below 2 floors or below 1, and the
-    // trial is not one the detection target counts.
+    // trial is not one the detection target counts. Likewise a drag at most the support's friction at the pushes'
+    // typical speed (c <= mu g / v), and a patch with at most four times the support's friction.
+    const double typical_speed_m_s = scenario_floor_context(out, o.diagnosis.relevance_fraction).sliding_speed_m_s;
+    const double max_drag_1_s = typical_speed_m_s > 0
+                                    ? trial.surface_friction * kStandardGravity_m_s2 / typical_speed_m_s
+                                    : std::numeric_limits<double>::infinity();
     const auto capped = [&](double size) {
       if (kind == "inertia_mismatch") return std::min(size, sign < 0 ? 0.5 : 3.0);
       if (kind == "stribeck_friction") return std::min(size, kMaxStribeckExcess);
+      if (kind == "viscous_friction") return std::min(size, max_drag_1_s);
+      if (kind == "position_friction") return std::min(size, kMaxPatchExcess);
       return size;
     };
     double size = capped(std::isfinite(trial.floor) ? trial.floor_multiple * trial.floor : kMaxStribeckExcess);
