@@ -3,11 +3,13 @@
 // pushed object moving and stops it when the push ends.
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <limits>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/corrected_prediction.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
+#include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "test_support.hpp"
 
@@ -89,6 +91,21 @@ BOOST_AUTO_TEST_CASE(drag_and_a_friction_gradient_matter_only_beyond_what_a_chan
   // A ramp g s over travels spread evenly over 0 to L = 30 mm: about its mean, RMS g L / sqrt(12) >= kappa.
   const auto gradient = EffectLibrary::standard().find("position_friction");
   BOOST_TEST(gradient->floor(c).amount == std::sqrt(12.0) * 0.05 / 0.03, boost::test_tools::tolerance(1e-12));
+}
+
+BOOST_AUTO_TEST_CASE(a_significant_term_without_a_floor_is_not_called_negligible) {
+  // A force offset whose floor could not be stated (no friction force measured) is not found, and the note says
+  // that no floor weighed it, not that 0.87 N is "below" an infinite floor.
+  EffectReport r;
+  r.amount = 0.869;
+  r.amount_unit = "N";
+  r.floor = {std::numeric_limits<double>::infinity(), "no floor: the friction force unknown"};
+  const std::string note = negligible_note(r);
+  BOOST_TEST(note.find("below its floor") == std::string::npos, note);
+  BOOST_TEST(note.find("no floor to weigh it against (no floor: the friction force unknown)") != std::string::npos, note);
+  r.floor = {0.22, "5 % of the friction force"};
+  BOOST_TEST(negligible_note(r).rfind("significant, negligible: 0.869 N is below its floor 0.22 N", 0) == 0u,
+             negligible_note(r));
 }
 
 BOOST_AUTO_TEST_CASE(a_mass_centre_offset_beyond_half_the_radius_of_gyration_is_not_a_mass_centre_offset) {

@@ -21,6 +21,11 @@ std::string diagnosis_format(const char* fmt, double a, double b, double c) {
 }
 
 std::string negligible_note(const EffectReport& r, const std::string& when) {
+  // An unknown floor (a quantity it needs was not measured) is infinite, so nothing is found on it; saying the
+  // amount is "below" it would call a term negligible that no one could size.
+  if (!std::isfinite(r.floor.amount))
+    return "significant, but not found" + when + ": " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit +
+           " with no floor to weigh it against (" + r.floor.basis + ")";
   return "significant, negligible" + when + ": " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit +
          " is below its floor " + diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit + " (" +
          r.floor.basis + ")";
