@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
 namespace {
@@ -75,7 +76,8 @@ struct KinematicResidual {
   }
 };
 
-/// One sliding sample's wrench on the ellipsoidal limit surface: sqrt(|f|^2 + (m / c)^2) = mu_s m g, m about the CoF.
+/// One sliding sample's wrench on the ellipsoidal limit surface (mechanics/support_friction.hpp):
+/// sqrt(|f|^2 + (m / c)^2) = mu_s m g, m about the CoF.
 struct ForceResidual {
   Eigen::Vector2d force, centroid;
   double torque_about_centre = 0, yaw = 0, weight = 0, sigma = 1;
@@ -83,8 +85,8 @@ struct ForceResidual {
   bool operator()(const T* c, const T* mu_s, const T* delta, T* r) const {
     const T bx = T(centroid.x()) + delta[0], by = T(centroid.y()) + delta[1];
     const T ax = std::cos(yaw) * bx - std::sin(yaw) * by, ay = std::sin(yaw) * bx + std::cos(yaw) * by;
-    const T m = (T(torque_about_centre) - (ax * T(force.y()) - ay * T(force.x()))) / c[0];
-    r[0] = (ceres::sqrt(T(force.squaredNorm()) + m * m) - mu_s[0] * T(weight)) / T(sigma);
+    const T m = T(torque_about_centre) - (ax * T(force.y()) - ay * T(force.x()));
+    r[0] = (ellipsoidal_limit_surface_force(T(force.x()), T(force.y()), m, c[0]) - mu_s[0] * T(weight)) / T(sigma);
     return true;
   }
 };

@@ -145,9 +145,9 @@ void QuasiStaticPushSystem::derivative(const IntegrationInterval& interval, doub
   const double omega = x(5);
   const double c = p_.torque_ratio_m;
   const double F = p_.support_friction * object_.mass_kg * p_.gravity_m_s2;
-  const double s = std::sqrt(v.squaredNorm() + c * c * omega * omega + p_.creep_speed_m_s * p_.creep_speed_m_s);
-  Eigen::Vector2d free_acceleration = -(F / (s * object_.mass_kg)) * v;
-  double free_angular = -(F * c * c / (s * object_.inertia_kgm2)) * omega;
+  const Eigen::Vector3d friction = ellipsoidal_limit_surface_wrench(v, omega, F, c, p_.creep_speed_m_s);
+  Eigen::Vector2d free_acceleration = friction.head<2>() / object_.mass_kg;
+  double free_angular = friction(2) / object_.inertia_kgm2;
   const double w = push.weight;
   const Eigen::Vector2d cof_arm = Eigen::Rotation2Dd(x(2)) * object_.centre_of_friction_m;
   xdot.head<2>() = v - omega * perp(cof_arm);
@@ -156,8 +156,9 @@ void QuasiStaticPushSystem::derivative(const IntegrationInterval& interval, doub
     state << x.head<3>(), xdot.head<2>(), omega;  // the tracked centre's pose and twist
     Eigen::Vector3d generalized = Eigen::Vector3d::Zero();
     for (const auto& term : object_.free_slide_terms) term->add(interval, t, state, Eigen::Vector3d::Zero(), generalized);
-    const double raw = std::sqrt(v.squaredNorm() + c * c * omega * omega);
-    generalized *= raw / s;
+    // Each term fades as the limit surface's friction does: by s / sqrt(s^2 + eps^2).
+    generalized *= limit_surface_sliding_speed(v, omega, c, 0.0) /
+                   limit_surface_sliding_speed(v, omega, c, p_.creep_speed_m_s);
     free_acceleration = generalized.head<2>() / object_.mass_kg;
     free_angular = generalized(2) / object_.inertia_kgm2;
   }
