@@ -41,31 +41,7 @@ const char* contact_mode_name(ContactMode mode) {
 
 QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& rc, const Eigen::Vector2d& n, const Eigen::Vector2d& vp,
                                       double mu_p, double c) {
-  QuasiStaticMotion m;
-  const double normal_speed = n.dot(vp);
-  if (!(normal_speed > 0)) return m;
-  const Eigen::Vector2d rp = perp(rc);
-  const double c2 = c * c;
-  // A^-1 = I - rp rp^T / (c^2 + |rp|^2) (Sherman-Morrison).
-  const Eigen::Vector2d f = vp - rp * (rp.dot(vp) / (c2 + rp.squaredNorm()));
-  const Eigen::Vector2d t = perp(n);
-  const double fn = f.dot(n), ft = f.dot(t);
-  if (fn > 0 && std::abs(ft) <= mu_p * fn) {
-    m.velocity_m_s = f;
-    m.omega_rad_s = rp.dot(f) / c2;
-    m.mode = ContactMode::Sticking;
-    return m;
-  }
-  const double s = ft >= 0 ? 1.0 : -1.0;
-  const Eigen::Vector2d fe = n + s * mu_p * t;
-  const Eigen::Vector2d contact_rate = fe + rp * (rp.dot(fe) / c2);  // A f_e
-  const double normal_rate = n.dot(contact_rate);
-  if (!(normal_rate > 1e-12)) return m;  // the edge cannot push this way (not for convex contact geometry)
-  const double k = normal_speed / normal_rate;
-  m.velocity_m_s = k * fe;
-  m.omega_rad_s = k * rp.dot(fe) / c2;
-  m.mode = s > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight;
-  return m;
+  return quasi_static_motion_of<double>(rc, n, vp, mu_p, c);
 }
 
 PlannedTipPath::PlannedTipPath(PlannedTipVelocity velocity, const Eigen::Vector2d& start)
