@@ -113,4 +113,29 @@ BOOST_AUTO_TEST_CASE(the_unregularised_integral_gives_the_full_force_and_nothing
                  .norm() == 0.0);
 }
 
+BOOST_AUTO_TEST_CASE(the_ellipsoidal_limit_surface_in_closed_forms) {
+  // v = (3, 4), c = 2, omega = 6, eps = 0: s = sqrt(25 + 144) = 13, so (f, m) = -F (3, 4, c^2 omega = 24) / 13.
+  const Eigen::Vector3d w = ellipsoidal_limit_surface_wrench(Eigen::Vector2d(3, 4), 6.0, 13.0, 2.0, 0.0);
+  BOOST_TEST(w(0) == -3.0, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(w(1) == -4.0, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(w(2) == -24.0, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(limit_surface_sliding_speed(Eigen::Vector2d(3, 4), 6.0, 2.0, 0.0) == 13.0,
+             boost::test_tools::tolerance(1e-15));
+  // The regularisation adds eps^2 under the root: 169 + 7056 = 85^2 with eps = 84.
+  BOOST_TEST(limit_surface_sliding_speed(Eigen::Vector2d(3, 4), 6.0, 2.0, 84.0) == 85.0,
+             boost::test_tools::tolerance(1e-15));
+  const Eigen::Vector3d soft = ellipsoidal_limit_surface_wrench(Eigen::Vector2d(3, 4), 6.0, 85.0, 2.0, 84.0);
+  BOOST_TEST(soft(2) == -24.0, boost::test_tools::tolerance(1e-15));
+  // Unregularised, the wrench lies on the surface |f|^2 + (m / c)^2 = F^2, whatever the twist: 9 + 16 + 144 = 169.
+  BOOST_TEST(ellipsoidal_limit_surface_force(w(0), w(1), w(2), 2.0) == 13.0, boost::test_tools::tolerance(1e-15));
+  const Eigen::Vector3d spin = ellipsoidal_limit_surface_wrench(Eigen::Vector2d(0, 0), -0.5, 7.0, 0.04, 0.0);
+  BOOST_TEST(std::abs(spin(0)) == 0.0);
+  BOOST_TEST(spin(2) == 7.0 * 0.04, boost::test_tools::tolerance(1e-15));  // pure turning: the largest torque, c F
+  // c = 0 is Coulomb friction on the whole body: the point law, and no torque.
+  const Eigen::Vector3d coulomb = ellipsoidal_limit_surface_wrench(Eigen::Vector2d(3, 4), 6.0, 2.0, 0.0, 12.0);
+  BOOST_TEST(coulomb(0) == -6.0 / 13.0, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(coulomb(1) == -8.0 / 13.0, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(coulomb(2) == 0.0);
+}
+
 BOOST_AUTO_TEST_SUITE_END()

@@ -2,6 +2,7 @@
 // physics (distributed Coulomb support friction, compliant rod with Coulomb contact friction).
 #include <Eigen/Geometry>
 #include <boost/test/unit_test.hpp>
+#include <ceres/jet.h>
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
@@ -105,6 +106,48 @@ BOOST_AUTO_TEST_CASE(a_push_inside_the_friction_cone_sticks_and_the_contact_move
     BOOST_TEST_REQUIRE((m.mode == ContactMode::Sticking));
     const Eigen::Vector2d contact_velocity = m.velocity_m_s + m.omega_rad_s * perp(rc);
     BOOST_TEST((contact_velocity - vp).norm() < 1e-12);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(the_motions_derivatives_for_the_identification_match_difference_quotients) {
+  // The identification differentiates quasi_static_motion_of with Ceres' Jets (mu_p, c and rc); in each mode the
+  // exact derivative must agree with central differences of the double version, and the values with its values.
+  using Jet = ceres::Jet<double, 4>;
+  const Eigen::Vector2d n(1, 0);
+  const double mu = 0.25, c = 0.035;
+  struct Case {
+    Eigen::Vector2d rc, vp;
+    ContactMode mode;
+  };
+  const Case cases[] = {{Eigen::Vector2d(-0.045, 0.004), Eigen::Vector2d(0.05, 0.002), ContactMode::Sticking},
+                        {Eigen::Vector2d(-0.045, 0.01), Eigen::Vector2d(0.025, 0.043), ContactMode::SlidingLeft},
+                        {Eigen::Vector2d(-0.045, 0.01), Eigen::Vector2d(0.025, -0.043), ContactMode::SlidingRight}};
+  for (const Case& k : cases) {
+    const QuasiStaticMotion plain = quasi_static_motion(k.rc, n, k.vp, mu, c);
+    BOOST_TEST_REQUIRE((plain.mode == k.mode));
+    const Eigen::Matrix<Jet, 2, 1> rc(Jet(k.rc.x(), 2), Jet(k.rc.y(), 3));
+    const BasicQuasiStaticMotion<Jet> jet = quasi_static_motion_of<Jet>(rc, n, k.vp, Jet(mu, 0), Jet(c, 1));
+    BOOST_TEST((jet.mode == k.mode));
+    // The values to rounding: a Jet divides by multiplying with the inverse.
+    const Eigen::Vector3d value(jet.velocity_m_s.x().a, jet.velocity_m_s.y().a, jet.omega_rad_s.a);
+    const Eigen::Vector3d expected(plain.velocity_m_s.x(), plain.velocity_m_s.y(), plain.omega_rad_s);
+    BOOST_TEST((value - expected).norm() <= 1e-14 * expected.norm());
+    const auto motion = [&](const Eigen::Vector4d& q) {
+      const QuasiStaticMotion m = quasi_static_motion(q.tail<2>(), n, k.vp, q(0), q(1));
+      return Eigen::Vector3d(m.velocity_m_s.x(), m.velocity_m_s.y(), m.omega_rad_s);
+    };
+    const Eigen::Vector4d q0(mu, c, k.rc.x(), k.rc.y());
+    for (int j = 0; j < 4; ++j) {
+      const double h = 1e-6 * std::abs(q0(j));
+      Eigen::Vector4d up = q0, down = q0;
+      up(j) += h;
+      down(j) -= h;
+      const Eigen::Vector3d quotient = (motion(up) - motion(down)) / (2 * h);
+      const Eigen::Vector3d exact(jet.velocity_m_s.x().v(j), jet.velocity_m_s.y().v(j), jet.omega_rad_s.v(j));
+      BOOST_TEST((exact - quotient).norm() <= 1e-6 * std::max(1.0, quotient.norm()),
+                 "mode " << contact_mode_name(k.mode) << ", parameter " << j << ": " << exact.transpose() << " vs "
+                         << quotient.transpose());
+    }
   }
 }
 

@@ -39,6 +39,43 @@ inline Eigen::Vector2d regularised_coulomb_force(const Eigen::Vector2d& velocity
            std::sqrt(velocity_m_s.squaredNorm() + regularisation_m_s * regularisation_m_s)) * velocity_m_s;
 }
 
+/// The surface's sliding speed s = sqrt(|v|^2 + c^2 omega^2 + eps^2) [m/s] of ellipsoidal_limit_surface_wrench below
+/// (eps = 0: the twist's own speed on the surface).
+inline double limit_surface_sliding_speed(const Eigen::Vector2d& velocity_m_s, double omega_rad_s,
+                                          double torque_ratio_m, double regularisation_m_s) {
+  const double c2 = torque_ratio_m * torque_ratio_m;
+  return std::sqrt(velocity_m_s.squaredNorm() + c2 * omega_rad_s * omega_rad_s +
+                   regularisation_m_s * regularisation_m_s);
+}
+
+/// The ellipsoidal limit surface (Lee & Cutkosky 1991; Howe & Cutkosky 1996): the support's friction wrench on an
+/// object sliding with velocity `velocity_m_s` (v, of the centre of friction) and yaw rate `omega_rad_s`, for the
+/// largest friction force F = mu N `sliding_force_N` [N] and the ratio c `torque_ratio_m` [m] of the largest
+/// torque about the centre of friction to F:
+///     f = -F v / s,   m = -F c^2 omega / s,   s = sqrt(|v|^2 + c^2 omega^2 + eps^2),
+/// eps = `regularisation_m_s`. The wrench lies on |f|^2 + (m / c)^2 = F^2 (up to the regularisation) with the twist
+/// normal to it. For c = 0 it is regularised_coulomb_force on the whole body (no torque). Returns [f_x [N], f_y [N],
+/// m [N m]] in the twist's frame. The one formula of the prediction model's Coulomb term, the quasi-static model's
+/// slide to rest and (to come) the diagnosis's limit-surface friction.
+inline Eigen::Vector3d ellipsoidal_limit_surface_wrench(const Eigen::Vector2d& velocity_m_s, double omega_rad_s,
+                                                        double sliding_force_N, double torque_ratio_m,
+                                                        double regularisation_m_s) {
+  const double k =
+      sliding_force_N / limit_surface_sliding_speed(velocity_m_s, omega_rad_s, torque_ratio_m, regularisation_m_s);
+  return {-k * velocity_m_s.x(), -k * velocity_m_s.y(), -k * (torque_ratio_m * torque_ratio_m) * omega_rad_s};
+}
+
+/// The largest friction force F [N] of the ellipsoidal limit surface of ratio `torque_ratio_m` (c) through the
+/// wrench (f, m): sqrt(|f|^2 + (m / c)^2), m about the centre of friction. A quasi-statically sliding object is
+/// held by a wrench on the surface, so this is mu N there. T: double or an automatic-differentiation scalar
+/// (ceres::Jet, found by argument-dependent lookup of sqrt).
+template <class T>
+T ellipsoidal_limit_surface_force(const T& force_x_N, const T& force_y_N, const T& moment_Nm, const T& torque_ratio_m) {
+  using std::sqrt;
+  const T m = moment_Nm / torque_ratio_m;
+  return sqrt(force_x_N * force_x_N + force_y_N * force_y_N + m * m);
+}
+
 /// The regularised Coulomb friction of `element_count` footprint elements, summed: element i is at
 /// offset_m(i) (an Eigen::Vector2d) from the reference point, which moves at `velocity_m_s` while the body turns
 /// at `omega_rad_s`; it slides at v_i = v + omega x r_i and carries the friction force magnitude

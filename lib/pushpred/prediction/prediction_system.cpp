@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
 
@@ -27,13 +28,10 @@ void PredictionSystem::derivative(const IntegrationInterval& interval, double t,
   plan_.signal.evaluate_within(t, interval.t0_s, interval.t1_s, u);
   Eigen::Vector3d f = u + model_.beta.cwiseProduct(u) + model_.eps;
   if (model_.coulomb_force_N > 0) {
-    // The regularised Coulomb law of mechanics/support_friction.hpp on the whole body, written out rather than
-    // called: |v| comes from std::hypot here, whose square differs from |v|^2 in the last bit, and
-    // regularised_coulomb_force would move the `simple` baseline's predictions in the 9th digit.
-    const double speed = std::hypot(x(3), x(4));
-    const double scale = model_.coulomb_force_N / std::sqrt(speed * speed + std::pow(model_.coulomb_speed_scale_m_s, 2));
-    f(0) -= scale * x(3);
-    f(1) -= scale * x(4);
+    // Whole-body Coulomb friction: the ellipsoidal limit surface with c = 0 (a force against the velocity, no torque).
+    f.head<2>() += ellipsoidal_limit_surface_wrench(x.segment<2>(3), 0.0, model_.coulomb_force_N, 0.0,
+                                                    model_.coulomb_speed_scale_m_s)
+                       .head<2>();
   }
   if (!model_.extra_terms.empty()) {
     const PlanarState s = x;

@@ -40,8 +40,8 @@ struct PredictionModel {
   Eigen::Vector3d beta = Eigen::Vector3d::Zero();  ///< per channel [-]
   Eigen::Vector3d eps = Eigen::Vector3d::Zero();   ///< per channel [N, N, N m]
   /// Coulomb friction of magnitude coulomb_force_N opposing the translational velocity (0: none). Regularised
-  /// as v / sqrt(|v|^2 + coulomb_speed_scale^2) (mechanics/support_friction.hpp) so the dynamics stay smooth; at
-  /// rest it vanishes and the object starts moving only where the applied force points.
+  /// as v / sqrt(|v|^2 + coulomb_speed_scale^2) (ellipsoidal_limit_surface_wrench with c = 0,
+  /// mechanics/support_friction.hpp) so the dynamics stay smooth; at rest it vanishes and the object starts moving only where the applied force points.
   double coulomb_force_N = 0;
   double coulomb_speed_scale_m_s = 1e-3;
   std::vector<std::shared_ptr<const GeneralizedForceTerm>> extra_terms;

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
 namespace {
@@ -60,31 +61,50 @@ double median(std::vector<double> v) {
 }
 
 /// One contact sample's kinematics: the measured twist against the quasi-static motion, for (mu_p, c, delta) with
-/// delta the CoF's offset from the shape table's centroid (body frame).
+/// delta the CoF's offset from the shape table's centroid (body frame). Differentiated automatically
+/// (quasi_static_motion_of): difference quotients took five evaluations of the motion per sample and Jacobian.
 struct KinematicResidual {
   Eigen::Vector2d point_from_centre, n, tip_velocity, centre_velocity, centroid;
-  double yaw = 0, omega = 0, c0 = 0, sigma = 1;
-  bool operator()(const double* mu_p, const double* c, const double* delta, double* r) const {
-    const Eigen::Vector2d arm = Eigen::Rotation2Dd(yaw) * (centroid + Eigen::Vector2d(delta[0], delta[1]));
-    const Eigen::Vector2d velocity = centre_velocity + omega * perp(arm);
-    const QuasiStaticMotion m = quasi_static_motion(point_from_centre - arm, n, tip_velocity, mu_p[0], c[0]);
-    r[0] = (velocity.x() - m.velocity_m_s.x()) / sigma;
-    r[1] = (velocity.y() - m.velocity_m_s.y()) / sigma;
+  Eigen::Matrix2d rotation;  ///< R(yaw), body to world
+  double omega = 0, c0 = 0, sigma = 1;
+  template <typename T>
+  bool operator()(const T* mu_p, const T* c, const T* delta, T* r) const {
+    const T bx = centroid.x() + delta[0], by = centroid.y() + delta[1];
+    const T ax = rotation(0, 0) * bx + rotation(0, 1) * by, ay = rotation(1, 0) * bx + rotation(1, 1) * by;
+    const Eigen::Matrix<T, 2, 1> contact_from_cof(point_from_centre.x() - ax, point_from_centre.y() - ay);
+    const BasicQuasiStaticMotion<T> m = quasi_static_motion_of<T>(contact_from_cof, n, tip_velocity, mu_p[0], c[0]);
+    r[0] = (centre_velocity.x() - omega * ay - m.velocity_m_s.x()) / sigma;
+    r[1] = (centre_velocity.y() + omega * ax - m.velocity_m_s.y()) / sigma;
     r[2] = c0 * (omega - m.omega_rad_s) / sigma;
     return true;
   }
 };
 
-/// One sliding sample's wrench on the ellipsoidal limit surface: sqrt(|f|^2 + (m / c)^2) = mu_s m g, m about the CoF.
+/// A residual with the CoF at the shape table's centroid (delta = 0, not a parameter): the default, where the offset
+/// is not identified. The same values as Residual's with delta held at zero, with a smaller Jet and one parameter
+/// block fewer per sample.
+template <class Residual>
+struct AtCentroid {
+  Residual residual;
+  template <typename T>
+  bool operator()(const T* a, const T* b, T* r) const {
+    const T zero[2] = {T(0), T(0)};
+    return residual(a, b, zero, r);
+  }
+};
+
+/// One sliding sample's wrench on the ellipsoidal limit surface (mechanics/support_friction.hpp):
+/// sqrt(|f|^2 + (m / c)^2) = mu_s m g, m about the CoF.
 struct ForceResidual {
   Eigen::Vector2d force, centroid;
-  double torque_about_centre = 0, yaw = 0, weight = 0, sigma = 1;
+  Eigen::Matrix2d rotation;  ///< R(yaw), body to world
+  double torque_about_centre = 0, weight = 0, sigma = 1;
   template <typename T>
   bool operator()(const T* c, const T* mu_s, const T* delta, T* r) const {
     const T bx = T(centroid.x()) + delta[0], by = T(centroid.y()) + delta[1];
-    const T ax = std::cos(yaw) * bx - std::sin(yaw) * by, ay = std::sin(yaw) * bx + std::cos(yaw) * by;
-    const T m = (T(torque_about_centre) - (ax * T(force.y()) - ay * T(force.x()))) / c[0];
-    r[0] = (ceres::sqrt(T(force.squaredNorm()) + m * m) - mu_s[0] * T(weight)) / T(sigma);
+    const T ax = rotation(0, 0) * bx + rotation(0, 1) * by, ay = rotation(1, 0) * bx + rotation(1, 1) * by;
+    const T m = T(torque_about_centre) - (ax * T(force.y()) - ay * T(force.x()));
+    r[0] = (ellipsoidal_limit_surface_force(T(force.x()), T(force.y()), m, c[0]) - mu_s[0] * T(weight)) / T(sigma);
     return true;
   }
 };
@@ -359,19 +379,38 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
   problem.AddParameterBlock(&mu_s, 1);
   double delta[2] = {0, 0};
   problem.AddParameterBlock(delta, 2);
-  if (!options_.use_prior || !(options_.prior_centre_offset_std_m > 0)) problem.SetParameterBlockConstant(delta);
+  const bool centre_fixed = !options_.use_prior || !(options_.prior_centre_offset_std_m > 0);
+  if (centre_fixed) problem.SetParameterBlockConstant(delta);
   for (const Sample& s : samples_) {
     if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
-    auto* k = new KinematicResidual{s.point_from_centre_m, s.inward_normal, s.tip_velocity_m_s, s.centre_velocity_m_s,
-                                    push.shape.centroid_m, s.yaw_rad, s.omega_rad_s, c0, options_.velocity_noise_m_s};
-    problem.AddResidualBlock(new ceres::NumericDiffCostFunction<KinematicResidual, ceres::CENTRAL, 3, 1, 1, 2>(k),
-                             new ceres::HuberLoss(1.0), &mu_p, &c, delta);
+    const KinematicResidual k{s.point_from_centre_m,
+                              s.inward_normal,
+                              s.tip_velocity_m_s,
+                              s.centre_velocity_m_s,
+                              push.shape.centroid_m,
+                              Eigen::Rotation2Dd(s.yaw_rad).toRotationMatrix(),
+                              s.omega_rad_s,
+                              c0,
+                              options_.velocity_noise_m_s};
+    if (centre_fixed) {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AtCentroid<KinematicResidual>, 3, 1, 1>(
+                                   new AtCentroid<KinematicResidual>{k}),
+                               new ceres::HuberLoss(1.0), &mu_p, &c);
+    } else {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<KinematicResidual, 3, 1, 1, 2>(new KinematicResidual(k)),
+                               new ceres::HuberLoss(1.0), &mu_p, &c, delta);
+    }
     ++id.kinematic_samples;
     if (s.moving) {
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1, 2>(
-                                   new ForceResidual{s.force_vector_N, push.shape.centroid_m, s.torque_about_centre_Nm,
-                                                     s.yaw_rad, weight, options_.force_noise_N}),
-                               new ceres::HuberLoss(1.0), &c, &mu_s, delta);
+      const ForceResidual f{s.force_vector_N, push.shape.centroid_m, Eigen::Rotation2Dd(s.yaw_rad).toRotationMatrix(),
+                            s.torque_about_centre_Nm, weight, options_.force_noise_N};
+      if (centre_fixed)
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<AtCentroid<ForceResidual>, 1, 1, 1>(new AtCentroid<ForceResidual>{f}),
+            new ceres::HuberLoss(1.0), &c, &mu_s);
+      else
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1, 2>(new ForceResidual(f)),
+                                 new ceres::HuberLoss(1.0), &c, &mu_s, delta);
       ++id.force_samples;
     }
   }
@@ -402,6 +441,9 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.max_num_iterations = 100;
+  // No projected line search after each successful step of the bounded problem (Ceres does one by default): it
+  // cost a third of the fit for no change beyond the solver's tolerances (docs/performance.md).
+  solver.max_num_line_search_step_size_iterations = 0;
   solver.num_threads = 1;
   solver.logging_type = ceres::SILENT;
   if (options_.use_prior) {
@@ -426,8 +468,12 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
     ceres::Covariance::Options co;
     co.algorithm_type = ceres::DENSE_SVD;
     ceres::Covariance covariance(co);
+    // One computation for the standard deviations and the correlations (fit_covariance_of made a second, with the
+    // same options and so the same values, at the cost of a second dense SVD).
     std::vector<std::pair<const double*, const double*>> pairs;
     for (const double* b : theta) pairs.emplace_back(b, b);
+    for (int p = 0; p < 3; ++p)
+      for (int q = p + 1; q < 3; ++q) pairs.emplace_back(theta[p], theta[q]);
     const bool offset_free = !problem.IsParameterBlockConstant(delta);
     if (offset_free) pairs.emplace_back(delta, delta);
     const bool have_covariance = covariance.Compute(pairs, &problem);
@@ -455,11 +501,14 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
         id.sources[k] = "identified";
       }
     }
+    id.fit_covariance = id.std.head<3>().cwiseAbs2().asDiagonal();
     if (have_covariance) {
-      const bool none_fixed[3] = {false, false, false};
-      id.fit_covariance = fit_covariance_of(problem, theta, none_fixed, id.std.head<3>(), co);
-    } else {
-      id.fit_covariance = id.std.head<3>().cwiseAbs2().asDiagonal();
+      for (int p = 0; p < 3; ++p)
+        for (int q = p + 1; q < 3; ++q) {
+          double value = 0;
+          covariance.GetCovarianceBlock(theta[p], theta[q], &value);
+          id.fit_covariance(p, q) = id.fit_covariance(q, p) = value;
+        }
     }
     id.parameters.pusher_friction = mu_p;
     id.parameters.torque_ratio_m = c;

@@ -41,31 +41,7 @@ const char* contact_mode_name(ContactMode mode) {
 
 QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& rc, const Eigen::Vector2d& n, const Eigen::Vector2d& vp,
                                       double mu_p, double c) {
-  QuasiStaticMotion m;
-  const double normal_speed = n.dot(vp);
-  if (!(normal_speed > 0)) return m;
-  const Eigen::Vector2d rp = perp(rc);
-  const double c2 = c * c;
-  // A^-1 = I - rp rp^T / (c^2 + |rp|^2) (Sherman-Morrison).
-  const Eigen::Vector2d f = vp - rp * (rp.dot(vp) / (c2 + rp.squaredNorm()));
-  const Eigen::Vector2d t = perp(n);
-  const double fn = f.dot(n), ft = f.dot(t);
-  if (fn > 0 && std::abs(ft) <= mu_p * fn) {
-    m.velocity_m_s = f;
-    m.omega_rad_s = rp.dot(f) / c2;
-    m.mode = ContactMode::Sticking;
-    return m;
-  }
-  const double s = ft >= 0 ? 1.0 : -1.0;
-  const Eigen::Vector2d fe = n + s * mu_p * t;
-  const Eigen::Vector2d contact_rate = fe + rp * (rp.dot(fe) / c2);  // A f_e
-  const double normal_rate = n.dot(contact_rate);
-  if (!(normal_rate > 1e-12)) return m;  // the edge cannot push this way (not for convex contact geometry)
-  const double k = normal_speed / normal_rate;
-  m.velocity_m_s = k * fe;
-  m.omega_rad_s = k * rp.dot(fe) / c2;
-  m.mode = s > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight;
-  return m;
+  return quasi_static_motion_of<double>(rc, n, vp, mu_p, c);
 }
 
 PlannedTipPath::PlannedTipPath(PlannedTipVelocity velocity, const Eigen::Vector2d& start)
@@ -145,9 +121,9 @@ void QuasiStaticPushSystem::derivative(const IntegrationInterval& interval, doub
   const double omega = x(5);
   const double c = p_.torque_ratio_m;
   const double F = p_.support_friction * object_.mass_kg * p_.gravity_m_s2;
-  const double s = std::sqrt(v.squaredNorm() + c * c * omega * omega + p_.creep_speed_m_s * p_.creep_speed_m_s);
-  Eigen::Vector2d free_acceleration = -(F / (s * object_.mass_kg)) * v;
-  double free_angular = -(F * c * c / (s * object_.inertia_kgm2)) * omega;
+  const Eigen::Vector3d friction = ellipsoidal_limit_surface_wrench(v, omega, F, c, p_.creep_speed_m_s);
+  Eigen::Vector2d free_acceleration = friction.head<2>() / object_.mass_kg;
+  double free_angular = friction(2) / object_.inertia_kgm2;
   const double w = push.weight;
   const Eigen::Vector2d cof_arm = Eigen::Rotation2Dd(x(2)) * object_.centre_of_friction_m;
   xdot.head<2>() = v - omega * perp(cof_arm);
@@ -156,8 +132,9 @@ void QuasiStaticPushSystem::derivative(const IntegrationInterval& interval, doub
     state << x.head<3>(), xdot.head<2>(), omega;  // the tracked centre's pose and twist
     Eigen::Vector3d generalized = Eigen::Vector3d::Zero();
     for (const auto& term : object_.free_slide_terms) term->add(interval, t, state, Eigen::Vector3d::Zero(), generalized);
-    const double raw = std::sqrt(v.squaredNorm() + c * c * omega * omega);
-    generalized *= raw / s;
+    // Each term fades as the limit surface's friction does: by s / sqrt(s^2 + eps^2).
+    generalized *= limit_surface_sliding_speed(v, omega, c, 0.0) /
+                   limit_surface_sliding_speed(v, omega, c, p_.creep_speed_m_s);
     free_acceleration = generalized.head<2>() / object_.mass_kg;
     free_angular = generalized(2) / object_.inertia_kgm2;
   }

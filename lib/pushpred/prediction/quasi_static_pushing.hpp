@@ -38,6 +38,7 @@
 // friction, a rigid pusher that follows its plan, the object's outline known (or one of
 // the local outlines of quasi_static_identification.hpp where the shape table lists none).
 #include <Eigen/Core>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,18 +80,59 @@ enum class ContactMode { None, Sticking, SlidingLeft, SlidingRight };  ///< Left
 const char* contact_mode_name(ContactMode mode);
 
 /// The quasi-static motion of the object under a push: CoF velocity [m/s] and yaw rate [rad/s] in the frame the
-/// inputs are given in (any frame: the relations are rotation-invariant).
-struct QuasiStaticMotion {
-  Eigen::Vector2d velocity_m_s = Eigen::Vector2d::Zero();
-  double omega_rad_s = 0;
+/// inputs are given in (any frame: the relations are rotation-invariant). T is double, or ceres::Jet where the
+/// identification differentiates the motion with respect to mu_p, c and the CoF.
+template <class T>
+struct BasicQuasiStaticMotion {
+  Eigen::Matrix<T, 2, 1> velocity_m_s = Eigen::Matrix<T, 2, 1>::Zero();
+  T omega_rad_s = T(0);
   ContactMode mode = ContactMode::None;
 };
+using QuasiStaticMotion = BasicQuasiStaticMotion<double>;
 
 /// The motion of the object pushed at `contact_from_cof_m` (rc) with inward unit normal `inward_normal` by a
 /// pusher moving at `pusher_velocity_m_s` (v_p), for friction mu_p and ratio c (equations above). No allocation.
 QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& contact_from_cof_m, const Eigen::Vector2d& inward_normal,
                                       const Eigen::Vector2d& pusher_velocity_m_s, double pusher_friction,
                                       double torque_ratio_m);
+
+/// quasi_static_motion for a scalar type T that carries derivatives (ceres::Jet) through rc, mu_p and c: the
+/// identification's residual differentiates it exactly, where difference quotients cost five evaluations per
+/// sample and an error of their own. With T = double it is quasi_static_motion, operation for operation. The
+/// contact mode is chosen on the values, so the derivative is that of the mode the values are in.
+template <class T>
+BasicQuasiStaticMotion<T> quasi_static_motion_of(const Eigen::Matrix<T, 2, 1>& contact_from_cof_m,
+                                                 const Eigen::Vector2d& n, const Eigen::Vector2d& vp,
+                                                 const T& pusher_friction, const T& torque_ratio_m) {
+  using std::abs;
+  BasicQuasiStaticMotion<T> m;
+  const double normal_speed = n.x() * vp.x() + n.y() * vp.y();
+  if (!(normal_speed > 0)) return m;
+  const T rpx = -contact_from_cof_m.y(), rpy = contact_from_cof_m.x();  // rp = perp(rc)
+  const T c2 = torque_ratio_m * torque_ratio_m;
+  // A^-1 = I - rp rp^T / (c^2 + |rp|^2) (Sherman-Morrison).
+  const T k_stick = (rpx * vp.x() + rpy * vp.y()) / (c2 + (rpx * rpx + rpy * rpy));
+  const T fx = vp.x() - rpx * k_stick, fy = vp.y() - rpy * k_stick;
+  const double tx = -n.y(), ty = n.x();  // t = perp(n)
+  const T fn = fx * n.x() + fy * n.y(), ft = fx * tx + fy * ty;
+  if (fn > 0.0 && abs(ft) <= pusher_friction * fn) {
+    m.velocity_m_s << fx, fy;
+    m.omega_rad_s = (rpx * fx + rpy * fy) / c2;
+    m.mode = ContactMode::Sticking;
+    return m;
+  }
+  const double s = ft >= 0.0 ? 1.0 : -1.0;
+  const T s_mu = s * pusher_friction;
+  const T fex = n.x() + s_mu * tx, fey = n.y() + s_mu * ty;  // f_e = n + s mu_p t
+  const T k_rate = (rpx * fex + rpy * fey) / c2;
+  const T normal_rate = n.x() * (fex + rpx * k_rate) + n.y() * (fey + rpy * k_rate);  // n . A f_e
+  if (!(normal_rate > 1e-12)) return m;  // the edge cannot push this way (not for convex contact geometry)
+  const T k = normal_speed / normal_rate;
+  m.velocity_m_s << k * fex, k * fey;
+  m.omega_rad_s = k * (rpx * fex + rpy * fey) / c2;
+  m.mode = s > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight;
+  return m;
+}
 
 /// The planned tip path: the planned tip velocity (planned_force.hpp) integrated from the tip's position at its
 /// start; piecewise linear, exact for the held velocity.
