@@ -13,13 +13,14 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "study_arguments.hpp"
+#include "flags.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/push_groups.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/recording.hpp"
+#include "study_arguments.hpp"
 
 namespace pushpred::app {
 namespace {
@@ -197,10 +198,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<BenchArgs>();
   auto* sub = app.add_subcommand(
       "bench", "Time the prediction pipeline per stage on real pushes, as ratios to a reference from the same run");
-  sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
-  sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
+  add_recordings(*sub, a->files);
+  add_shape(*sub, a->shape);
   a->study.add_to(*sub, {2, true, true, true, true});
-  sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  add_rate(*sub, a->rate_hz);
   sub->add_option("--repeat", a->repeat, "Passes over the inputs; each stage reports its fastest (default 1)")
       ->check(CLI::Range(1, 1000));
   sub->add_option("--diagnose", a->diagnose_pushes,

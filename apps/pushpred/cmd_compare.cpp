@@ -5,10 +5,11 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "study_arguments.hpp"
+#include "flags.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/estimator_comparison.hpp"
+#include "study_arguments.hpp"
 
 namespace pushpred::app {
 namespace {
@@ -37,16 +38,16 @@ int run_compare(const CompareArgs& a) {
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<CompareArgs>();
   auto* sub = app.add_subcommand("compare", "Compare RLS with Ceres batch fits (plain and robust) on the same pushes");
-  sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
-  sub->add_option("--out", a->out, "Output folder (compare.md)")->required();
+  add_recordings(*sub, a->files);
+  add_out_folder(*sub, a->out, "Output folder (compare.md)");
   sub->add_option("--estimators", a->estimators, "Estimators to compare; the first is the reference")->delimiter(',');
-  sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
+  add_shape(*sub, a->shape);
   // The library's default (the methods that use the fitted relation), shown as --methods' default.
   for (const auto& m : default_comparison_methods()) a->study.methods += (a->study.methods.empty() ? "" : ",") + m;
   a->study.methods_note = "; one pair of error columns each";
   a->study.add_to(*sub, {2, true, false, true, true});
-  sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the results do not depend on it")
-      ->check(CLI::PositiveNumber);  // the estimators compared come from --estimators
+  // The estimators compared come from --estimators.
+  add_jobs(*sub, a->jobs, "Pushes studied in parallel (default: all cores); the results do not depend on it");
   add_shard_refusal(*sub);
   sub->callback([a, &run] { run = [a] { return run_compare(*a); }; });
 });

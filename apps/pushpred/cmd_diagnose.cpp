@@ -7,9 +7,10 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "study_arguments.hpp"
+#include "flags.hpp"
 #include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/diagnosis_batch.hpp"
+#include "study_arguments.hpp"
 
 namespace pushpred::app {
 namespace {
@@ -48,10 +49,9 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<DiagnoseArgs>();
   auto* sub = app.add_subcommand(
       "diagnose", "Find the residual of the paper's method, test candidate effects, report the error before and after");
-  sub->add_option("files", a->files, "Recordings of one object on one surface (.h5 or .json), or folders of them")
-      ->required();
-  sub->add_option("--out", a->out, "Output folder (diagnosis.json, report.md, plots)")->required();
-  sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
+  add_recordings(*sub, a->files, "Recordings of one object on one surface (.h5 or .json), or folders of them");
+  add_out_folder(*sub, a->out, "Output folder (diagnosis.json, report.md, plots)");
+  add_shape(*sub, a->shape);
   a->study.add_to(*sub, {3, false, true, true});  // the diagnosis runs the paper's observer
   sub->add_option("--bic-threshold", a->bic_threshold, "BIC drop an effect needs to be selected (default 10)")
       ->check(CLI::NonNegativeNumber);
@@ -64,18 +64,16 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_flag("--quick-base", a->quick_base,
                 "Do not fit the base model's settings (quasi-static stop fraction) on the fit phases: faster");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");
-  sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--jobs", a->jobs,
-                  "Files read, and with --per-object objects diagnosed, in parallel (default: all cores); the output "
-                  "does not depend on it")
-      ->check(CLI::PositiveNumber);
-  auto* shard = sub->add_option("--shard", a->shard,
-                                 "With --per-object only: only share I of N of the objects (the objects sorted by "
-                                 "name, the k-th goes to share k mod N + 1; every share reads every file); writes a "
-                                 "partial output folder that `pushpred merge` combines with the other shares' into "
-                                 "what one run writes. Under mpirun -np N (with --per-object) the ranks split the "
-                                 "objects so, and rank 0 writes the whole output")
-                    ->type_name("I/N");
+  add_rate(*sub, a->rate_hz);
+  add_jobs(*sub, a->jobs,
+           "Files read, and with --per-object objects diagnosed, in parallel (default: all cores); the output does "
+           "not depend on it");
+  auto* shard = add_shard(*sub, a->shard,
+                          "With --per-object only: only share I of N of the objects (the objects sorted by name, the "
+                          "k-th goes to share k mod N + 1; every share reads every file); writes a partial output "
+                          "folder that `pushpred merge` combines with the other shares' into what one run writes. "
+                          "Under mpirun -np N (with --per-object) the ranks split the objects so, and rank 0 writes "
+                          "the whole output");
   sub->callback([a, shard, &run] {
     a->shard_given = shard->count() > 0;
     run = [a] { return run_diagnose(*a); };

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "pushpred/calibration/pid_gain_fit.hpp"
 #include "pushpred/core/batch.hpp"
 #include "pushpred/core/output_files.hpp"
@@ -97,15 +98,14 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto* sub = app.add_subcommand("fit-pid",
                                  "Fit the PID force reconstruction's gains by Ceres (tracking vs force roughness); "
                                  "write pid_gains.json and pid_fit.md");
-  sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
-  sub->add_option("--out", a->out, "Output folder")->required();
+  add_recordings(*sub, a->files);
+  add_out_folder(*sub, a->out);
   sub->add_flag("--per-push", a->per_push, "Also fit one gain set per push (the joint fit is always made)");
-  sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
+  add_shape(*sub, a->shape);
   sub->add_option("--lambda", a->lambda, "Weight of the force-roughness term (> 0)");
   sub->add_option("--max-iterations", a->max_iterations, "Ceres iterations per problem")->check(CLI::Range(1, 1000));
-  sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--jobs", a->jobs, "Files read in parallel (default: all cores); the output does not depend on it")
-      ->check(CLI::PositiveNumber);
+  add_rate(*sub, a->rate_hz);
+  add_jobs(*sub, a->jobs, "Files read in parallel (default: all cores); the output does not depend on it");
   sub->add_flag("--cvode", a->cvode,
                 "Run the reconstruction by CVODE instead of its exact discretisation (a hundred times slower)");
   add_shard_refusal(*sub);

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/inspection.hpp"
 
@@ -31,12 +32,11 @@ int run_inspect(const InspectArgs& a) {
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto args = std::make_shared<InspectArgs>();
   auto* sub = app.add_subcommand("inspect", "Summarise recordings: rates, contact, repairs, flags, travel");
-  sub->add_option("files", args->files, "Recordings (.h5 or .json), or folders of them")->required();
+  add_recordings(*sub, args->files);
   sub->add_flag("--json", args->json, "Print JSON instead of a table");
-  sub->add_option("--shape", args->shape, "Object shape, for files whose name does not carry it");
-  sub->add_option("--rate", args->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--jobs", args->jobs, "Files read in parallel (default: all cores); the output does not depend on it")
-      ->check(CLI::PositiveNumber);
+  add_shape(*sub, args->shape);
+  add_rate(*sub, args->rate_hz);
+  add_jobs(*sub, args->jobs, "Files read in parallel (default: all cores); the output does not depend on it");
   add_shard_refusal(*sub);
   sub->callback([args, &run] { run = [args] { return run_inspect(*args); }; });
 });

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "pushpred/reports/partial_merge.hpp"
 
 namespace pushpred::app {
@@ -19,7 +20,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       "merge", "Combine the partial outputs of --shard 1/N ... N/N runs into the output of one run (predict, "
              "validate-diagnosis, diagnose --per-object)");
   sub->add_option("parts", a->parts, "The partial output folders, one per shard, in any order")->required();
-  sub->add_option("--out", a->out, "Output folder: what one run over every input writes")->required();
+  add_out_folder(*sub, a->out, "Output folder: what one run over every input writes");
   sub->callback([a, &run] {
     run = [a] { return finish_outcome(merge_partial_outputs(a->parts, a->out)); };
   });

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/observers/observation.hpp"
@@ -50,8 +51,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto args = std::make_shared<ObserveArgs>();
   auto* sub = app.add_subcommand("observe", "Disturbance observer and PID force reconstruction on one push");
   sub->add_option("file", args->file, "Recording (.h5 or .json)")->required();
-  sub->add_option("--out", args->out, "Output folder")->required();
-  sub->add_option("--shape", args->shape, "Object shape, for files whose name does not carry it");
+  add_out_folder(*sub, args->out);
+  add_shape(*sub, args->shape);
   sub->add_option("--start", args->start_s, "Start of the span [s from the recording's start]");
   sub->add_option("--end", args->end_s, "End of the span [s]; default: the end of the push");
   sub->add_option("--wn", args->wn_rad_s, "Natural frequency of the Q-filter [rad/s]")->check(CLI::PositiveNumber);

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/reports/plotting.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
@@ -107,8 +108,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto args = std::make_shared<PlotArgs>();
   auto* sub = app.add_subcommand("plot", "One push's prediction against the measurement, for every method, as PNG");
   sub->add_option("file", args->file, "Recording (.h5 or .json)")->required();
-  sub->add_option("--out", args->out, "Output folder")->required();
-  sub->add_option("--shape", args->shape, "Object shape, for files whose name does not carry it");
+  add_out_folder(*sub, args->out);
+  add_shape(*sub, args->shape);
   args->study.methods_note = ", one PNG each";
   args->study.add_to(*sub, {2, true, true, true, true});
   sub->callback([args, &run] { run = [args] { return run_plot(*args); }; });

@@ -5,9 +5,10 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "study_arguments.hpp"
+#include "flags.hpp"
 #include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/prediction_batch.hpp"
+#include "study_arguments.hpp"
 
 namespace pushpred::app {
 namespace {
@@ -36,17 +37,15 @@ int run_predict(const PredictArgs& a) {
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<PredictArgs>();
   auto* sub = app.add_subcommand("predict", "Identify and predict on each push as in the paper; write summary.json");
-  sub->add_option("files", a->files, "Recordings (.h5 or .json), or folders of them")->required();
-  sub->add_option("--out", a->out, "Output folder")->required();
-  sub->add_option("--shape", a->shape, "Object shape, for files whose name does not carry it");
+  add_recordings(*sub, a->files);
+  add_out_folder(*sub, a->out);
+  add_shape(*sub, a->shape);
   a->study.add_to(*sub, {2, true, true, true, true});
-  sub->add_option("--rate", a->rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
-  sub->add_option("--jobs", a->jobs, "Pushes studied in parallel (default: all cores); the output does not depend on it")
-      ->check(CLI::PositiveNumber);
-  auto* shard = sub->add_option("--shard", a->shard, std::string(kShardHelp) +
-                                           ". Under mpirun -np N the ranks split the pushes so, and rank 0 writes the "
-                                           "whole output")
-      ->type_name("I/N");
+  add_rate(*sub, a->rate_hz);
+  add_jobs(*sub, a->jobs, "Pushes studied in parallel (default: all cores); the output does not depend on it");
+  auto* shard = add_shard(*sub, a->shard,
+                          std::string(kShardHelp) +
+                              ". Under mpirun -np N the ranks split the pushes so, and rank 0 writes the whole output");
   sub->callback([a, shard, &run] {
     a->shard_given = shard->count() > 0;
     run = [a] { return run_predict(*a); };

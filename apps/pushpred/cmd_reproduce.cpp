@@ -3,9 +3,10 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "study_arguments.hpp"
+#include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/reports/paper_reproduction.hpp"
+#include "study_arguments.hpp"
 
 namespace pushpred::app {
 namespace {
@@ -34,7 +35,7 @@ int run_reproduce(const ReproduceArgs& a) {
 const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<ReproduceArgs>();
   auto* sub = app.add_subcommand("reproduce", "Reproduce the paper's study (six rect2 cases) and run it on the real ABS pushes");
-  sub->add_option("--out", a->out, "Output folder (report.md, summary.json, figures)")->required();
+  add_out_folder(*sub, a->out, "Output folder (report.md, summary.json, figures)");
   sub->add_option("--data", a->data, "Real recordings folder (default: PUSHPRED_DATA or ../shared/data/mcube)");
   sub->add_flag("--no-real", a->no_real, "Only the six paper cases, not the real pushes");
   sub->add_option("--cases", a->cases, "Six real rect2 recordings for cases 1-6 (default: simulate them)")

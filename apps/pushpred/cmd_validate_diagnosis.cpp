@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "pushpred/reports/validation_batch.hpp"
 
 namespace pushpred::app {
@@ -33,7 +34,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                                  "per trial: confusion matrix, detection rate, false findings, errors");
   sub->add_option("--trials", a->options.trials_per_kind, "Trials per kind (default 20)")->check(CLI::PositiveNumber);
   sub->add_option("--seed", a->options.seed, "Seed of the first trial; trial k uses seed + k (default 1)");
-  sub->add_option("--out", a->out, "Output folder (validation.md, validation.json)")->required();
+  add_out_folder(*sub, a->out, "Output folder (validation.md, validation.json)");
   sub->add_option("--kinds", a->options.kinds, "Kinds to draw: none and simulator effect names (default: all)")
       ->delimiter(',');
   sub->add_option("--min-pushes", a->options.min_pushes, "Fewest pushes per trial (default 4)");
@@ -43,15 +44,14 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(CLI::Range(1e-6, 0.999999));
   sub->add_option("--bic-threshold", a->options.diagnosis.bic_threshold, "BIC drop a test needs (default 10)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("--jobs", a->options.jobs, "Trials run in parallel (default: all cores)")->check(CLI::PositiveNumber);
+  add_jobs(*sub, a->options.jobs, "Trials run in parallel (default: all cores)");
   sub->add_flag("--quick-base", [a](std::int64_t) { a->options.diagnosis.fit_base_settings = false; },
                 "Do not fit the base model's settings on the fit phases: faster");
-  auto* shard = sub->add_option("--shard", a->shard,
-                                 "Only share I of N of the trials (trial k goes to share k mod N + 1); writes a "
-                                 "partial output folder that `pushpred merge` combines with the other shares' into "
-                                 "what one run writes. Under mpirun -np N the ranks split the trials so, and rank 0 "
-                                 "writes the whole output")
-                    ->type_name("I/N");
+  auto* shard = add_shard(*sub, a->shard,
+                          "Only share I of N of the trials (trial k goes to share k mod N + 1); writes a partial "
+                          "output folder that `pushpred merge` combines with the other shares' into what one run "
+                          "writes. Under mpirun -np N the ranks split the trials so, and rank 0 writes the whole "
+                          "output");
   sub->callback([a, shard, &run] {
     a->shard_given = shard->count() > 0;
     run = [a] { return run_validate(*a); };  // options checked before any work: exit 2, nothing written

@@ -8,8 +8,8 @@ data=$2
 make_bad=$3
 source "$(dirname "$0")/cli_support.sh"
 
-good1=$(ls "$data"/abs/*shape=hex_a=0_v=50*.h5 | head -1)
-good2=$(ls "$data"/abs/*shape=ellip1_a=0_v=20*.h5 | head -1)
+good1=$(abs_push 'shape=hex_a=0_v=50')
+good2=$(abs_push 'shape=ellip1_a=0_v=20')
 name=$(basename "$good1")
 bad="$tmp/bad"
 "$make_bad" "$good1" "$bad" >/dev/null || { echo "FAIL: make_bad_inputs"; exit 1; }
@@ -22,10 +22,6 @@ limit() { timeout 30 "$@"; }
 expect_plain() {
   if LC_ALL=C grep -q '[^[:print:][:space:]]' "$1"; then failed=$((failed + 1)); echo "FAIL: raw bytes in $(basename "$1")"
     LC_ALL=C grep -n '[^[:print:][:space:]]' "$1" | head -3 | cat -v; else passed=$((passed + 1)); fi
-}
-# expect_absent PATH DESCRIPTION
-expect_absent() {
-  if [ -e "$1" ]; then failed=$((failed + 1)); echo "FAIL: $2: $1 exists"; else passed=$((passed + 1)); fi
 }
 # expect_no_staging FOLDER: no hidden staging or replaced folder left in FOLDER.
 expect_no_staging() {

@@ -48,7 +48,7 @@ expect_in "$tmp/hex/test_phase_errors.csv" "push,phase,t_s,dob_x_mm" "the errors
 # shellcheck disable=SC2086
 expect_exit 2 "two objects without --per-object" -- "$bin" diagnose $hex $ellip --out "$tmp/mixed"
 expect_in "$tmp/err" "pass --per-object" "the user is told about --per-object"
-[ ! -e "$tmp/mixed" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: nothing written"; }
+expect_absent "$tmp/mixed" "nothing written"
 # shellcheck disable=SC2086
 expect_exit 1 "--per-object with an object whose sensor is frozen" -- "$bin" diagnose $hex $ellip $frozen \
   --per-object --no-plots --out "$tmp/objects"
@@ -65,7 +65,7 @@ expect_in "$tmp/objects/overview.json" '"after_beats_both_references"' "overview
 # shellcheck disable=SC2086
 expect_exit 2 "only frozen sensors" -- "$bin" diagnose $frozen --out "$tmp/frozen"
 expect_in "$tmp/err" "force sensor frozen" "the reason is named"
-[ ! -e "$tmp/frozen" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: nothing written"; }
+expect_absent "$tmp/frozen" "nothing written"
 # shellcheck disable=SC2086
 expect_exit 2 "an unknown effect to exclude" -- "$bin" diagnose $hex --exclude teapot_effect --out "$tmp/x1"
 expect_in "$tmp/err" "teapot_effect" "the unknown effect is named"
@@ -77,7 +77,7 @@ expect_exit 105 "too few intervals" -- "$bin" diagnose --intervals 2 $hex --out 
 printf 'not a recording' > "$tmp/junk.h5"
 expect_exit 2 "nothing readable" -- "$bin" diagnose "$tmp/junk.h5" "$tmp/missing.h5" --out "$tmp/x5"
 expect_in "$tmp/err" "FAILED $tmp/missing.h5: file does not exist" "the missing file is named"
-[ ! -e "$tmp/x5" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: nothing written"; }
+expect_absent "$tmp/x5" "nothing written"
 # shellcheck disable=SC2086
 expect_exit 1 "a bad file among good ones" -- "$bin" diagnose $hex "$tmp/junk.h5" --no-plots --out "$tmp/x6"
 expect_in "$tmp/err" "FAILED $tmp/junk.h5: neither an HDF5 nor a JSON recording" "the bad file is named"

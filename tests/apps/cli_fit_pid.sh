@@ -6,7 +6,7 @@ data=$2
 source "$(dirname "$0")/cli_support.sh"
 
 hex=$(ls "$data"/abs/motion_surface=abs_shape=hex_*.h5 | head -2)
-frozen=$(ls "$data"/abs/motion_surface=abs_shape=rect1_*.h5 | head -1)
+frozen=$(abs_push 'shape=rect1_')
 
 # shellcheck disable=SC2086
 expect_exit 0 "a joint and per-push fit over two hex pushes" -- "$bin" fit-pid $hex --out "$tmp/pid" --per-push
@@ -25,7 +25,7 @@ expect_exit 0 "a frozen sensor among good pushes is skipped" -- "$bin" fit-pid $
 expect_in "$tmp/err" "SKIPPED $frozen: " "the skipped file is named"
 expect_exit 2 "only a frozen sensor" -- "$bin" fit-pid "$frozen" --out "$tmp/pid3"
 expect_in "$tmp/err" "nothing written" "the user is told nothing was written"
-[ ! -e "$tmp/pid3" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: no output folder"; }
+expect_absent "$tmp/pid3" "no output folder"
 
 # Bad files in a batch are listed; the good ones are still fitted.
 printf 'not a recording' > "$tmp/junk.h5"
@@ -38,7 +38,7 @@ expect_in "$tmp/pid4/pid_fit.md" "joint fit over 2 push(es)" "the good files are
 # shellcheck disable=SC2086
 expect_exit 2 "a negative roughness weight" -- "$bin" fit-pid $hex --lambda -1 --out "$tmp/pid5"
 expect_in "$tmp/err" "lambda" "the bad weight is named"
-[ ! -e "$tmp/pid5" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: no output for a bad flag"; }
+expect_absent "$tmp/pid5" "no output for a bad flag"
 expect_exit 109 "an unknown flag" -- "$bin" fit-pid --gains 3 "$frozen" --out "$tmp/pid6"
 expect_exit 2 "a missing file alone" -- "$bin" fit-pid "$tmp/missing.h5" --out "$tmp/pid7"
 expect_in "$tmp/err" "FAILED $tmp/missing.h5: file does not exist" "the missing file is named"

@@ -22,7 +22,7 @@ expect_in "$tmp/out" '"surface": "plywood"' "JSON names the surface"
 
 # A batch goes on past bad files and lists every failure with its reason.
 printf 'not a recording' > "$tmp/junk.h5"
-good=$(ls "$data"/abs/*.h5 | head -1)
+good=$(abs_push '')
 expect_exit 1 "a batch with bad files" -- "$bin" inspect "$tmp/missing.h5" "$good" "$tmp/junk.h5"
 expect_in "$tmp/out" "1 files read, 2 failed" "the good file is still inspected"
 expect_in "$tmp/err" "FAILED $tmp/missing.h5: file does not exist" "the missing file is named"

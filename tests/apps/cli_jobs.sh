@@ -6,11 +6,7 @@ bin=$1
 data=$2
 source "$(dirname "$0")/cli_support.sh"
 
-files=()
-for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=20' 'shape=rect1' 'shape=ellip3_a=0_v=10' 'shape=butter_a=0_v=50'; do
-  files+=("$(ls "$data"/abs/*"$pattern"*.h5 | head -1)")
-done
-files+=("$tmp/missing.h5")  # a failure in the middle of the list's end
+batch_files
 
 # same_run NAME SUBCOMMAND ARGS...: runs it with --jobs 1 and --jobs 2 into $tmp/NAME1 and $tmp/NAME2 (when it takes
 # --out) and compares the output folders and stdout byte for byte, and the FAILED lines of stderr.
@@ -24,16 +20,14 @@ same_run() {
   "$bin" "$sub" "$@" "${out2[@]}" --jobs 2 >"$tmp/$name.out2" 2>"$tmp/$name.err2"
   local code2=$?
   sed -i "s#$tmp/${name}[12]#OUT#g" "$tmp/$name.out1" "$tmp/$name.out2"
-  if [ "$code1" -eq "$code2" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $name: exit $code1 with 1 job, $code2 with 2"; fi
+  check "$name: exit $code1 with 1 job, $code2 with 2" [ "$code1" -eq "$code2" ]
   if cmp -s "$tmp/$name.out1" "$tmp/$name.out2"; then passed=$((passed + 1)); else
     failed=$((failed + 1)); echo "FAIL: $name: stdout differs"; diff "$tmp/$name.out1" "$tmp/$name.out2" | head -5
   fi
-  if diff <(grep -E '^(FAILED|SKIPPED|LEFT OUT)' "$tmp/$name.err1") <(grep -E '^(FAILED|SKIPPED|LEFT OUT)' "$tmp/$name.err2") >/dev/null; then
-    passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $name: the failures differ"; fi
+  check "$name: the failures differ" \
+    diff <(grep -E '^(FAILED|SKIPPED|LEFT OUT)' "$tmp/$name.err1") <(grep -E '^(FAILED|SKIPPED|LEFT OUT)' "$tmp/$name.err2")
   if [ ${#out1[@]} -gt 0 ]; then
-    if diff -r "$tmp/${name}1" "$tmp/${name}2" >/dev/null; then passed=$((passed + 1)); else
-      failed=$((failed + 1)); echo "FAIL: $name: output folders differ"; diff -r "$tmp/${name}1" "$tmp/${name}2" | head -5
-    fi
+    expect_same_tree "$tmp/${name}1" "$tmp/${name}2" "$name: output folders differ"
   fi
 }
 
@@ -50,5 +44,6 @@ for method in dob quasi_static; do
 done
 
 "$bin" predict "${files[0]}" --out "$tmp/z" --jobs 0 >"$tmp/out" 2>"$tmp/err"
-if [ $? -ne 0 ] && [ ! -e "$tmp/z" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: --jobs 0 was taken"; fi
+check "--jobs 0 was taken" [ $? -ne 0 ]
+expect_absent "$tmp/z" "--jobs 0 wrote an output"
 finish

@@ -7,46 +7,37 @@ bin=$1
 data=$2
 source "$(dirname "$0")/cli_support.sh"
 
-hex=$(ls "$data"/abs/*shape=hex_a=0_v=50*.h5 | head -1)
-
-# absent PATH DESCRIPTION: nothing was written at PATH.
-absent() {
-  if [ -e "$1" ]; then failed=$((failed + 1)); echo "FAIL: $2: $1 was written"; else passed=$((passed + 1)); fi
-}
-# not_in FILE PATTERN DESCRIPTION: FILE does not contain the fixed string PATTERN.
-not_in() {
-  if grep -qF -- "$2" "$1"; then failed=$((failed + 1)); echo "FAIL: $3: '$2' in $(basename "$1")"; else passed=$((passed + 1)); fi
-}
+hex=$(abs_push 'shape=hex_a=0_v=50')
 
 # An unknown name: the same error on every subcommand, exit 2, no output folder.
 for sub in predict compare plot; do
   expect_exit 2 "$sub: an unknown method" -- "$bin" $sub "$hex" --out "$tmp/bad_$sub" --methods hold,magic
   expect_in "$tmp/err" "unknown prediction method 'magic' (known: dob, dob_velinit, simple, hold, const_velocity, quasi_static" \
     "$sub names the unknown method and the known ones"
-  absent "$tmp/bad_$sub" "$sub with an unknown method"
+  expect_absent "$tmp/bad_$sub" "$sub with an unknown method"
 done
 expect_exit 2 "reproduce: an unknown method" -- "$bin" reproduce --no-real --out "$tmp/bad_reproduce" --methods magic
 expect_in "$tmp/err" "unknown prediction method 'magic'" "reproduce names the unknown method"
-absent "$tmp/bad_reproduce" "reproduce with an unknown method"
+expect_absent "$tmp/bad_reproduce" "reproduce with an unknown method"
 expect_exit 2 "bench: an unknown method" -- "$bin" bench "$hex" --methods magic
 expect_in "$tmp/err" "unknown prediction method 'magic'" "bench names the unknown method"
 expect_exit 2 "a method listed twice" -- "$bin" compare "$hex" --out "$tmp/twice" --methods hold,hold
 expect_in "$tmp/err" "method 'hold' listed twice" "the repeated method is named"
-absent "$tmp/twice" "compare with a repeated method"
+expect_absent "$tmp/twice" "compare with a repeated method"
 expect_exit 109 "diagnose has no --methods" -- "$bin" diagnose "$hex" --out "$tmp/diag" --methods hold
-absent "$tmp/diag" "diagnose with --methods"
+expect_absent "$tmp/diag" "diagnose with --methods"
 
 # compare: by default the methods that use the fitted relation; otherwise the ones chosen, two columns each.
 expect_exit 0 "compare, default methods" -- "$bin" compare "$hex" --out "$tmp/c0" --estimators rls,batch
 expect_in "$tmp/c0/compare.md" "per prediction method (\`dob\`, \`dob_velinit\`)" "compare says which methods"
 expect_in "$tmp/c0/compare.md" "| dob pos err x/y [mm] | dob yaw err [deg] | dob_velinit pos err x/y [mm] |" \
   "compare's default columns"
-not_in "$tmp/c0/compare.md" "quasi_static" "compare's default leaves the other methods out"
+expect_not_in "$tmp/c0/compare.md" "quasi_static" "compare's default leaves the other methods out"
 expect_exit 0 "compare, chosen methods" -- "$bin" compare "$hex" --out "$tmp/c1" --estimators rls,batch \
   --methods quasi_static,dob
 expect_in "$tmp/c1/compare.md" "| quasi_static pos err x/y [mm] | quasi_static yaw err [deg] | dob pos err x/y [mm] |" \
   "compare has the chosen methods' columns, in the order given"
-not_in "$tmp/c1/compare.md" "dob_velinit" "a method not chosen is not in compare.md"
+expect_not_in "$tmp/c1/compare.md" "dob_velinit" "a method not chosen is not in compare.md"
 # The methods predict apart: adding one changes no other's numbers.
 dob_default=$(grep '^| rls |' "$tmp/c0/compare.md" | awk -F'|' '{print $11 "|" $12}')
 dob_chosen=$(grep '^| rls |' "$tmp/c1/compare.md" | awk -F'|' '{print $13 "|" $14}')
@@ -56,23 +47,23 @@ if [ -n "$dob_default" ] && [ "$dob_default" = "$dob_chosen" ]; then passed=$((p
 # predict: the chosen methods only, in summary.json and in tables.md.
 expect_exit 0 "predict, chosen methods" -- "$bin" predict "$hex" --out "$tmp/p" --methods const_velocity,hold
 expect_in "$tmp/p/summary.json" '"const_velocity"' "predict ran const_velocity"
-not_in "$tmp/p/summary.json" '"dob": {' "predict did not run dob"  # (the observer is also called dob)
-not_in "$tmp/p/summary.json" '"quasi_static"' "predict did not run quasi_static"
-not_in "$tmp/p/tables.md" "quasi_static" "tables.md has only the chosen methods"
+expect_not_in "$tmp/p/summary.json" '"dob": {' "predict did not run dob"  # (the observer is also called dob)
+expect_not_in "$tmp/p/summary.json" '"quasi_static"' "predict did not run quasi_static"
+expect_not_in "$tmp/p/tables.md" "quasi_static" "tables.md has only the chosen methods"
 
 # plot: one script per chosen method.
 expect_exit 0 "plot, chosen methods" -- "$bin" plot "$hex" --out "$tmp/g" --methods hold,quasi_static
 for m in hold quasi_static all; do
   if [ -s "$tmp/g/prediction_$m.gp" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: plot: no prediction_$m.gp"; fi
 done
-absent "$tmp/g/prediction_dob.gp" "plot drew a method not chosen"
+expect_absent "$tmp/g/prediction_dob.gp" "plot drew a method not chosen"
 expect_in "$tmp/out" "quasi_static" "plot prints the chosen method's errors"
 
 # reproduce: the chosen methods in the per-method tables and summary.json, with the paper's dob and simple always.
 expect_exit 0 "reproduce, chosen methods" -- "$bin" reproduce --no-real --out "$tmp/r" --methods hold
 expect_in "$tmp/r/report.md" "Prediction methods: \`dob\`, \`simple\`, \`hold\`." "report.md says which methods ran"
 expect_in "$tmp/r/report.md" "| hold |" "the per-method table has the chosen method"
-not_in "$tmp/r/summary.json" '"const_velocity"' "reproduce did not run a method not chosen"
-not_in "$tmp/r/summary.json" '"quasi_static"' "reproduce did not run quasi_static"
+expect_not_in "$tmp/r/summary.json" '"const_velocity"' "reproduce did not run a method not chosen"
+expect_not_in "$tmp/r/summary.json" '"quasi_static"' "reproduce did not run quasi_static"
 expect_in "$tmp/r/summary.json" '"simple"' "the paper's simple baseline always runs"
 finish

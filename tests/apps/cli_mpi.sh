@@ -12,27 +12,15 @@ source "$(dirname "$0")/cli_support.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 mpi=("$mpirun" -np 2 --oversubscribe --mca btl self,vader)
 
-files=()
-for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=20' 'shape=rect1' 'shape=ellip3_a=0_v=10' 'shape=butter_a=0_v=50'; do
-  files+=("$(ls "$data"/abs/*"$pattern"*.h5 | head -1)")
-done
-files+=("$tmp/missing.h5")
-
-check() {  # check DESCRIPTION COMMAND...
-  local what=$1
-  shift
-  if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $what"; fi
-}
+batch_files
 
 "$bin" predict "${files[@]}" --out "$tmp/plain" --jobs 1 >"$tmp/plain.out" 2>"$tmp/plain.err"
 plain_code=$?
 timeout 600 "${mpi[@]}" "$bin" predict "${files[@]}" --out "$tmp/mpi" --jobs 1 >"$tmp/mpi.out" 2>"$tmp/mpi.err"
 mpi_code=$?
 check "mpirun exits as the plain run ($plain_code), got $mpi_code" [ "$mpi_code" -eq "$plain_code" ]
-if diff -r "$tmp/plain" "$tmp/mpi" >/dev/null; then passed=$((passed + 1)); else
-  failed=$((failed + 1)); echo "FAIL: the MPI output differs from the plain run"; diff -r "$tmp/plain" "$tmp/mpi" | head -5
+expect_same_tree "$tmp/plain" "$tmp/mpi" "the MPI output differs from the plain run" ||
   sed 's/^/  err: /' "$tmp/mpi.err" | head -20
-fi
 sed -i "s#$tmp/plain#OUT#g" "$tmp/plain.out"
 sed -i "s#$tmp/mpi#OUT#g" "$tmp/mpi.out"
 check "rank 0 prints what the plain run prints, once" cmp -s "$tmp/plain.out" "$tmp/mpi.out"
@@ -59,18 +47,15 @@ dfiles=()
 for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=50'; do
   mapfile -t -O "${#dfiles[@]}" dfiles < <(ls "$data"/abs/*"$pattern"*.h5 | head -2)
 done
-dfiles+=("$(ls "$data"/abs/*shape=rect1_*.h5 | head -1)" "$tmp/missing.h5")
+dfiles+=("$(abs_push 'shape=rect1_')" "$tmp/missing.h5")
 diagnose=(diagnose --per-object --quick-base --intervals 3 --jobs 1)
 "$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/dplain" >"$tmp/dplain.out" 2>"$tmp/dplain.err"
 dcode=$?
 timeout 600 "${mpi[@]}" "$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/dmpi" >"$tmp/dmpi.out" 2>"$tmp/dmpi.err"
 code=$?
 check "diagnose --per-object under mpirun exits as the plain run ($dcode), got $code" [ "$code" -eq "$dcode" ]
-if diff -r "$tmp/dplain" "$tmp/dmpi" >/dev/null; then passed=$((passed + 1)); else
-  failed=$((failed + 1)); echo "FAIL: the MPI diagnose output differs from the plain run"
-  diff -r "$tmp/dplain" "$tmp/dmpi" | head -5
+expect_same_tree "$tmp/dplain" "$tmp/dmpi" "the MPI diagnose output differs from the plain run" ||
   sed 's/^/  err: /' "$tmp/dmpi.err" | head -20
-fi
 sed -i "s#$tmp/dplain#OUT#g" "$tmp/dplain.out"
 sed -i "s#$tmp/dmpi#OUT#g" "$tmp/dmpi.out"
 check "diagnose: rank 0 prints what the plain run prints, once" cmp -s "$tmp/dplain.out" "$tmp/dmpi.out"

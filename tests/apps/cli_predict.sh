@@ -5,9 +5,9 @@ bin=$1
 data=$2
 source "$(dirname "$0")/cli_support.sh"
 
-hex=$(ls "$data"/abs/*shape=hex_a=0_v=50*.h5 | head -1)
-ellip=$(ls "$data"/abs/*shape=ellip1_a=0_v=20*.h5 | head -1)
-frozen=$(ls "$data"/abs/*shape=rect1*.h5 | head -1)
+hex=$(abs_push 'shape=hex_a=0_v=50')
+ellip=$(abs_push 'shape=ellip1_a=0_v=20')
+frozen=$(abs_push 'shape=rect1')
 
 expect_exit 0 "predict on two pushes" -- "$bin" predict "$hex" "$ellip" --out "$tmp/p"
 expect_in "$tmp/out" "predicted 2 pushes (4 intervals over the whole span)" "the span used is said"
@@ -31,14 +31,14 @@ expect_in "$tmp/out" "predicted 1 pushes (4 intervals over the contact span)" "t
 
 expect_exit 0 "methods chosen by name" -- "$bin" predict "$hex" --out "$tmp/m" --methods quasi_static,hold
 expect_in "$tmp/out" "quasi_static" "the chosen method is printed"
-if grep -q '"dob_velinit"' "$tmp/m/summary.json"; then failed=$((failed + 1)); echo "FAIL: a method not chosen ran"; else passed=$((passed + 1)); fi
+expect_not_in "$tmp/m/summary.json" '"dob_velinit"' "a method not chosen ran"
 expect_exit 2 "an unknown method" -- "$bin" predict "$hex" --out "$tmp/r" --methods hold,magic
 expect_in "$tmp/err" "unknown prediction method 'magic'" "the unknown method is named"
-if [ -e "$tmp/r" ]; then failed=$((failed + 1)); echo "FAIL: output folder written on a bad method"; else passed=$((passed + 1)); fi
+expect_absent "$tmp/r" "output folder written on a bad method"
 
 expect_exit 2 "an unknown estimator" -- "$bin" predict "$hex" --out "$tmp/r" --estimator magic
 expect_in "$tmp/err" "magic" "the unknown estimator is named"
-if [ -e "$tmp/r" ]; then failed=$((failed + 1)); echo "FAIL: output folder written on a bad argument"; else passed=$((passed + 1)); fi
+expect_absent "$tmp/r" "output folder written on a bad argument"
 expect_exit 105 "a bad span" -- "$bin" predict "$hex" --out "$tmp/r" --span halfway
 expect_exit 105 "a non-numeric rate" -- "$bin" predict "$hex" --out "$tmp/r" --plan-rate fast
 

@@ -21,8 +21,8 @@ expect_exit 0 "inspect the simulated cases" -- "$bin" inspect "$tmp/r/cases" --s
 expect_in "$tmp/out" "6 files read, 0 failed" "the six cases pass inspect"
 
 expect_exit 114 "--cases needs six files" -- "$bin" reproduce --out "$tmp/s" --cases a.h5 b.h5
-if [ -e "$tmp/s" ]; then failed=$((failed + 1)); echo "FAIL: output written on a bad argument"; else passed=$((passed + 1)); fi
+expect_absent "$tmp/s" "output written on a bad argument"
 expect_exit 2 "a missing data folder" -- "$bin" reproduce --data "$tmp/nowhere" --out "$tmp/s"
 expect_in "$tmp/err" "data folder does not exist" "the missing folder is named"
-if [ -e "$tmp/s" ]; then failed=$((failed + 1)); echo "FAIL: output written for a missing data folder"; else passed=$((passed + 1)); fi
+expect_absent "$tmp/s" "output written for a missing data folder"
 finish

@@ -8,17 +8,7 @@ bin=$1
 data=$2
 source "$(dirname "$0")/cli_support.sh"
 
-files=()
-for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=20' 'shape=rect1' 'shape=ellip3_a=0_v=10' 'shape=butter_a=0_v=50'; do
-  files+=("$(ls "$data"/abs/*"$pattern"*.h5 | head -1)")
-done
-files+=("$tmp/missing.h5")  # a failure: it goes into a shard's partial output and the merged failure list
-
-check() {  # check DESCRIPTION COMMAND...: counts a pass when COMMAND succeeds
-  local what=$1
-  shift
-  if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $what"; fi
-}
+batch_files  # the missing file goes into a shard's partial output and the merged failure list
 
 "$bin" predict "${files[@]}" --out "$tmp/whole" --jobs 1 >"$tmp/whole.out" 2>"$tmp/whole.err"
 whole_code=$?
@@ -38,9 +28,7 @@ merged() {
   "$bin" merge --out "$tmp/$name" "${parts[@]}" >"$tmp/$name.out" 2>"$tmp/$name.err"
   local code=$?
   check "$name: merge exits as the whole run ($whole_code), got $code" [ "$code" -eq "$whole_code" ]
-  if diff -r "$tmp/whole" "$tmp/$name" >/dev/null; then passed=$((passed + 1)); else
-    failed=$((failed + 1)); echo "FAIL: $name: merged output differs from the whole run"; diff -r "$tmp/whole" "$tmp/$name" | head -5
-  fi
+  expect_same_tree "$tmp/whole" "$tmp/$name" "$name: merged output differs from the whole run"
   sed -i "s#$tmp/$name#OUT#g" "$tmp/$name.out"
   check "$name: merge prints what the whole run prints" cmp -s "$tmp/whole.out" "$tmp/$name.out"
   check "$name: the same failures are listed" diff <(grep -E '^FAILED' "$tmp/whole.err") <(grep -E '^FAILED' "$tmp/$name.err")
@@ -102,15 +90,12 @@ for n in 2 3; do
   "$bin" merge --out "$tmp/v$n" "${parts[@]}" >"$tmp/v$n.out" 2>/dev/null
   code=$?
   check "validate-diagnosis $n shards: merge exits as the whole run ($vcode), got $code" [ "$code" -eq "$vcode" ]
-  if diff -r "$tmp/vwhole" "$tmp/v$n" >/dev/null; then passed=$((passed + 1)); else
-    failed=$((failed + 1)); echo "FAIL: validate-diagnosis $n shards: merged output differs"; diff -r "$tmp/vwhole" "$tmp/v$n" | head -5
-  fi
+  expect_same_tree "$tmp/vwhole" "$tmp/v$n" "validate-diagnosis $n shards: merged output differs"
   sed -i "s#$tmp/v$n#OUT#g" "$tmp/v$n.out"
   check "validate-diagnosis $n shards: merge prints what the whole run prints" cmp -s "$tmp/vwhole.out" "$tmp/v$n.out"
 done
 expect_in "$tmp/v2.part1/partial.json" '"true_kind": "none"' "shard 1/2 ran trial 0 (clean)"
-if grep -qF '"true_kind": "force_offset"' "$tmp/v2.part1/partial.json"; then
-  failed=$((failed + 1)); echo "FAIL: shard 1/2 ran trial 1"; else passed=$((passed + 1)); fi
+expect_not_in "$tmp/v2.part1/partial.json" '"true_kind": "force_offset"' "shard 1/2 ran trial 1"
 expect_exit 2 "validate-diagnosis --shard 3/2 refused" -- "$bin" "${validate[@]}" --out "$tmp/bad" --shard 3/2
 expect_exit 2 "a predict part merged with a validate-diagnosis part" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" \
   "$tmp/v2.part2"
@@ -124,7 +109,7 @@ dfiles=()
 for pattern in 'shape=hex_a=0_v=50' 'shape=ellip1_a=0_v=50' 'shape=ellip3_a=0_v=75'; do
   mapfile -t -O "${#dfiles[@]}" dfiles < <(ls "$data"/abs/*"$pattern"*.h5 | head -2)
 done
-dfiles+=("$(ls "$data"/abs/*shape=rect1_*.h5 | head -1)" "$tmp/missing.h5")
+dfiles+=("$(abs_push 'shape=rect1_')" "$tmp/missing.h5")
 diagnose=(diagnose --per-object --no-plots --quick-base --intervals 3 --jobs 1)
 "$bin" "${diagnose[@]}" "${dfiles[@]}" --out "$tmp/dwhole" >"$tmp/dwhole.out" 2>"$tmp/dwhole.err"
 dcode=$?
@@ -142,9 +127,7 @@ for n in 1 2 3; do
   "$bin" merge --out "$tmp/d$n" "${parts[@]}" >"$tmp/d$n.out" 2>"$tmp/d$n.err"
   code=$?
   check "diagnose $n shards: merge exits as the whole run ($dcode), got $code" [ "$code" -eq "$dcode" ]
-  if diff -r "$tmp/dwhole" "$tmp/d$n" >/dev/null; then passed=$((passed + 1)); else
-    failed=$((failed + 1)); echo "FAIL: diagnose $n shards: merged output differs"; diff -r "$tmp/dwhole" "$tmp/d$n" | head -5
-  fi
+  expect_same_tree "$tmp/dwhole" "$tmp/d$n" "diagnose $n shards: merged output differs"
   sed -i "s#$tmp/d$n#OUT#g" "$tmp/d$n.out"
   check "diagnose $n shards: merge prints what the whole run prints" cmp -s "$tmp/dwhole.out" "$tmp/d$n.out"
   check "diagnose $n shards: the same failures are listed" \

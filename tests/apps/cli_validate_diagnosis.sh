@@ -20,7 +20,7 @@ done
 
 expect_exit 2 "an unknown kind" -- "$bin" validate-diagnosis --trials 1 --kinds bogus --out "$tmp/bad1"
 expect_in "$tmp/err" "unknown effect 'bogus'" "the error names the kind"
-[ ! -e "$tmp/bad1" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written for a bad kind"; }
+expect_absent "$tmp/bad1" "output written for a bad kind"
 expect_exit 2 "too few pushes" -- "$bin" validate-diagnosis --trials 1 --min-pushes 1 --out "$tmp/bad2"
-[ ! -e "$tmp/bad2" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written for bad pushes"; }
+expect_absent "$tmp/bad2" "output written for bad pushes"
 finish

@@ -54,6 +54,24 @@ BOOST_AUTO_TEST_CASE(a_value_that_must_be_positive_and_finite_names_itself_and_w
   BOOST_TEST(message(std::nan("")) != "no error");
 }
 
+BOOST_AUTO_TEST_CASE(a_value_that_must_not_be_negative_takes_zero_and_names_itself_and_what_it_got) {
+  BOOST_CHECK_NO_THROW(require_not_negative_finite(0.0, "gain"));
+  BOOST_CHECK_NO_THROW(require_not_negative_finite(1e300, "gain"));
+  const auto message = [](double v) {
+    try {
+      require_not_negative_finite(v, "gain kp");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  BOOST_TEST(message(-2.5) == "gain kp must be finite and not negative, got -2.5");
+  BOOST_TEST(message(-std::numeric_limits<double>::min()).find("gain kp must be finite and not negative, got -") == 0u);
+  BOOST_TEST(message(std::numeric_limits<double>::infinity()) == "gain kp must be finite and not negative, got inf");
+  BOOST_TEST(message(std::nan("")).find("gain kp must be finite and not negative, got") == 0u);
+  BOOST_TEST(message(std::nan("")) != "no error");
+}
+
 BOOST_AUTO_TEST_SUITE_END()
 
 BOOST_AUTO_TEST_SUITE(data_folder)

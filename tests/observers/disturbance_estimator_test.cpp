@@ -16,6 +16,26 @@ using namespace pushpred;
 
 BOOST_AUTO_TEST_SUITE(disturbance_estimator)
 
+BOOST_AUTO_TEST_CASE(every_estimator_checks_its_nominal_inertia_alike) {
+  // 0 picks the shape's; a negative or non-finite value is an error naming the estimator and the value.
+  BOOST_CHECK_NO_THROW(require_nominal_inertia_choice(0.0, 0.0, "x"));
+  BOOST_CHECK_NO_THROW(require_nominal_inertia_choice(1.045, 0.002, "x"));
+  const auto message = [](double mass_kg, double inertia_kgm2) {
+    try {
+      require_nominal_inertia_choice(mass_kg, inertia_kgm2, "some estimator");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  BOOST_TEST(message(-1.5, 0.0) ==
+             "some estimator: nominal mass must be positive (or 0 for the shape's), got -1.500000 kg");
+  BOOST_TEST(message(0.0, -0.25) ==
+             "some estimator: nominal moment of inertia must be positive (or 0 for the shape's), got -0.250000 kg m^2");
+  BOOST_TEST(message(std::nan(""), 0.0) != "no error");
+  BOOST_TEST(message(0.0, HUGE_VAL) != "no error");
+}
+
 BOOST_AUTO_TEST_CASE(estimators_are_chosen_by_name) {
   for (const std::string& name : disturbance_estimator_names()) BOOST_TEST(make_disturbance_estimator(name)->name() == name);
   try {

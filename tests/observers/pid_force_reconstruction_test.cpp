@@ -118,6 +118,13 @@ BOOST_AUTO_TEST_CASE(gains_are_a_plain_value_checked_on_use) {
   BOOST_TEST(g.ld == 24.5);
   g.ki = -1;
   BOOST_CHECK_THROW(PidForceReconstruction{g}, InputError);
+  try {
+    PidForceReconstruction pid(g);
+  } catch (const InputError& e) {
+    BOOST_TEST(std::string(e.what()) == "PID force reconstruction: gain ki must be finite and not negative, got -1");
+  }
+  g.ki = 0;  // no integral action is a valid choice
+  BOOST_CHECK_NO_THROW(PidForceReconstruction{g});
   g = {};
   g.lp = std::numeric_limits<double>::quiet_NaN();
   BOOST_CHECK_THROW(PidForceReconstruction{g}, InputError);

@@ -17,6 +17,12 @@
 namespace pushpred {
 namespace {
 
+/// What every error of the fit starts with.
+constexpr const char* kFit = "PID gain fit";
+
+/// "PID gain fit: what".
+std::string fit_error(const std::string& what) { return std::string(kFit) + ": " + what; }
+
 // Gains enter Ceres as p = ln(g / kPidGainFloor): g = kPidGainFloor maps to p = 0, where Ceres' relative
 // numeric-diff step would vanish; useful gains (1e-3 for the rotation of a 0.002 kg m^2 object to 1e3) map to p of
 // 7 to 21. The gains are clamped to [kPidGainFloor, kPidGainCeiling] inside the residuals rather than bounded in
@@ -78,7 +84,7 @@ class PidTrackingResiduals {
         sqrt_lambda_(std::sqrt(options.roughness_weight)),
         reconstruction_(options.reconstruction),
         exact_(options.exact_discretisation),
-        samples_(estimation_span(push.push, push.t_start_s, span_end(push), "PID gain fit").size()) {}
+        samples_(estimation_span(push.push, push.t_start_s, span_end(push), kFit).size()) {}
 
   int num_residuals() const { return static_cast<int>(channels_.count * (2 * samples_ - 1)); }
 
@@ -127,14 +133,14 @@ std::string pid_fit_unsuitable_reason(const SynchronisedPush& push, const RestNo
 
 RestNoise measure_rest_noise(const SynchronisedPush& push, const RestNoiseOptions& options) {
   const std::string unsuitable = pid_fit_unsuitable_reason(push, options);
-  if (!unsuitable.empty()) throw InputError(about(push.source, "PID gain fit: " + unsuitable));
+  if (!unsuitable.empty()) throw InputError(about(push.source, fit_error(unsuitable)));
   const RestNoise noise = noise_over_rest(push, find_rest_at_start(push, options).end);
   for (int c = 0; c < 3; ++c) {
     static const char* const names[3] = {"x", "y", "rotation"};
     if (!(noise.pose(c) > 0) || !(noise.force_step(c) > 0))
-      throw InputError(about(push.source, std::string("PID gain fit: the ") + names[c] +
-                                              " pose or input does not vary at all during the rest at the start "
-                                              "(a frozen stream?), so it has no noise scale"));
+      throw InputError(about(push.source, fit_error(std::string("the ") + names[c] +
+                                                    " pose or input does not vary at all during the rest at the start "
+                                                    "(a frozen stream?), so it has no noise scale")));
   }
   return noise;
 }
@@ -161,14 +167,14 @@ ceres::Solver::Options default_pid_fit_solver_options() {
 }
 
 void PidGainFitOptions::validate() const {
-  require_positive_finite(roughness_weight, "PID gain fit: the roughness weight lambda");
-  require_positive_finite(numeric_diff_relative_step, "PID gain fit: the numeric-diff relative step");
+  require_positive_finite(roughness_weight, fit_error("the roughness weight lambda"));
+  require_positive_finite(numeric_diff_relative_step, fit_error("the numeric-diff relative step"));
   if (numeric_diff_relative_step >= 0.1)
-    throw InputError("PID gain fit: the numeric-diff relative step must be below 0.1");
-  for (const double w : start_bandwidths_rad_s) require_positive_finite(w, "PID gain fit: every start bandwidth [rad/s]");
+    throw InputError(fit_error("the numeric-diff relative step must be below 0.1"));
+  for (const double w : start_bandwidths_rad_s) require_positive_finite(w, fit_error("every start bandwidth [rad/s]"));
   reconstruction.validate();
   std::string error;
-  if (!solver.IsValid(&error)) throw InputError("PID gain fit: invalid Ceres solver options: " + error);
+  if (!solver.IsValid(&error)) throw InputError(fit_error("invalid Ceres solver options: " + error));
 }
 
 std::string pid_fit_problem_name(PidFitProblem problem) {
@@ -178,26 +184,26 @@ std::string pid_fit_problem_name(PidFitProblem problem) {
 PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFitOptions& options,
                          const PidGains& start) {
   options.validate();
-  if (pushes.empty()) throw InputError("PID gain fit: no push to fit on (the set is empty)");
+  if (pushes.empty()) throw InputError(fit_error("no push to fit on (the set is empty)"));
   start.validate();
   for (const double g : {start.kp, start.ki, start.kd, start.lp, start.li, start.ld})
     if (!(g >= kPidGainFloor && g <= kPidGainCeiling))
-      throw InputError("PID gain fit: start gains must lie in [1e-6, 1e6] (log-parameterised), got " + fmt("%g", g));
+      throw InputError(fit_error("start gains must lie in [1e-6, 1e6] (log-parameterised), got " + fmt("%g", g)));
   Eigen::Vector3d mean_inertia = Eigen::Vector3d::Zero();
   for (const PidFitPush& p : pushes) {
     if (p.push.flags.frozen_force_sensor)
-      throw InputError(about(p.push.source, "PID gain fit: frozen force sensor: d_hat = f_hat - u is meaningless"));
+      throw InputError(about(p.push.source, fit_error("frozen force sensor: d_hat = f_hat - u is meaningless")));
     for (int c = 0; c < 3; ++c) {
       if (!(p.noise.pose(c) > 0) || !std::isfinite(p.noise.pose(c)) || !(p.noise.force_step(c) > 0) ||
           !std::isfinite(p.noise.force_step(c)))
-        throw InputError(about(p.push.source, "PID gain fit: noise scales must be positive and finite"));
+        throw InputError(about(p.push.source, fit_error("noise scales must be positive and finite")));
     }
-    estimation_span(p.push, p.t_start_s, span_end(p), "PID gain fit");  // throws for a span without samples
+    estimation_span(p.push, p.t_start_s, span_end(p), kFit);  // throws for a span without samples
     try {
       mean_inertia += nominal_inertia(p.push.shape, options.reconstruction.mass_kg, options.reconstruction.inertia_kgm2) /
                       static_cast<double>(pushes.size());
     } catch (const InputError& e) {
-      throw InputError(about(p.push.source, std::string("PID gain fit: ") + e.what()));
+      throw InputError(about(p.push.source, fit_error(e.what())));
     }
   }
 
@@ -247,8 +253,8 @@ PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFit
       }
     }
     if (!std::isfinite(s.start_cost))
-      throw SolverError("PID gain fit: the reconstruction fails (CVODE) at every start of the " +
-                        pid_fit_problem_name(problem) + " gains");
+      throw SolverError(fit_error("the reconstruction fails (CVODE) at every start of the " +
+                                  pid_fit_problem_name(problem) + " gains"));
 
     ceres::Problem cp;
     for (const auto& f : functors) {
@@ -261,8 +267,8 @@ PidGainFit fit_pid_gains(const std::vector<PidFitPush>& pushes, const PidGainFit
     ceres::Solver::Summary summary;
     ceres::Solve(options.solver, &cp, &summary);
     if (!summary.IsSolutionUsable())
-      throw SolverError("PID gain fit: Ceres found no usable " + pid_fit_problem_name(problem) + " gains over " +
-                        std::to_string(pushes.size()) + " push(es): " + summary.message);
+      throw SolverError(fit_error("Ceres found no usable " + pid_fit_problem_name(problem) + " gains over " +
+                                  std::to_string(pushes.size()) + " push(es): " + summary.message));
     set_gains(fit.gains, problem, {gain_at(p[0]), gain_at(p[1]), gain_at(p[2])});
     s.fitted = true;
     s.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
@@ -340,11 +346,9 @@ double pid_objective(const std::vector<PidGainQuality>& qualities, PidFitProblem
 }
 
 PidFitStudy run_pid_fit_study(const std::vector<PidFitPush>& pushes, const PidFitStudyOptions& options) {
-  options.fit.validate();
-  if (pushes.empty()) throw InputError("PID gain fit: no push to fit on (the set is empty)");
   PidFitStudy study;
   study.roughness_weight = options.fit.roughness_weight;
-  study.joint = fit_pid_gains(pushes, options.fit);
+  study.joint = fit_pid_gains(pushes, options.fit);  // checks the options and that there are pushes
   for (const PidFitPush& p : pushes) {
     const auto& r = options.fit.reconstruction;
     study.mean_inertia += nominal_inertia(p.push.shape, r.mass_kg, r.inertia_kgm2) / static_cast<double>(pushes.size());

@@ -54,11 +54,24 @@ std::string plain_text(const std::string& text) {
   return out;
 }
 
-void require_positive_finite(double value, const std::string& what) {
-  if (value > 0 && value < std::numeric_limits<double>::infinity()) return;
+namespace {
+
+[[noreturn]] void throw_out_of_range(double value, const std::string& what, const char* range) {
   char got[48];
   std::snprintf(got, sizeof got, "%g", value);
-  throw InputError(what + " must be positive and finite, got " + got);
+  throw InputError(what + " must be " + range + ", got " + got);
+}
+
+}  // namespace
+
+void require_positive_finite(double value, const std::string& what) {
+  if (value > 0 && value < std::numeric_limits<double>::infinity()) return;
+  throw_out_of_range(value, what, "positive and finite");
+}
+
+void require_not_negative_finite(double value, const std::string& what) {
+  if (value >= 0 && value < std::numeric_limits<double>::infinity()) return;
+  throw_out_of_range(value, what, "finite and not negative");
 }
 
 }  // namespace pushpred

@@ -31,4 +31,7 @@ inline std::string about(const std::string& source, const std::string& what) {
 /// Throws InputError "WHAT must be positive and finite, got VALUE" unless 0 < value < infinity (NaN fails).
 void require_positive_finite(double value, const std::string& what);
 
+/// Throws InputError "WHAT must be finite and not negative, got VALUE" unless 0 <= value < infinity (NaN fails).
+void require_not_negative_finite(double value, const std::string& what);
+
 }  // namespace pushpred

@@ -90,6 +90,166 @@ struct ChannelFit {
   double scale = 1;                     ///< loss scale (per channel) or weight scale (joint)
 };
 
+/// The names of the channels whose input does not vary enough to identify beta and eps ("" when none).
+std::string unidentifiable_channels(const std::vector<ChannelFit>& ch, Eigen::Index n) {
+  std::string flat;
+  for (int c = 0; c < 3; ++c) {
+    Eigen::Matrix2d a;
+    a << ch[c].u.squaredNorm(), ch[c].u.sum(), ch[c].u.sum(), static_cast<double>(n);
+    if (!relation_identifiable(a)) flat += std::string(flat.empty() ? "" : ", ") + relation_channel_name(c);
+  }
+  return flat;
+}
+
+/// Closed-form least squares: the start of robust fits, the source of automatic scales, and (H^T H)^-1. The plain
+/// fit starts from `previous` (when there is one) and is scaled by the least-squares residual std, which does not
+/// move its minimum.
+void fit_least_squares(std::vector<ChannelFit>& ch, Eigen::Index n, const BatchFitOptions& options,
+                       const RelationParameters* previous) {
+  Eigen::MatrixX2d h(n, 2);
+  h.col(1).setOnes();
+  for (int c = 0; c < 3; ++c) {
+    ChannelFit& f = ch[c];
+    h.col(0) = f.u;
+    const Eigen::HouseholderQR<Eigen::MatrixX2d> qr(h);
+    f.least_squares = qr.solve(f.d);
+    f.least_squares_std = std::sqrt((f.d - h * f.least_squares).squaredNorm() / static_cast<double>(n - 2));
+    const Eigen::Matrix2d r = qr.matrixQR().topRows<2>().triangularView<Eigen::Upper>();
+    const Eigen::Matrix2d r_inv = r.triangularView<Eigen::Upper>().solve(Eigen::Matrix2d::Identity());
+    f.inverse_information = r_inv * r_inv.transpose();
+    if (options.loss == RobustLoss::None) {
+      f.x = previous ? Eigen::Vector2d(previous->beta(c), previous->eps(c)) : Eigen::Vector2d::Zero();
+      f.scale = f.least_squares_std > 0 ? f.least_squares_std : 1.0;
+    } else {
+      f.x = f.least_squares;
+      f.scale = options.loss_scale(c);
+    }
+  }
+}
+
+/// d - (beta u + eps) at the channel's current parameters.
+Eigen::VectorXd residuals(const ChannelFit& f) { return f.d.array() - f.x(0) * f.u.array() - f.x(1); }
+
+double automatic_scale(const ChannelFit& f, Eigen::Index n, RobustLoss loss) {
+  const Eigen::VectorXd r = residuals(f);
+  double s = robust_std(r);
+  if (!(s > 0)) s = std::sqrt(r.squaredNorm() / static_cast<double>(n - 2));  // most samples fit exactly
+  if (!(s > 0)) s = 1.0;                                                      // all do: any scale will do
+  return efficiency_constant(loss) * s;
+}
+
+/// Residuals enter Ceres divided by their channel's scale (times sqrt 3 jointly), so the loss acts at 1.
+double block_scale(const BatchFitOptions& options) { return options.joint ? std::sqrt(3.0) : 1.0; }
+
+/// What a solve names in its error and where it counts its iterations.
+struct SolveContext {
+  const std::string& estimator;
+  long intervals;
+  int& iterations;
+};
+
+/// One Ceres solve from the channels' current parameters (jointly or per channel); throws SolverError when Ceres
+/// finds no usable solution.
+void solve_relation(std::vector<ChannelFit>& ch, Eigen::Index n, const BatchFitOptions& options,
+                    const SolveContext& context) {
+  ceres::Problem::Options po;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  std::vector<std::unique_ptr<ceres::LossFunction>> losses;
+  std::vector<std::unique_ptr<ceres::Problem>> problems;
+  for (int i = 0; i < (options.joint ? 1 : 3); ++i) problems.push_back(std::make_unique<ceres::Problem>(po));
+  if (options.joint) {
+    losses.push_back(make_loss(options.loss, 1.0));
+    double inv_scale[3];
+    for (int c = 0; c < 3; ++c) inv_scale[c] = 1.0 / (block_scale(options) * ch[c].scale);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      auto* functor = new JointRelationResidual;
+      for (int c = 0; c < 3; ++c) {
+        functor->u[c] = ch[c].u(k);
+        functor->d[c] = ch[c].d(k);
+        functor->inv_scale[c] = inv_scale[c];
+      }
+      problems[0]->AddResidualBlock(new ceres::AutoDiffCostFunction<JointRelationResidual, 3, 2, 2, 2>(functor),
+                                    losses[0].get(), ch[0].x.data(), ch[1].x.data(), ch[2].x.data());
+    }
+  } else {
+    for (int c = 0; c < 3; ++c) {
+      losses.push_back(make_loss(options.loss, 1.0));
+      const double inv_scale = 1.0 / ch[c].scale;
+      for (Eigen::Index k = 0; k < n; ++k)
+        problems[c]->AddResidualBlock(new ceres::AutoDiffCostFunction<RelationResidual, 1, 2>(
+                                          new RelationResidual(ch[c].u(k), ch[c].d(k), inv_scale)),
+                                      losses[c].get(), ch[c].x.data());
+    }
+  }
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    ceres::Solver::Summary summary;
+    ceres::Solve(options.solver, problems[i].get(), &summary);
+    context.iterations += static_cast<int>(summary.iterations.size());
+    if (!summary.IsSolutionUsable()) {
+      const std::string which =
+          options.joint ? std::string() : std::string(" for channel ") + relation_channel_name(static_cast<int>(i));
+      throw SolverError(context.estimator + ": Ceres found no usable solution" + which + " over " +
+                        std::to_string(context.intervals) + " interval(s): " + summary.message);
+    }
+  }
+}
+
+/// The solve, with automatic loss scales where asked: from the least-squares residuals first, then once more
+/// from the robust fit's.
+void solve_with_scales(std::vector<ChannelFit>& ch, Eigen::Index n, const BatchFitOptions& options,
+                       const SolveContext& context) {
+  bool automatic = false;
+  for (int c = 0; c < 3; ++c)
+    if (options.loss != RobustLoss::None && options.loss_scale(c) == 0.0) {
+      ch[c].scale = automatic_scale(ch[c], n, options.loss);
+      automatic = true;
+    }
+  solve_relation(ch, n, options, context);
+  if (automatic) {
+    // The least-squares residuals are spread by the outliers' pull on the fit; the robust fit's are not.
+    for (int c = 0; c < 3; ++c)
+      if (options.loss_scale(c) == 0.0) ch[c].scale = automatic_scale(ch[c], n, options.loss);
+    solve_relation(ch, n, options, context);
+  }
+}
+
+/// The fitted parameters, their residual std and their covariance.
+void set_fitted_parameters(const std::vector<ChannelFit>& ch, Eigen::Index n, const BatchFitOptions& options,
+                           RelationParameters& p) {
+  // Huber's asymptotic covariance of an M-estimator, per channel, with psi the derivative of the sample's
+  // loss with respect to its residual r (in the residual's unit) and psi' its derivative:
+  //   cov = K^2 [sum psi^2 / (n - 2)] / mean(psi')^2 (H^T H)^-1,  K = 1 + (2 / n) var(psi') / mean(psi')^2,
+  // which is s^2 (H^T H)^-1 for the quadratic loss (psi = r, psi' = 1).
+  std::array<Eigen::VectorXd, 3> r;
+  for (int c = 0; c < 3; ++c) r[c] = residuals(ch[c]);
+  // The loss sees q_k = |f_k|^2 with f_kc = r_kc / (block_scale s_c): one channel's f^2 per channel, the sum
+  // of the three jointly. d/dr of the sample's cost, in the residual's unit, is rho'(q) r; its derivative is
+  // rho'(q) + 2 rho''(q) f_c^2.
+  Eigen::MatrixX3d f2(n, 3);
+  for (int c = 0; c < 3; ++c) f2.col(c) = (r[c] / (block_scale(options) * ch[c].scale)).array().square().matrix();
+  const auto loss = make_loss(options.loss, 1.0);
+  for (int c = 0; c < 3; ++c) {
+    Eigen::VectorXd psi(n), dpsi(n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      double rho[3];
+      evaluate_loss(loss.get(), options.joint ? f2.row(k).sum() : f2(k, c), rho);
+      psi(k) = rho[1] * r[c](k);
+      dpsi(k) = rho[1] + 2.0 * rho[2] * f2(k, c);
+    }
+    const double m = dpsi.mean();
+    const double var_dpsi = (dpsi.array() - m).square().mean();
+    const double k_factor = 1.0 + 2.0 / static_cast<double>(n) * var_dpsi / (m * m);
+    const double factor = k_factor * k_factor * psi.squaredNorm() / static_cast<double>(n - 2) / (m * m);
+    p.beta(c) = ch[c].x(0);
+    p.eps(c) = ch[c].x(1);
+    // A redescending loss (Cauchy) can leave mean psi' <= 0 on wild data: no asymptotic covariance then.
+    p.covariance[c] = m > 0 ? Eigen::Matrix2d(factor * ch[c].inverse_information)
+                            : Eigen::Matrix2d::Constant(std::numeric_limits<double>::quiet_NaN());
+    p.residual_std(c) = std::sqrt(r[c].squaredNorm() / static_cast<double>(n - 2));
+    p.loss_scale(c) = options.loss == RobustLoss::None ? 0.0 : ch[c].scale;
+  }
+}
+
 }  // namespace
 
 ceres::Solver::Options default_batch_solver_options() {
@@ -169,13 +329,8 @@ void BatchLeastSquaresFit::refit() {
   const Eigen::Index n = static_cast<Eigen::Index>(u_[0].size());
   last_iterations_ = 0;
   std::vector<ChannelFit> ch;
-  std::string flat;
-  for (int c = 0; c < 3; ++c) {
-    ch.emplace_back(u_[c], d_[c]);
-    Eigen::Matrix2d a;
-    a << ch[c].u.squaredNorm(), ch[c].u.sum(), ch[c].u.sum(), static_cast<double>(n);
-    if (!relation_identifiable(a)) flat += std::string(flat.empty() ? "" : ", ") + relation_channel_name(c);
-  }
+  for (int c = 0; c < 3; ++c) ch.emplace_back(u_[c], d_[c]);
+  const std::string flat = unidentifiable_channels(ch, n);
   if (!flat.empty()) {
     not_ready_ = input_not_varied_reason(flat, intervals_);
     return;
@@ -184,137 +339,17 @@ void BatchLeastSquaresFit::refit() {
     not_ready_ = "needs at least 3 samples for a residual variance, has " + std::to_string(n);
     return;
   }
-
-  // Closed-form least squares: the start of robust fits, the source of automatic scales, and (H^T H)^-1.
   const bool had_fit = not_ready_.empty();
-  Eigen::MatrixX2d h(n, 2);
-  h.col(1).setOnes();
-  for (int c = 0; c < 3; ++c) {
-    ChannelFit& f = ch[c];
-    h.col(0) = f.u;
-    const Eigen::HouseholderQR<Eigen::MatrixX2d> qr(h);
-    f.least_squares = qr.solve(f.d);
-    f.least_squares_std = std::sqrt((f.d - h * f.least_squares).squaredNorm() / static_cast<double>(n - 2));
-    const Eigen::Matrix2d r = qr.matrixQR().topRows<2>().triangularView<Eigen::Upper>();
-    const Eigen::Matrix2d r_inv = r.triangularView<Eigen::Upper>().solve(Eigen::Matrix2d::Identity());
-    f.inverse_information = r_inv * r_inv.transpose();
-    if (options_.loss == RobustLoss::None) {
-      f.x = had_fit ? Eigen::Vector2d(fit_.beta(c), fit_.eps(c)) : Eigen::Vector2d::Zero();
-      f.scale = f.least_squares_std > 0 ? f.least_squares_std : 1.0;
-    } else {
-      f.x = f.least_squares;
-      f.scale = options_.loss_scale(c);
-    }
-  }
+  fit_least_squares(ch, n, options_, had_fit ? &fit_ : nullptr);
+  const std::string estimator = name();
+  solve_with_scales(ch, n, options_, SolveContext{estimator, intervals_, last_iterations_});
 
-  const auto residuals = [&](int c) -> Eigen::VectorXd {
-    return ch[c].d.array() - ch[c].x(0) * ch[c].u.array() - ch[c].x(1);
-  };
-  const auto automatic_scale = [&](int c) {
-    const Eigen::VectorXd r = residuals(c);
-    double s = robust_std(r);
-    if (!(s > 0)) s = std::sqrt(r.squaredNorm() / static_cast<double>(n - 2));  // most samples fit exactly
-    if (!(s > 0)) s = 1.0;                                                       // all do: any scale will do
-    return efficiency_constant(options_.loss) * s;
-  };
-
-  // Residuals enter Ceres divided by their channel's scale (times sqrt 3 jointly), so the loss acts at 1.
-  const double block_scale = options_.joint ? std::sqrt(3.0) : 1.0;
-
-  const auto solve = [&] {
-    ceres::Problem::Options po;
-    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    std::vector<std::unique_ptr<ceres::LossFunction>> losses;
-    std::vector<std::unique_ptr<ceres::Problem>> problems;
-    for (int i = 0; i < (options_.joint ? 1 : 3); ++i) problems.push_back(std::make_unique<ceres::Problem>(po));
-    if (options_.joint) {
-      losses.push_back(make_loss(options_.loss, 1.0));
-      double inv_scale[3];
-      for (int c = 0; c < 3; ++c) inv_scale[c] = 1.0 / (block_scale * ch[c].scale);
-      for (Eigen::Index k = 0; k < n; ++k) {
-        auto* functor = new JointRelationResidual;
-        for (int c = 0; c < 3; ++c) {
-          functor->u[c] = ch[c].u(k);
-          functor->d[c] = ch[c].d(k);
-          functor->inv_scale[c] = inv_scale[c];
-        }
-        problems[0]->AddResidualBlock(new ceres::AutoDiffCostFunction<JointRelationResidual, 3, 2, 2, 2>(functor),
-                                     losses[0].get(), ch[0].x.data(), ch[1].x.data(), ch[2].x.data());
-      }
-    } else {
-      for (int c = 0; c < 3; ++c) {
-        losses.push_back(make_loss(options_.loss, 1.0));
-        const double inv_scale = 1.0 / ch[c].scale;
-        for (Eigen::Index k = 0; k < n; ++k)
-          problems[c]->AddResidualBlock(new ceres::AutoDiffCostFunction<RelationResidual, 1, 2>(
-                                            new RelationResidual(ch[c].u(k), ch[c].d(k), inv_scale)),
-                                        losses[c].get(), ch[c].x.data());
-      }
-    }
-    for (std::size_t i = 0; i < problems.size(); ++i) {
-      ceres::Solver::Summary summary;
-      ceres::Solve(options_.solver, problems[i].get(), &summary);
-      last_iterations_ += static_cast<int>(summary.iterations.size());
-      if (!summary.IsSolutionUsable()) {
-        const std::string which =
-            options_.joint ? std::string() : std::string(" for channel ") + relation_channel_name(static_cast<int>(i));
-        throw SolverError(name() + ": Ceres found no usable solution" + which + " over " +
-                          std::to_string(intervals_) + " interval(s): " + summary.message);
-      }
-    }
-  };
-
-  bool automatic = false;
-  for (int c = 0; c < 3; ++c)
-    if (options_.loss != RobustLoss::None && options_.loss_scale(c) == 0.0) {
-      ch[c].scale = automatic_scale(c);
-      automatic = true;
-    }
-  solve();
-  if (automatic) {
-    // The least-squares residuals are spread by the outliers' pull on the fit; the robust fit's are not.
-    for (int c = 0; c < 3; ++c)
-      if (options_.loss_scale(c) == 0.0) ch[c].scale = automatic_scale(c);
-    solve();
-  }
-
-  // Huber's asymptotic covariance of an M-estimator, per channel, with psi the derivative of the sample's
-  // loss with respect to its residual r (in the residual's unit) and psi' its derivative:
-  //   cov = K^2 [sum psi^2 / (n - 2)] / mean(psi')^2 (H^T H)^-1,  K = 1 + (2 / n) var(psi') / mean(psi')^2,
-  // which is s^2 (H^T H)^-1 for the quadratic loss (psi = r, psi' = 1).
   RelationParameters p;
-  p.estimator = name();
+  p.estimator = estimator;
   p.samples = n;
   p.effective_samples = static_cast<double>(n);
   p.intervals = intervals_;
-  std::array<Eigen::VectorXd, 3> r;
-  for (int c = 0; c < 3; ++c) r[c] = residuals(c);
-  // The loss sees q_k = |f_k|^2 with f_kc = r_kc / (block_scale s_c): one channel's f^2 per channel, the sum
-  // of the three jointly. d/dr of the sample's cost, in the residual's unit, is rho'(q) r; its derivative is
-  // rho'(q) + 2 rho''(q) f_c^2.
-  Eigen::MatrixX3d f2(n, 3);
-  for (int c = 0; c < 3; ++c) f2.col(c) = (r[c] / (block_scale * ch[c].scale)).array().square().matrix();
-  const auto loss = make_loss(options_.loss, 1.0);
-  for (int c = 0; c < 3; ++c) {
-    Eigen::VectorXd psi(n), dpsi(n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      double rho[3];
-      evaluate_loss(loss.get(), options_.joint ? f2.row(k).sum() : f2(k, c), rho);
-      psi(k) = rho[1] * r[c](k);
-      dpsi(k) = rho[1] + 2.0 * rho[2] * f2(k, c);
-    }
-    const double m = dpsi.mean();
-    const double var_dpsi = (dpsi.array() - m).square().mean();
-    const double k_factor = 1.0 + 2.0 / static_cast<double>(n) * var_dpsi / (m * m);
-    const double factor = k_factor * k_factor * psi.squaredNorm() / static_cast<double>(n - 2) / (m * m);
-    p.beta(c) = ch[c].x(0);
-    p.eps(c) = ch[c].x(1);
-    // A redescending loss (Cauchy) can leave mean psi' <= 0 on wild data: no asymptotic covariance then.
-    p.covariance[c] = m > 0 ? Eigen::Matrix2d(factor * ch[c].inverse_information)
-                            : Eigen::Matrix2d::Constant(std::numeric_limits<double>::quiet_NaN());
-    p.residual_std(c) = std::sqrt(r[c].squaredNorm() / static_cast<double>(n - 2));
-    p.loss_scale(c) = options_.loss == RobustLoss::None ? 0.0 : ch[c].scale;
-  }
+  set_fitted_parameters(ch, n, options_, p);
   fit_ = p;
   not_ready_.clear();
 }

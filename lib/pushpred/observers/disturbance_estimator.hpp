@@ -42,6 +42,10 @@ class DisturbanceEstimator {
   }
 };
 
+/// The nominal mass [kg] and moment of inertia [kg m^2] an estimator's options give (0: the push's shape's), checked
+/// alike for every estimator: throws InputError naming `who` unless both are finite and not negative.
+void require_nominal_inertia_choice(double mass_kg, double inertia_kgm2, const std::string& who);
+
 /// Names accepted by make_disturbance_estimator ("dob", "pid").
 std::vector<std::string> disturbance_estimator_names();
 /// The estimator called `name` with its default options; throws InputError naming the known ones otherwise.

@@ -15,34 +15,23 @@
 namespace pushpred {
 namespace {
 
-void require_gain(double v, const char* name) {
-  if (!(v >= 0) || !std::isfinite(v)) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "PID force reconstruction: gain %s must be finite and not negative (got %g)", name, v);
-    throw InputError(buf);
-  }
-}
+constexpr const char* kReconstruction = "PID force reconstruction";
 
 }  // namespace
 
 void PidGains::validate() const {
-  require_gain(kp, "kp");
-  require_gain(ki, "ki");
-  require_gain(kd, "kd");
-  require_gain(lp, "lp");
-  require_gain(li, "li");
-  require_gain(ld, "ld");
+  const auto gain = [](const char* name) { return std::string(kReconstruction) + ": gain " + name; };
+  require_not_negative_finite(kp, gain("kp"));
+  require_not_negative_finite(ki, gain("ki"));
+  require_not_negative_finite(kd, gain("kd"));
+  require_not_negative_finite(lp, gain("lp"));
+  require_not_negative_finite(li, gain("li"));
+  require_not_negative_finite(ld, gain("ld"));
 }
 
 void PidReconstructionOptions::validate() const {
-  if (!(mass_kg >= 0) || !std::isfinite(mass_kg))
-    throw InputError("PID force reconstruction: nominal mass must be positive (or 0 for the shape's), got " +
-                     std::to_string(mass_kg) + " kg");
-  if (!(inertia_kgm2 >= 0) || !std::isfinite(inertia_kgm2))
-    throw InputError("PID force reconstruction: nominal moment of inertia must be positive (or 0 for the shape's), got " +
-                     std::to_string(inertia_kgm2) + " kg m^2");
-  if (!(velocity_window_s > 0) || !std::isfinite(velocity_window_s))
-    throw InputError("PID force reconstruction: initial-velocity window must be positive");
+  require_nominal_inertia_choice(mass_kg, inertia_kgm2, kReconstruction);
+  require_positive_finite(velocity_window_s, std::string(kReconstruction) + ": initial-velocity window [s]");
   integrator.validate();
 }
 

@@ -83,12 +83,7 @@ DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, 
 void QFilterObserverOptions::validate() const {
   require_positive_finite(zeta, "disturbance observer: zeta");
   require_positive_finite(wn_rad_s, "disturbance observer: wn [rad/s]");
-  if (!(mass_kg >= 0) || !std::isfinite(mass_kg))
-    throw InputError("disturbance observer: nominal mass must be positive (or 0 for the shape's), got " +
-                     std::to_string(mass_kg) + " kg");
-  if (!(inertia_kgm2 >= 0) || !std::isfinite(inertia_kgm2))
-    throw InputError("disturbance observer: nominal moment of inertia must be positive (or 0 for the shape's), got " +
-                     std::to_string(inertia_kgm2) + " kg m^2");
+  require_nominal_inertia_choice(mass_kg, inertia_kgm2, "disturbance observer");
   require_positive_finite(velocity_window_s, "disturbance observer: initial-velocity window [s]");
   integrator.validate();
 }

@@ -25,8 +25,7 @@ void RestNoiseOptions::validate() const {
   require_positive_finite(moved_m, "rest at the start: the motion threshold [m]");
   require_positive_finite(moved_rad, "rest at the start: the rotation threshold [rad]");
   require_positive_finite(force_change_N, "rest at the start: the force threshold [N]");
-  if (!(margin_s >= 0) || !std::isfinite(margin_s))
-    throw InputError("rest at the start: the margin [s] must be finite and not negative");
+  require_not_negative_finite(margin_s, "rest at the start: the margin [s]");
   require_positive_finite(min_rest_s, "rest at the start: the shortest rest [s]");
 }
 

@@ -105,7 +105,7 @@ const ShapeInfo& shape_for(const Recording& r, const std::string& shape_override
 }
 
 SynchronisedPush synchronise(const Recording& r, const ShapeInfo& shape, const PreprocessOptions& o) {
-  if (!(o.rate_hz > 0) || !std::isfinite(o.rate_hz)) throw InputError("resampling rate must be positive");
+  require_positive_finite(o.rate_hz, "resampling rate");
   check_plausible(r, o.limits);
   SynchronisedPush p;
   p.source = r.source;

@@ -7,6 +7,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -225,20 +226,15 @@ struct ScratchFolder {
   ScratchFolder& operator=(const ScratchFolder&) = delete;
 };
 
-}  // namespace
-
-BatchRunOutcome write_merged_diagnoses(const MergedParts& merged, StagedOutput& out) {
-  return merged_diagnoses(merged, out, true);
-}
-
-BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
-  const DiagnosisOptions& o = run.options;
-  o.validate();
+/// The standard candidate effects less those the run excludes.
+EffectLibrary effect_library(const DiagnoseRun& run) {
   EffectLibrary library = EffectLibrary::standard();
   for (const auto& kind : run.exclude) library.remove(kind);
+  return library;
+}
 
-  const MpiWorld& world = MpiWorld::get();
-  const bool mpi = world.size() > 1;
+/// Refuses the splits a diagnosis cannot take: --shard under mpirun, and either without --per-object.
+void check_split(const DiagnoseRun& run, bool mpi) {
   if (mpi && run.shard)
     throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the objects already; use one "
                      "or the other");
@@ -249,6 +245,148 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   if (mpi && !run.per_object)
     throw InputError("`diagnose` runs under mpirun only with --per-object (the ranks split the objects; a diagnosis "
                      "of one object is one process's work); run it as one process");
+}
+
+/// Refuses pushes of several objects (or surfaces) without --per-object, naming them.
+void check_one_object(const std::vector<PushGroup>& groups) {
+  if (groups.size() <= 1) return;
+  std::string names;
+  for (const auto& g : groups)
+    names += (names.empty() ? "" : ", ") + g.name() + " (" + std::to_string(g.pushes.size()) + ")";
+  throw InputError("the pushes are of " + std::to_string(groups.size()) + " objects or surfaces: " + names +
+                   "; a diagnosis fits one object on one surface: give one, or pass --per-object");
+}
+
+/// One diagnosis of all the pushes (one object), written to run.out.
+BatchRunOutcome diagnose_single_object(const DiagnoseRun& run, const EffectLibrary& library,
+                                       const std::vector<SynchronisedPush>& pushes,
+                                       const std::vector<BatchFailure>& read_failures) {
+  const DiagnosisOptions& o = run.options;
+  DiagnosisResult result = diagnose(pushes, library, o);
+  // Pushes read but left out by the diagnosis; the unreadable ones were listed above.
+  for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
+  result.failures.insert(result.failures.begin(), read_failures.begin(), read_failures.end());
+  StagedOutput out(run.out);
+  write_diagnosis_report(result, o, out, run.plots);
+  out.commit();
+  BatchRunOutcome outcome;
+  for (const auto& line : result.log) outcome.report += line + "\n";
+  outcome.report += diagnosis_summary_text(result);
+  outcome.report += "report in " + run.out + "/report.md, data in " + run.out + "/diagnosis.json\n";
+  outcome.exit_code = result.failures.empty() ? 0 : 1;
+  return outcome;
+}
+
+/// The positions of the groups this process diagnoses: all of them, or the shard's (the sorted groups dealt out as
+/// shard_positions deals out inputs).
+std::vector<std::size_t> groups_of_this_process(const std::vector<fs::path>& names, bool partial,
+                                                const ShardSpec& shard) {
+  if (partial) return shard_positions(names, shard);
+  std::vector<std::size_t> mine;
+  for (std::size_t i = 0; i < names.size(); ++i) mine.push_back(i);
+  return mine;
+}
+
+/// Diagnoses the groups at `mine`, shared out over the jobs, each written to folder_of(its name): an object that
+/// cannot be diagnosed is reported and the others go on. What each prints is kept, in the objects' order, whatever
+/// the jobs.
+std::vector<ObjectDone> diagnose_objects(std::vector<PushGroup>& groups, const std::vector<std::size_t>& mine,
+                                         const DiagnoseRun& run, const EffectLibrary& library,
+                                         const std::function<fs::path(const std::string&)>& folder_of,
+                                         const std::string& label, bool speaks) {
+  const DiagnosisOptions& o = run.options;
+  std::vector<ObjectDone> done(mine.size());
+  BatchProgress progress(label, "objects", mine.size(), speaks);
+  std::atomic<std::size_t> next{0};
+  const auto one_object = [&](std::size_t k) {
+    PushGroup& g = groups[mine[k]];
+    ObjectDone& d = done[k];
+    d.outcome = DiagnosisGroupOutcome{g.name(), g.pushes.size(), std::nullopt, ""};
+    try {
+      DiagnosisResult result = diagnose(g.pushes, library, o);
+      write_diagnosis_report(result, o, folder_of(g.name()), run.plots);
+      d.printed = diagnosis_summary_text(result);
+      for (const auto& f : result.failures) d.complaints += "LEFT OUT " + f.source + ": " + f.reason + "\n";
+      d.left_out = result.failures.size();
+      d.outcome.result = std::move(result);
+    } catch (const InputError& e) {
+      d.outcome.error = e.what();
+      d.complaints += "FAILED " + g.name() + ": " + e.what() + "\n";
+    }
+    progress.item_done();
+  };
+  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(1, run.jobs)), mine.size());
+  std::vector<std::thread> pool;
+  for (std::size_t t = 0; t < threads; ++t)
+    pool.emplace_back([&] {
+      for (std::size_t k = next++; k < mine.size(); k = next++) one_object(k);
+    });
+  for (auto& t : pool) t.join();
+  progress.finish();
+  return done;
+}
+
+std::string progress_label(bool mpi, bool partial, const MpiWorld& world, const ShardSpec& shard) {
+  return mpi       ? "diagnose (rank 0 of " + std::to_string(world.size()) + " ranks)"
+         : partial ? "diagnose (shard " + shard.text() + ")"
+                   : std::string("diagnose");
+}
+
+/// This process's share of a split per-object run, as the items of its partial output.
+struct PartialShare {
+  std::vector<PartialItem> items;
+  std::map<std::string, std::string> files;  ///< under MPI: every file of this rank's objects, sent to rank 0
+  bool anything_failed = false;
+  std::string complaints;
+  std::size_t diagnosed = 0;
+};
+
+PartialShare partial_share(const std::vector<ObjectDone>& done, const std::vector<std::size_t>& mine, bool read_failed,
+                           const std::function<fs::path(const std::string&)>& folder_of, const ScratchFolder* scratch) {
+  PartialShare share;
+  share.anything_failed = read_failed;
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    const ObjectDone& d = done[k];
+    PartialItem item;
+    item.index = mine[k];
+    item.result = object_exact_json(d);
+    item.files = files_under(folder_of(d.outcome.name), d.outcome.name);
+    if (scratch)
+      for (const auto& f : item.files) share.files[f] = read_binary(scratch->path / f);
+    share.anything_failed = share.anything_failed || !d.outcome.result || d.left_out > 0;
+    share.diagnosed += d.outcome.result ? 1 : 0;
+    share.complaints += d.complaints;
+    share.items.push_back(std::move(item));
+  }
+  return share;
+}
+
+/// The outcome of a shard (not an MPI rank): what it prints once its partial output is written.
+BatchRunOutcome shard_outcome(const PartialShare& share, std::size_t objects_here, std::size_t objects_in_all,
+                              const ShardSpec& shard, const StagedOutput& out) {
+  BatchRunOutcome outcome;
+  outcome.partial = true;
+  outcome.report = "diagnosed " + std::to_string(share.diagnosed) + " of the " + std::to_string(objects_here) +
+                   " objects of shard " + shard.text() + " (" + std::to_string(objects_in_all) +
+                   " objects in all); partial output in " + out.destination().string() +
+                   "; when every shard is done: pushpred merge --out DIR PART...\n";
+  outcome.notes = share.complaints;
+  outcome.exit_code = share.anything_failed ? 1 : 0;
+  return outcome;
+}
+
+}  // namespace
+
+BatchRunOutcome write_merged_diagnoses(const MergedParts& merged, StagedOutput& out) {
+  return merged_diagnoses(merged, out, true);
+}
+
+BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
+  run.options.validate();
+  const EffectLibrary library = effect_library(run);
+  const MpiWorld& world = MpiWorld::get();
+  const bool mpi = world.size() > 1;
+  check_split(run, mpi);
   const bool speaks = !mpi || world.root();
 
   // Every shard and every rank reads every input: the groups are known only once the files are read.
@@ -267,126 +405,43 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   }
   const std::size_t loaded_count = loaded.results.size();
   std::vector<PushGroup> groups = group_by_object(loaded.results);
-  if (groups.size() > 1 && !run.per_object) {
-    std::string names;
-    for (const auto& g : groups)
-      names += (names.empty() ? "" : ", ") + g.name() + " (" + std::to_string(g.pushes.size()) + ")";
-    throw InputError("the pushes are of " + std::to_string(groups.size()) + " objects or surfaces: " + names +
-                     "; a diagnosis fits one object on one surface: give one, or pass --per-object");
-  }
-
   if (!run.per_object) {
-    DiagnosisResult result = diagnose(groups.front().pushes, library, o);
-    // Pushes read but left out by the diagnosis; the unreadable ones were listed above.
-    for (const auto& f : result.failures) std::cerr << "LEFT OUT " << f.source << ": " << f.reason << "\n";
-    result.failures.insert(result.failures.begin(), loaded.failures.begin(), loaded.failures.end());
-    StagedOutput out(run.out);
-    write_diagnosis_report(result, o, out, run.plots);
-    out.commit();
-    BatchRunOutcome outcome;
-    for (const auto& line : result.log) outcome.report += line + "\n";
-    outcome.report += diagnosis_summary_text(result);
-    outcome.report += "report in " + run.out + "/report.md, data in " + run.out + "/diagnosis.json\n";
-    outcome.exit_code = result.failures.empty() ? 0 : 1;
-    return outcome;
+    check_one_object(groups);
+    return diagnose_single_object(run, library, groups.front().pushes, loaded.failures);
   }
 
-  // One diagnosis per object: all of them, or the shard's, or this rank's (the sorted groups dealt out as
-  // shard_positions deals out inputs).
+  // One diagnosis per object: all of them, or the shard's, or this rank's.
   const bool partial = mpi || run.shard.has_value();
   const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : run.shard.value_or(ShardSpec{});
-  std::vector<std::size_t> mine;
   std::vector<fs::path> names;
   for (const auto& g : groups) names.emplace_back(g.name());
-  if (partial) {
-    mine = shard_positions(names, shard);
-  } else {
-    for (std::size_t i = 0; i < groups.size(); ++i) mine.push_back(i);
-  }
+  const std::vector<std::size_t> mine = groups_of_this_process(names, partial, shard);
 
   std::optional<StagedOutput> out;  // under MPI only rank 0 writes
   open_output_at_root(world, run.out, out);
   std::optional<ScratchFolder> scratch;  // under MPI each rank's objects go through memory to rank 0
   if (mpi) scratch.emplace(world.rank());
-  const auto folder_of = [&](const std::string& name) { return mpi ? scratch->path / name : out->path(name); };
-
-  // The objects shared out over the jobs: an object that cannot be diagnosed is reported and the others go on.
-  // What each prints is kept and printed in the objects' order, whatever the jobs.
-  std::vector<ObjectDone> done(mine.size());
-  {
-    const std::string label = mpi       ? "diagnose (rank 0 of " + std::to_string(world.size()) + " ranks)"
-                              : partial ? "diagnose (shard " + shard.text() + ")"
-                                        : std::string("diagnose");
-    BatchProgress progress(label, "objects", mine.size(), speaks);
-    std::atomic<std::size_t> next{0};
-    const auto one_object = [&](std::size_t k) {
-      PushGroup& g = groups[mine[k]];
-      ObjectDone& d = done[k];
-      d.outcome = DiagnosisGroupOutcome{g.name(), g.pushes.size(), std::nullopt, ""};
-      try {
-        DiagnosisResult result = diagnose(g.pushes, library, o);
-        write_diagnosis_report(result, o, folder_of(g.name()), run.plots);
-        d.printed = diagnosis_summary_text(result);
-        for (const auto& f : result.failures) d.complaints += "LEFT OUT " + f.source + ": " + f.reason + "\n";
-        d.left_out = result.failures.size();
-        d.outcome.result = std::move(result);
-      } catch (const InputError& e) {
-        d.outcome.error = e.what();
-        d.complaints += "FAILED " + g.name() + ": " + e.what() + "\n";
-      }
-      progress.item_done();
-    };
-    const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(1, run.jobs)), mine.size());
-    std::vector<std::thread> pool;
-    for (std::size_t t = 0; t < threads; ++t)
-      pool.emplace_back([&] {
-        for (std::size_t k = next++; k < mine.size(); k = next++) one_object(k);
-      });
-    for (auto& t : pool) t.join();
-    progress.finish();
-  }
+  const std::function<fs::path(const std::string&)> folder_of = [&](const std::string& name) {
+    return mpi ? scratch->path / name : out->path(name);
+  };
+  std::vector<ObjectDone> done =
+      diagnose_objects(groups, mine, run, library, folder_of, progress_label(mpi, partial, world, shard), speaks);
   if (!partial) return finish_per_object(std::move(done), loaded_count, !loaded.failures.empty(), "", *out);
 
-  std::vector<PartialItem> items;
-  std::map<std::string, std::string> files;  // under MPI: every file of this rank's objects, sent to rank 0
-  bool anything_failed = !loaded.failures.empty();
-  std::string complaints;
-  std::size_t diagnosed = 0;
-  for (std::size_t k = 0; k < mine.size(); ++k) {
-    const ObjectDone& d = done[k];
-    PartialItem item;
-    item.index = mine[k];
-    item.result = object_exact_json(d);
-    item.files = files_under(folder_of(d.outcome.name), d.outcome.name);
-    if (mpi)
-      for (const auto& f : item.files) files[f] = read_binary(scratch->path / f);
-    anything_failed = anything_failed || !d.outcome.result || d.left_out > 0;
-    diagnosed += d.outcome.result ? 1 : 0;
-    complaints += d.complaints;
-    items.push_back(std::move(item));
-  }
+  PartialShare share = partial_share(done, mine, !loaded.failures.empty(), folder_of, mpi ? &*scratch : nullptr);
   // The units are the objects; the fingerprint covers the input files as given and the objects they make.
   std::vector<fs::path> listed = inputs;
   listed.emplace_back("");
   listed.insert(listed.end(), names.begin(), names.end());
   const nlohmann::json manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
-                                                   options_json(run, loaded_count, loaded.failures), items);
+                                                   options_json(run, loaded_count, loaded.failures), share.items);
   if (mpi) {
     scratch.reset();
-    return merge_at_root(world, manifest, files,
+    return merge_at_root(world, manifest, share.files,
                          [&](const MergedParts& merged) { return merged_diagnoses(merged, *out, false); });
   }
-
   write_partial_output(*out, manifest);
-  BatchRunOutcome outcome;
-  outcome.partial = true;
-  outcome.report = "diagnosed " + std::to_string(diagnosed) + " of the " + std::to_string(mine.size()) +
-                   " objects of shard " + shard.text() + " (" + std::to_string(groups.size()) +
-                   " objects in all); partial output in " + out->destination().string() +
-                   "; when every shard is done: pushpred merge --out DIR PART...\n";
-  outcome.notes = complaints;
-  outcome.exit_code = anything_failed ? 1 : 0;
-  return outcome;
+  return shard_outcome(share, mine.size(), groups.size(), shard, *out);
 }
 
 }  // namespace pushpred

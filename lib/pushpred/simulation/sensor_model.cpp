@@ -1,9 +1,11 @@
 #include "pushpred/simulation/sensor_model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <optional>
 
 #include "pushpred/core/batch.hpp"
 #include "pushpred/core/error.hpp"
@@ -190,150 +192,196 @@ double mid_push_force_spread(const SynchronisedPush& p) {
   return f.size() < 2 ? NAN : std_dev(f);
 }
 
-RecordingStatistics measure_recordings(const std::vector<std::string>& paths, std::vector<std::string>* skipped) {
-  RecordingStatistics s;
+namespace {
+
+/// What measure_recordings collects from each file before taking medians over the files.
+struct PerFileSamples {
   std::vector<double> rates[3], intervals[3], obj_start, tip_start, obj_end, tip_end;
   std::vector<double> total[3][3], white[3][3];
   std::vector<double> rest_before, rest_after, ramp, length, ratio_all, ratio_central, tip_lag1;
   int out_of_order_files = 0;
-  for (const auto& path : expand_inputs(paths)) {
-    Recording r;
-    SynchronisedPush p;
-    try {
-      r = read_recording(path);
-      p = synchronise(r, shape_for(r, ""));
-    } catch (const std::exception& e) {
-      if (skipped) skipped->push_back(e.what());
-      continue;
-    }
-    ++s.files;
-    const bool live_force = !p.flags.frozen_force_sensor;
-    if (live_force) ++s.force_files;
-    const TimedStream* streams[3] = {&r.object_pose, &r.ft_wrench, &r.tip_pose};
-    for (int k = 0; k < 3; ++k) {
-      rates[k].push_back(streams[k]->rate_hz());
-      for (Eigen::Index i = 1; i < streams[k]->size(); ++i)
-        intervals[k].push_back(streams[k]->t_s(i) - streams[k]->t_s(i - 1));
-    }
-    {
-      const TimedStream& t = r.tip_pose;
-      std::vector<double> d;
-      for (Eigen::Index i = 1; i < t.size(); ++i) d.push_back(t.t_s(i) - t.t_s(i - 1));
-      const double m = std::accumulate(d.begin(), d.end(), 0.0) / d.size();
-      double c0 = 0, c1 = 0;
-      for (size_t i = 0; i < d.size(); ++i) {
-        c0 += (d[i] - m) * (d[i] - m);
-        if (i > 0) c1 += (d[i] - m) * (d[i - 1] - m);
-      }
-      if (c0 > 0) tip_lag1.push_back(c1 / c0);
-    }
-    for (const auto& rep : r.repairs)
-      if (rep.stream == "object_pose" && rep.what.rfind("sorted", 0) == 0) {
-        ++out_of_order_files;
-        break;
-      }
-    obj_start.push_back(r.object_pose.start_s() - r.ft_wrench.start_s());
-    tip_start.push_back(r.tip_pose.start_s() - r.ft_wrench.start_s());
-    obj_end.push_back(r.object_pose.end_s() - r.ft_wrench.end_s());
-    tip_end.push_back(r.tip_pose.end_s() - r.ft_wrench.end_s());
+};
 
-    // The tip's motion along its overall direction, from the raw tip stream.
-    const TimedStream& tip = r.tip_pose;
-    const Eigen::Index nt = tip.size();
-    const Eigen::Vector2d tip0 = tip.values.row(0).head<2>().transpose();
-    const Eigen::Vector2d tip1 = tip.values.row(nt - 1).head<2>().transpose();
-    const double travel = (tip1 - tip0).norm();
-    if (travel < 1e-3 || !r.push || !(r.push->speed_m_s > 0) || nt < 10) continue;
-    const Eigen::Vector2d u = (tip1 - tip0) / travel;
-    const double v_nominal = r.push->speed_m_s;
-    double t_go = NAN, t_cruise = NAN, t_halt = NAN;
-    for (Eigen::Index i = 2; i + 2 < nt; ++i) {
-      const double v = (tip.values.row(i + 2) - tip.values.row(i - 2)).head<2>().dot(u.transpose()) /
-                       (tip.t_s(i + 2) - tip.t_s(i - 2));
-      const double t = tip.t_s(i) - tip.start_s();
-      if (std::isnan(t_go) && v > 0.05 * v_nominal) t_go = t;
-      if (!std::isnan(t_go) && std::isnan(t_cruise) && v > 0.95 * v_nominal) t_cruise = t;
-      if (v > 0.05 * v_nominal) t_halt = t;
-    }
-    length.push_back(travel);
-    if (!std::isnan(t_go)) rest_before.push_back(t_go);
-    if (!std::isnan(t_cruise)) ramp.push_back(t_cruise - t_go);
-    if (!std::isnan(t_halt)) rest_after.push_back(tip.end_s() - tip.start_s() - t_halt);
+/// The streams in the order of RecordingStatistics' arrays: object, force, tip.
+std::array<const TimedStream*, 3> streams_of(const Recording& r) { return {&r.object_pose, &r.ft_wrench, &r.tip_pose}; }
 
-    // Rest window: from 0.1 s after the tip last moved more than 0.2 mm from where it ends.
-    double t_still = tip.start_s();
-    for (Eigen::Index i = nt - 1; i >= 0; --i)
-      if ((tip.values.row(i).head<2>().transpose() - tip1).norm() > 0.2e-3) {
-        t_still = tip.t_s(i);
-        break;
-      }
-    for (int k = 0; k < 3; ++k) {
-      if (k == 1 && !live_force) continue;
-      const TimedStream& st = *streams[k];
-      for (int c = 0; c < 3; ++c) {
-        std::vector<double> values, diffs;
-        for (Eigen::Index i = 0; i < st.size(); ++i) {
-          if (st.t_s(i) < t_still + 0.1) continue;
-          if (!values.empty()) diffs.push_back((st.values(i, c) - values.back()) / std::sqrt(2.0));
-          values.push_back(st.values(i, c));
-        }
-        if (values.size() < 20) continue;
-        if (c == 0) ++s.rest_windows[k];
-        total[k][c].push_back(std_dev(values));
-        white[k][c].push_back(std_dev(diffs));
-      }
-    }
+/// Reads and synchronises one file; a file that fails is listed in `skipped` (when given) and false returned.
+bool read_push(const std::filesystem::path& path, Recording& r, SynchronisedPush& p,
+               std::vector<std::string>* skipped) {
+  try {
+    r = read_recording(path);
+    p = synchronise(r, shape_for(r, ""));
+  } catch (const std::exception& e) {
+    if (skipped) skipped->push_back(e.what());
+    return false;
+  }
+  return true;
+}
 
-    // Force per weight in the middle of the push.
-    if (live_force) {
-      const double ratio = mid_push_force_per_weight(p);
-      if (std::isfinite(ratio)) {
-        ratio_all.push_back(ratio);
-        if (std::abs(r.push->angle_rad) < 1e-6) ratio_central.push_back(ratio);
+/// The streams' rates, intervals and their order, and where each starts and ends against the force sensor.
+void add_stream_timing(PerFileSamples& f, const Recording& r) {
+  const auto streams = streams_of(r);
+  for (int k = 0; k < 3; ++k) {
+    f.rates[k].push_back(streams[k]->rate_hz());
+    for (Eigen::Index i = 1; i < streams[k]->size(); ++i)
+      f.intervals[k].push_back(streams[k]->t_s(i) - streams[k]->t_s(i - 1));
+  }
+  {
+    const TimedStream& t = r.tip_pose;
+    std::vector<double> d;
+    for (Eigen::Index i = 1; i < t.size(); ++i) d.push_back(t.t_s(i) - t.t_s(i - 1));
+    const double m = std::accumulate(d.begin(), d.end(), 0.0) / d.size();
+    double c0 = 0, c1 = 0;
+    for (size_t i = 0; i < d.size(); ++i) {
+      c0 += (d[i] - m) * (d[i] - m);
+      if (i > 0) c1 += (d[i] - m) * (d[i - 1] - m);
+    }
+    if (c0 > 0) f.tip_lag1.push_back(c1 / c0);
+  }
+  for (const auto& rep : r.repairs)
+    if (rep.stream == "object_pose" && rep.what.rfind("sorted", 0) == 0) {
+      ++f.out_of_order_files;
+      break;
+    }
+  f.obj_start.push_back(r.object_pose.start_s() - r.ft_wrench.start_s());
+  f.tip_start.push_back(r.tip_pose.start_s() - r.ft_wrench.start_s());
+  f.obj_end.push_back(r.object_pose.end_s() - r.ft_wrench.end_s());
+  f.tip_end.push_back(r.tip_pose.end_s() - r.ft_wrench.end_s());
+}
+
+/// The tip's motion along its overall direction, from the raw tip stream: the rest before and after, the speed
+/// ramp and the travel. Returns where the tip ends, or nothing when it does not travel (or the file name gives no
+/// speed): such a file has no rest window either.
+std::optional<Eigen::Vector2d> add_tip_motion(PerFileSamples& f, const Recording& r) {
+  const TimedStream& tip = r.tip_pose;
+  const Eigen::Index nt = tip.size();
+  const Eigen::Vector2d tip0 = tip.values.row(0).head<2>().transpose();
+  const Eigen::Vector2d tip1 = tip.values.row(nt - 1).head<2>().transpose();
+  const double travel = (tip1 - tip0).norm();
+  if (travel < 1e-3 || !r.push || !(r.push->speed_m_s > 0) || nt < 10) return std::nullopt;
+  const Eigen::Vector2d u = (tip1 - tip0) / travel;
+  const double v_nominal = r.push->speed_m_s;
+  double t_go = NAN, t_cruise = NAN, t_halt = NAN;
+  for (Eigen::Index i = 2; i + 2 < nt; ++i) {
+    const double v = (tip.values.row(i + 2) - tip.values.row(i - 2)).head<2>().dot(u.transpose()) /
+                     (tip.t_s(i + 2) - tip.t_s(i - 2));
+    const double t = tip.t_s(i) - tip.start_s();
+    if (std::isnan(t_go) && v > 0.05 * v_nominal) t_go = t;
+    if (!std::isnan(t_go) && std::isnan(t_cruise) && v > 0.95 * v_nominal) t_cruise = t;
+    if (v > 0.05 * v_nominal) t_halt = t;
+  }
+  f.length.push_back(travel);
+  if (!std::isnan(t_go)) f.rest_before.push_back(t_go);
+  if (!std::isnan(t_cruise)) f.ramp.push_back(t_cruise - t_go);
+  if (!std::isnan(t_halt)) f.rest_after.push_back(tip.end_s() - tip.start_s() - t_halt);
+  return tip1;
+}
+
+/// The spread of each stream's channels at rest after the push, from 0.1 s after the tip last moved more than
+/// 0.2 mm from where it ends (`tip_end`); a frozen force sensor's is left out.
+void add_rest_noise(PerFileSamples& f, RecordingStatistics& s, const Recording& r, const Eigen::Vector2d& tip_end,
+                    bool live_force) {
+  const TimedStream& tip = r.tip_pose;
+  double t_still = tip.start_s();
+  for (Eigen::Index i = tip.size() - 1; i >= 0; --i)
+    if ((tip.values.row(i).head<2>().transpose() - tip_end).norm() > 0.2e-3) {
+      t_still = tip.t_s(i);
+      break;
+    }
+  const auto streams = streams_of(r);
+  for (int k = 0; k < 3; ++k) {
+    if (k == 1 && !live_force) continue;
+    const TimedStream& st = *streams[k];
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> values, diffs;
+      for (Eigen::Index i = 0; i < st.size(); ++i) {
+        if (st.t_s(i) < t_still + 0.1) continue;
+        if (!values.empty()) diffs.push_back((st.values(i, c) - values.back()) / std::sqrt(2.0));
+        values.push_back(st.values(i, c));
       }
+      if (values.size() < 20) continue;
+      if (c == 0) ++s.rest_windows[k];
+      f.total[k][c].push_back(std_dev(values));
+      f.white[k][c].push_back(std_dev(diffs));
     }
   }
-  if (s.files == 0) throw InputError("no recording could be read from the given paths");
+}
 
+/// Force per weight in the middle of the push, over all pushes and over those at angle 0.
+void add_force_per_weight(PerFileSamples& f, const Recording& r, const SynchronisedPush& p) {
+  const double ratio = mid_push_force_per_weight(p);
+  if (std::isfinite(ratio)) {
+    f.ratio_all.push_back(ratio);
+    if (std::abs(r.push->angle_rad) < 1e-6) f.ratio_central.push_back(ratio);
+  }
+}
+
+void summarise_clocks(RecordingStatistics& s, const PerFileSamples& f) {
   for (int k = 0; k < 3; ++k) {
-    s.rate_hz[k] = median(rates[k]);
-    s.median_interval_s[k] = median(intervals[k]);
+    s.rate_hz[k] = median(f.rates[k]);
+    s.median_interval_s[k] = median(f.intervals[k]);
     std::vector<double> dev;
     int late = 0;
-    for (double d : intervals[k]) {
+    for (double d : f.intervals[k]) {
       dev.push_back(std::abs(d - s.median_interval_s[k]));
       if (d > s.median_interval_s[k] + 1e-3) ++late;
     }
     s.interval_core_std_s[k] = 1.4826 * median(dev);
-    s.late_share[k] = static_cast<double>(late) / intervals[k].size();
+    s.late_share[k] = static_cast<double>(late) / f.intervals[k].size();
     for (int c = 0; c < 3; ++c) {
-      s.noise_total[k][c] = median(total[k][c]);
-      s.noise_white[k][c] = median(white[k][c]);
+      s.noise_total[k][c] = median(f.total[k][c]);
+      s.noise_white[k][c] = median(f.white[k][c]);
     }
   }
   // The tip's intervals fall into two modes on either side of their mean.
-  const auto& ti = intervals[2];
+  const auto& ti = f.intervals[2];
   const double mean_tip = std::accumulate(ti.begin(), ti.end(), 0.0) / ti.size();
   std::vector<double> shorter, longer;
   for (double d : ti) (d < mean_tip ? shorter : longer).push_back(d);
   s.tip_short_s = median(shorter);
   s.tip_long_s = median(longer);
   s.tip_short_share = static_cast<double>(shorter.size()) / ti.size();
-  s.object_out_of_order_share = static_cast<double>(out_of_order_files) / s.files;
-  s.tip_interval_lag1 = median(tip_lag1);
-  s.tip_rate_spread_hz[0] = *std::min_element(rates[2].begin(), rates[2].end());
-  s.tip_rate_spread_hz[1] = *std::max_element(rates[2].begin(), rates[2].end());
-  min_median_max(obj_start, s.object_start_offset_s);
-  min_median_max(tip_start, s.tip_start_offset_s);
-  min_median_max(obj_end, s.object_end_offset_s);
-  min_median_max(tip_end, s.tip_end_offset_s);
-  s.rest_before_s = median(rest_before);
-  s.rest_after_s = median(rest_after);
-  s.ramp_5_95_s = median(ramp);
-  s.push_length_m = median(length);
-  s.force_weight_ratio_all = median(ratio_all);
-  s.force_weight_ratio_central = median(ratio_central);
-  s.central_files = static_cast<int>(ratio_central.size());
+  s.object_out_of_order_share = static_cast<double>(f.out_of_order_files) / s.files;
+  s.tip_interval_lag1 = median(f.tip_lag1);
+  s.tip_rate_spread_hz[0] = *std::min_element(f.rates[2].begin(), f.rates[2].end());
+  s.tip_rate_spread_hz[1] = *std::max_element(f.rates[2].begin(), f.rates[2].end());
+  min_median_max(f.obj_start, s.object_start_offset_s);
+  min_median_max(f.tip_start, s.tip_start_offset_s);
+  min_median_max(f.obj_end, s.object_end_offset_s);
+  min_median_max(f.tip_end, s.tip_end_offset_s);
+}
+
+void summarise_motion(RecordingStatistics& s, const PerFileSamples& f) {
+  s.rest_before_s = median(f.rest_before);
+  s.rest_after_s = median(f.rest_after);
+  s.ramp_5_95_s = median(f.ramp);
+  s.push_length_m = median(f.length);
+  s.force_weight_ratio_all = median(f.ratio_all);
+  s.force_weight_ratio_central = median(f.ratio_central);
+  s.central_files = static_cast<int>(f.ratio_central.size());
+}
+
+}  // namespace
+
+RecordingStatistics measure_recordings(const std::vector<std::string>& paths, std::vector<std::string>* skipped) {
+  RecordingStatistics s;
+  PerFileSamples f;
+  for (const auto& path : expand_inputs(paths)) {
+    Recording r;
+    SynchronisedPush p;
+    if (!read_push(path, r, p, skipped)) continue;
+    ++s.files;
+    const bool live_force = !p.flags.frozen_force_sensor;
+    if (live_force) ++s.force_files;
+    add_stream_timing(f, r);
+    const std::optional<Eigen::Vector2d> tip_end = add_tip_motion(f, r);
+    if (!tip_end) continue;
+    add_rest_noise(f, s, r, *tip_end, live_force);
+    if (live_force) add_force_per_weight(f, r, p);
+  }
+  if (s.files == 0) throw InputError("no recording could be read from the given paths");
+  summarise_clocks(s, f);
+  summarise_motion(s, f);
   return s;
 }
 

@@ -33,32 +33,45 @@ TimedStream make_stream(const Eigen::VectorXd& t, const Eigen::MatrixX3d& values
 constexpr double kPatchRadius_m = kFrictionPatchRadius_m;
 constexpr double kPatchAlongPath_m = kFrictionPatchAhead_m;
 
-}  // namespace
-
-SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sensors) {
-  scenario.validate();
-  const ShapeInfo& shape = ShapeTable::published().find(scenario.shape);
-  const Effects& fx = scenario.effects;
-
+/// The object as the scenario's effects change it from the published one.
+ObjectProperties perturbed_object(const ShapeInfo& shape, const Effects& fx) {
   ObjectProperties object = ObjectProperties::nominal(shape);
   object.mass_kg *= fx.inertia_factor;
   object.inertia_kgm2 *= fx.inertia_factor;
   object.mass_centre_m.x() += fx.com_offset_m;
+  return object;
+}
 
-  // Where the rod starts and where it goes, from the contact side, position and push angle.
-  const Outline outline(shape);
-  const Outline::Closest side = outline.point_on_side(scenario.contact_side, scenario.contact_position);
+RodContact rod_contact(const PushScenario& scenario) {
   RodContact contact;
   contact.friction = scenario.contact_friction;
   contact.stiffness_N_m = scenario.contact_stiffness_N_m;
-  const Eigen::Vector2d start_body = side.point_m + (contact.rod_radius_m + scenario.approach_gap_m) * side.normal;
-  const Eigen::Vector2d direction_body = rotation(scenario.push_angle_rad) * (-side.normal);
-  const Eigen::Vector3d pose0(scenario.initial_x_m, scenario.initial_y_m, scenario.initial_yaw_rad);
-  const Eigen::Matrix2d R0 = rotation(pose0(2));
-  const Eigen::Vector2d start_world = pose0.head<2>() + R0 * start_body;
-  const Eigen::Vector2d direction_world = R0 * direction_body;
-  const PusherPath path(start_world, direction_world, scenario.rest_before_s, scenario.motion);
+  return contact;
+}
 
+/// Where the object starts, which way the rod pushes it (in the body and the world) and the rod's path.
+struct PushLayout {
+  Eigen::Vector3d pose0;
+  Eigen::Vector2d direction_body, direction_world;
+  PusherPath path;
+};
+
+/// The layout from the contact side, position and push angle.
+PushLayout push_layout(const PushScenario& scenario, const Outline& outline, const RodContact& contact) {
+  const Outline::Closest side = outline.point_on_side(scenario.contact_side, scenario.contact_position);
+  PushLayout layout;
+  const Eigen::Vector2d start_body = side.point_m + (contact.rod_radius_m + scenario.approach_gap_m) * side.normal;
+  layout.direction_body = rotation(scenario.push_angle_rad) * (-side.normal);
+  layout.pose0 = Eigen::Vector3d(scenario.initial_x_m, scenario.initial_y_m, scenario.initial_yaw_rad);
+  const Eigen::Matrix2d R0 = rotation(layout.pose0(2));
+  const Eigen::Vector2d start_world = layout.pose0.head<2>() + R0 * start_body;
+  layout.direction_world = R0 * layout.direction_body;
+  layout.path = PusherPath(start_world, layout.direction_world, scenario.rest_before_s, scenario.motion);
+  return layout;
+}
+
+SupportFriction support_friction(const PushScenario& scenario, const Outline& outline, const PushLayout& layout) {
+  const Effects& fx = scenario.effects;
   SupportFriction support;
   support.coefficient = scenario.surface_friction;
   support.viscous_per_kg = fx.viscous_per_kg;
@@ -67,36 +80,55 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
   support.patch_excess = fx.position_friction_excess;
   // The patch lies on the push line, kPatchAlongPath_m beyond the object's leading point at the start: the object
   // runs onto it during the push.
-  support.patch_centre_m =
-      pose0.head<2>() + (outline.extent_along(direction_body) + kPatchAlongPath_m) * direction_world;
+  support.patch_centre_m = layout.pose0.head<2>() +
+                           (outline.extent_along(layout.direction_body) + kPatchAlongPath_m) * layout.direction_world;
   support.patch_radius_m = kPatchRadius_m;
+  return support;
+}
 
-  const PushedObjectSystem system = [&] {
-    try {
-      return PushedObjectSystem(shape, object, support, contact, path);
-    } catch (const InputError& e) {
-      if (fx.com_offset_m == 0) throw;
-      throw InputError("com_offset=" + std::to_string(fx.com_offset_m) + " is too large for " + scenario.shape + ": " +
-                       e.what());
-    }
-  }();
-  const double duration = path.end_time_s() + scenario.rest_after_s;
+/// The system; a mass-centre offset that puts the centre outside the object is named in the error.
+PushedObjectSystem pushed_object_system(const PushScenario& scenario, const ShapeInfo& shape,
+                                        const ObjectProperties& object, const SupportFriction& support,
+                                        const RodContact& contact, const PusherPath& path) {
+  const double com_offset_m = scenario.effects.com_offset_m;
+  try {
+    return PushedObjectSystem(shape, object, support, contact, path);
+  } catch (const InputError& e) {
+    if (com_offset_m == 0) throw;
+    throw InputError("com_offset=" + std::to_string(com_offset_m) + " is too large for " + scenario.shape + ": " +
+                     e.what());
+  }
+}
 
-  // Clocks and noise, drawn in a fixed order from one generator: the same seed gives the same recording.
+/// Each sensor's clock and noise.
+struct SensorDraws {
+  StreamSchedule object_clock, force_clock, tip_clock;
+  Eigen::MatrixX3d object_noise, force_noise, tip_noise;
+};
+
+/// Clocks and noise, drawn in a fixed order from one generator: the same seed gives the same recording.
+SensorDraws draw_sensors(const PushScenario& scenario, const SensorModel& sensors, double duration) {
   std::mt19937_64 rng(scenario.seed);
   const double js = scenario.sensors.jitter_scale, ns = scenario.sensors.noise_scale;
-  const StreamSchedule object_clock = draw_schedule(sensors.object_pose.clock, duration, js, rng);
-  const StreamSchedule force_clock = draw_schedule(sensors.ft_wrench.clock, duration, js, rng);
-  const StreamSchedule tip_clock = draw_schedule(sensors.tip_pose.clock, duration, js, rng);
-  for (const auto* c : {&object_clock, &force_clock, &tip_clock})
+  SensorDraws d;
+  d.object_clock = draw_schedule(sensors.object_pose.clock, duration, js, rng);
+  d.force_clock = draw_schedule(sensors.ft_wrench.clock, duration, js, rng);
+  d.tip_clock = draw_schedule(sensors.tip_pose.clock, duration, js, rng);
+  for (const auto* c : {&d.object_clock, &d.force_clock, &d.tip_clock})
     if (c->stamp_s.size() < 2) throw InputError("the recording is too short for two sensor samples");
-  const Eigen::MatrixX3d object_noise =
-      draw_noise(sensors.object_pose, sensors.slow_time_constant_s, object_clock.stamp_s, ns, rng);
-  const Eigen::MatrixX3d force_noise =
-      draw_noise(sensors.ft_wrench, sensors.slow_time_constant_s, force_clock.stamp_s, ns, rng);
-  const Eigen::MatrixX3d tip_noise =
-      draw_noise(sensors.tip_pose, sensors.slow_time_constant_s, tip_clock.stamp_s, ns, rng);
+  d.object_noise = draw_noise(sensors.object_pose, sensors.slow_time_constant_s, d.object_clock.stamp_s, ns, rng);
+  d.force_noise = draw_noise(sensors.ft_wrench, sensors.slow_time_constant_s, d.force_clock.stamp_s, ns, rng);
+  d.tip_noise = draw_noise(sensors.tip_pose, sensors.slow_time_constant_s, d.tip_clock.stamp_s, ns, rng);
+  return d;
+}
 
+/// The instants at which the object and the force are sampled, and all of them sorted without repeats.
+struct SampleInstants {
+  Eigen::VectorXd object, force;
+  std::vector<double> all;
+};
+
+SampleInstants sample_instants(const PusherPath& path, const SensorDraws& draws, double time_offset_s) {
   // The force sensor lags by time_offset: its sample stamped at grid time t holds the force at t - offset.
   // An instant a rounding error away from a phase boundary of the rod is taken as that boundary (the state is
   // continuous there): CVODE cannot step a few ulps past the point where it was re-initialised.
@@ -107,28 +139,19 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
         if (std::abs(v - b) < 1e-9) v = b;
     return t;
   };
-  const Eigen::VectorXd object_instants = snapped(object_clock.sample_s);
-  const Eigen::VectorXd force_instants = snapped(force_clock.sample_s.array() - fx.time_offset_s);
-  std::vector<double> instants(object_instants.data(), object_instants.data() + object_instants.size());
-  instants.insert(instants.end(), force_instants.data(), force_instants.data() + force_instants.size());
-  std::sort(instants.begin(), instants.end());
-  instants.erase(std::unique(instants.begin(), instants.end()), instants.end());
-  const double t0 = std::min(0.0, instants.front());
+  SampleInstants s;
+  s.object = snapped(draws.object_clock.sample_s);
+  s.force = snapped(draws.force_clock.sample_s.array() - time_offset_s);
+  s.all.assign(s.object.data(), s.object.data() + s.object.size());
+  s.all.insert(s.all.end(), s.force.data(), s.force.data() + s.force.size());
+  std::sort(s.all.begin(), s.all.end());
+  s.all.erase(std::unique(s.all.begin(), s.all.end()), s.all.end());
+  return s;
+}
 
-  IntegratorOptions options;
-  options.method = IntegratorOptions::Method::Bdf;
-  options.relative_tolerance = 1e-6;
-  options.absolute_tolerance = 1e-9;
-  const Eigen::VectorXd out_times = Eigen::Map<const Eigen::VectorXd>(instants.data(), instants.size());
-  CvodeIntegrator::Stats stats;
-  const Eigen::MatrixXd states = integrate(system, options, t0, system.state_at_rest(pose0), out_times, &stats);
-
-  SimulatedPush sim;
-  sim.scenario = scenario;
-  sim.solver = stats;
-  sim.push_start_s = path.start_time_s();
-  sim.push_end_s = path.end_time_s();
-  sim.rod_peak_speed_m_s = path.peak_speed_m_s();
+/// The truth at every output instant, from the integrated states; returns the rod's torque about its axis.
+Eigen::VectorXd record_truth(const PushedObjectSystem& system, const Eigen::MatrixXd& states,
+                             const Eigen::VectorXd& out_times, SimulatedPush& sim) {
   const Eigen::Index n = out_times.size();
   sim.t_s = out_times;
   sim.tracked_pose.resize(n, 3);
@@ -145,47 +168,94 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
     sim.touching[k] = w.touching;
     rod_torque(k) = w.torque_about_rod_Nm;
   }
-  auto row_at = [&](double t) {
-    const auto it = std::lower_bound(instants.begin(), instants.end(), t);
-    return static_cast<Eigen::Index>(it - instants.begin());
-  };
+  return rod_torque;
+}
+
+/// The row of the truth at instant t (one of the sorted instants).
+Eigen::Index row_at(const std::vector<double>& instants, double t) {
+  const auto it = std::lower_bound(instants.begin(), instants.end(), t);
+  return static_cast<Eigen::Index>(it - instants.begin());
+}
+
+TimedStream object_pose_stream(const SimulatedPush& sim, const SampleInstants& instants, const SensorDraws& draws,
+                               double unix0) {
+  const Eigen::Index m = instants.object.size();
+  Eigen::MatrixX3d v(m, 3);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Index k = row_at(instants.all, instants.object(i));
+    v.row(i) = sim.tracked_pose.row(k) + draws.object_noise.row(i);
+    v(i, 2) = wrap_angle(v(i, 2));
+  }
+  return make_stream(draws.object_clock.stamp_s.array() + unix0, v);
+}
+
+TimedStream ft_wrench_stream(const SimulatedPush& sim, const Eigen::VectorXd& rod_torque,
+                             const SampleInstants& instants, const SensorDraws& draws, double force_offset_N,
+                             double unix0) {
+  const Eigen::Index m = instants.force.size();
+  Eigen::MatrixX3d v(m, 3);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Index k = row_at(instants.all, instants.force(i));
+    // The sensor reads the reaction on the pusher, plus any bias.
+    v(i, 0) = -sim.force_on_object_N(k, 0) + force_offset_N;
+    v(i, 1) = -sim.force_on_object_N(k, 1) + force_offset_N;
+    v(i, 2) = -rod_torque(k);
+  }
+  return make_stream(draws.force_clock.stamp_s.array() + unix0, v + draws.force_noise);
+}
+
+TimedStream tip_pose_stream(const PusherPath& path, const SensorDraws& draws, double unix0) {
+  const Eigen::Index m = draws.tip_clock.sample_s.size();
+  Eigen::MatrixX3d v(m, 3);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    v.row(i).head<2>() = path.position_m(draws.tip_clock.sample_s(i)).transpose();
+    v(i, 2) = 0.0;
+  }
+  v += draws.tip_noise;
+  return make_stream(draws.tip_clock.stamp_s.array() + unix0, v);
+}
+
+}  // namespace
+
+SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sensors) {
+  scenario.validate();
+  const ShapeInfo& shape = ShapeTable::published().find(scenario.shape);
+  const Effects& fx = scenario.effects;
+  const ObjectProperties object = perturbed_object(shape, fx);
+  const Outline outline(shape);
+  const RodContact contact = rod_contact(scenario);
+  const PushLayout layout = push_layout(scenario, outline, contact);
+  const PusherPath& path = layout.path;
+  const SupportFriction support = support_friction(scenario, outline, layout);
+  const PushedObjectSystem system = pushed_object_system(scenario, shape, object, support, contact, path);
+  const double duration = path.end_time_s() + scenario.rest_after_s;
+
+  const SensorDraws draws = draw_sensors(scenario, sensors, duration);
+  const SampleInstants instants = sample_instants(path, draws, fx.time_offset_s);
+  const double t0 = std::min(0.0, instants.all.front());
+  IntegratorOptions options;
+  options.method = IntegratorOptions::Method::Bdf;
+  options.relative_tolerance = 1e-6;
+  options.absolute_tolerance = 1e-9;
+  const Eigen::VectorXd out_times = Eigen::Map<const Eigen::VectorXd>(instants.all.data(), instants.all.size());
+  CvodeIntegrator::Stats stats;
+  const Eigen::MatrixXd states = integrate(system, options, t0, system.state_at_rest(layout.pose0), out_times, &stats);
+
+  SimulatedPush sim;
+  sim.scenario = scenario;
+  sim.solver = stats;
+  sim.push_start_s = path.start_time_s();
+  sim.push_end_s = path.end_time_s();
+  sim.rod_peak_speed_m_s = path.peak_speed_m_s();
+  const Eigen::VectorXd rod_torque = record_truth(system, states, out_times, sim);
 
   Recording& rec = sim.recording;
   rec.source = scenario.name.empty() ? "simulated push" : scenario.name;
   rec.push = scenario.push_parameters();
   const double unix0 = scenario.start_unix_s;
-  {
-    const Eigen::Index m = object_instants.size();
-    Eigen::MatrixX3d v(m, 3);
-    for (Eigen::Index i = 0; i < m; ++i) {
-      const Eigen::Index k = row_at(object_instants(i));
-      v.row(i) = sim.tracked_pose.row(k) + object_noise.row(i);
-      v(i, 2) = wrap_angle(v(i, 2));
-    }
-    rec.object_pose = make_stream(object_clock.stamp_s.array() + unix0, v);
-  }
-  {
-    const Eigen::Index m = force_instants.size();
-    Eigen::MatrixX3d v(m, 3);
-    for (Eigen::Index i = 0; i < m; ++i) {
-      const Eigen::Index k = row_at(force_instants(i));
-      // The sensor reads the reaction on the pusher, plus any bias.
-      v(i, 0) = -sim.force_on_object_N(k, 0) + fx.force_offset_N;
-      v(i, 1) = -sim.force_on_object_N(k, 1) + fx.force_offset_N;
-      v(i, 2) = -rod_torque(k);
-    }
-    rec.ft_wrench = make_stream(force_clock.stamp_s.array() + unix0, v + force_noise);
-  }
-  {
-    const Eigen::Index m = tip_clock.sample_s.size();
-    Eigen::MatrixX3d v(m, 3);
-    for (Eigen::Index i = 0; i < m; ++i) {
-      v.row(i).head<2>() = path.position_m(tip_clock.sample_s(i)).transpose();
-      v(i, 2) = 0.0;
-    }
-    v += tip_noise;
-    rec.tip_pose = make_stream(tip_clock.stamp_s.array() + unix0, v);
-  }
+  rec.object_pose = object_pose_stream(sim, instants, draws, unix0);
+  rec.ft_wrench = ft_wrench_stream(sim, rod_torque, instants, draws, fx.force_offset_N, unix0);
+  rec.tip_pose = tip_pose_stream(path, draws, unix0);
   return sim;
 }
 

@@ -58,16 +58,11 @@ struct CvodeDeleter {
 }  // namespace
 
 void IntegratorOptions::validate() const {
-  if (!(relative_tolerance > 0) || !std::isfinite(relative_tolerance))
-    throw InputError("integrator: relative tolerance must be positive and finite (got " +
-                     format_time(relative_tolerance) + ")");
-  if (!(absolute_tolerance > 0) || !std::isfinite(absolute_tolerance))
-    throw InputError("integrator: absolute tolerance must be positive and finite (got " +
-                     format_time(absolute_tolerance) + ")");
+  require_positive_finite(relative_tolerance, "integrator: relative tolerance");
+  require_positive_finite(absolute_tolerance, "integrator: absolute tolerance");
   if (max_steps_between_outputs <= 0)
     throw InputError("integrator: maximum number of steps between outputs must be positive");
-  if (!(max_step_s >= 0) || !std::isfinite(max_step_s))
-    throw InputError("integrator: maximum step must be zero (no limit) or positive");
+  require_not_negative_finite(max_step_s, "integrator: maximum step [s] (0: no limit)");
 }
 
 IntegratorOptions::Method IntegratorOptions::resolved_for(const ContinuousSystem& system) const {

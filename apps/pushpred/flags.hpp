@@ -1,0 +1,42 @@
+#pragma once
+// The flags several subcommands share, declared once each: the same name, check and (unless a subcommand says what
+// is special about it there) help text everywhere.
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace pushpred::app {
+
+/// The recordings a batch subcommand reads (required): files, or folders of them.
+inline CLI::Option* add_recordings(CLI::App& sub, std::vector<std::string>& files,
+                                   const std::string& help = "Recordings (.h5 or .json), or folders of them") {
+  return sub.add_option("files", files, help)->required();
+}
+
+/// `--out DIR` (required); `help` says what is written there.
+inline CLI::Option* add_out_folder(CLI::App& sub, std::string& out, const std::string& help = "Output folder") {
+  return sub.add_option("--out", out, help)->required();
+}
+
+/// `--shape NAME`, for files whose name does not carry the shape.
+inline CLI::Option* add_shape(CLI::App& sub, std::string& shape) {
+  return sub.add_option("--shape", shape, "Object shape, for files whose name does not carry it");
+}
+
+/// `--rate HZ` (positive): the rate the streams are resampled to.
+inline CLI::Option* add_rate(CLI::App& sub, double& rate_hz) {
+  return sub.add_option("--rate", rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+}
+
+/// `--jobs N` (positive); `help` says what runs in parallel.
+inline CLI::Option* add_jobs(CLI::App& sub, int& jobs, const std::string& help) {
+  return sub.add_option("--jobs", jobs, help)->check(CLI::PositiveNumber);
+}
+
+/// `--shard I/N` where a subcommand can split its work; `help` says what is shared out. The spec is parsed when the
+/// subcommand runs (parse_shard_spec), so that a bad one is refused like the subcommand's other input errors.
+inline CLI::Option* add_shard(CLI::App& sub, std::string& spec, const std::string& help) {
+  return sub.add_option("--shard", spec, help)->type_name("I/N");
+}
+
+}  // namespace pushpred::app
