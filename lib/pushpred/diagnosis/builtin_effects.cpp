@@ -69,12 +69,11 @@ Eigen::Vector3d footprint_friction(const FrictionElements& el, const Eigen::Vect
       });
 }
 
-/// The ellipsoidal limit surface, for shapes without an outline: -(v, rho^2 omega) / s times the weight.
+/// The ellipsoidal limit surface (mechanics/support_friction.hpp) for shapes without an outline, its torque ratio
+/// the radius of gyration: -(v, rho^2 omega) / s times the weight.
 Eigen::Vector3d ellipsoid_friction(const Eigen::Vector3d& v, const ShapeInfo& shape, double weight_N) {
-  const double rho2 = shape.inertia_kgm2 / shape.mass_kg;
-  const double s = std::sqrt(v(0) * v(0) + v(1) * v(1) + rho2 * v(2) * v(2) +
-                             kFrictionRegularisation_m_s * kFrictionRegularisation_m_s);
-  return -weight_N / s * Eigen::Vector3d(v(0), v(1), rho2 * v(2));
+  return ellipsoidal_limit_surface_wrench(v.head<2>(), v(2), weight_N, std::sqrt(shape.inertia_kgm2 / shape.mass_kg),
+                                          kFrictionRegularisation_m_s);
 }
 
 }  // namespace
@@ -128,7 +127,7 @@ Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eige
 }
 
 double sliding_speed(const Eigen::Vector3d& v, const ShapeInfo& shape) {
-  return std::sqrt(v(0) * v(0) + v(1) * v(1) + shape.inertia_kgm2 / shape.mass_kg * v(2) * v(2));
+  return limit_surface_sliding_speed(v.head<2>(), v(2), std::sqrt(shape.inertia_kgm2 / shape.mass_kg), 0.0);
 }
 
 namespace {
