@@ -17,6 +17,12 @@ BOOST_AUTO_TEST_CASE(the_median_is_the_middle_value_or_the_mean_of_the_two_middl
   BOOST_TEST(std::isnan(median({})));
 }
 
+BOOST_AUTO_TEST_CASE(the_upper_median_is_always_one_of_the_values) {
+  BOOST_TEST(upper_median({4.0, 1.0, 3.0, 2.0}) == 3.0);
+  BOOST_TEST(upper_median({3.0, 1.0, 2.0}) == 2.0);
+  BOOST_TEST(std::isnan(upper_median({})));
+}
+
 BOOST_AUTO_TEST_CASE(the_robust_spread_is_a_normal_standard_deviation_from_the_median_absolute_deviation) {
   // The median is (25.1 + 25.3) / 2 = 25.2; the deviations 0.1, 0.3, 0.1, 51.8 have the median (0.1 + 0.3) / 2.
   BOOST_TEST(robust_spread({25.3, 24.9, 25.1, 77.0}) == 1.4826 * 0.2, boost::test_tools::tolerance(1e-9));

@@ -15,6 +15,13 @@ double median(std::vector<double> values) {
   return 0.5 * (upper + *std::max_element(values.begin(), middle));
 }
 
+double upper_median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
 double robust_spread(const std::vector<double>& values) {
   if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
   const double centre = median(values);

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
@@ -53,12 +54,6 @@ Eigen::Vector2d local_outward_normal(const SynchronisedPush& push, Eigen::Index 
   return normal.normalized();
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  const size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(m), v.end());
-  return v[m];
-}
 
 /// One contact sample's kinematics: the measured twist against the quasi-static motion, for (mu_p, c, delta) with
 /// delta the CoF's offset from the shape table's centroid (body frame). Differentiated automatically
@@ -362,10 +357,10 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
 
   // The contact offset: measured at the phase's start when the sensor reports contact there.
   if (outline_ && !gaps_m_.empty()) {
-    id.parameters.contact_offset_m = median(gaps_m_);
+    id.parameters.contact_offset_m = upper_median(gaps_m_);
     std::vector<double> dev;
     for (double g : gaps_m_) dev.push_back(std::abs(g - id.parameters.contact_offset_m));
-    id.std(3) = 1.4826 * median(dev) / std::sqrt(static_cast<double>(gaps_m_.size()));
+    id.std(3) = 1.4826 * upper_median(dev) / std::sqrt(static_cast<double>(gaps_m_.size()));
     id.sources[3] = "identified";
   }
 

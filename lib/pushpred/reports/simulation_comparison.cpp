@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/simulation/sensor_model.hpp"
 
@@ -71,14 +72,9 @@ ComparisonSummary summarise_comparison(const Batch<RealComparison>& batch, doubl
     s.mean_abs_duration_s /= s.pushes;
   }
   if (s.force_pushes > 0) s.mean_abs_force_per_weight /= s.force_pushes;
-  auto median = [](std::vector<double> v) {
-    if (v.empty()) return double(NAN);
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
-  s.matching_surface_friction = median(matching);
-  s.median_real_force_spread_N = median(spread_real);
-  s.median_simulated_force_spread_N = median(spread_sim);
+  s.matching_surface_friction = upper_median(matching);
+  s.median_real_force_spread_N = upper_median(spread_real);
+  s.median_simulated_force_spread_N = upper_median(spread_sim);
   return s;
 }
 

@@ -9,6 +9,7 @@
 
 #include "pushpred/core/batch.hpp"
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/recording.hpp"
 
@@ -136,14 +137,6 @@ Eigen::MatrixX3d draw_noise(const StreamModel& stream, double tau, const Eigen::
 
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  const size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + m, v.end());
-  double x = v[m];
-  if (v.size() % 2 == 0) x = 0.5 * (x + *std::max_element(v.begin(), v.begin() + m));
-  return x;
-}
 
 double std_dev(const std::vector<double>& v) {
   if (v.size() < 2) return NAN;
