@@ -79,6 +79,18 @@ class DiagnosisRun {
   std::vector<const SynchronisedPush*> fit_pointers() const;
   std::vector<const SynchronisedPush*> test_pointers() const;
   void measure_floors(bool add_law);
+  // held_out's steps (step_held_out.cpp).
+  /// Marks what was found in the reports, with every physical candidate's amount against its floor.
+  void report_findings();
+  /// The residual of the fit data after the found effects: against the linear relation and the friction law.
+  void residual_after_findings();
+  /// The corrected model, the paper's method and the references on the test phases; the pushes that could be
+  /// predicted. Throws InputError when none could.
+  std::vector<const SynchronisedPush*> predict_test_phases();
+  /// The base model alone, and the model without each found effect, on the pushes `tested`.
+  void base_and_ablations(const std::vector<const SynchronisedPush*>& tested, const std::vector<Selection>& model);
+  /// The corrected model and the references on the fit pushes' phases (in-sample).
+  void predict_fit_phases();
   void log(const std::string& line) { result_.log.push_back(line); }
   void fail(const std::string& step, const std::string& what);
   bool is_base(std::size_t candidate) const;

@@ -29,8 +29,18 @@ Eigen::VectorXd residual_amounts(const std::vector<Selection>& selected, const E
 }  // namespace
 
 void DiagnosisRun::held_out() {
+  report_findings();
+  std::vector<Selection> model = selected_;
+  model.insert(model.end(), base_.begin(), base_.end());
+  result_.correction = correction_of(model, true);
+  residual_after_findings();
+  const std::vector<const SynchronisedPush*> tested = predict_test_phases();
+  base_and_ablations(tested, model);
+  predict_fit_phases();
+}
+
+void DiagnosisRun::report_findings() {
   const auto& effects = library_.effects();
-  // The reports of what was found.
   for (const auto& s : selected_) {
     EffectReport& r = result_.effects[s.candidate];
     r.selected = true;
@@ -55,67 +65,64 @@ void DiagnosisRun::held_out() {
       r.floor = effects[i]->floor(result_.floor_context);
     }
   }
-  std::vector<Selection> model = selected_;
-  model.insert(model.end(), base_.begin(), base_.end());
-  result_.correction = correction_of(model, true);
+}
 
-  // The residual on the fit data: against the linear relation, and against the friction law.
-  {
-    const auto linear = [&](std::size_t c) {
-      return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Linear;
-    };
-    const auto friction = [&](std::size_t c) {
-      return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Friction;
-    };
-    std::vector<EffectColumns> storage;
-    std::vector<Selection> linear_only;
-    for (const auto& s : selected_)
-      if (linear(s.candidate)) linear_only.push_back(s);
-    for (const auto& s : linear_only) storage.push_back(columns(s.candidate, s.setting));
-    std::vector<const EffectColumns*> pointers;
-    for (const auto& c : storage) pointers.push_back(&c);
-    const ResidualRegression final_regression(data_, Relation::Linear);
-    const std::vector<Eigen::MatrixX3d> residual_after =
-        final_regression.residuals(pointers, residual_amounts(linear_only, library_, linear));
-    Eigen::Vector3d before2 = Eigen::Vector3d::Zero(), after2 = Eigen::Vector3d::Zero();
-    double rows = 0;
-    result_.residuals.clear();
-    for (std::size_t p = 0; p < data_.size(); ++p) {
-      if (p < residual_before_.size() && residual_before_[p].rows() == residual_after[p].rows())
-        before2 += residual_before_[p].colwise().squaredNorm().transpose();
-      after2 += residual_after[p].colwise().squaredNorm().transpose();
-      rows += static_cast<double>(data_[p].rows());
-      result_.residuals.push_back({data_[p].push.source, data_[p].estimate.t_s,
-                                   p < residual_before_.size() ? residual_before_[p] : residual_after[p],
-                                   residual_after[p], {}});
-    }
-    result_.residual_std_before = (before2 / rows).cwiseSqrt();
-    result_.residual_std_after = (after2 / rows).cwiseSqrt();
-    std::vector<EffectColumns> friction_storage;
-    std::vector<Selection> friction_only;
-    bool law = false;
-    for (const auto& s : selected_)
-      if (friction(s.candidate)) {
-        law = law || effects[s.candidate]->replaces_relation();
-        friction_only.push_back(s);
-        friction_storage.push_back(columns(s.candidate, s.setting));
-      }
-    if (law) {
-      std::vector<const EffectColumns*> fp;
-      for (const auto& c : friction_storage) fp.push_back(&c);
-      const ResidualRegression against_friction(data_, Relation::Friction);
-      Eigen::Vector3d f2 = Eigen::Vector3d::Zero();
-      const std::vector<Eigen::MatrixX3d> fr =
-          against_friction.residuals(fp, residual_amounts(friction_only, library_, friction));
-      for (std::size_t p = 0; p < fr.size(); ++p) {
-        f2 += fr[p].colwise().squaredNorm().transpose();
-        result_.residuals[p].friction = fr[p];
-      }
-      result_.friction_residual_std = (f2 / rows).cwiseSqrt();
-    }
+void DiagnosisRun::residual_after_findings() {
+  const auto& effects = library_.effects();
+  const auto linear = [&](std::size_t c) {
+    return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Linear;
+  };
+  const auto friction = [&](std::size_t c) {
+    return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Friction;
+  };
+  std::vector<EffectColumns> storage;
+  std::vector<Selection> linear_only;
+  for (const auto& s : selected_)
+    if (linear(s.candidate)) linear_only.push_back(s);
+  for (const auto& s : linear_only) storage.push_back(columns(s.candidate, s.setting));
+  std::vector<const EffectColumns*> pointers;
+  for (const auto& c : storage) pointers.push_back(&c);
+  const ResidualRegression final_regression(data_, Relation::Linear);
+  const std::vector<Eigen::MatrixX3d> residual_after =
+      final_regression.residuals(pointers, residual_amounts(linear_only, library_, linear));
+  Eigen::Vector3d before2 = Eigen::Vector3d::Zero(), after2 = Eigen::Vector3d::Zero();
+  double rows = 0;
+  result_.residuals.clear();
+  for (std::size_t p = 0; p < data_.size(); ++p) {
+    if (p < residual_before_.size() && residual_before_[p].rows() == residual_after[p].rows())
+      before2 += residual_before_[p].colwise().squaredNorm().transpose();
+    after2 += residual_after[p].colwise().squaredNorm().transpose();
+    rows += static_cast<double>(data_[p].rows());
+    result_.residuals.push_back({data_[p].push.source, data_[p].estimate.t_s,
+                                 p < residual_before_.size() ? residual_before_[p] : residual_after[p],
+                                 residual_after[p], {}});
   }
+  result_.residual_std_before = (before2 / rows).cwiseSqrt();
+  result_.residual_std_after = (after2 / rows).cwiseSqrt();
+  std::vector<EffectColumns> friction_storage;
+  std::vector<Selection> friction_only;
+  bool law = false;
+  for (const auto& s : selected_)
+    if (friction(s.candidate)) {
+      law = law || effects[s.candidate]->replaces_relation();
+      friction_only.push_back(s);
+      friction_storage.push_back(columns(s.candidate, s.setting));
+    }
+  if (!law) return;
+  std::vector<const EffectColumns*> fp;
+  for (const auto& c : friction_storage) fp.push_back(&c);
+  const ResidualRegression against_friction(data_, Relation::Friction);
+  Eigen::Vector3d f2 = Eigen::Vector3d::Zero();
+  const std::vector<Eigen::MatrixX3d> fr =
+      against_friction.residuals(fp, residual_amounts(friction_only, library_, friction));
+  for (std::size_t p = 0; p < fr.size(); ++p) {
+    f2 += fr[p].colwise().squaredNorm().transpose();
+    result_.residuals[p].friction = fr[p];
+  }
+  result_.friction_residual_std = (f2 / rows).cwiseSqrt();
+}
 
-  // The test phases: the corrected model (base + found), and the base model alone.
+std::vector<const SynchronisedPush*> DiagnosisRun::predict_test_phases() {
   StudyOptions so = o_.study;
   so.methods.push_back("quasi_static");  // the pushing model (prediction/quasi_static_pushing.hpp), a reference
   so.correction = std::make_shared<CorrectedPrediction>(result_.correction, o_.observer);
@@ -149,6 +156,11 @@ void DiagnosisRun::held_out() {
       trace.error[m] = r.predicted.at(m) - r.measured;
     result_.test_phases.push_back(std::move(trace));
   }
+  return tested;
+}
+
+void DiagnosisRun::base_and_ablations(const std::vector<const SynchronisedPush*>& tested,
+                                      const std::vector<Selection>& model) {
   const std::vector<Selection> base = base_selections();
   const bool found_any = base.size() < model.size();
   if (!found_any) {
@@ -170,9 +182,12 @@ void DiagnosisRun::held_out() {
       r.held_out_without = summarise_errors(test_phases(studies(tested, correction_of(without, true))), kCorrectedMethod);
       r.has_ablation = true;
     } catch (const std::exception& e) {
-      fail("held_out", effects[selected_[k].candidate]->kind() + " left out: " + e.what());
+      fail("held_out", library_.effects()[selected_[k].candidate]->kind() + " left out: " + e.what());
     }
   }
+}
+
+void DiagnosisRun::predict_fit_phases() {
   try {
     const auto fit = studies(fit_pointers(), result_.correction);
     const auto fp = fit_phases(fit);
