@@ -233,6 +233,358 @@ Eigen::Matrix3d fit_covariance_of(ceres::Problem& problem, double* const blocks[
   return covariance;
 }
 
+/// Where nothing has been identified yet: every parameter at its default, saying so.
+QuasiStaticIdentification nothing_identified(const QuasiStaticParameters& defaults, long intervals) {
+  QuasiStaticIdentification id;
+  id.parameters = defaults;
+  id.intervals = intervals;
+  for (auto& s : id.sources) s = "default: no contact sample identified yet";
+  return id;
+}
+
+/// The contact offset of the identified samples: the upper median of their rod-outline gaps, with a robust standard
+/// error (1.4826 times the median absolute deviation over sqrt(n)), so that a few samples off the tracked outline do
+/// not move it. predict_quasi_static_phase replaces it by the gap at the phase's start where the rod touches there.
+void identify_contact_offset(const std::vector<double>& gaps_m, QuasiStaticIdentification& id) {
+  id.parameters.contact_offset_m = upper_median(gaps_m);
+  std::vector<double> dev;
+  for (double g : gaps_m) dev.push_back(std::abs(g - id.parameters.contact_offset_m));
+  id.std(3) = 1.4826 * upper_median(dev) / std::sqrt(static_cast<double>(gaps_m.size()));
+  id.sources[3] = "identified";
+}
+
+/// Too few samples for a fit: mu_p, c and mu_s keep their defaults, and their sources say how few there were.
+void keep_defaults_for_too_few_samples(QuasiStaticIdentification& id, int min_samples) {
+  char why[160];
+  std::snprintf(why, sizeof why, "default: %ld contact samples with a moving tip, fewer than %d", id.kinematic_samples,
+                min_samples);
+  for (int p = 0; p < 3; ++p) id.sources[static_cast<size_t>(p)] = why;
+}
+
+ceres::Solver::Options solver_options() {
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 100;
+  // No projected line search after each successful step of the bounded problem (Ceres does one by default): it
+  // cost a third of the fit for no change beyond the solver's tolerances (docs/performance.md).
+  solver.max_num_line_search_step_size_iterations = 0;
+  solver.num_threads = 1;
+  solver.logging_type = ceres::SILENT;
+  return solver;
+}
+
+/// The source of a parameter fitted with the prior: "default: ..." where its posterior standard deviation stays
+/// near the prior's, so that a value the prior alone holds is not mistaken for a measured one.
+std::string source_under_prior(double posterior_std, double prior_std, double dominated_fraction,
+                               bool mu_p_without_sliding) {
+  if (!(posterior_std > dominated_fraction * prior_std)) return "identified";
+  char why[200];
+  std::snprintf(why, sizeof why, "default: the data add little to the prior (posterior std %.2g of the prior's %.2g)%s",
+                posterior_std, prior_std, mu_p_without_sliding ? "; no sample slid, so mu_p is only bounded below" : "");
+  return why;
+}
+
+/// A parameter the plain fit holds at its default from now on, and why (parameter -1: none).
+struct Undetermined {
+  int parameter = -1;
+  std::string reason;
+};
+
+/// The free parameter the data leave without sensitivity: its column of the Jacobian, scaled by its value, at most
+/// 1e-6 of the largest (the smallest such). Such a column makes the information J^T J (near) singular: with every
+/// sample sticking, mu_p is only bounded below.
+Undetermined insensitive_parameter(ceres::Problem& problem, double* const blocks[3], const bool fixed[3]) {
+  ceres::Problem::EvaluateOptions eo;
+  for (int p = 0; p < 3; ++p)
+    if (!fixed[p]) eo.parameter_blocks.push_back(blocks[p]);
+  ceres::CRSMatrix jacobian;
+  problem.Evaluate(eo, nullptr, nullptr, nullptr, &jacobian);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jacobian.num_rows, jacobian.num_cols);
+  for (int r = 0; r < jacobian.num_rows; ++r)
+    for (int k = jacobian.rows[static_cast<size_t>(r)]; k < jacobian.rows[static_cast<size_t>(r) + 1]; ++k)
+      J(r, jacobian.cols[static_cast<size_t>(k)]) = jacobian.values[static_cast<size_t>(k)];
+  int col = 0;
+  for (int p = 0; p < 3; ++p)
+    if (!fixed[p]) J.col(col++) *= std::max(std::abs(*blocks[p]), 1e-12);
+  const Eigen::VectorXd column_norm = J.colwise().norm();
+  Undetermined u;
+  double smallest = 1e-6 * column_norm.maxCoeff();
+  col = 0;
+  for (int p = 0; p < 3; ++p) {
+    if (fixed[p]) continue;
+    if (!(column_norm(col) > smallest)) {
+      u.parameter = p;
+      smallest = column_norm(col);
+    }
+    ++col;
+  }
+  if (u.parameter >= 0)
+    u.reason = u.parameter == 0 ? "default: every contact sample stuck, so mu_p is only bounded below"
+                                : "default: the data do not determine it (no sensitivity)";
+  return u;
+}
+
+/// The free parameter the data determine worst, where its standard deviation exceeds half its value (the largest
+/// such ratio), or the last free one where the covariance is singular. `stdev` receives the free parameters'
+/// standard deviations where the covariance exists: they are the fit's if every parameter is determined.
+Undetermined least_determined_parameter(ceres::Problem& problem, double* const blocks[3], const bool fixed[3],
+                                        Eigen::Vector3d& stdev) {
+  ceres::Covariance covariance(plain_fit_covariance_options());
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (int p = 0; p < 3; ++p)
+    if (!fixed[p]) pairs.emplace_back(blocks[p], blocks[p]);
+  Undetermined u;
+  if (!covariance.Compute(pairs, &problem)) {
+    for (int p = 0; p < 3; ++p)
+      if (!fixed[p]) u.parameter = p;
+    u.reason = "default: the data do not determine it (singular covariance)";
+    return u;
+  }
+  double worst_ratio = 0.5;
+  for (int p = 0; p < 3; ++p) {
+    if (fixed[p]) continue;
+    double var = 0;
+    covariance.GetCovarianceBlock(blocks[p], blocks[p], &var);
+    stdev(p) = std::sqrt(std::max(0.0, var));
+    const double ratio = stdev(p) / std::max(std::abs(*blocks[p]), 1e-12);
+    if (!std::isfinite(ratio) || ratio > worst_ratio) {
+      u.parameter = p;
+      worst_ratio = std::isfinite(ratio) ? ratio : 1e300;
+    }
+  }
+  if (u.parameter < 0) return u;
+  char why[160];
+  std::snprintf(why, sizeof why, "default: the data do not determine it (fit %.3g, std %.2g)", *blocks[u.parameter],
+                stdev(u.parameter));
+  u.reason = why;
+  return u;
+}
+
+/// identify()'s fit: one Ceres problem over the contact samples, of mu_p and c from the kinematics and of c and mu_s
+/// from the force (they share c, so they are fitted together), optionally with delta, the CoF's offset. A template
+/// only because the estimator's Sample is private to it: identify() names it.
+template <class Sample>
+class Fit {
+ public:
+  Fit(const std::vector<Sample>& samples, const QuasiStaticIdentificationOptions& options,
+      const QuasiStaticParameters& defaults, const SynchronisedPush& push, QuasiStaticIdentification& id)
+      : samples_(samples),
+        options_(options),
+        defaults_(defaults),
+        centroid_(push.shape.centroid_m),
+        id_(id),
+        c0_(defaults.torque_ratio_m),
+        weight_(push.shape.mass_kg * defaults.gravity_m_s2),
+        centre_fixed_(!options.use_prior || !(options.prior_centre_offset_std_m > 0)),
+        mu_p_(defaults.pusher_friction),
+        c_(defaults.torque_ratio_m),
+        mu_s_(defaults.support_friction) {
+    problem_.AddParameterBlock(&mu_p_, 1);
+    problem_.AddParameterBlock(&c_, 1);
+    problem_.AddParameterBlock(&mu_s_, 1);
+    problem_.AddParameterBlock(delta_, 2);
+    if (centre_fixed_) problem_.SetParameterBlockConstant(delta_);
+  }
+
+  /// The residuals of every sample whose tip pushes into the object; counts them in `id`.
+  void add_samples() {
+    for (const Sample& s : samples_) {
+      if (!pushes_into_object(s)) continue;
+      add_kinematic_residual(s);
+      ++id_.kinematic_samples;
+      // Only a sliding object's wrench is on the limit surface.
+      if (s.moving) {
+        add_force_residual(s);
+        ++id_.force_samples;
+      }
+    }
+  }
+
+  void solve_with_prior() {
+    bound_to_physical_ranges();
+    const double prior_std[3] = {options_.prior_pusher_friction_std, options_.prior_torque_ratio_fraction * c0_,
+                                 options_.prior_support_friction_std};
+    add_prior(prior_std);
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options(), &problem_, &summary);
+    read_posterior(prior_std);
+    record_parameters();
+    id_.centre_offset_m = Eigen::Vector2d(delta_[0], delta_[1]);
+    count_sliding_samples();
+    if (id_.sliding_samples == 0 && id_.sources[0] == "identified")
+      id_.sources[0] = "default: no sample slid, so mu_p is only bounded below";
+  }
+
+  /// Without the prior, the value the fit gives a parameter the data leave undetermined is arbitrary: such a
+  /// parameter is held at its physical default instead (its source says why), and the others are fitted again.
+  void solve_dropping_undetermined() {
+    double* blocks[3] = {&mu_p_, &c_, &mu_s_};
+    const double defaults[3] = {defaults_.pusher_friction, defaults_.torque_ratio_m, defaults_.support_friction};
+    bool fixed[3] = {false, false, id_.force_samples == 0};
+    std::string reason[3] = {"", "", "default: the object never slid while the sensor read contact"};
+    if (fixed[2]) problem_.SetParameterBlockConstant(&mu_s_);
+    bound_to_physical_ranges();
+    Eigen::Vector3d stdev = Eigen::Vector3d::Zero();
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      ceres::Solver::Summary summary;
+      ceres::Solve(solver_options(), &problem_, &summary);
+      if (fixed[0] && fixed[1] && fixed[2]) break;
+      Undetermined u = insensitive_parameter(problem_, blocks, fixed);
+      if (u.parameter < 0) u = least_determined_parameter(problem_, blocks, fixed, stdev);
+      if (u.parameter < 0) break;
+      const int p = u.parameter;
+      reason[p] = std::move(u.reason);
+      fixed[p] = true;
+      *blocks[p] = defaults[p];
+      stdev(p) = 0;
+      problem_.SetParameterBlockConstant(blocks[p]);
+    }
+    record_parameters();
+    for (int p = 0; p < 3; ++p) {
+      id_.std(p) = fixed[p] ? 0.0 : stdev(p);
+      id_.sources[static_cast<size_t>(p)] = fixed[p] ? reason[p] : "identified";
+    }
+    id_.fit_covariance = fit_covariance_of(problem_, blocks, fixed, id_.std.head<3>(), plain_fit_covariance_options());
+    count_sliding_samples();
+  }
+
+ private:
+  /// A tip too slow, or moving off the object, carries no information on how the push moves it.
+  bool pushes_into_object(const Sample& s) const {
+    return !(s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s) && s.inward_normal.dot(s.tip_velocity_m_s) > 0;
+  }
+
+  void add_kinematic_residual(const Sample& s) {
+    const KinematicResidual k{s.point_from_centre_m,
+                              s.inward_normal,
+                              s.tip_velocity_m_s,
+                              s.centre_velocity_m_s,
+                              centroid_,
+                              Eigen::Rotation2Dd(s.yaw_rad).toRotationMatrix(),
+                              s.omega_rad_s,
+                              c0_,
+                              options_.velocity_noise_m_s};
+    if (centre_fixed_) {
+      problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<AtCentroid<KinematicResidual>, 3, 1, 1>(
+                                    new AtCentroid<KinematicResidual>{k}),
+                                new ceres::HuberLoss(1.0), &mu_p_, &c_);
+    } else {
+      problem_.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<KinematicResidual, 3, 1, 1, 2>(new KinematicResidual(k)),
+          new ceres::HuberLoss(1.0), &mu_p_, &c_, delta_);
+    }
+  }
+
+  void add_force_residual(const Sample& s) {
+    const ForceResidual f{s.force_vector_N, centroid_, Eigen::Rotation2Dd(s.yaw_rad).toRotationMatrix(),
+                          s.torque_about_centre_Nm, weight_, options_.force_noise_N};
+    if (centre_fixed_)
+      problem_.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<AtCentroid<ForceResidual>, 1, 1, 1>(new AtCentroid<ForceResidual>{f}),
+          new ceres::HuberLoss(1.0), &c_, &mu_s_);
+    else
+      problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1, 2>(new ForceResidual(f)),
+                                new ceres::HuberLoss(1.0), &c_, &mu_s_, delta_);
+  }
+
+  void bound_to_physical_ranges() {
+    problem_.SetParameterLowerBound(&mu_p_, 0, 0.02);
+    problem_.SetParameterUpperBound(&mu_p_, 0, 1.5);
+    problem_.SetParameterLowerBound(&c_, 0, 0.3 * c0_);
+    problem_.SetParameterUpperBound(&c_, 0, 3.0 * c0_);
+    problem_.SetParameterLowerBound(&mu_s_, 0, 0.02);
+    problem_.SetParameterUpperBound(&mu_s_, 0, 1.5);
+  }
+
+  /// A Gaussian prior about the defaults, so that a few samples inform without overturning physics.
+  void add_prior(const double prior_std[3]) {
+    const double prior_mean[3] = {defaults_.pusher_friction, c0_, defaults_.support_friction};
+    double* theta[3] = {&mu_p_, &c_, &mu_s_};
+    if (options_.prior_centre_offset_std_m > 0) {
+      for (int axis = 0; axis < 2; ++axis)
+        problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorComponent, 1, 2>(
+                                      new PriorComponent{axis, 0.0, options_.prior_centre_offset_std_m}),
+                                  nullptr, delta_);
+    }
+    for (int p = 0; p < 3; ++p) {
+      problem_.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{prior_mean[p], prior_std[p]}),
+          nullptr, theta[p]);
+    }
+  }
+
+  /// The posterior's standard deviations, correlations and sources from one covariance computation (a second, as
+  /// fit_covariance_of makes, would repeat the dense SVD for the same values). Without a covariance, a parameter
+  /// keeps its prior's standard deviation.
+  void read_posterior(const double prior_std[3]) {
+    const double* theta[3] = {&mu_p_, &c_, &mu_s_};
+    ceres::Covariance::Options co;
+    co.algorithm_type = ceres::DENSE_SVD;
+    ceres::Covariance covariance(co);
+    std::vector<std::pair<const double*, const double*>> pairs;
+    for (const double* b : theta) pairs.emplace_back(b, b);
+    for (int p = 0; p < 3; ++p)
+      for (int q = p + 1; q < 3; ++q) pairs.emplace_back(theta[p], theta[q]);
+    if (!centre_fixed_) pairs.emplace_back(delta_, delta_);
+    const bool have_covariance = covariance.Compute(pairs, &problem_);
+    if (!centre_fixed_) read_offset_posterior(covariance, have_covariance);
+    for (int p = 0; p < 3; ++p) {
+      double var = prior_std[p] * prior_std[p];
+      if (have_covariance) covariance.GetCovarianceBlock(theta[p], theta[p], &var);
+      id_.std(p) = std::sqrt(std::max(0.0, var));
+      id_.sources[static_cast<size_t>(p)] = source_under_prior(
+          id_.std(p), prior_std[p], options_.prior_dominated_fraction, p == 0 && id_.sliding_samples == 0);
+    }
+    id_.fit_covariance = id_.std.head<3>().cwiseAbs2().asDiagonal();
+    if (!have_covariance) return;
+    for (int p = 0; p < 3; ++p)
+      for (int q = p + 1; q < 3; ++q) {
+        double value = 0;
+        covariance.GetCovarianceBlock(theta[p], theta[q], &value);
+        id_.fit_covariance(p, q) = id_.fit_covariance(q, p) = value;
+      }
+  }
+
+  void read_offset_posterior(const ceres::Covariance& covariance, bool have_covariance) {
+    double cov[4] = {0, 0, 0, 0};
+    if (have_covariance) covariance.GetCovarianceBlock(delta_, delta_, cov);
+    id_.centre_offset_std_m = Eigen::Vector2d(std::sqrt(std::max(0.0, cov[0])), std::sqrt(std::max(0.0, cov[3])));
+    id_.centre_offset_source =
+        id_.centre_offset_std_m.maxCoeff() > options_.prior_dominated_fraction * options_.prior_centre_offset_std_m
+            ? "default: the data add little to the prior"
+            : "identified";
+  }
+
+  void record_parameters() {
+    id_.parameters.pusher_friction = mu_p_;
+    id_.parameters.torque_ratio_m = c_;
+    id_.parameters.support_friction = mu_s_;
+  }
+
+  /// Samples the fitted model has sliding along the contact: what determines mu_p.
+  void count_sliding_samples() {
+    id_.sliding_samples = 0;
+    for (const Sample& s : samples_) {
+      if (!pushes_into_object(s)) continue;
+      const QuasiStaticMotion m =
+          quasi_static_motion(s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, mu_p_, c_);
+      if (m.mode == ContactMode::SlidingLeft || m.mode == ContactMode::SlidingRight) ++id_.sliding_samples;
+    }
+  }
+
+  const std::vector<Sample>& samples_;
+  const QuasiStaticIdentificationOptions& options_;
+  const QuasiStaticParameters& defaults_;
+  const Eigen::Vector2d centroid_;
+  QuasiStaticIdentification& id_;
+  const double c0_, weight_;
+  /// The CoF stays at the shape table's centroid unless the prior gives its offset a spread.
+  const bool centre_fixed_;
+  double mu_p_, c_, mu_s_;
+  double delta_[2] = {0, 0};
+  ceres::Problem problem_;
+};
+
 }  // namespace
 
 QuasiStaticEstimator::QuasiStaticEstimator(QuasiStaticIdentificationOptions options) : options_(std::move(options)) {
@@ -348,258 +700,19 @@ ParameterEstimate QuasiStaticEstimator::current_estimate() const {
 }
 
 QuasiStaticIdentification QuasiStaticEstimator::identify() const {
-  QuasiStaticIdentification id;
-  id.parameters = defaults_;
-  id.intervals = intervals_;
-  for (auto& s : id.sources) s = "default: no contact sample identified yet";
+  QuasiStaticIdentification id = nothing_identified(defaults_, intervals_);
   if (!push_) return id;
-  const SynchronisedPush& push = *push_;
-
-  // The contact offset: measured at the phase's start when the sensor reports contact there.
-  if (outline_ && !gaps_m_.empty()) {
-    id.parameters.contact_offset_m = upper_median(gaps_m_);
-    std::vector<double> dev;
-    for (double g : gaps_m_) dev.push_back(std::abs(g - id.parameters.contact_offset_m));
-    id.std(3) = 1.4826 * upper_median(dev) / std::sqrt(static_cast<double>(gaps_m_.size()));
-    id.sources[3] = "identified";
-  }
-
-  double mu_p = defaults_.pusher_friction, c = defaults_.torque_ratio_m, mu_s = defaults_.support_friction;
-  const double c0 = defaults_.torque_ratio_m;
-  const double weight = push.shape.mass_kg * defaults_.gravity_m_s2;
-  ceres::Problem::Options problem_options;
-  ceres::Problem problem(problem_options);
-  problem.AddParameterBlock(&mu_p, 1);
-  problem.AddParameterBlock(&c, 1);
-  problem.AddParameterBlock(&mu_s, 1);
-  double delta[2] = {0, 0};
-  problem.AddParameterBlock(delta, 2);
-  const bool centre_fixed = !options_.use_prior || !(options_.prior_centre_offset_std_m > 0);
-  if (centre_fixed) problem.SetParameterBlockConstant(delta);
-  for (const Sample& s : samples_) {
-    if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
-    const KinematicResidual k{s.point_from_centre_m,
-                              s.inward_normal,
-                              s.tip_velocity_m_s,
-                              s.centre_velocity_m_s,
-                              push.shape.centroid_m,
-                              Eigen::Rotation2Dd(s.yaw_rad).toRotationMatrix(),
-                              s.omega_rad_s,
-                              c0,
-                              options_.velocity_noise_m_s};
-    if (centre_fixed) {
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AtCentroid<KinematicResidual>, 3, 1, 1>(
-                                   new AtCentroid<KinematicResidual>{k}),
-                               new ceres::HuberLoss(1.0), &mu_p, &c);
-    } else {
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<KinematicResidual, 3, 1, 1, 2>(new KinematicResidual(k)),
-                               new ceres::HuberLoss(1.0), &mu_p, &c, delta);
-    }
-    ++id.kinematic_samples;
-    if (s.moving) {
-      const ForceResidual f{s.force_vector_N, push.shape.centroid_m, Eigen::Rotation2Dd(s.yaw_rad).toRotationMatrix(),
-                            s.torque_about_centre_Nm, weight, options_.force_noise_N};
-      if (centre_fixed)
-        problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<AtCentroid<ForceResidual>, 1, 1, 1>(new AtCentroid<ForceResidual>{f}),
-            new ceres::HuberLoss(1.0), &c, &mu_s);
-      else
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1, 2>(new ForceResidual(f)),
-                                 new ceres::HuberLoss(1.0), &c, &mu_s, delta);
-      ++id.force_samples;
-    }
-  }
+  if (outline_ && !gaps_m_.empty()) identify_contact_offset(gaps_m_, id);
+  Fit<Sample> fit(samples_, options_, defaults_, *push_, id);
+  fit.add_samples();
   if (id.kinematic_samples < options_.min_samples) {
-    char why[160];
-    std::snprintf(why, sizeof why, "default: %ld contact samples with a moving tip, fewer than %d",
-                  id.kinematic_samples, options_.min_samples);
-    for (int p = 0; p < 3; ++p) id.sources[static_cast<size_t>(p)] = why;
+    keep_defaults_for_too_few_samples(id, options_.min_samples);
     return id;
   }
-  if (id.force_samples == 0) problem.SetParameterBlockConstant(&mu_s);
-  // Samples the fitted model has sliding: what determines mu_p.
-  auto count_sliding = [&] {
-    id.sliding_samples = 0;
-    for (const Sample& s : samples_) {
-      if (s.tip_velocity_m_s.norm() < options_.min_tip_speed_m_s || !(s.inward_normal.dot(s.tip_velocity_m_s) > 0)) continue;
-      const QuasiStaticMotion m = quasi_static_motion(s.contact_from_cof_m, s.inward_normal, s.tip_velocity_m_s, mu_p, c);
-      if (m.mode == ContactMode::SlidingLeft || m.mode == ContactMode::SlidingRight) ++id.sliding_samples;
-    }
-  };
-  problem.SetParameterLowerBound(&mu_p, 0, 0.02);
-  problem.SetParameterUpperBound(&mu_p, 0, 1.5);
-  problem.SetParameterLowerBound(&c, 0, 0.3 * c0);
-  problem.SetParameterUpperBound(&c, 0, 3.0 * c0);
-  problem.SetParameterLowerBound(&mu_s, 0, 0.02);
-  problem.SetParameterUpperBound(&mu_s, 0, 1.5);
-
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = 100;
-  // No projected line search after each successful step of the bounded problem (Ceres does one by default): it
-  // cost a third of the fit for no change beyond the solver's tolerances (docs/performance.md).
-  solver.max_num_line_search_step_size_iterations = 0;
-  solver.num_threads = 1;
-  solver.logging_type = ceres::SILENT;
-  if (options_.use_prior) {
-    const double prior_std[3] = {options_.prior_pusher_friction_std, options_.prior_torque_ratio_fraction * c0,
-                                 options_.prior_support_friction_std};
-    const double prior_mean[3] = {defaults_.pusher_friction, c0, defaults_.support_friction};
-    double* theta[3] = {&mu_p, &c, &mu_s};
-    if (id.force_samples == 0) problem.SetParameterBlockVariable(&mu_s);
-    if (options_.prior_centre_offset_std_m > 0) {
-      for (int axis = 0; axis < 2; ++axis)
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorComponent, 1, 2>(
-                                     new PriorComponent{axis, 0.0, options_.prior_centre_offset_std_m}),
-                                 nullptr, delta);
-    }
-    for (int p = 0; p < 3; ++p) {
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<PriorResidual, 1, 1>(new PriorResidual{prior_mean[p], prior_std[p]}), nullptr,
-          theta[p]);
-    }
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
-    ceres::Covariance::Options co;
-    co.algorithm_type = ceres::DENSE_SVD;
-    ceres::Covariance covariance(co);
-    // One computation for the standard deviations and the correlations (fit_covariance_of made a second, with the
-    // same options and so the same values, at the cost of a second dense SVD).
-    std::vector<std::pair<const double*, const double*>> pairs;
-    for (const double* b : theta) pairs.emplace_back(b, b);
-    for (int p = 0; p < 3; ++p)
-      for (int q = p + 1; q < 3; ++q) pairs.emplace_back(theta[p], theta[q]);
-    const bool offset_free = !problem.IsParameterBlockConstant(delta);
-    if (offset_free) pairs.emplace_back(delta, delta);
-    const bool have_covariance = covariance.Compute(pairs, &problem);
-    if (offset_free) {
-      double cov[4] = {0, 0, 0, 0};
-      if (have_covariance) covariance.GetCovarianceBlock(delta, delta, cov);
-      id.centre_offset_std_m = Eigen::Vector2d(std::sqrt(std::max(0.0, cov[0])), std::sqrt(std::max(0.0, cov[3])));
-      id.centre_offset_source =
-          id.centre_offset_std_m.maxCoeff() > options_.prior_dominated_fraction * options_.prior_centre_offset_std_m
-              ? "default: the data add little to the prior"
-              : "identified";
-    }
-    for (int p = 0; p < 3; ++p) {
-      double var = prior_std[p] * prior_std[p];
-      if (have_covariance) covariance.GetCovarianceBlock(theta[p], theta[p], &var);
-      id.std(p) = std::sqrt(std::max(0.0, var));
-      const auto k = static_cast<size_t>(p);
-      if (id.std(p) > options_.prior_dominated_fraction * prior_std[p]) {
-        char why[200];
-        std::snprintf(why, sizeof why, "default: the data add little to the prior (posterior std %.2g of the prior's %.2g)%s",
-                      id.std(p), prior_std[p],
-                      p == 0 && id.sliding_samples == 0 ? "; no sample slid, so mu_p is only bounded below" : "");
-        id.sources[k] = why;
-      } else {
-        id.sources[k] = "identified";
-      }
-    }
-    id.fit_covariance = id.std.head<3>().cwiseAbs2().asDiagonal();
-    if (have_covariance) {
-      for (int p = 0; p < 3; ++p)
-        for (int q = p + 1; q < 3; ++q) {
-          double value = 0;
-          covariance.GetCovarianceBlock(theta[p], theta[q], &value);
-          id.fit_covariance(p, q) = id.fit_covariance(q, p) = value;
-        }
-    }
-    id.parameters.pusher_friction = mu_p;
-    id.parameters.torque_ratio_m = c;
-    id.parameters.support_friction = mu_s;
-    id.centre_offset_m = Eigen::Vector2d(delta[0], delta[1]);
-    count_sliding();
-    if (id.sliding_samples == 0 && id.sources[0] == "identified")
-      id.sources[0] = "default: no sample slid, so mu_p is only bounded below";
-    return id;
-  }
-
-  double* blocks[3] = {&mu_p, &c, &mu_s};
-  const double defaults[3] = {defaults_.pusher_friction, defaults_.torque_ratio_m, defaults_.support_friction};
-  bool fixed[3] = {false, false, id.force_samples == 0};
-  std::string reason[3] = {"", "", "default: the object never slid while the sensor read contact"};
-  Eigen::Vector3d stdev = Eigen::Vector3d::Zero();
-  for (int attempt = 0; attempt < 4; ++attempt) {
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
-    // Which parameters the data determine: the covariance of the free ones must exist and be tight.
-    std::vector<const double*> free;
-    for (int p = 0; p < 3; ++p)
-      if (!fixed[p]) free.push_back(blocks[p]);
-    if (free.empty()) break;
-    // The information J^T J of the free parameters, scaled by their values: a (near) singular one means the data
-    // leave a parameter undetermined (with every sample sticking, mu_p is only bounded below).
-    ceres::CRSMatrix jacobian;
-    ceres::Problem::EvaluateOptions eo;
-    for (const double* b : free) eo.parameter_blocks.push_back(const_cast<double*>(b));
-    problem.Evaluate(eo, nullptr, nullptr, nullptr, &jacobian);
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jacobian.num_rows, jacobian.num_cols);
-    for (int r = 0; r < jacobian.num_rows; ++r)
-      for (int k = jacobian.rows[static_cast<size_t>(r)]; k < jacobian.rows[static_cast<size_t>(r) + 1]; ++k)
-        J(r, jacobian.cols[static_cast<size_t>(k)]) = jacobian.values[static_cast<size_t>(k)];
-    int col = 0;
-    for (int p = 0; p < 3; ++p)
-      if (!fixed[p]) J.col(col++) *= std::max(std::abs(*blocks[p]), 1e-12);
-    const Eigen::VectorXd column_norm = J.colwise().norm();
-    const double largest = column_norm.maxCoeff();
-    int worst = -1;
-    double smallest = 1e-6 * largest;
-    col = 0;
-    for (int p = 0; p < 3; ++p) {
-      if (fixed[p]) continue;
-      if (!(column_norm(col) > smallest)) {
-        worst = p;
-        smallest = column_norm(col);
-      }
-      ++col;
-    }
-    if (worst >= 0) {
-      reason[worst] = worst == 0 ? "default: every contact sample stuck, so mu_p is only bounded below"
-                                 : "default: the data do not determine it (no sensitivity)";
-    } else {
-      ceres::Covariance covariance(plain_fit_covariance_options());
-      std::vector<std::pair<const double*, const double*>> pairs;
-      for (const double* b : free) pairs.emplace_back(b, b);
-      double worst_ratio = 0.5;
-      if (covariance.Compute(pairs, &problem)) {
-        for (int p = 0; p < 3; ++p) {
-          if (fixed[p]) continue;
-          double var = 0;
-          covariance.GetCovarianceBlock(blocks[p], blocks[p], &var);
-          stdev(p) = std::sqrt(std::max(0.0, var));
-          const double ratio = stdev(p) / std::max(std::abs(*blocks[p]), 1e-12);
-          if (!std::isfinite(ratio) || ratio > worst_ratio) {
-            worst = p;
-            worst_ratio = std::isfinite(ratio) ? ratio : 1e300;
-          }
-        }
-        if (worst < 0) break;
-        char why[160];
-        std::snprintf(why, sizeof why, "default: the data do not determine it (fit %.3g, std %.2g)", *blocks[worst],
-                      stdev(worst));
-        reason[worst] = why;
-      } else {
-        worst = 0;
-        for (int p = 0; p < 3; ++p)
-          if (!fixed[p]) worst = p;
-        reason[worst] = "default: the data do not determine it (singular covariance)";
-      }
-    }
-    fixed[worst] = true;
-    *blocks[worst] = defaults[worst];
-    stdev(worst) = 0;
-    problem.SetParameterBlockConstant(blocks[worst]);
-  }
-  id.parameters.pusher_friction = mu_p;
-  id.parameters.torque_ratio_m = c;
-  id.parameters.support_friction = mu_s;
-  for (int p = 0; p < 3; ++p) {
-    id.std(p) = fixed[p] ? 0.0 : stdev(p);
-    id.sources[static_cast<size_t>(p)] = fixed[p] ? reason[p] : "identified";
-  }
-  id.fit_covariance = fit_covariance_of(problem, blocks, fixed, id.std.head<3>(), plain_fit_covariance_options());
-  count_sliding();
+  if (options_.use_prior)
+    fit.solve_with_prior();
+  else
+    fit.solve_dropping_undetermined();
   return id;
 }
 
