@@ -38,6 +38,23 @@ QuasiStaticIdentification identify_whole(const SynchronisedPush& push) {
 
 BOOST_AUTO_TEST_SUITE(quasi_static_identification)
 
+BOOST_AUTO_TEST_CASE(a_prior_held_mu_p_on_a_sliding_push_does_not_say_no_sample_slid) {
+  // The same sliding push, with a prior on mu_p so tight that the data add little to it: mu_p's source is a
+  // default, and it must not add "no sample slid" (the sliding samples were once counted after the sources were
+  // written, so it always did).
+  const SynchronisedPush push = simulated("rect2", 1.047, 0.3, 0.4, 0.35);
+  QuasiStaticIdentificationOptions options;
+  options.prior_pusher_friction_std = 1e-4;
+  QuasiStaticEstimator estimator(options);
+  estimator.reset(push);
+  estimator.add_interval({0.0, push.duration_s()});
+  const QuasiStaticIdentification id = estimator.identify();
+  BOOST_TEST_MESSAGE("mu_p (" << id.sources[0] << "), " << id.sliding_samples << " sliding samples");
+  BOOST_TEST_REQUIRE(id.sliding_samples > 0);
+  BOOST_TEST(id.sources[0].rfind("default: the data add little to the prior", 0) == 0u, id.sources[0]);
+  BOOST_TEST(id.sources[0].find("no sample slid") == std::string::npos, id.sources[0]);
+}
+
 BOOST_AUTO_TEST_CASE(a_sliding_push_off_centre_gives_mu_p_c_and_mu_s) {
   // rect2 pushed 60 degrees off the normal, off the side's centre: the rod slides and the object turns, so the data
   // determine mu_p (the cone's edge), c (the turn) and mu_s (the force on the limit surface).

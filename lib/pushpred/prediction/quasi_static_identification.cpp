@@ -407,10 +407,11 @@ class Fit {
     add_prior(prior_std);
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options(), &problem_, &summary);
+    // Counted before the sources are written: mu_p's says whether any sample slid.
+    count_sliding_samples();
     read_posterior(prior_std);
     record_parameters();
     id_.centre_offset_m = Eigen::Vector2d(delta_[0], delta_[1]);
-    count_sliding_samples();
     if (id_.sliding_samples == 0 && id_.sources[0] == "identified")
       id_.sources[0] = "default: no sample slid, so mu_p is only bounded below";
   }
