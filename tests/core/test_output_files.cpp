@@ -272,8 +272,14 @@ BOOST_AUTO_TEST_CASE(writing_into_a_removed_staging_folder_fails_and_does_not_br
   // What a stop signal's clean-up removed must stay removed, whatever the program still writes.
   TempFolder tmp;
   StagedOutput out(tmp / "run");
+  const fs::path made_before = out.path("predictions/p0.csv");  // a worker thread holds this path already
   fs::remove_all(out.staging_folder());
   BOOST_CHECK_THROW(out.path("predictions/p1.csv"), InputError);
+  BOOST_TEST(names_in(tmp.path()).empty());
+  // The write a worker thread was about to make when the clean-up ran (CI: a staging folder left by one of 20
+  // stopped runs, made again by write_text_atomically's create_directories).
+  BOOST_CHECK_THROW(write_text_atomically(made_before, "late"), InputError);
+  BOOST_CHECK_THROW(write_text_atomically(out.staging_folder() / "summary.json", "late"), InputError);
   BOOST_TEST(names_in(tmp.path()).empty());
 }
 

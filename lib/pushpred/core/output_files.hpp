@@ -15,7 +15,8 @@
 
 namespace pushpred {
 
-/// Writes `text` to `path` through a temporary file in the same folder and a rename.
+/// Writes `text` to `path` through a temporary file in the same folder and a rename. The folder must exist (throws
+/// InputError otherwise); it is never created, so that a write cannot bring back a folder a stop signal removed.
 void write_text_atomically(const std::filesystem::path& path, const std::string& text);
 
 /// JSON text for an output file: indented by 2, ending in a newline, invalid UTF-8 (from a file name) replaced

@@ -524,6 +524,13 @@ void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o,
 
 void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o, const std::filesystem::path& folder,
                             bool plots) {
+  // One level at a time, never create_directories: inside a staging folder, its parent must not be made again.
+  std::error_code ec;
+  for (const auto& f : plots ? std::vector<std::filesystem::path>{folder, folder / "plots"}
+                             : std::vector<std::filesystem::path>{folder}) {
+    std::filesystem::create_directory(f, ec);
+    if (ec) throw InputError(about(f.string(), "cannot create folder: " + ec.message()));
+  }
   write_text_atomically(folder / "diagnosis.json", diagnosis_json(r, o).dump(2) + "\n");
   write_text_atomically(folder / "test_phase_errors.csv", test_phase_errors_csv(r));
   std::vector<std::string> drawn;
