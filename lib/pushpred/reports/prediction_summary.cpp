@@ -36,10 +36,10 @@ nlohmann::json study_json(const PushStudy& s) {
   for (const auto& r : s.phases) {
     nlohmann::json methods = nlohmann::json::object();
     for (const auto& name : s.methods) methods[name] = errors_json(r.errors.at(name));
-    nlohmann::json phase = {{"phase", r.phase},
-                            {"t0_s", r.interval.t0_s},
-                            {"t1_s", r.interval.t1_s},
-                            {"methods", methods}};
+    // Moved, not copied, into place: an initializer list copies, and the summary is built once per run on one
+    // thread after every push is done (keys are sorted, so the order of insertion does not change the file).
+    nlohmann::json phase = {{"phase", r.phase}, {"t0_s", r.interval.t0_s}, {"t1_s", r.interval.t1_s}};
+    phase["methods"] = std::move(methods);
     if (!r.method_notes.empty()) phase["method_notes"] = r.method_notes;
     for (const auto& [method, parameters] : r.method_parameters)
       for (const auto& q : parameters)
@@ -47,16 +47,25 @@ nlohmann::json study_json(const PushStudy& s) {
             {"value", q.value}, {"std", q.std}, {"unit", q.unit}, {"source", q.source}};
     if (r.relation.samples > 0) phase["relation"] = relation_json(r.relation);
     if (!r.note.empty()) phase["note"] = r.note;
-    phases.push_back(phase);
+    phases.push_back(std::move(phase));
   }
-  return {{"source", s.source}, {"span", s.span}, {"phases", phases}};
+  nlohmann::json study = {{"source", s.source}, {"span", s.span}};
+  study["phases"] = std::move(phases);
+  return study;
 }
 
 std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushStudy>& studies) {
+  std::vector<const PushStudy*> all;
+  all.reserve(studies.size());
+  for (const auto& s : studies) all.push_back(&s);
+  return aggregate_errors(all);
+}
+
+std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<const PushStudy*>& studies) {
   std::map<std::string, PredictionErrors> sum;
   int count = 0;
-  for (const auto& s : studies)
-    for (const auto& r : s.phases) {
+  for (const PushStudy* s : studies)
+    for (const auto& r : s->phases) {
       ++count;
       for (const auto& [name, e] : r.errors) {
         PredictionErrors& a = sum[name];
@@ -95,11 +104,11 @@ nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const nloh
   for (const auto& [name, e] : aggregate_errors(batch.results)) aggregate[name] = errors_json(e);
   nlohmann::json failures = nlohmann::json::array();
   for (const auto& f : batch.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
-  return {{"pushpred_version", kVersion},
-          {"options", options},
-          {"files", files},
-          {"aggregate", aggregate},
-          {"failures", failures}};
+  nlohmann::json summary = {{"pushpred_version", kVersion}, {"options", options}};
+  summary["files"] = std::move(files);
+  summary["aggregate"] = std::move(aggregate);
+  summary["failures"] = std::move(failures);
+  return summary;
 }
 
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& o) {
@@ -110,8 +119,8 @@ std::string grouped_errors_markdown(const std::vector<PushStudy>& studies) {
   if (studies.empty()) return "";
   const std::vector<std::string>& methods = studies.front().methods;
   auto table = [&](const std::string& title, const std::function<std::string(const PushStudy&)>& group_of) {
-    std::map<std::string, std::vector<PushStudy>> groups;
-    for (const auto& s : studies) groups[group_of(s)].push_back(s);
+    std::map<std::string, std::vector<const PushStudy*>> groups;  // pointers: a study is not copied per table
+    for (const auto& s : studies) groups[group_of(s)].push_back(&s);
     std::ostringstream md;
     md << "| " << title << " | pushes | phases |";
     for (const auto& m : methods) md << " " << m << " |";
@@ -120,7 +129,7 @@ std::string grouped_errors_markdown(const std::vector<PushStudy>& studies) {
     md << "\n";
     for (const auto& [group, members] : groups) {
       size_t phases = 0;
-      for (const auto& s : members) phases += s.phases.size();
+      for (const PushStudy* s : members) phases += s->phases.size();
       const auto agg = aggregate_errors(members);
       md << "| " << group << " | " << members.size() << " | " << phases << " |";
       char cell[64];

@@ -17,6 +17,7 @@ nlohmann::json study_json(const PushStudy& study);
 
 /// Mean of every error key per method over all phases of `studies`.
 std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushStudy>& studies);
+std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<const PushStudy*>& studies);
 
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& options);
 /// The summary's "options" object for `options`.
