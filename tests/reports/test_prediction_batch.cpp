@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/output_files.hpp"
 #include "pushpred/reports/prediction_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 #include "pushpred/reports/validation_batch.hpp"
@@ -119,4 +121,32 @@ BOOST_AUTO_TEST_CASE(a_validation_trial_reads_back_to_the_same_bits) {
   nlohmann::json doc = validation_trial_exact_json(t);
   doc["errors"].erase(0);
   BOOST_CHECK_THROW(validation_trial_from_exact_json(doc), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(the_streamed_summary_is_the_whole_documents_text_byte_for_byte) {
+  // predict writes summary.json one push at a time (write_prediction_summary) rather than dumping the document
+  // built whole; the file must not change. Awkward content: NaN and infinities, invalid UTF-8 and quotes, line
+  // breaks in a note, options that name "files" themselves, no push and no failure.
+  Batch<PushStudy> batch;
+  batch.results.push_back(awkward_study());
+  PushStudy odd = awkward_study();
+  odd.source = std::string("shape=rect1 \xff\xfe \"quoted\"\n.h5");
+  odd.phases[0].note = "two\nlines and a \"quote\" and a tab\t";
+  odd.phases.push_back(odd.phases[0]);
+  odd.phases[1].phase = 2;
+  batch.results.push_back(odd);
+  batch.failures.push_back({"missing \xc3\x28.h5", "file does not exist"});
+  const nlohmann::json options = {{"files", "a \"files\": [] key"}, {"intervals", 4}, {"methods", {"dob", "hold"}}};
+  const auto streamed = [](const Batch<PushStudy>& b, const nlohmann::json& o) {
+    std::ostringstream out;
+    write_prediction_summary(out, b, o);
+    return out.str();
+  };
+  BOOST_TEST(streamed(batch, options) == json_file_text(prediction_summary_json(batch, options)));
+  Batch<PushStudy> one;
+  one.results.push_back(awkward_study());
+  BOOST_TEST(streamed(one, options) == json_file_text(prediction_summary_json(one, options)));
+  const Batch<PushStudy> none;
+  BOOST_TEST(streamed(none, nlohmann::json::object()) ==
+             json_file_text(prediction_summary_json(none, nlohmann::json::object())));
 }

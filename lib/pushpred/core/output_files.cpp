@@ -161,6 +161,10 @@ std::string json_file_text(const nlohmann::json& doc) {
 }
 
 void write_text_atomically(const fs::path& path, const std::string& text) {
+  write_file_atomically(path, [&](std::ostream& out) { out << text; });
+}
+
+void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
   const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;
   // The folder is never created here: a stop signal's clean-up may have just removed the staging folder this path
@@ -172,7 +176,13 @@ void write_text_atomically(const fs::path& path, const std::string& text) {
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw InputError(about(path.string(), "cannot open for writing"));
-    out << text;
+    try {
+      write(out);
+    } catch (...) {
+      out.close();
+      fs::remove(tmp, ec);
+      throw;
+    }
     out.close();
     if (!out) {
       fs::remove(tmp, ec);

@@ -9,6 +9,8 @@
 // An existing destination is replaced only when it is empty or was written by pushpred (it holds the marker file
 // `.pushpred-output`), so that `--out .` or `--out ~` can never wipe a user's folder.
 #include <filesystem>
+#include <functional>
+#include <ostream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -18,6 +20,9 @@ namespace pushpred {
 /// Writes `text` to `path` through a temporary file in the same folder and a rename. The folder must exist (throws
 /// InputError otherwise); it is never created, so that a write cannot bring back a folder a stop signal removed.
 void write_text_atomically(const std::filesystem::path& path, const std::string& text);
+/// write_text_atomically for a file written piece by piece: `write` streams the contents, so that a large file is
+/// never held whole in memory.
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
 /// JSON text for an output file: indented by 2, ending in a newline, invalid UTF-8 (from a file name) replaced
 /// rather than aborting the run.

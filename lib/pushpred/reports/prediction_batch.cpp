@@ -95,26 +95,26 @@ BatchRunOutcome write_prediction_outputs(const Batch<PushStudy>& batch, const nl
   outcome.failures = batch.failures;
   outcome.used = batch.results.size();
   if (batch.results.empty()) return outcome;  // nothing written
-  const nlohmann::json summary = prediction_summary_json(batch, options);
-  write_text_atomically(out.path("summary.json"), json_file_text(summary));
+  write_file_atomically(out.path("summary.json"),
+                        [&](std::ostream& file) { write_prediction_summary(file, batch, options); });
   write_text_atomically(out.path("tables.md"),
                         "Mean over phases of each phase's mean position error [mm] / yaw error [deg]\n\n" +
                             grouped_errors_markdown(batch.results) + "\n" +
                             losing_phases_markdown(batch.results, "quasi_static", {"hold", "const_velocity"}));
   out.commit();
 
+  const std::map<std::string, PredictionErrors> aggregate = aggregate_errors(batch.results);
   std::ostringstream report;
   report << "predicted " << batch.results.size() << " pushes (" << options.at("intervals").get<int>()
          << " intervals over the " << options.at("span").get<std::string>() << " span); summary in "
          << out.destination().string() << "/summary.json\n";
   for (const auto& method : options.at("methods")) {
     const std::string name = method.get<std::string>();
-    if (!summary["aggregate"].contains(name)) continue;
-    const auto& e = summary["aggregate"][name];
+    const auto e = aggregate.find(name);
+    if (e == aggregate.end()) continue;
     char line[256];
     std::snprintf(line, sizeof line, "  %-15s position %6.2f mm (x %6.2f, y %6.2f)  theta %6.2f deg\n", name.c_str(),
-                  e["pos_mm_mean"].get<double>(), e["x_mm_mean"].get<double>(), e["y_mm_mean"].get<double>(),
-                  e["theta_deg_mean"].get<double>());
+                  e->second.pos_mm_mean, e->second.x_mm_mean, e->second.y_mm_mean, e->second.theta_deg_mean);
     report << line;
   }
   outcome.report = report.str();

@@ -24,6 +24,9 @@ nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const Stud
 nlohmann::json prediction_options_json(const StudyOptions& options);
 /// prediction_summary_json with the "options" object given (a merge of partial outputs has it, not the options).
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const nlohmann::json& options);
+/// Writes the text of summary.json (json_file_text of prediction_summary_json, byte for byte) to `out`, one push at
+/// a time, without building the whole document: memory stays that of the studies, whatever the number of pushes.
+void write_prediction_summary(std::ostream& out, const Batch<PushStudy>& batch, const nlohmann::json& options);
 
 /// Markdown tables of the mean over phases of each method's per-phase mean position error [mm] / yaw error [deg]:
 /// per object, per pusher speed (or acceleration), and over all phases, for `studies` (shape and speed from the
