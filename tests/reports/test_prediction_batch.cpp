@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
@@ -149,4 +150,43 @@ BOOST_AUTO_TEST_CASE(the_streamed_summary_is_the_whole_documents_text_byte_for_b
   const Batch<PushStudy> none;
   BOOST_TEST(streamed(none, nlohmann::json::object()) ==
              json_file_text(prediction_summary_json(none, nlohmann::json::object())));
+}
+
+BOOST_AUTO_TEST_CASE(a_prediction_csv_writes_every_number_as_an_ostream_at_precision_9_would) {
+  // predictions_csv formats with std::to_chars for speed; the files must stay what they were when a stream at
+  // precision 9 wrote them, special values included.
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> values = {0.0,        -0.0, 1.0 / 3.0, -2.5e-7, 123456789.123, 1e-300, 5e300, 1e9,
+                                      99999.9999, 0.1,  nan,       -nan,    inf,           -inf,   1e-5,  0.0001};
+  PushStudy s;
+  s.methods = {"dob", "hold"};
+  PhaseResult r;
+  r.phase = 3;
+  const Eigen::Index n = static_cast<Eigen::Index>(values.size());
+  r.t_s = Eigen::VectorXd::LinSpaced(n, 0.0, 0.3);
+  r.measured.resize(n, 3);
+  for (const auto& m : s.methods) r.predicted[m].resize(n, 3);
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (int c = 0; c < 3; ++c) {
+      r.measured(j, c) = values[static_cast<std::size_t>((j + c) % n)];
+      r.predicted["dob"](j, c) = values[static_cast<std::size_t>((j + 5 * c + 1) % n)];
+      r.predicted["hold"](j, c) = values[static_cast<std::size_t>((j + 7 * c + 2) % n)];
+    }
+  s.phases.push_back(r);
+
+  std::ostringstream expected;  // what predictions_csv wrote before, with a stream
+  expected.precision(9);
+  expected << "phase,t_s,measured_x_mm,measured_y_mm,measured_theta_deg,dob_x_mm,dob_y_mm,dob_theta_deg,"
+              "hold_x_mm,hold_y_mm,hold_theta_deg\n";
+  constexpr double deg = 180.0 / M_PI;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    expected << 3 << "," << r.t_s(j) << "," << 1e3 * r.measured(j, 0) << "," << 1e3 * r.measured(j, 1) << ","
+             << deg * r.measured(j, 2);
+    for (const auto& m : s.methods) {
+      const auto& p = r.predicted.at(m);
+      expected << "," << 1e3 * p(j, 0) << "," << 1e3 * p(j, 1) << "," << deg * p(j, 2);
+    }
+    expected << "\n";
+  }
+  BOOST_TEST(predictions_csv(s) == expected.str());
 }
