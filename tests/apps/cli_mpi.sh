@@ -10,7 +10,12 @@ mpirun=$3
 source "$(dirname "$0")/cli_support.sh"
 # Open MPI refuses to start as root unless told; the test machines run as root.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-mpi=("$mpirun" -np 2 --oversubscribe --mca btl self,vader)
+# The ranks' temporary folder is one of the test's own: rank 0 merges through a scratch folder there (and each rank
+# of diagnose --per-object writes its objects into one), which must be gone after every run.
+mkdir -p "$tmp/tmpdir"
+mpi=(env TMPDIR="$tmp/tmpdir" "$mpirun" -np 2 --oversubscribe --mca btl self,vader)
+# The names of pushpred's folders left in the ranks' temporary folder (Open MPI keeps its own there).
+left_in_tmpdir() { find "$tmp/tmpdir" -mindepth 1 -maxdepth 1 -name 'pushpred-*' -printf '%f\n'; }
 
 batch_files
 
@@ -27,6 +32,7 @@ check "rank 0 prints what the plain run prints, once" cmp -s "$tmp/plain.out" "$
 check "the same failures are listed, once" diff <(grep -E '^FAILED' "$tmp/plain.err") <(grep -E '^FAILED' "$tmp/mpi.err")
 check "no partial output is left" [ ! -e "$tmp/mpi/partial.json" ]
 expect_in "$tmp/plain.out" "predicted 4 pushes" "the plain run predicted the four usable pushes"
+check "no scratch folder is left after predict under mpirun: $(left_in_tmpdir)" [ -z "$(left_in_tmpdir)" ]
 
 # Two jobs per rank change nothing.
 timeout 600 "${mpi[@]}" "$bin" predict "${files[@]}" --out "$tmp/mpi2" --jobs 2 >/dev/null 2>&1
@@ -77,4 +83,5 @@ timeout 600 "${mpi[@]}" "$bin" predict "${files[0]}" "${files[1]}" --out "$tmp/p
 check "a bad output folder under mpirun stops every rank with exit 2" [ $? -eq 2 ]
 expect_in "$tmp/err" "is not a folder" "the bad output folder is named"
 check "no output under a refused mpirun" [ ! -e "$tmp/bad" ]
+check "no scratch folder is left after any run under mpirun: $(left_in_tmpdir)" [ -z "$(left_in_tmpdir)" ]
 finish

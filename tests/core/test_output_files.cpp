@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <fstream>
 #include <thread>
 
@@ -281,6 +282,89 @@ BOOST_AUTO_TEST_CASE(writing_into_a_removed_staging_folder_fails_and_does_not_br
   BOOST_CHECK_THROW(write_text_atomically(made_before, "late"), InputError);
   BOOST_CHECK_THROW(write_text_atomically(out.staging_folder() / "summary.json", "late"), InputError);
   BOOST_TEST(names_in(tmp.path()).empty());
+}
+
+BOOST_AUTO_TEST_SUITE_END()
+
+BOOST_AUTO_TEST_SUITE(scratch_folder)
+
+namespace {
+
+/// Points the temporary folder (TMPDIR) at `folder` while it lives.
+struct TmpdirIs {
+  std::string before;
+  bool had = false;
+  explicit TmpdirIs(const fs::path& folder) {
+    if (const char* v = std::getenv("TMPDIR")) had = true, before = v;
+    setenv("TMPDIR", folder.c_str(), 1);
+  }
+  ~TmpdirIs() { had ? setenv("TMPDIR", before.c_str(), 1) : unsetenv("TMPDIR"); }
+};
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_scratch_folder_lives_in_the_temporary_folder_and_goes_with_its_owner) {
+  TempFolder tmp;
+  const TmpdirIs tmpdir(tmp.path());
+  const std::string expected = "pushpred-merge-" + std::to_string(getpid());
+  {
+    const ScratchFolder scratch("merge");
+    BOOST_TEST(scratch.path().parent_path() == tmp.path());
+    BOOST_TEST(scratch.path().filename().string() == expected);
+    fs::create_directories(scratch.path() / "rank1" / "plots");
+    write_text(scratch.path() / "rank1" / "plots" / "a.png", "bytes");
+    BOOST_TEST(names_in(tmp.path()) == std::vector<std::string>{expected});
+  }
+  BOOST_TEST(names_in(tmp.path()).empty());
+  // Left by an exception (a failed merge check): gone before the handler runs.
+  try {
+    const ScratchFolder scratch("merge");
+    write_text(scratch.path() / "partial.json", "{}");
+    throw InputError("the check failed");
+  } catch (const InputError&) {
+    BOOST_TEST(names_in(tmp.path()).empty());
+  }
+  // What a dead process with this id left is replaced.
+  fs::create_directories(tmp / expected / "old");
+  {
+    const ScratchFolder scratch("merge");
+    BOOST_TEST(names_in(scratch.path()).empty());
+  }
+  BOOST_TEST(names_in(tmp.path()).empty());
+}
+
+BOOST_AUTO_TEST_CASE(a_run_stopped_by_a_signal_removes_its_scratch_folder) {
+  TempFolder tmp;
+  const TmpdirIs tmpdir(tmp.path());
+  int ready[2];
+  BOOST_REQUIRE(pipe(ready) == 0);
+  const pid_t child = fork();
+  if (child == 0) {
+    for (const int s : {SIGTERM, SIGINT, SIGHUP}) std::signal(s, SIG_DFL);
+    install_output_cleanup_on_signals();
+    const ScratchFolder scratch("merge");
+    std::ofstream(scratch.path() / "partial.json") << "{}\n";
+    if (write(ready[1], "x", 1) != 1) _exit(3);
+    for (;;) pause();
+  }
+  char c;
+  BOOST_REQUIRE(read(ready[0], &c, 1) == 1);
+  BOOST_TEST(names_in(tmp.path()).size() == 1u);
+  kill(child, SIGTERM);
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  BOOST_TEST(WIFSIGNALED(status));
+  BOOST_TEST(names_in(tmp.path()).empty());
+  close(ready[0]);
+  close(ready[1]);
+}
+
+BOOST_AUTO_TEST_CASE(a_scratch_folder_that_cannot_be_made_says_so) {
+  TempFolder tmp;
+  write_text(tmp / "file", "not a folder");
+  const TmpdirIs tmpdir(tmp / "file");
+  BOOST_CHECK_THROW(ScratchFolder("merge"), InputError);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -1,10 +1,15 @@
-// core/shard.hpp: the --shard I/N spec, the split of the inputs, and the checks a merge makes on the partial outputs
-// (every shard of one run, once). Expected values are written out by hand.
+// core/shard.hpp: the --shard I/N spec, the split of the inputs, the checks a merge makes on the partial outputs
+// (every shard of one run, once), and an MPI rank's bundle written into a folder and read back. Expected values are
+// written out by hand.
 #include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/output_files.hpp"
 #include "pushpred/core/shard.hpp"
 
 using namespace pushpred;
@@ -25,6 +30,20 @@ std::string input_error(F&& f) {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+/// A partial output held in memory: `manifest`, and `files` by relative path.
+PartialOutput in_memory(const std::string& name, const nlohmann::json& manifest,
+                        const std::map<std::string, std::string>& files) {
+  PartialOutput out;
+  out.name = name;
+  out.manifest = manifest;
+  out.read_file = [files, name](const std::string& relative) {
+    const auto it = files.find(relative);
+    if (it == files.end()) throw InputError(name + ": its file " + relative + " is missing");
+    return it->second;
+  };
+  return out;
+}
+
 /// A partial output in memory of shard `index`/`count` over `inputs`, one result per item at `positions`.
 PartialOutput part(int index, int count, const std::vector<fs::path>& inputs, const std::vector<std::size_t>& positions,
                    const nlohmann::json& options = {{"o", 1}}) {
@@ -44,7 +63,7 @@ PartialOutput part(int index, int count, const std::vector<fs::path>& inputs, co
   for (const auto& item : items)
     for (const auto& f : item.files) files[f] = "text of " + f;
   const auto manifest = partial_manifest("predict", {index, count}, inputs, options, items);
-  return partial_output_from_bundle("part" + std::to_string(index), partial_bundle(manifest, files));
+  return in_memory("part" + std::to_string(index), manifest, files);
 }
 
 const std::vector<fs::path> kInputs{"d/c.h5", "d/a.h5", "d/e.h5", "d/b.h5", "d/d.h5"};
@@ -151,28 +170,68 @@ BOOST_AUTO_TEST_CASE(a_listed_file_outside_the_output_is_refused) {
   item.result = nlohmann::json::object();
   item.files = {"../escape.csv"};
   const auto manifest = partial_manifest("predict", {1, 1}, {"a.h5"}, {}, {item});
-  const std::string message =
-      input_error([&] { check_partial_outputs({partial_output_from_bundle("p", partial_bundle(manifest, {}))}); });
+  const std::string message = input_error([&] { check_partial_outputs({in_memory("p", manifest, {})}); });
   BOOST_TEST(contains(message, "not a path inside the output"));
 }
 
 BOOST_AUTO_TEST_CASE(a_folder_that_is_no_partial_output_says_so) {
   BOOST_TEST(contains(input_error([] { read_partial_output("/nonexistent/part"); }), "no such folder"));
   BOOST_TEST(contains(input_error([] { read_partial_output("."); }), "not a partial output of pushpred"));
-  BOOST_TEST(contains(input_error([] { partial_output_from_bundle("rank 1", "{"); }), "rank 1: its partial output"));
 }
 
-BOOST_AUTO_TEST_CASE(a_bundle_carries_binary_files_byte_for_byte) {
+BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
+  // MPI rank 0 writes each rank's bundle into a scratch folder as it arrives and reads it back from there (issue 12).
   // A plot is binary (PNG: bytes above 127, NUL); JSON text alone would replace what is not UTF-8.
   std::string png("\x89PNG\r\n\x1a\n", 8);
   png += std::string("\0\xff\xfe", 3);
   std::map<std::string, std::string> files;
   for (std::size_t n = 0; n <= png.size(); ++n) files["f" + std::to_string(n)] = png.substr(0, n);  // every padding
-  const auto part = partial_output_from_bundle("rank 1", partial_bundle({{"k", 1}}, files));
-  for (const auto& [name, bytes] : files) BOOST_TEST(part.read_file(name) == bytes);
-  BOOST_TEST(contains(input_error([&] { part.read_file("nothing"); }), "is missing"));
-  const auto garbled = partial_output_from_bundle("rank 2", R"({"manifest": {}, "files": {"a": "QQ=A"}})");
-  BOOST_TEST(contains(input_error([&] { garbled.read_file("a"); }), "rank 2: its file a is garbled"));
+  files["obj/plots/fit.png"] = png;                                                                 // in subfolders
+  files["predictions/a b.csv"] = "t_s,x_m\n0,1.5\n";
+  PartialItem item;
+  item.index = 0;
+  item.result = nlohmann::json{{"x_m", exact_number_json(0.1)},
+                               {"nan", exact_number_json(std::nan(""))},
+                               {"tiny", exact_number_json(4.9e-324)},
+                               {"name", "caf\xc3\xa9 \"q\"\n"}};
+  item.files = {"obj/plots/fit.png"};
+  const auto manifest = partial_manifest("predict", {2, 3}, {"a.h5", "b.h5"}, {{"o", 1}}, {item});
+
+  const ScratchFolder scratch("test-shard");
+  const fs::path folder = scratch.path() / "rank1";
+  unpack_partial_bundle("rank 1", partial_bundle(manifest, files), folder);
+  BOOST_TEST(fs::exists(folder / "partial.json"));
+  const PartialOutput part = read_partial_output(folder, "rank 1");
+  BOOST_TEST(part.name == "rank 1");
+  BOOST_TEST(part.manifest == manifest);
+  BOOST_TEST(part.manifest.dump() == manifest.dump());  // the numbers' exact digits too
+  for (const auto& [name, bytes] : files) {
+    BOOST_TEST(part.read_file(name) == bytes);
+    BOOST_TEST(fs::file_size(folder / name) == bytes.size());
+  }
+  BOOST_TEST(contains(input_error([&] { part.read_file("nothing"); }), "rank 1: its file nothing is missing"));
+  // Read back as one batch (shard 2 of 3 alone is refused as incomplete, naming the part by its rank).
+  BOOST_TEST(contains(input_error([&] { check_partial_outputs({part}); }), "shards 1/3, 3/3 missing"));
+}
+
+BOOST_AUTO_TEST_CASE(a_bad_bundle_is_refused_naming_its_rank) {
+  const ScratchFolder scratch("test-shard");
+  const fs::path folder = scratch.path() / "rank";
+  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 1", "{", folder); }),
+                      "rank 1: its partial output is not readable"));
+  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 1", R"({"files": {}})", folder); }),
+                      "rank 1: its partial output is not readable"));
+  BOOST_TEST(contains(
+      input_error([&] { unpack_partial_bundle("rank 2", R"({"manifest": {}, "files": {"a": "QQ=A"}})", folder); }),
+      "rank 2: its file a is garbled"));
+  // A file name that would leave the folder is refused before anything is written.
+  for (const std::string bad : {"../escape", "/tmp/escape", "a/../../escape", ""}) {
+    const std::string bundle =
+        nlohmann::json{{"manifest", nlohmann::json::object()}, {"files", {{bad, "QQ=="}}}}.dump();
+    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 3", bundle, folder); }),
+                        "is not a path inside the output"));
+  }
+  BOOST_TEST(!fs::exists(scratch.path() / "escape"));
 }
 
 BOOST_AUTO_TEST_CASE(a_partial_manifest_of_units_that_are_not_files) {

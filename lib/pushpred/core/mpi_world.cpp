@@ -6,6 +6,8 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "pushpred/core/error.hpp"
 
@@ -81,29 +83,31 @@ MpiWorld& MpiWorld::get() {
   return world;
 }
 
-std::vector<std::string> MpiWorld::gather_to_root(const std::string& text) const {
-  if (size_ == 1) return {text};
+void MpiWorld::send_to_root(std::string text,
+                            const std::function<void(int rank, const std::string& text)>& take) const {
+  if (root()) {
+    take(0, text);
+    std::string().swap(text);  // its memory freed before the next rank's arrives
+  }
+  if (size_ == 1) return;
 #ifdef PUSHPRED_HAVE_MPI
-  std::uint64_t length = text.size();
-  std::vector<std::uint64_t> lengths(root() ? static_cast<std::size_t>(size_) : 0);
-  MPI_Gather(&length, 1, MPI_UINT64_T, lengths.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
   if (!root()) {
+    const std::uint64_t length = text.size();
+    MPI_Send(&length, 1, MPI_UINT64_T, 0, 0, MPI_COMM_WORLD);
     for (std::uint64_t at = 0; at < length; at += kPiece)
       MPI_Send(text.data() + at, static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, 0, 0, MPI_COMM_WORLD);
-    return {};
+    return;
   }
-  std::vector<std::string> all(static_cast<std::size_t>(size_));
-  all[0] = text;
   for (int r = 1; r < size_; ++r) {
-    std::string& t = all[static_cast<std::size_t>(r)];
-    t.resize(lengths[static_cast<std::size_t>(r)]);
-    for (std::uint64_t at = 0; at < t.size(); at += kPiece)
-      MPI_Recv(&t[at], static_cast<int>(std::min<std::uint64_t>(kPiece, t.size() - at)), MPI_CHAR, r, 0,
-               MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    // One sender's messages arrive in the order sent: its length, then its pieces.
+    std::uint64_t length = 0;
+    MPI_Recv(&length, 1, MPI_UINT64_T, r, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    std::string t(length, '\0');
+    for (std::uint64_t at = 0; at < length; at += kPiece)
+      MPI_Recv(&t[at], static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, r, 0, MPI_COMM_WORLD,
+               MPI_STATUS_IGNORE);
+    take(r, t);
   }
-  return all;
-#else
-  return {text};
 #endif
 }
 
@@ -127,18 +131,25 @@ void open_output_at_root(const MpiWorld& world, const std::string& out, std::opt
 }
 
 BatchRunOutcome merge_at_root(const MpiWorld& world, const nlohmann::json& manifest,
-                              const std::map<std::string, std::string>& files,
+                              std::map<std::string, std::string> files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
-  const auto bundles = world.gather_to_root(partial_bundle(manifest, files));
+  std::string bundle = partial_bundle(manifest, files);
+  files.clear();  // the bundle holds them now
   if (!world.root()) {
+    world.send_to_root(std::move(bundle), nullptr);
     BatchRunOutcome quiet;
     quiet.quiet = true;
     return quiet;
   }
   try {
+    // Destroyed (the folder removed) before the handler below runs: MPI_Abort would not unwind the stack.
+    const ScratchFolder scratch("merge");
+    const auto folder_of = [&](int r) { return scratch.path() / ("rank" + std::to_string(r)); };
+    const auto name_of = [](int r) { return "rank " + std::to_string(r); };
+    world.send_to_root(std::move(bundle),
+                       [&](int r, const std::string& text) { unpack_partial_bundle(name_of(r), text, folder_of(r)); });
     std::vector<PartialOutput> parts;
-    for (std::size_t r = 0; r < bundles.size(); ++r)
-      parts.push_back(partial_output_from_bundle("rank " + std::to_string(r), bundles[r]));
+    for (int r = 0; r < world.size(); ++r) parts.push_back(read_partial_output(folder_of(r), name_of(r)));
     return write_merged(check_partial_outputs(parts));
   } catch (const std::exception& e) {
     std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";

@@ -36,9 +36,12 @@ class MpiWorld {
   int size() const { return size_; }
   bool root() const { return rank_ == 0; }
 
-  /// Every rank's `text` on rank 0, in rank order (rank 0's own first); an empty list on the other ranks. Called by
-  /// every rank alike. Texts may be longer than an MPI count (sent in pieces).
-  std::vector<std::string> gather_to_root(const std::string& text) const;
+  /// Every rank's `text` to rank 0, one rank at a time: rank 0 calls `take(r, text)` for r = 0, 1, ..., N-1 (its own
+  /// text first) and receives rank r's text only once take has returned for rank r-1, and drops each text when its
+  /// take returns, so that it holds one rank's text at a time rather than every rank's (issue 12: rank 0's memory
+  /// would grow with the whole job). The other ranks send theirs (waiting until rank 0 takes it) and never call
+  /// take. Called by every rank alike. Texts may be longer than an MPI count (sent in pieces, point to point).
+  void send_to_root(std::string text, const std::function<void(int rank, const std::string& text)>& take) const;
 
   /// Stops every rank of the job with `code` (after an error on one rank that the others cannot know of).
   [[noreturn]] void abort(int code) const;
@@ -55,11 +58,15 @@ class MpiWorld {
 /// parameter: a StagedOutput cannot be moved.)
 void open_output_at_root(const MpiWorld& world, const std::string& out, std::optional<StagedOutput>& staged);
 
-/// Ends a batch run under mpirun: every rank's partial output (`manifest` and its `files`) is gathered at rank 0,
-/// which checks the parts as one batch (check_partial_outputs) and writes them with `write_merged`; the other ranks
-/// return a quiet outcome. A failure of the check or the write is printed and stops every rank with exit code 2.
+/// Ends a batch run under mpirun: every rank's partial output (`manifest` and its `files`, taken to free them) goes
+/// to rank 0, one rank at a time, into a scratch folder under the temporary folder (ScratchFolder, laid out as
+/// `--shard` writes a partial output), so that rank 0 holds one rank's share in memory at a time; rank 0 then reads
+/// the parts back from disk (read_partial_output, files read when written), checks them as one batch
+/// (check_partial_outputs) and writes them with `write_merged`; the other ranks return a quiet outcome. The scratch
+/// folder is removed on every way out. A failure of the check or the write is printed and stops every rank with
+/// exit code 2.
 BatchRunOutcome merge_at_root(const MpiWorld& world, const nlohmann::json& manifest,
-                              const std::map<std::string, std::string>& files,
+                              std::map<std::string, std::string> files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged);
 
 }  // namespace pushpred

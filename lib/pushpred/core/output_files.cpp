@@ -28,7 +28,8 @@ std::string unique_suffix() {
   return std::to_string(rd()) + "-" + std::to_string(counter++);
 }
 
-// --- The staging folders a signal handler must remove. Plain arrays and atomics: the handler may only read them.
+// --- The staging (and scratch) folders a signal handler must remove. Plain arrays and atomics: the handler may only
+// read them.
 constexpr int kSlots = 16;
 constexpr std::size_t kMaxPath = 4096;
 std::atomic<bool> slot_used[kSlots];
@@ -280,6 +281,26 @@ void StagedOutput::commit() {
   committed_ = true;
   release_slot(slot_);
   slot_ = -1;
+}
+
+ScratchFolder::ScratchFolder(const std::string& name) {
+  std::error_code ec;
+  const fs::path temp = fs::temp_directory_path(ec);
+  if (ec) throw InputError("no temporary folder for scratch files (TMPDIR): " + ec.message());
+  path_ = temp / ("pushpred-" + name + "-" + std::to_string(getpid()));
+  fs::remove_all(path_, ec);  // a dead process's, whose id this one has now
+  slot_ = claim_slot(path_);  // before it exists, as a staging folder
+  fs::create_directories(path_, ec);
+  if (ec) {
+    release_slot(slot_);
+    throw InputError(about(path_.string(), "cannot create a scratch folder: " + ec.message()));
+  }
+}
+
+ScratchFolder::~ScratchFolder() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+  release_slot(slot_);
 }
 
 void install_output_cleanup_on_signals() {

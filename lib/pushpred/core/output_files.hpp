@@ -61,9 +61,30 @@ class StagedOutput {
   bool committed_ = false;
 };
 
+/// A folder of this process's own under the system's temporary folder (TMPDIR, else /tmp), `pushpred-NAME-PID`,
+/// for files a run needs on the way but never outputs: an MPI rank's diagnosis plots before they are sent, the ranks'
+/// partial outputs on rank 0 while it merges them (issue 12). Never inside an output folder, so nothing of it can be
+/// committed. Removed with everything in it when the object goes (also when a scope is left by an exception), and by
+/// a stop signal as staging folders are; a process killed outright leaves it.
+class ScratchFolder {
+ public:
+  /// Creates the folder (after removing what an earlier process with the same id left there); throws InputError
+  /// when it cannot.
+  explicit ScratchFolder(const std::string& name);
+  ~ScratchFolder();
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  int slot_ = -1;  ///< in the signal clean-up registry
+};
+
 /// Installs handlers for SIGINT, SIGTERM and SIGHUP (unless ignored) that remove the staging folders of every
-/// live StagedOutput and then let the signal end the process as it would have. For programs, not libraries: call
-/// once at the start of main.
+/// live StagedOutput (and every live ScratchFolder) and then let the signal end the process as it would have. For
+/// programs, not libraries: call once at the start of main.
 void install_output_cleanup_on_signals();
 
 }  // namespace pushpred

@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <memory>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <sstream>
@@ -40,13 +39,19 @@ std::string part_error(const PartialOutput& part, const std::string& what) {
   return about(plain_text(part.name), what);
 }
 
-/// A file an item lists must stay inside the output: relative, no "..".
-void require_relative_inside(const std::string& name) {
+/// True when `name` is a path inside an output folder: relative, no "..".
+bool relative_inside(const std::string& name) {
   const fs::path p(name);
   bool ok = !name.empty() && p.is_relative();
   for (const auto& part : p)
     if (part == "..") ok = false;
-  if (!ok) throw InputError("its item lists the file '" + plain_text(name) + "', which is not a path inside the output");
+  return ok;
+}
+
+/// A file an item lists must stay inside the output.
+void require_relative_inside(const std::string& name) {
+  if (!relative_inside(name))
+    throw InputError("its item lists the file '" + plain_text(name) + "', which is not a path inside the output");
 }
 
 constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -192,8 +197,8 @@ void write_partial_output(StagedOutput& out, const nlohmann::json& manifest) {
   out.commit();
 }
 
-PartialOutput read_partial_output(const fs::path& folder) {
-  const std::string name = folder.string();
+PartialOutput read_partial_output(const fs::path& folder, const std::string& shown) {
+  const std::string name = shown.empty() ? folder.string() : shown;
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
     throw InputError(about(plain_text(name), fs::exists(folder, ec) ? "not a folder (a merge reads the folders "
@@ -229,24 +234,29 @@ std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::s
   return dump({{"manifest", manifest}, {"files", encoded}}, -1);
 }
 
-PartialOutput partial_output_from_bundle(const std::string& name, const std::string& bundle) {
-  PartialOutput part;
-  part.name = name;
-  auto doc = std::make_shared<nlohmann::json>();
+void unpack_partial_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
+  nlohmann::json doc;
   try {
-    *doc = nlohmann::json::parse(bundle);
-    part.manifest = std::move(doc->at("manifest"));
+    doc = nlohmann::json::parse(bundle);
+    if (!doc.at("manifest").is_object() || !doc.at("files").is_object()) throw InputError("not a partial bundle");
   } catch (const std::exception& e) {
     throw InputError(about(plain_text(name), std::string("its partial output is not readable: ") + e.what()));
   }
-  part.read_file = [doc, name](const std::string& relative) {
-    const auto& files = (*doc)["files"];
-    const auto it = files.find(relative);
-    if (it == files.end() || !it->is_string())
-      throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is missing"));
-    return from_base64(it->get<std::string>(), name, relative);
-  };
-  return part;
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec) throw InputError(about(plain_text(folder.string()), "cannot create folder: " + ec.message()));
+  for (const auto& [relative, encoded] : doc["files"].items()) {
+    if (!relative_inside(relative))
+      throw InputError(
+          about(plain_text(name), "its file '" + plain_text(relative) + "' is not a path inside the output"));
+    if (!encoded.is_string())
+      throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is garbled"));
+    const fs::path path = folder / relative;
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) throw InputError(about(plain_text(path.parent_path().string()), "cannot create folder: " + ec.message()));
+    write_text_atomically(path, from_base64(encoded.get_ref<const std::string&>(), name, relative));
+  }
+  write_text_atomically(folder / kManifestName, json_file_text(doc["manifest"]));
 }
 
 MergedParts check_partial_outputs(const std::vector<PartialOutput>& parts) {

@@ -126,14 +126,20 @@ struct PartialOutput {
 };
 
 /// Reads the partial output in `folder`; throws InputError naming the folder when it is not one (no partial.json,
-/// not JSON, not pushpred's partial format).
-PartialOutput read_partial_output(const std::filesystem::path& folder);
+/// not JSON, not pushpred's partial format). Its files are read from disk only when asked for (read_file), one at a
+/// time. `name` is the part's name in messages; the folder's path when empty.
+PartialOutput read_partial_output(const std::filesystem::path& folder, const std::string& name = "");
 
-/// A partial output held in memory (an MPI rank's): `bundle` is partial_bundle's text.
-PartialOutput partial_output_from_bundle(const std::string& name, const std::string& bundle);
 /// One text holding a manifest and its files (base64-encoded: a file may be binary, e.g. a plot), to send to another
 /// process.
 std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::string, std::string>& files);
+/// Writes the partial output in `bundle` (partial_bundle's text, from another process) into the plain folder
+/// `folder` (made if missing) as a `--shard` run lays one out: partial.json and each file at its relative path,
+/// decoded one at a time. Then read_partial_output reads it back and the text can be dropped: MPI rank 0 keeps one
+/// rank's bundle in memory at a time, not every rank's (issue 12). `name` names the part in messages ("rank 1");
+/// throws InputError when the bundle is not readable, a file is garbled, or a file's name is not a path inside the
+/// output (nothing is then written outside `folder`).
+void unpack_partial_bundle(const std::string& name, const std::string& bundle, const std::filesystem::path& folder);
 
 /// The items of every part, checked to be one whole batch, in input order: the same command, version, inputs and
 /// options in every part; shards 1..N each given once; every input's item present exactly once. Each item comes with

@@ -1,7 +1,5 @@
 #include "pushpred/reports/diagnosis_batch.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <exception>
@@ -12,6 +10,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/mpi_world.hpp"
@@ -208,24 +207,6 @@ std::string read_binary(const fs::path& path) {
   return s.str();
 }
 
-/// A folder of this process's own, removed with everything in it (an MPI rank's objects are written here and sent
-/// to rank 0).
-struct ScratchFolder {
-  fs::path path;
-  explicit ScratchFolder(int rank) {
-    path = fs::temp_directory_path() /
-           ("pushpred-diagnose-" + std::to_string(::getpid()) + "-rank" + std::to_string(rank));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~ScratchFolder() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-};
-
 /// The standard candidate effects less those the run excludes.
 EffectLibrary effect_library(const DiagnoseRun& run) {
   EffectLibrary library = EffectLibrary::standard();
@@ -352,7 +333,7 @@ PartialShare partial_share(const std::vector<ObjectDone>& done, const std::vecto
     item.result = object_exact_json(d);
     item.files = files_under(folder_of(d.outcome.name), d.outcome.name);
     if (scratch)
-      for (const auto& f : item.files) share.files[f] = read_binary(scratch->path / f);
+      for (const auto& f : item.files) share.files[f] = read_binary(scratch->path() / f);
     share.anything_failed = share.anything_failed || !d.outcome.result || d.left_out > 0;
     share.diagnosed += d.outcome.result ? 1 : 0;
     share.complaints += d.complaints;
@@ -420,9 +401,9 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   std::optional<StagedOutput> out;  // under MPI only rank 0 writes
   open_output_at_root(world, run.out, out);
   std::optional<ScratchFolder> scratch;  // under MPI each rank's objects go through memory to rank 0
-  if (mpi) scratch.emplace(world.rank());
+  if (mpi) scratch.emplace("diagnose-rank" + std::to_string(world.rank()));
   const std::function<fs::path(const std::string&)> folder_of = [&](const std::string& name) {
-    return mpi ? scratch->path / name : out->path(name);
+    return mpi ? scratch->path() / name : out->path(name);
   };
   std::vector<ObjectDone> done =
       diagnose_objects(groups, mine, run, library, folder_of, progress_label(mpi, partial, world, shard), speaks);
@@ -437,7 +418,7 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
                                                    options_json(run, loaded_count, loaded.failures), share.items);
   if (mpi) {
     scratch.reset();
-    return merge_at_root(world, manifest, share.files,
+    return merge_at_root(world, manifest, std::move(share.files),
                          [&](const MergedParts& merged) { return merged_diagnoses(merged, *out, false); });
   }
   write_partial_output(*out, manifest);
