@@ -32,4 +32,13 @@ BOOST_AUTO_TEST_CASE(the_robust_spread_is_a_normal_standard_deviation_from_the_m
   BOOST_TEST(std::isnan(robust_spread({})));
 }
 
+BOOST_AUTO_TEST_CASE(the_standard_deviation_divides_by_n_minus_one_and_trusts_every_value) {
+  // Mean 40, squared deviations 900 + 100 + 100 + 900 = 2000 over n - 1 = 3.
+  BOOST_TEST(standard_deviation({10.0, 30.0, 50.0, 70.0}) == std::sqrt(2000.0 / 3.0), boost::test_tools::tolerance(1e-12));
+  // The wild value the robust spread resists moves it far: 25.95 against 0.30.
+  BOOST_TEST(standard_deviation({25.3, 24.9, 25.1, 77.0}) > 80 * robust_spread({25.3, 24.9, 25.1, 77.0}));
+  BOOST_TEST(std::isnan(standard_deviation({5.0})));
+  BOOST_TEST(std::isnan(standard_deviation({})));
+}
+
 BOOST_AUTO_TEST_SUITE_END()

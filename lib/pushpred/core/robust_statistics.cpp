@@ -31,4 +31,15 @@ double robust_spread(const std::vector<double>& values) {
   return 1.4826 * median(std::move(deviation));
 }
 
+double standard_deviation(const std::vector<double>& values) {
+  const std::size_t n = values.size();
+  if (n < 2) return std::numeric_limits<double>::quiet_NaN();
+  double mean = 0;
+  for (double x : values) mean += x;
+  mean /= static_cast<double>(n);
+  double sum = 0;
+  for (double x : values) sum += (x - mean) * (x - mean);
+  return std::sqrt(sum / static_cast<double>(n - 1));
+}
+
 }  // namespace pushpred

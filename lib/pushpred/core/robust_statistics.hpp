@@ -1,6 +1,7 @@
 #pragma once
 // Robust location and scale of a small sample (per-push estimates, per-window means): the median and the median
-// absolute deviation resist the one wild value that a short or barely moving push gives.
+// absolute deviation resist the one wild value that a short or barely moving push gives. Beside them, the plain
+// standard deviation they stand in for, where every value is trusted.
 
 #include <vector>
 
@@ -16,5 +17,8 @@ double upper_median(std::vector<double> values);
 /// 1.4826 x the median absolute deviation from the median: a normal distribution's standard deviation, estimated
 /// so that fewer than half the values can move it far. NaN for an empty sample.
 double robust_spread(const std::vector<double>& values);
+
+/// The sample standard deviation (divided by n - 1). NaN for fewer than two values.
+double standard_deviation(const std::vector<double>& values);
 
 }  // namespace pushpred

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 
 namespace pushpred {
@@ -19,14 +20,7 @@ double FloorContext::low_speed_exposure(double v_s) const {
 }
 
 double FloorContext::sliding_speed_spread_m_s() const {
-  const std::size_t n = sliding_speeds_m_s.size();
-  if (n < 2) return 0.0;
-  double mean = 0;
-  for (double v : sliding_speeds_m_s) mean += v;
-  mean /= static_cast<double>(n);
-  double sum = 0;
-  for (double v : sliding_speeds_m_s) sum += (v - mean) * (v - mean);
-  return std::sqrt(sum / static_cast<double>(n - 1));
+  return sliding_speeds_m_s.size() < 2 ? 0.0 : standard_deviation(sliding_speeds_m_s);
 }
 
 const char* effect_test_name(EffectTest test) {

@@ -17,7 +17,7 @@ namespace {
 // s0 = z1 - 1 (where g >= 0) climbs monotonically to the root without overshooting, in a handful of steps where
 // bisection takes some sixty (the quasi-static model asks for a closest point at every right-hand side). It stops
 // when a step no longer moves s up, i.e. at the root to rounding.
-double ellipse_root(double r0, double z0, double z1, double /*g*/) {
+double ellipse_root(double r0, double z0, double z1) {
   const double n0 = r0 * z0;
   double s = z1 - 1;
   for (int i = 0; i < 200; ++i) {
@@ -38,7 +38,7 @@ void ellipse_closest_first_quadrant(double e0, double e1, double y0, double y1, 
       const double z0 = y0 / e0, z1 = y1 / e1, g = z0 * z0 + z1 * z1 - 1;
       if (g != 0) {
         const double r0 = (e0 / e1) * (e0 / e1);
-        const double s = ellipse_root(r0, z0, z1, g);
+        const double s = ellipse_root(r0, z0, z1);
         x0 = r0 * y0 / (s + r0);
         x1 = y1 / (s + 1);
       } else {

@@ -137,15 +137,6 @@ Eigen::MatrixX3d draw_noise(const StreamModel& stream, double tau, const Eigen::
 
 namespace {
 
-
-double std_dev(const std::vector<double>& v) {
-  if (v.size() < 2) return NAN;
-  const double m = std::accumulate(v.begin(), v.end(), 0.0) / v.size();
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / (v.size() - 1));
-}
-
 void min_median_max(const std::vector<double>& v, double out[3]) {
   if (v.empty()) return;
   out[0] = *std::min_element(v.begin(), v.end());
@@ -182,7 +173,7 @@ double mid_push_force_per_weight(const SynchronisedPush& p) {
 
 double mid_push_force_spread(const SynchronisedPush& p) {
   const std::vector<double> f = mid_push_forces(p);
-  return f.size() < 2 ? NAN : std_dev(f);
+  return f.size() < 2 ? NAN : standard_deviation(f);
 }
 
 namespace {
@@ -294,8 +285,8 @@ void add_rest_noise(PerFileSamples& f, RecordingStatistics& s, const Recording& 
       }
       if (values.size() < 20) continue;
       if (c == 0) ++s.rest_windows[k];
-      f.total[k][c].push_back(std_dev(values));
-      f.white[k][c].push_back(std_dev(diffs));
+      f.total[k][c].push_back(standard_deviation(values));
+      f.white[k][c].push_back(standard_deviation(diffs));
     }
   }
 }
