@@ -1,5 +1,6 @@
 // Step 6: the final model's residual on the fit data, and its prediction errors on the test phases beside the
 // paper's method, the base model and the references; each found effect's held-out contribution.
+#include <algorithm>
 #include <functional>
 
 #include "pushpred/core/error.hpp"
@@ -69,22 +70,19 @@ void DiagnosisRun::report_findings() {
 
 void DiagnosisRun::residual_after_findings() {
   const auto& effects = library_.effects();
-  const auto linear = [&](std::size_t c) {
-    return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Linear;
+  // The fit data's residual against `relation` after the found regression effects of that group.
+  const auto residual_against = [&](Relation relation) {
+    const auto in_group = [&](std::size_t c) {
+      return effects[c]->test() == EffectTest::Regression && group_of(c) == relation;
+    };
+    std::vector<EffectColumns> storage;
+    for (const auto& s : selected_)
+      if (in_group(s.candidate)) storage.push_back(columns(s.candidate, s.setting));
+    std::vector<const EffectColumns*> pointers;
+    for (const auto& c : storage) pointers.push_back(&c);
+    return ResidualRegression(data_, relation).residuals(pointers, residual_amounts(selected_, library_, in_group));
   };
-  const auto friction = [&](std::size_t c) {
-    return effects[c]->test() == EffectTest::Regression && group_of(c) == Relation::Friction;
-  };
-  std::vector<EffectColumns> storage;
-  std::vector<Selection> linear_only;
-  for (const auto& s : selected_)
-    if (linear(s.candidate)) linear_only.push_back(s);
-  for (const auto& s : linear_only) storage.push_back(columns(s.candidate, s.setting));
-  std::vector<const EffectColumns*> pointers;
-  for (const auto& c : storage) pointers.push_back(&c);
-  const ResidualRegression final_regression(data_, Relation::Linear);
-  const std::vector<Eigen::MatrixX3d> residual_after =
-      final_regression.residuals(pointers, residual_amounts(linear_only, library_, linear));
+  const std::vector<Eigen::MatrixX3d> residual_after = residual_against(Relation::Linear);
   Eigen::Vector3d before2 = Eigen::Vector3d::Zero(), after2 = Eigen::Vector3d::Zero();
   double rows = 0;
   result_.residuals.clear();
@@ -99,22 +97,14 @@ void DiagnosisRun::residual_after_findings() {
   }
   result_.residual_std_before = (before2 / rows).cwiseSqrt();
   result_.residual_std_after = (after2 / rows).cwiseSqrt();
-  std::vector<EffectColumns> friction_storage;
-  std::vector<Selection> friction_only;
-  bool law = false;
-  for (const auto& s : selected_)
-    if (friction(s.candidate)) {
-      law = law || effects[s.candidate]->replaces_relation();
-      friction_only.push_back(s);
-      friction_storage.push_back(columns(s.candidate, s.setting));
-    }
+  // Against the friction law only when a found friction law replaced the linear relation.
+  const bool law = std::any_of(selected_.begin(), selected_.end(), [&](const Selection& s) {
+    return effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction &&
+           effects[s.candidate]->replaces_relation();
+  });
   if (!law) return;
-  std::vector<const EffectColumns*> fp;
-  for (const auto& c : friction_storage) fp.push_back(&c);
-  const ResidualRegression against_friction(data_, Relation::Friction);
   Eigen::Vector3d f2 = Eigen::Vector3d::Zero();
-  const std::vector<Eigen::MatrixX3d> fr =
-      against_friction.residuals(fp, residual_amounts(friction_only, library_, friction));
+  const std::vector<Eigen::MatrixX3d> fr = residual_against(Relation::Friction);
   for (std::size_t p = 0; p < fr.size(); ++p) {
     f2 += fr[p].colwise().squaredNorm().transpose();
     result_.residuals[p].friction = fr[p];
