@@ -91,7 +91,10 @@ struct StudyOptions {
   std::string observer = "dob";   ///< a disturbance estimator name
   std::string estimator = "rls";  ///< a relation estimator name
   double friction_coefficient = -1;  ///< for `simple`; < 0: from the surface
+  /// The observer's CVODE path (when asked for) and the relation and friction models.
   IntegratorOptions integrator;
+  /// The quasi-static pushing model, its own and the corrected model's (quasi_static_integrator_options says why).
+  IntegratorOptions pushing_model_integrator = quasi_static_integrator_options();
   /// When set, every phase also holds the method `corrected` (kCorrectedMethod); see PredictionCorrection.
   std::shared_ptr<const PredictionCorrection> correction;
 };

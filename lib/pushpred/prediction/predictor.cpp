@@ -107,7 +107,7 @@ class QuasiStaticPredictor final : public Predictor {
   }
   PhasePrediction predict(const PhaseContext& c) override {
     return as_phase_prediction(predict_quasi_static_phase(c.push, c.identified, c.phase, c.plan_rate_hz, c.velocity0,
-                                                          c.t_s, c.options.integrator, &estimator_));
+                                                          c.t_s, c.options.pushing_model_integrator, &estimator_));
   }
 
  private:

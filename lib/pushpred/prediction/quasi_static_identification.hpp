@@ -159,7 +159,7 @@ struct QuasiStaticPhase {
 QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
                                             const TimeInterval& phase, double plan_rate_hz,
                                             const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
-                                            const IntegratorOptions& integrator = {},
+                                            const IntegratorOptions& integrator = quasi_static_integrator_options(),
                                             const QuasiStaticEstimator* fed_estimator = nullptr,
                                             std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms = {});
 

@@ -143,6 +143,13 @@ void QuasiStaticPushSystem::derivative(const IntegrationInterval& interval, doub
   xdot(5) = w * (push.motion.omega_rad_s - omega) / p_.relaxation_s + (1 - w) * free_angular;
 }
 
+IntegratorOptions quasi_static_integrator_options() {
+  IntegratorOptions o;
+  o.relative_tolerance = 1e-6;
+  o.absolute_tolerance = 1e-9;
+  return o;
+}
+
 Eigen::MatrixX3d predict_quasi_static_poses(const QuasiStaticObject& object, const QuasiStaticParameters& parameters,
                                             const PlannedTipPath& path, const Eigen::Vector3d& pose0,
                                             const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times,
