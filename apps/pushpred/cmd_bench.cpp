@@ -206,7 +206,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(CLI::Range(1, 1000));
   sub->add_option("--diagnose", a->diagnose_pushes,
                   "Also diagnose up to N pushes of the first object, timed per push (default 0: no diagnosis)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegativeNumber);
   sub->add_option("--json", a->json, "Also write the table as JSON to this file");
   sub->add_flag("--cvode-observer", a->cvode_observer,
                 "Also time the observer's CVODE path over every push, and its largest difference from the reference");

@@ -54,7 +54,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_shape(*sub, a->shape);
   a->study.add_to(*sub, {3, false, true, true});  // the diagnosis runs the paper's observer
   sub->add_option("--bic-threshold", a->bic_threshold, "BIC drop an effect needs to be selected (default 10)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegativeNumber);
   sub->add_option("--exclude", a->exclude, "Candidate effect kinds to leave out (repeatable)");
   sub->add_flag("--per-object", a->per_object,
                 "Diagnose each object and surface of the batch on its own (DIR/<shape>_on_<surface>/, DIR/overview.md)");

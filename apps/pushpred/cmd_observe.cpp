@@ -55,8 +55,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_shape(*sub, args->shape);
   sub->add_option("--start", args->start_s, "Start of the span [s from the recording's start]");
   sub->add_option("--end", args->end_s, "End of the span [s]; default: the end of the push");
-  sub->add_option("--wn", args->wn_rad_s, "Natural frequency of the Q-filter [rad/s]")->check(CLI::PositiveNumber);
-  sub->add_option("--zeta", args->zeta, "Damping of the Q-filter")->check(CLI::PositiveNumber);
+  sub->add_option("--wn", args->wn_rad_s, "Natural frequency of the Q-filter [rad/s]")->check(kPositiveNumber);
+  sub->add_option("--zeta", args->zeta, "Damping of the Q-filter")->check(kPositiveNumber);
   sub->add_option("--hold", args->hold, "How samples are held between grid times")
       ->check(CLI::IsMember({"first", "zero"}));
   sub->add_flag("--no-plots", args->no_plots, "Write the data and scripts only");

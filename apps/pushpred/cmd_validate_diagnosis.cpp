@@ -32,7 +32,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto* sub = app.add_subcommand("validate-diagnosis",
                                  "Try the diagnosis blind on randomized simulated pushes, one hidden effect or none "
                                  "per trial: confusion matrix, detection rate, false findings, errors");
-  sub->add_option("--trials", a->options.trials_per_kind, "Trials per kind (default 20)")->check(CLI::PositiveNumber);
+  sub->add_option("--trials", a->options.trials_per_kind, "Trials per kind (default 20)")->check(kPositiveNumber);
   sub->add_option("--seed", a->options.seed, "Seed of the first trial; trial k uses seed + k (default 1)");
   add_out_folder(*sub, a->out, "Output folder (validation.md, validation.json)");
   sub->add_option("--kinds", a->options.kinds, "Kinds to draw: none and simulator effect names (default: all)")
@@ -43,7 +43,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "Share of the support friction below which an effect is negligible (default 0.05)")
       ->check(CLI::Range(1e-6, 0.999999));
   sub->add_option("--bic-threshold", a->options.diagnosis.bic_threshold, "BIC drop a test needs (default 10)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegativeNumber);
   add_jobs(*sub, a->options.jobs, "Trials run in parallel (default: all cores)");
   sub->add_flag("--quick-base", [a](std::int64_t) { a->options.diagnosis.fit_base_settings = false; },
                 "Do not fit the base model's settings on the fit phases: faster");

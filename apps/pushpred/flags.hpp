@@ -2,10 +2,26 @@
 // The flags several subcommands share, declared once each: the same name, check and (unless a subcommand says what
 // is special about it there) help text everywhere.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <string>
 #include <vector>
 
 namespace pushpred::app {
+
+/// A number check that says plainly what is wrong ("--plan-rate: must be a positive finite number, got 'inf'") and
+/// refuses nan and inf, which CLI11's PositiveNumber lets through or answers with its range written out in 300 digits.
+inline CLI::Validator finite_number_above(double lowest, bool inclusive, const std::string& what) {
+  return CLI::Validator(
+      [lowest, inclusive, what](std::string& text) -> std::string {
+        double value = 0;
+        const bool ok = CLI::detail::lexical_cast(text, value) && std::isfinite(value) &&
+                        (inclusive ? value >= lowest : value > lowest);
+        return ok ? std::string() : "must be " + what + ", got '" + text + "'";
+      },
+      inclusive ? "NONNEGATIVE" : "POSITIVE");
+}
+inline const CLI::Validator kPositiveNumber = finite_number_above(0, false, "a positive finite number");
+inline const CLI::Validator kNonNegativeNumber = finite_number_above(0, true, "a finite number >= 0");
 
 /// The recordings a batch subcommand reads (required): files, or folders of them.
 inline CLI::Option* add_recordings(CLI::App& sub, std::vector<std::string>& files,
@@ -25,12 +41,12 @@ inline CLI::Option* add_shape(CLI::App& sub, std::string& shape) {
 
 /// `--rate HZ` (positive): the rate the streams are resampled to.
 inline CLI::Option* add_rate(CLI::App& sub, double& rate_hz) {
-  return sub.add_option("--rate", rate_hz, "Resampling rate [Hz]")->check(CLI::PositiveNumber);
+  return sub.add_option("--rate", rate_hz, "Resampling rate [Hz]")->check(kPositiveNumber);
 }
 
 /// `--jobs N` (positive); `help` says what runs in parallel.
 inline CLI::Option* add_jobs(CLI::App& sub, int& jobs, const std::string& help) {
-  return sub.add_option("--jobs", jobs, help)->check(CLI::PositiveNumber);
+  return sub.add_option("--jobs", jobs, help)->check(kPositiveNumber);
 }
 
 /// `--shard I/N` where a subcommand can split its work; `help` says what is shared out. The spec is parsed when the

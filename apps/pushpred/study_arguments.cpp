@@ -1,5 +1,6 @@
 #include "study_arguments.hpp"
 
+#include "flags.hpp"
 #include "pushpred/estimators/relation_estimator.hpp"
 #include "pushpred/observers/disturbance_estimator.hpp"
 #include "pushpred/prediction/predictor.hpp"
@@ -11,7 +12,7 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
       ->check(CLI::Range(flags.min_intervals, 100));
   sub.add_option("--span", span, "Split the whole recording or only the contact span")
       ->check(CLI::IsMember({"whole", "contact"}));
-  sub.add_option("--plan-rate", plan_rate_hz, "Planned-force sampling rate [Hz]")->check(CLI::PositiveNumber);
+  sub.add_option("--plan-rate", plan_rate_hz, "Planned-force sampling rate [Hz]")->check(kPositiveNumber);
   if (flags.observer) sub.add_option("--observer", observer, "Disturbance estimator: dob or pid");
   if (flags.estimator) {
     std::string names;
@@ -28,7 +29,7 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
   }
   if (flags.mu)
     sub.add_option("--mu", mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kNonNegativeNumber);
 }
 
 StudyOptions StudyArguments::options() const {

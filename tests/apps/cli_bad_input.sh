@@ -149,6 +149,22 @@ mkdir -p "$tmp/sig/.run.staging-$dead-1/predictions" && touch "$tmp/sig/.run.sta
 expect_exit 0 "a run after a killed one" -- limit "$bin" predict "$good1" --out "$tmp/sig/run"
 expect_no_staging "$tmp/sig" "the stale staging folder of a dead run"
 
+# A bad flag value is a bad argument: exit 2, a message naming the flag and the value, nothing written. nan and inf
+# included (CLI11's own positive-number check let nan through: --mu nan meant "from the surface").
+for flag in "--mu nan" "--mu inf" "--mu -1" "--plan-rate nan" "--plan-rate 0" "--rate inf" "--jobs 0"; do
+  set -- $flag
+  expect_exit 2 "predict $flag" -- limit "$bin" predict "$good1" --out "$tmp/flag" "$1" "$2"
+  expect_in "$tmp/err" "$1: must be a" "predict $flag names the flag"
+  expect_in "$tmp/err" "got '$2'" "predict $flag names the value"
+  expect_absent "$tmp/flag" "predict $flag wrote an output"
+done
+expect_exit 2 "an unknown flag" -- limit "$bin" predict "$good1" --out "$tmp/flag" --no-such-flag
+expect_in "$tmp/err" "--no-such-flag" "the unknown flag is named"
+expect_absent "$tmp/flag" "an unknown flag wrote an output"
+expect_exit 2 "a subcommand that does not exist" -- limit "$bin" predcit "$good1"
+expect_exit 0 "--help" -- limit "$bin" predict --help
+expect_in "$tmp/out" "--mu FLOAT:NONNEGATIVE" "--help shows the check's name"
+
 # simulate --compare-real and --measure-real follow the same exit codes: 2 and no table when no input is usable,
 # 1 when some failed.
 for mode in --compare-real --measure-real; do

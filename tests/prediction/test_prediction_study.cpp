@@ -1,5 +1,6 @@
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <limits>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
@@ -81,6 +82,16 @@ BOOST_AUTO_TEST_CASE(an_unknown_surface_needs_a_friction_coefficient) {
   StudyOptions o;
   o.friction_coefficient = 0.3;
   BOOST_TEST(run_prediction_study(push, o).phases.size() == 3u);
+}
+
+BOOST_AUTO_TEST_CASE(a_friction_coefficient_that_is_not_finite_is_refused_not_read_as_from_the_surface) {
+  // On ABS the surface has a coefficient: a nan, which fails every "< 0" test, must not fall back to it silently.
+  const SynchronisedPush push = load_push(real_file("shape=hex_a=0_v=50"));
+  for (double mu : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    StudyOptions o;
+    o.friction_coefficient = mu;
+    BOOST_CHECK_THROW(run_prediction_study(push, o), InputError);
+  }
 }
 
 BOOST_AUTO_TEST_SUITE_END()

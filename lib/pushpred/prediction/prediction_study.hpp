@@ -90,7 +90,7 @@ struct StudyOptions {
   double plan_rate_hz = 10.0;
   std::string observer = "dob";   ///< a disturbance estimator name
   std::string estimator = "rls";  ///< a relation estimator name
-  double friction_coefficient = -1;  ///< for `simple`; < 0: from the surface
+  double friction_coefficient = -1;  ///< for `simple`; < 0: from the surface; not finite: InputError
   /// The observer's CVODE path (when asked for) and the relation and friction models.
   IntegratorOptions integrator;
   /// The quasi-static pushing model, its own and the corrected model's (quasi_static_integrator_options says why).
