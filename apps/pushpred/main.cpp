@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // --help and --version print and succeed; any other parse error is a bad argument: CLI11 prints it, and the
-    // exit code is the README's for "nothing was done" (CLI11's own codes, 104 to 113, mean nothing to a script).
+    // exit code is the README's for "nothing was done" (CLI11's own codes, 104 to 114, mean nothing to a script).
     const int code = app.exit(e);
     return code == 0 ? 0 : pushpred::app::kExitNothingDone;
   }

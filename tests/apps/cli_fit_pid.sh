@@ -39,7 +39,7 @@ expect_in "$tmp/pid4/pid_fit.md" "joint fit over 2 push(es)" "the good files are
 expect_exit 2 "a negative roughness weight" -- "$bin" fit-pid $hex --lambda -1 --out "$tmp/pid5"
 expect_in "$tmp/err" "lambda" "the bad weight is named"
 expect_absent "$tmp/pid5" "no output for a bad flag"
-expect_exit 109 "an unknown flag" -- "$bin" fit-pid --gains 3 "$frozen" --out "$tmp/pid6"
+expect_exit 2 "an unknown flag" -- "$bin" fit-pid --gains 3 "$frozen" --out "$tmp/pid6"
 expect_exit 2 "a missing file alone" -- "$bin" fit-pid "$tmp/missing.h5" --out "$tmp/pid7"
 expect_in "$tmp/err" "FAILED $tmp/missing.h5: file does not exist" "the missing file is named"
 finish

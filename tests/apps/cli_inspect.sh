@@ -9,7 +9,7 @@ expect_exit 0 "--version" -- "$bin" --version
 expect_in "$tmp/out" "pushpred 0." "--version prints the version"
 expect_exit 0 "--help" -- "$bin" --help
 expect_in "$tmp/out" "inspect" "--help lists the inspect subcommand"
-expect_exit 109 "an unknown flag is refused by the parser" -- "$bin" inspect --frobnicate "$data/abs"
+expect_exit 2 "an unknown flag is refused by the parser" -- "$bin" inspect --frobnicate "$data/abs"
 expect_in "$tmp/err" "frobnicate" "the unknown flag is named"
 
 expect_exit 0 "inspect over all real data" -- "$bin" inspect "$data"

@@ -24,7 +24,7 @@ expect_in "$tmp/err" "unknown prediction method 'magic'" "bench names the unknow
 expect_exit 2 "a method listed twice" -- "$bin" compare "$hex" --out "$tmp/twice" --methods hold,hold
 expect_in "$tmp/err" "method 'hold' listed twice" "the repeated method is named"
 expect_absent "$tmp/twice" "compare with a repeated method"
-expect_exit 109 "diagnose has no --methods" -- "$bin" diagnose "$hex" --out "$tmp/diag" --methods hold
+expect_exit 2 "diagnose has no --methods" -- "$bin" diagnose "$hex" --out "$tmp/diag" --methods hold
 expect_absent "$tmp/diag" "diagnose with --methods"
 
 # compare: by default the methods that use the fitted relation; otherwise the ones chosen, two columns each.

@@ -39,8 +39,8 @@ expect_absent "$tmp/r" "output folder written on a bad method"
 expect_exit 2 "an unknown estimator" -- "$bin" predict "$hex" --out "$tmp/r" --estimator magic
 expect_in "$tmp/err" "magic" "the unknown estimator is named"
 expect_absent "$tmp/r" "output folder written on a bad argument"
-expect_exit 105 "a bad span" -- "$bin" predict "$hex" --out "$tmp/r" --span halfway
-expect_exit 105 "a non-numeric rate" -- "$bin" predict "$hex" --out "$tmp/r" --plan-rate fast
+expect_exit 2 "a bad span" -- "$bin" predict "$hex" --out "$tmp/r" --span halfway
+expect_exit 2 "a non-numeric rate" -- "$bin" predict "$hex" --out "$tmp/r" --plan-rate fast
 
 expect_exit 0 "compare RLS with batch fits" -- "$bin" compare "$hex" "$ellip" --out "$tmp/c" --estimators rls,batch,batch_huber
 expect_in "$tmp/c/compare.md" "| rls |" "compare.md has the RLS row"

@@ -20,7 +20,7 @@ expect_in "$tmp/out" "77 real pushes, 13 real pushes left out with reasons" "eve
 expect_exit 0 "inspect the simulated cases" -- "$bin" inspect "$tmp/r/cases" --shape rect2
 expect_in "$tmp/out" "6 files read, 0 failed" "the six cases pass inspect"
 
-expect_exit 114 "--cases needs six files" -- "$bin" reproduce --out "$tmp/s" --cases a.h5 b.h5
+expect_exit 2 "--cases needs six files" -- "$bin" reproduce --out "$tmp/s" --cases a.h5 b.h5
 expect_absent "$tmp/s" "output written on a bad argument"
 expect_exit 2 "a missing data folder" -- "$bin" reproduce --data "$tmp/nowhere" --out "$tmp/s"
 expect_in "$tmp/err" "data folder does not exist" "the missing folder is named"

@@ -1,5 +1,6 @@
 """Long calls release the GIL: another Python thread keeps running while the library works."""
 import threading
+import time
 
 import pushpred
 
@@ -9,18 +10,22 @@ def test_other_threads_run_during_a_study(hex_file):
     ticks = []
     done = threading.Event()
 
+    # Each tick is a time stamp taken by the counter while it holds the GIL; between ticks it waits a millisecond
+    # with the GIL released. A tick stamped strictly inside the call can only exist if the call let go of the GIL.
     def count():
         while not done.is_set():
-            ticks.append(1)
+            ticks.append(time.perf_counter())
             done.wait(0.001)
 
     worker = threading.Thread(target=count)
-    in_call = []
+    call = []
 
     def study():
-        in_call.append(len(ticks))
-        pushpred.run_prediction_study(push)
-        in_call.append(len(ticks))
+        # The PID observer and 20 intervals make one call of about 0.1 s: the default study now takes a few
+        # milliseconds, too few ticks to tell apart from a loaded machine's scheduling.
+        call.append(time.perf_counter())
+        pushpred.run_prediction_study(push, intervals=20, observer="pid")
+        call.append(time.perf_counter())
 
     worker.start()
     try:
@@ -30,5 +35,6 @@ def test_other_threads_run_during_a_study(hex_file):
     finally:
         done.set()
         worker.join()
-    # Ticks counted while the study ran: with the GIL held through the call, the counter could not run at all.
-    assert in_call[1] - in_call[0] > 3
+    inside = sum(1 for t in ticks if call[0] < t < call[1])
+    # With the GIL held through the call, the counter could not stamp a single tick inside it.
+    assert inside > 3, f"{inside} ticks in a call of {call[1] - call[0]:.3f} s"
