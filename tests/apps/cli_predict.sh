@@ -42,6 +42,22 @@ expect_absent "$tmp/r" "output folder written on a bad argument"
 expect_exit 2 "a bad span" -- "$bin" predict "$hex" --out "$tmp/r" --span halfway
 expect_exit 2 "a non-numeric rate" -- "$bin" predict "$hex" --out "$tmp/r" --plan-rate fast
 
+# A push listed twice (and once more inside a listed folder) is studied once; two different files with the same
+# name in two folders (copies here) each get their own predictions file, the same whatever --jobs.
+mkdir -p "$tmp/twice/a" "$tmp/twice/b"
+cp "$hex" "$tmp/twice/a/" && cp "$hex" "$tmp/twice/b/"
+expect_exit 0 "the same push twice and a folder holding it" -- \
+  "$bin" predict "$tmp/twice/a/$(basename "$hex")" "$tmp/twice/a/$(basename "$hex")" "$tmp/twice/a" --out "$tmp/t1"
+expect_in "$tmp/out" "predicted 1 pushes" "a push reached three times is studied once"
+for jobs in 1 2; do
+  expect_exit 0 "two files of the same name, --jobs $jobs" -- "$bin" predict "$tmp/twice" --out "$tmp/t2-$jobs" --jobs "$jobs"
+  expect_in "$tmp/out" "predicted 2 pushes" "both same-named files are studied (--jobs $jobs)"
+done
+stem=$(basename "$hex" .h5)
+check "each same-named push has its own predictions file" \
+  [ -f "$tmp/t2-1/predictions/$stem.csv" -a -f "$tmp/t2-1/predictions/$stem-2.csv" ]
+expect_same_tree "$tmp/t2-1" "$tmp/t2-2" "--jobs 1 and 2 write the same files for same-named pushes"
+
 expect_exit 0 "compare RLS with batch fits" -- "$bin" compare "$hex" "$ellip" --out "$tmp/c" --estimators rls,batch,batch_huber
 expect_in "$tmp/c/compare.md" "| rls |" "compare.md has the RLS row"
 expect_in "$tmp/c/compare.md" "| batch_huber |" "compare.md has the Huber row"

@@ -133,6 +133,26 @@ BOOST_AUTO_TEST_CASE(folders_expand_into_their_recordings_and_anything_else_stay
   BOOST_TEST(got == want, boost::test_tools::per_element());
 }
 
+BOOST_AUTO_TEST_CASE(a_file_reached_twice_is_kept_once_where_it_first_appears) {
+  TempFolder tmp;
+  fs::create_directories(tmp / "pushes" / "sub");
+  write_text(tmp / "pushes" / "p1.h5", "x");
+  write_text(tmp / "pushes" / "sub" / "p1.h5", "y");  // another file with the same name: kept
+  fs::create_symlink(tmp / "pushes" / "p1.h5", tmp / "link.h5");
+  const std::vector<fs::path> got = expand_inputs({(tmp / "pushes" / "p1.h5").string(), (tmp / "pushes").string(),
+                                                   (tmp / "link.h5").string(), (tmp / "pushes/./p1.h5").string(),
+                                                   (tmp / "gone.h5").string(), (tmp / "gone.h5").string()});
+  const std::vector<fs::path> want{tmp / "pushes" / "p1.h5", tmp / "pushes" / "sub" / "p1.h5", tmp / "gone.h5"};
+  BOOST_TEST(got == want, boost::test_tools::per_element());
+}
+
+BOOST_AUTO_TEST_CASE(inputs_that_share_a_stem_get_distinct_output_names_in_input_order) {
+  const std::vector<fs::path> inputs{"a/p.h5", "b/p.json", "c/p-2.h5", "d/q.h5", "e/p.h5"};
+  // "p-2" is a real stem here, so the second "p" skips it.
+  const std::vector<std::string> want{"p", "p-3", "p-2", "q", "p-4"};
+  BOOST_TEST(distinct_stems(inputs) == want, boost::test_tools::per_element());
+}
+
 BOOST_AUTO_TEST_CASE(each_failure_is_one_named_plain_line_and_the_batch_goes_on) {
   const std::vector<fs::path> inputs{"good1.h5", "bad.h5", "odd.h5", "good2.h5", "other.h5"};
   const Batch<int> b = run_batch(inputs, [](const fs::path& p) -> int {

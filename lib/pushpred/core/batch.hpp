@@ -2,6 +2,7 @@
 // Running one job over many input files: a bad file does not stop the batch; each failure is kept with its
 // reason so that the app can list them all at the end and exit non-zero.
 #include <filesystem>
+#include <set>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -24,13 +25,22 @@ struct Batch {
 
 /// Inputs as a user gives them: files stay as they are, folders expand into the recordings below them. Never
 /// throws: an input that cannot be expanded (a missing file, a symbolic-link loop, an unreadable folder, a folder
-/// holding no recording) stays in the list as it is, so that reading it fails by name in the batch.
+/// holding no recording) stays in the list as it is, so that reading it fails by name in the batch. A file reached
+/// twice (listed twice, or listed and inside a listed folder, or through a link) is kept once, where it first
+/// appears: a push counted twice would weigh twice in every aggregate.
 inline std::vector<std::filesystem::path> expand_inputs(const std::vector<std::string>& inputs) {
   std::vector<std::filesystem::path> out;
+  std::set<std::filesystem::path> seen;
+  const auto add = [&](std::filesystem::path p) {
+    std::error_code ec;
+    std::filesystem::path identity = std::filesystem::weakly_canonical(p, ec);
+    if (ec) identity = p.lexically_normal();
+    if (seen.insert(identity).second) out.push_back(std::move(p));
+  };
   for (const auto& in : inputs) {
     std::error_code ec;
     if (!std::filesystem::is_directory(in, ec)) {
-      out.emplace_back(in);
+      add(in);
       continue;
     }
     std::vector<std::filesystem::path> found;
@@ -39,10 +49,35 @@ inline std::vector<std::filesystem::path> expand_inputs(const std::vector<std::s
     } catch (const std::exception&) {
       // left in the list: reading the folder says why
     }
-    if (found.empty()) out.emplace_back(in);
-    for (auto& p : found) out.push_back(std::move(p));
+    if (found.empty()) add(in);
+    for (auto& p : found) add(std::move(p));
   }
   return out;
+}
+
+/// A name per input for its own output file, unique within the batch: the file's stem, and where two inputs from
+/// different folders share a stem, the later ones "STEM-2", "STEM-3", ... in input order (so that one push's output
+/// does not overwrite another's, and the names do not depend on which thread finished first).
+inline std::vector<std::string> distinct_stems(const std::vector<std::filesystem::path>& inputs) {
+  std::vector<std::string> names;
+  std::set<std::string> taken;
+  for (const auto& p : inputs) taken.insert(p.stem().string());
+  std::set<std::string> used;
+  for (const auto& p : inputs) {
+    std::string name = p.stem().string();
+    if (used.count(name)) {
+      for (int k = 2;; ++k) {
+        const std::string candidate = name + "-" + std::to_string(k);
+        if (!taken.count(candidate) && !used.count(candidate)) {
+          name = candidate;
+          break;
+        }
+      }
+    }
+    used.insert(name);
+    names.push_back(std::move(name));
+  }
+  return names;
 }
 
 /// Calls `job(path)` for every input; any exception becomes a BatchFailure naming the file, with a reason in

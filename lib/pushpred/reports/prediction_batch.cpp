@@ -1,11 +1,14 @@
 #include "pushpred/reports/prediction_batch.hpp"
 
+#include <map>
+
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -268,9 +271,12 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   if (mpi) sink.emplace();
   else sink.emplace(*out);
 
+  // One predictions file per input, named from the whole input list so that every shard and rank agrees.
+  std::map<fs::path, std::string> csv_name;
+  const std::vector<std::string> stems = distinct_stems(inputs);
+  for (std::size_t k = 0; k < inputs.size(); ++k) csv_name[inputs[k]] = "predictions/" + stems[k] + ".csv";
   const auto job = [&](const fs::path& path) {
-    StudiedPush p{run_prediction_study(load_push(path, run.shape, run.preprocess), run.study),
-                  "predictions/" + path.stem().string() + ".csv"};
+    StudiedPush p{run_prediction_study(load_push(path, run.shape, run.preprocess), run.study), csv_name.at(path)};
     sink->write(p.file, predictions_csv(p.study));
     drop_samples(p.study);  // the summary and tables need only errors and parameters
     return p;
