@@ -123,9 +123,11 @@ expect_in "$tmp/err" "exists and is not a folder" "the output file is named"
 # then its whole group (the HDF5 reader's child too), so each run gets the signal twice, microseconds apart; runs
 # stopped at 20 moments from 0.45 to 1.4 s (reading, predicting, writing) must all leave nothing.
 mkdir -p "$tmp/sig"
-# Enough work to be still running when stopped: one pass over abs/ takes about a second since issue 12.
-slow=()
-for k in $(seq 1 20); do slow+=("$data/abs"); done
+# Enough work to be still running when stopped: one pass over abs/ takes about a second since issue 12. A file given
+# twice is studied once, so the 20 passes are over 20 copies (one copy, then hard links to it: distinct files).
+mkdir -p "$tmp/slow" && cp -r "$data/abs" "$tmp/slow/1"
+slow=("$tmp/slow/1")
+for k in $(seq 2 20); do cp -al "$tmp/slow/1" "$tmp/slow/$k" && slow+=("$tmp/slow/$k"); done
 stopped_ok=0
 for i in $(seq 1 20); do
   if [ $((i % 2)) -eq 0 ]; then signal=TERM; else signal=INT; fi

@@ -57,6 +57,20 @@ stem=$(basename "$hex" .h5)
 check "each same-named push has its own predictions file" \
   [ -f "$tmp/t2-1/predictions/$stem.csv" -a -f "$tmp/t2-1/predictions/$stem-2.csv" ]
 expect_same_tree "$tmp/t2-1" "$tmp/t2-2" "--jobs 1 and 2 write the same files for same-named pushes"
+# Names are given among the pushes studied: a failed input of the same name, listed first, takes none.
+mkdir -p "$tmp/twice/bad" && echo garbage > "$tmp/twice/bad/$stem.h5"
+expect_exit 1 "a failed same-named input before a good one" -- \
+  "$bin" predict "$tmp/twice/bad/$stem.h5" "$tmp/twice/a/$stem.h5" --out "$tmp/t3"
+check "the studied push keeps its name" [ -f "$tmp/t3/predictions/$stem.csv" ]
+check "nothing else is in predictions/" [ "$(ls "$tmp/t3/predictions" | wc -l)" -eq 1 ]
+expect_absent "$tmp/t3/by-input" "the waiting folder is gone"
+# Two shards merged name the same-named pushes as one run does.
+for i in 1 2; do
+  expect_exit 0 "shard $i of same-named pushes" -- "$bin" predict "$tmp/twice/a" "$tmp/twice/b" --out "$tmp/s$i" --shard "$i/2"
+done
+expect_exit 0 "merge of the same-named pushes' shards" -- "$bin" merge --out "$tmp/t4" "$tmp/s1" "$tmp/s2"
+expect_exit 0 "one run over the same-named pushes" -- "$bin" predict "$tmp/twice/a" "$tmp/twice/b" --out "$tmp/t5"
+expect_same_tree "$tmp/t5" "$tmp/t4" "merged shards and one run name same-named pushes alike"
 
 expect_exit 0 "compare RLS with batch fits" -- "$bin" compare "$hex" "$ellip" --out "$tmp/c" --estimators rls,batch,batch_huber
 expect_in "$tmp/c/compare.md" "| rls |" "compare.md has the RLS row"

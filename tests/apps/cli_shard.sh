@@ -179,7 +179,7 @@ expect_in "$tmp/err" "other inputs" "other inputs are named"
 expect_exit 2 "shards run with other options" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" "$tmp/opt.part2"
 expect_in "$tmp/err" "other options" "other options are named"
 cp -r "$tmp/two.part2" "$tmp/broken.part2"
-rm "$tmp"/broken.part2/predictions/*.csv
+rm "$tmp"/broken.part2/by-input/*.csv
 expect_exit 2 "a part whose file is gone" -- "$bin" merge --out "$tmp/m" "$tmp/two.part1" "$tmp/broken.part2"
 expect_in "$tmp/err" "is missing" "the missing file is named"
 check "no refused merge wrote anything" [ ! -e "$tmp/m" ]

@@ -126,6 +126,26 @@ BatchRunOutcome write_prediction_outputs(const Batch<PushStudy>& batch, const nl
 
 }  // namespace
 
+namespace {
+
+/// Where a push's predictions wait, by its position among the inputs, until the batch knows what it studied.
+constexpr const char* kPendingFolder = "by-input";
+std::string pending_predictions_file(std::size_t position) {
+  return std::string(kPendingFolder) + "/" + std::to_string(position) + ".csv";
+}
+
+/// predictions/NAME.csv for each studied push, in order: its file's stem, made distinct among the studied pushes
+/// (distinct_stems), so that an input that failed takes no name from one that was studied.
+std::vector<std::string> studied_file_names(const std::vector<PushStudy>& studied) {
+  std::vector<fs::path> sources;
+  for (const auto& s : studied) sources.emplace_back(s.source);
+  std::vector<std::string> names;
+  for (const auto& stem : distinct_stems(sources)) names.push_back("predictions/" + stem + ".csv");
+  return names;
+}
+
+}  // namespace
+
 BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput& out) {
   if (merged.command != kCommand)
     throw InputError("merge: the parts are partial outputs of `" + merged.command + "`, which cannot be merged");
@@ -155,7 +175,16 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
       throw InputError(about(plain_text(m.part->name), "the result of input " + std::to_string(m.item.index + 1) +
                                                            " is not readable: " + e.what()));
     }
-    for (const auto& file : m.item.files) write_text_atomically(out.path(file), m.part->read_file(file));
+  }
+  // The per-push files, named among the pushes studied (as one process names them), each read from its part.
+  const std::vector<std::string> names = studied_file_names(batch.results);
+  std::size_t studied = 0;
+  for (const auto& m : merged.items) {
+    if (m.item.failure) continue;
+    if (m.item.files.size() != 1)
+      throw InputError(about(plain_text(m.part->name), "input " + std::to_string(m.item.index + 1) +
+                                                           " does not hold one predictions file"));
+    write_text_atomically(out.path(names[studied++]), m.part->read_file(m.item.files.front()));
   }
   return write_prediction_outputs(batch, options, out);
 }
@@ -271,12 +300,13 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   if (mpi) sink.emplace();
   else sink.emplace(*out);
 
-  // One predictions file per input, named from the whole input list so that every shard and rank agrees.
-  std::map<fs::path, std::string> csv_name;
-  const std::vector<std::string> stems = distinct_stems(inputs);
-  for (std::size_t k = 0; k < inputs.size(); ++k) csv_name[inputs[k]] = "predictions/" + stems[k] + ".csv";
+  // Each push's predictions are written under its input's position while the batch runs (threads, shards and ranks
+  // finish in any order) and named at the end, once it is known which inputs were studied (studied_file_names).
+  std::map<fs::path, std::size_t> position;
+  for (std::size_t k = 0; k < inputs.size(); ++k) position[inputs[k]] = k;
   const auto job = [&](const fs::path& path) {
-    StudiedPush p{run_prediction_study(load_push(path, run.shape, run.preprocess), run.study), csv_name.at(path)};
+    StudiedPush p{run_prediction_study(load_push(path, run.shape, run.preprocess), run.study),
+                  pending_predictions_file(position.at(path))};
     sink->write(p.file, predictions_csv(p.study));
     drop_samples(p.study);  // the summary and tables need only errors and parameters
     return p;
@@ -285,10 +315,18 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   if (!partial) {
     BatchProgress progress(kCommand, "pushes", inputs.size());
     Batch<PushStudy> batch;
+    std::vector<std::string> pending;
     for (auto& item : run_batch_items(inputs, job, run.jobs, &progress)) {
-      if (item.result) batch.results.push_back(std::move(item.result->study));
+      if (item.result) {
+        pending.push_back(item.result->file);
+        batch.results.push_back(std::move(item.result->study));
+      }
       if (item.failure) batch.failures.push_back(std::move(*item.failure));
     }
+    const std::vector<std::string> names = studied_file_names(batch.results);
+    for (std::size_t k = 0; k < names.size(); ++k) fs::rename(out->path(pending[k]), out->path(names[k]));
+    std::error_code ec;
+    fs::remove(out->staging_folder() / kPendingFolder, ec);  // empty now; absent when nothing was studied
     return write_prediction_outputs(batch, prediction_options_json(run.study), *out);
   }
 
