@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <optional>
 
@@ -74,12 +73,12 @@ int run_fit_pid(const FitPidArgs& a) {
   StagedOutput out(a.out);
   write_text_atomically(out.path("pid_gains.json"), json_text(pid_fit_json(study)));
   write_text_atomically(out.path("pid_fit.md"), pid_fit_markdown(study));
-  std::map<std::string, std::string> csv_name;  // by source: one file per input, even where two share a stem
-  const std::vector<std::string> stems = distinct_stems(inputs);
-  for (std::size_t k = 0; k < inputs.size(); ++k) csv_name[inputs[k].string()] = stems[k];
-  for (const PidFitPush& p : pushes)
-    write_text_atomically(out.path("forces/" + csv_name.at(p.push.source) + ".csv"),
-                          pid_fit_forces_csv(p, study.joint.gains, o.fit));
+  // One file per fitted push, named among the fitted pushes (as predict names its predictions).
+  std::vector<std::filesystem::path> sources;
+  for (const PidFitPush& p : pushes) sources.emplace_back(p.push.source);
+  const std::vector<std::string> stems = distinct_stems(sources);
+  for (std::size_t k = 0; k < pushes.size(); ++k)
+    write_text_atomically(out.path("forces/" + stems[k] + ".csv"), pid_fit_forces_csv(pushes[k], study.joint.gains, o.fit));
   out.commit();
 
   const PidGains paper, &g = study.joint.gains;
