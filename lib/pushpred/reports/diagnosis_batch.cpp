@@ -52,9 +52,8 @@ nlohmann::json object_exact_json(const ObjectDone& d) {
   j["overview"] = {{"shape", r.shape},
                    {"surface", r.surface},
                    {"selected", selected},
-                   {"errors",
-                    {error_summary_exact_json(r.error_before), error_summary_exact_json(r.error_base), error_summary_exact_json(r.error_after),
-                     error_summary_exact_json(r.hold), error_summary_exact_json(r.const_velocity), error_summary_exact_json(r.quasi_static)}}};
+                   {"errors", held_out_errors_exact_json({&r.error_before, &r.error_base, &r.error_after, &r.hold,
+                                                          &r.const_velocity, &r.quasi_static})}};
   return j;
 }
 
@@ -79,14 +78,9 @@ ObjectDone object_from_exact_json(const nlohmann::json& j) {
       report.selected = true;
       r.effects.push_back(std::move(report));
     }
-    const auto& errors = o.at("errors");
-    if (!errors.is_array() || errors.size() != 6) throw InputError("an object does not hold 6 error summaries");
-    r.error_before = error_summary_from_exact_json(errors[0]);
-    r.error_base = error_summary_from_exact_json(errors[1]);
-    r.error_after = error_summary_from_exact_json(errors[2]);
-    r.hold = error_summary_from_exact_json(errors[3]);
-    r.const_velocity = error_summary_from_exact_json(errors[4]);
-    r.quasi_static = error_summary_from_exact_json(errors[5]);
+    held_out_errors_from_exact_json(
+        o.at("errors"), {&r.error_before, &r.error_base, &r.error_after, &r.hold, &r.const_velocity, &r.quasi_static},
+        "an object");
     d.outcome.result = std::move(r);
     return d;
   } catch (const nlohmann::json::exception& e) {

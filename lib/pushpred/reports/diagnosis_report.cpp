@@ -655,4 +655,18 @@ ErrorSummary error_summary_from_exact_json(const nlohmann::json& j) {
   return e;
 }
 
+nlohmann::json held_out_errors_exact_json(const std::array<const ErrorSummary*, 6>& errors) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ErrorSummary* e : errors) list.push_back(error_summary_exact_json(*e));
+  return list;
+}
+
+void held_out_errors_from_exact_json(const nlohmann::json& list, const HeldOutErrorFields& fields,
+                                     const std::string& holder) {
+  if (!list.is_array() || list.size() != 6)
+    throw InputError(holder + " holds " + (list.is_array() ? std::to_string(list.size()) : std::string("no list of")) +
+                     " error summaries, not 6");
+  for (std::size_t k = 0; k < 6; ++k) *fields[k] = error_summary_from_exact_json(list[k]);
+}
+
 }  // namespace pushpred

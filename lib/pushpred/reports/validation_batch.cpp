@@ -108,9 +108,8 @@ nlohmann::json validation_trial_exact_json(const ValidationTrial& t) {
           {"true_amount", exact_number_json(t.true_amount)},
           {"true_floor", exact_number_json(t.true_floor)},
           {"true_note", t.true_note},
-          {"errors",
-           {error_summary_exact_json(t.before), error_summary_exact_json(t.base), error_summary_exact_json(t.after), error_summary_exact_json(t.hold),
-            error_summary_exact_json(t.const_velocity), error_summary_exact_json(t.quasi_static)}},
+          {"errors", held_out_errors_exact_json(
+                         {&t.before, &t.base, &t.after, &t.hold, &t.const_velocity, &t.quasi_static})},
           {"failure", t.failure}};
 }
 
@@ -139,14 +138,9 @@ ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
     t.true_amount = exact_number(j.at("true_amount"));
     t.true_floor = exact_number(j.at("true_floor"));
     t.true_note = j.at("true_note").get<std::string>();
-    const auto& e = j.at("errors");
-    if (e.size() != 6) throw InputError("a trial holds " + std::to_string(e.size()) + " error summaries, not 6");
-    t.before = error_summary_from_exact_json(e[0]);
-    t.base = error_summary_from_exact_json(e[1]);
-    t.after = error_summary_from_exact_json(e[2]);
-    t.hold = error_summary_from_exact_json(e[3]);
-    t.const_velocity = error_summary_from_exact_json(e[4]);
-    t.quasi_static = error_summary_from_exact_json(e[5]);
+    held_out_errors_from_exact_json(j.at("errors"),
+                                    {&t.before, &t.base, &t.after, &t.hold, &t.const_velocity, &t.quasi_static},
+                                    "a trial");
     t.failure = j.at("failure").get<std::string>();
     return t;
   } catch (const nlohmann::json::exception& e) {
