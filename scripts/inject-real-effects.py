@@ -33,7 +33,7 @@ CASES = [("none", 0.0), ("time_offset", 0.02), ("time_offset", 0.03), ("force_of
 def write_copy(source, folder, kind, amount):
     """The recording at `source` as MCube JSON in `folder`, with `kind` injected at `amount`."""
     r = pushpred.read_recording(source)
-    offset = force_before_motion(source) if kind == "tare" else None
+    offset = force_before_motion(r) if kind == "tare" else None
     doc = {}
     for stream in ("tip_pose", "object_pose", "ft_wrench"):
         columns = list(r[stream].keys())  # t_s first, then the three values
@@ -49,10 +49,10 @@ def write_copy(source, folder, kind, amount):
     (folder / (pathlib.Path(source).stem + ".json")).write_text(json.dumps(doc))
 
 
-def force_before_motion(source):
-    """The mean force reading [N] (fx, fy) before the tip first moves 1 mm, less 50 ms, and the readings' standard
-    deviation there; None with fewer than five readings. The rod touches nothing then: the true force is zero."""
-    r = pushpred.read_recording(source)
+def force_before_motion(r):
+    """The mean force reading [N] (fx, fy) of recording `r` (pushpred.read_recording) before the tip first moves
+    1 mm, less 50 ms, and the readings' standard deviation there; None with fewer than five readings. The rod touches
+    nothing then: the true force is zero."""
     tip, ft = r["tip_pose"], r["ft_wrench"]
     moved = None
     for t, x, y in zip(tip["t_s"], tip["x_m"], tip["y_m"]):
@@ -80,19 +80,10 @@ def effect(report, kind):
 
 def effect_summary(report, kind):
     """(named kinds, fitted amount of `kind`, its floor, held-out before / after [mm]) from a diagnosis.json."""
-    named = list(report["found"])
-    fitted = floor = None
-    for e in report["effects"]:
-        if e["kind"] == kind:
-            if kind == "force_offset":
-                fitted = e["parameters"]["bias_x"]["value"]
-                std = e["parameters"]["bias_x"]["std"]
-            else:
-                fitted = e["parameters"]["delay"]["value"]
-                std = e["parameters"]["delay"]["std"]
-            floor = e["amount"]["floor"]
-            fitted = (fitted, std)
-    return named, fitted, floor, report["error_before"]["pos_mm_mean"], report["error_after"]["pos_mm_mean"]
+    e = effect(report, kind)
+    parameter = e["parameters"]["bias_x" if kind == "force_offset" else "delay"]
+    return (list(report["found"]), (parameter["value"], parameter["std"]), e["amount"]["floor"],
+            report["error_before"]["pos_mm_mean"], report["error_after"]["pos_mm_mean"])
 
 
 def main():
@@ -110,7 +101,8 @@ def main():
               "within-push std of fx [N] |")
         print("|---|---|---|---|---|")
         for shape in args.objects.split(","):
-            stats = [s for s in (force_before_motion(f) for f in sorted(data.glob(f"*_shape={shape}_*.h5"))) if s]
+            stats = [s for s in (force_before_motion(pushpred.read_recording(f))
+                                 for f in sorted(data.glob(f"*_shape={shape}_*.h5"))) if s]
             if len(stats) < 2:
                 continue
             fx, fy = spread([s[0][0] for s in stats]), spread([s[0][1] for s in stats])
@@ -138,10 +130,11 @@ def main():
                           f"{run.stderr.strip().splitlines()[-1]} | | | | | |")
                     continue
                 report = json.loads((out / "diagnosis.json").read_text())
-                for k in ("time_offset", "force_offset"):
-                    if kind == "none":
-                        clean[k] = effect_summary(report, k)[1]
-                named, fitted, floor, before, after = effect_summary(report, "time_offset" if kind == "none" else kind)
+                sensor_effects = ("time_offset", "force_offset")
+                if kind == "none":
+                    clean = {k: effect_summary(report, k)[1] for k in sensor_effects}
+                named, fitted, floor, before, after = effect_summary(
+                    report, kind if kind in sensor_effects else "time_offset")
                 if kind in ("none", "tare"):
                     mu = effect(report, "coulomb_friction")["parameters"]["mu"]
                     label = "nothing" if kind == "none" else "tare (offsets removed)"

@@ -198,7 +198,7 @@ class QuasiStaticPushSystem final : public ContinuousSystem {
 /// The tolerances the model is integrated with by default: rtol 1e-6, atol 1e-9 (metres, radians and their rates),
 /// looser than the shared default (1e-8, 1e-10), which the observer's agreement with its exact discretisation set.
 /// The model has no exact solution; against a 1e-11 / 1e-13 integration these moved the predictions of the 77 ABS
-/// pushes by at most 2e-4 mm and 2e-4 deg (the shared default: 3e-6 mm), under a five-hundredth of the pose
+/// pushes by at most 1.5e-4 mm and 1.4e-4 deg (the shared default: 2.5e-6 mm), under a five-hundredth of the pose
 /// measurement's noise, and cut the integration's steps (docs/performance.md, "Tolerances of the pushing model").
 IntegratorOptions quasi_static_integrator_options();
 

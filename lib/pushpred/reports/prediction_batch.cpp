@@ -1,7 +1,5 @@
 #include "pushpred/reports/prediction_batch.hpp"
 
-#include <map>
-
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -123,10 +121,6 @@ BatchRunOutcome write_prediction_outputs(const Batch<PushStudy>& batch, const nl
   outcome.report = report.str();
   return outcome;
 }
-
-}  // namespace
-
-namespace {
 
 /// Where a push's predictions wait, by its position among the inputs, until the batch knows what it studied.
 constexpr const char* kPendingFolder = "by-input";
