@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "pushpred/core/batch.hpp"
 #include "pushpred/core/mpi_world.hpp"
 #include "pushpred/core/output_files.hpp"
 
@@ -54,6 +55,10 @@ int run_selected(CLI::App& app) {
     if (name != "predict" && name != "validate-diagnosis" && name != "diagnose" && mpi_launch_size() > 1)
       throw InputError("`" + name + "` does not run under mpirun (only `predict`, `validate-diagnosis` and `diagnose "
                        "--per-object` split their work over MPI ranks); run it as one process");
+    // Inputs that reach a push twice are studied once (expand_inputs): said once per job, on stderr.
+    const CLI::Option* files = sub->get_option_no_throw("files");
+    if (files && files->count() > 0 && mpi_launch_rank() == 0)
+      std::cerr << repeated_inputs_note(files->as<std::vector<std::string>>());
   }
   return selected_runner() ? selected_runner()() : 0;
 }

@@ -49,9 +49,11 @@ cp "$hex" "$tmp/twice/a/" && cp "$hex" "$tmp/twice/b/"
 expect_exit 0 "the same push twice and a folder holding it" -- \
   "$bin" predict "$tmp/twice/a/$(basename "$hex")" "$tmp/twice/a/$(basename "$hex")" "$tmp/twice/a" --out "$tmp/t1"
 expect_in "$tmp/out" "predicted 1 pushes" "a push reached three times is studied once"
+expect_in "$tmp/err" "note: 2 inputs reach a push already given" "the user is told that two repeats were dropped"
 for jobs in 1 2; do
   expect_exit 0 "two files of the same name, --jobs $jobs" -- "$bin" predict "$tmp/twice" --out "$tmp/t2-$jobs" --jobs "$jobs"
   expect_in "$tmp/out" "predicted 2 pushes" "both same-named files are studied (--jobs $jobs)"
+  expect_not_in "$tmp/err" "already given" "different files of the same name are not called repeats (--jobs $jobs)"
 done
 stem=$(basename "$hex" .h5)
 check "each same-named push has its own predictions file" \

@@ -146,6 +146,22 @@ BOOST_AUTO_TEST_CASE(a_file_reached_twice_is_kept_once_where_it_first_appears) {
   BOOST_TEST(got == want, boost::test_tools::per_element());
 }
 
+BOOST_AUTO_TEST_CASE(the_user_is_told_how_many_repeats_were_dropped) {
+  TempFolder tmp;
+  fs::create_directories(tmp / "pushes");
+  write_text(tmp / "pushes" / "p1.h5", "x");
+  write_text(tmp / "pushes" / "p2.h5", "x");
+  const std::string p1 = (tmp / "pushes" / "p1.h5").string(), folder = (tmp / "pushes").string();
+  std::vector<fs::path> repeated;
+  expand_inputs({p1, folder, p1}, &repeated);
+  BOOST_TEST(repeated.size() == 2u);  // p1 inside the folder, and p1 listed again
+  BOOST_TEST(repeated_inputs_note({p1, folder, p1}) ==
+             "note: 2 inputs reach a push already given (first: '" + p1 + "'); each push is studied once\n");
+  BOOST_TEST(repeated_inputs_note({p1}).empty());
+  BOOST_TEST(repeated_inputs_note({folder}).empty());
+  BOOST_TEST(repeated_inputs_note({p1, p1}).find("note: 1 input reaches") == 0u);
+}
+
 BOOST_AUTO_TEST_CASE(inputs_that_share_a_stem_get_distinct_output_names_in_input_order) {
   const std::vector<fs::path> inputs{"a/p.h5", "b/p.json", "c/p-2.h5", "d/q.h5", "e/p.h5"};
   // "p-2" is a real stem here, so the second "p" skips it.

@@ -27,8 +27,10 @@ struct Batch {
 /// throws: an input that cannot be expanded (a missing file, a symbolic-link loop, an unreadable folder, a folder
 /// holding no recording) stays in the list as it is, so that reading it fails by name in the batch. A file reached
 /// twice (listed twice, or listed and inside a listed folder, or through a link) is kept once, where it first
-/// appears: a push counted twice would weigh twice in every aggregate.
-inline std::vector<std::filesystem::path> expand_inputs(const std::vector<std::string>& inputs) {
+/// appears: a push counted twice would weigh twice in every aggregate. `repeated`, when given, receives each
+/// dropped repeat as it was reached (for a note to the user: repeated_inputs_note).
+inline std::vector<std::filesystem::path> expand_inputs(const std::vector<std::string>& inputs,
+                                                        std::vector<std::filesystem::path>* repeated = nullptr) {
   std::vector<std::filesystem::path> out;
   std::set<std::filesystem::path> seen;
   const auto add = [&](std::filesystem::path p) {
@@ -36,6 +38,7 @@ inline std::vector<std::filesystem::path> expand_inputs(const std::vector<std::s
     std::filesystem::path identity = std::filesystem::weakly_canonical(p, ec);
     if (ec) identity = p.lexically_normal();
     if (seen.insert(identity).second) out.push_back(std::move(p));
+    else if (repeated) repeated->push_back(std::move(p));
   };
   for (const auto& in : inputs) {
     std::error_code ec;
@@ -53,6 +56,19 @@ inline std::vector<std::filesystem::path> expand_inputs(const std::vector<std::s
     for (auto& p : found) add(std::move(p));
   }
   return out;
+}
+
+/// One line telling the user that expand_inputs dropped repeats ("note: 2 inputs reach a push already given
+/// (first: 'abs/x.h5'); each push is studied once"), or "" when there were none: a user who listed a folder and a
+/// file in it would otherwise count fewer pushes in the output than inputs without being told why.
+inline std::string repeated_inputs_note(const std::vector<std::string>& inputs) {
+  std::vector<std::filesystem::path> repeated;
+  expand_inputs(inputs, &repeated);
+  if (repeated.empty()) return "";
+  const std::size_t n = repeated.size();
+  return "note: " + std::to_string(n) + (n == 1 ? " input reaches" : " inputs reach") +
+         " a push already given (first: '" + plain_text(repeated.front().string()) +
+         "'); each push is studied once\n";
 }
 
 /// A name per input for its own output file, unique within the batch: the file's stem, and where two inputs from

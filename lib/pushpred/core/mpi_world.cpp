@@ -59,6 +59,8 @@ int mpi_launch_size() {
   return n > 0 ? n : 1;
 }
 
+int mpi_launch_rank() { return std::max(env_count("OMPI_COMM_WORLD_RANK"), env_count("PMI_RANK")); }
+
 MpiWorld::MpiWorld() {
 #ifdef PUSHPRED_HAVE_MPI
   if (!launched()) return;

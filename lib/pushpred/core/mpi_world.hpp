@@ -23,6 +23,9 @@ bool mpi_built();
 /// The number of processes a launcher says this one is part of (OMPI_COMM_WORLD_SIZE or PMI_SIZE), 1 when not
 /// launched by one. Reads the environment only; does not initialise MPI.
 int mpi_launch_size();
+/// This process's rank as the launcher states it (OMPI_COMM_WORLD_RANK or PMI_RANK), 0 when not launched by one.
+/// Reads the environment only: for saying something once per job before MPI is initialised.
+int mpi_launch_rank();
 
 /// This process's place in its MPI job. The first call initialises MPI when the process was launched by a
 /// launcher (and MPI is built); MPI is finalised at exit. Without a launcher: rank 0 of 1.
