@@ -23,7 +23,7 @@ struct DiagnoseArgs {
   double bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
   bool per_object = false, no_plots = false, quick_base = false;
-  double relevance_fraction = 0.05;
+  double relevance_fraction = 0.05, floor_margin_std = 1.0;
   int jobs = default_jobs();
 };
 
@@ -33,6 +33,7 @@ int run_diagnose(const DiagnoseArgs& a) {
   run.options.study = a.study.options();
   run.options.bic_threshold = a.bic_threshold;
   run.options.relevance_fraction = a.relevance_fraction;
+  run.options.floor_margin_std = a.floor_margin_std;
   run.options.fit_base_settings = !a.quick_base;
   run.exclude = a.exclude;
   run.preprocess.rate_hz = a.rate_hz;
@@ -61,6 +62,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--relevance", a->relevance_fraction,
                   "Share of the support friction force below which an effect is negligible (default 0.05)")
       ->check(CLI::Range(1e-6, 0.999999));
+  add_floor_margin(*sub, a->floor_margin_std);
   sub->add_flag("--quick-base", a->quick_base,
                 "Do not fit the base model's settings (quasi-static stop fraction) on the fit phases: faster");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");

@@ -44,6 +44,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(CLI::Range(1e-6, 0.999999));
   sub->add_option("--bic-threshold", a->options.diagnosis.bic_threshold, "BIC drop a test needs (default 10)")
       ->check(kNonNegativeNumber);
+  add_floor_margin(*sub, a->options.diagnosis.floor_margin_std);
   add_jobs(*sub, a->options.jobs, "Trials run in parallel (default: all cores)");
   sub->add_flag("--quick-base", [a](std::int64_t) { a->options.diagnosis.fit_base_settings = false; },
                 "Do not fit the base model's settings on the fit phases: faster");

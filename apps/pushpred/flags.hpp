@@ -49,6 +49,15 @@ inline CLI::Option* add_jobs(CLI::App& sub, int& jobs, const std::string& help) 
   return sub.add_option("--jobs", jobs, help)->check(kPositiveNumber);
 }
 
+/// `--floor-margin K` (>= 0): how many standard errors an effect's amount must exceed its floor by to be found.
+inline CLI::Option* add_floor_margin(CLI::App& sub, double& margin_std) {
+  return sub
+      .add_option("--floor-margin", margin_std,
+                  "Standard errors by which an effect's amount must exceed its floor to be found (default 1; 0: the "
+                  "estimate alone)")
+      ->check(kNonNegativeNumber);
+}
+
 /// `--shard I/N` where a subcommand can split its work; `help` says what is shared out. The spec is parsed when the
 /// subcommand runs (parse_shard_spec), so that a bad one is refused like the subcommand's other input errors.
 inline CLI::Option* add_shard(CLI::App& sub, std::string& spec, const std::string& help) {

@@ -132,7 +132,8 @@ py::dict summary_arrays(const DiagnosisResult& r) {
 const std::vector<std::pair<const char*, double DiagnosisOptions::*>>& number_options() {
   static const std::vector<std::pair<const char*, double DiagnosisOptions::*>> options{
       {"bic_threshold", &DiagnosisOptions::bic_threshold},
-      {"relevance_fraction", &DiagnosisOptions::relevance_fraction}};
+      {"relevance_fraction", &DiagnosisOptions::relevance_fraction},
+      {"floor_margin_std", &DiagnosisOptions::floor_margin_std}};
   return options;
 }
 const std::vector<std::pair<const char*, bool DiagnosisOptions::*>>& flag_options() {

@@ -100,12 +100,30 @@ BOOST_AUTO_TEST_CASE(a_significant_term_without_a_floor_is_not_called_negligible
   r.amount = 0.869;
   r.amount_unit = "N";
   r.floor = {std::numeric_limits<double>::infinity(), "no floor: the friction force unknown"};
-  const std::string note = negligible_note(r);
+  const std::string note = negligible_note(r, 1.0);
   BOOST_TEST(note.find("below its floor") == std::string::npos, note);
   BOOST_TEST(note.find("no floor to weigh it against (no floor: the friction force unknown)") != std::string::npos, note);
-  r.floor = {0.22, "5 % of the friction force"};
-  BOOST_TEST(negligible_note(r).rfind("significant, negligible: 0.869 N is below its floor 0.22 N", 0) == 0u,
-             negligible_note(r));
+  r.floor = {1.2, "5 % of the friction force"};
+  BOOST_TEST(negligible_note(r, 1.0).rfind("significant, negligible: 0.869 N is below its floor 1.2 N", 0) == 0u,
+             negligible_note(r, 1.0));
+  // Above the floor by less than the margin: the note gives the amount's standard error and the margin.
+  r.floor = {0.8, "5 % of the friction force"};
+  r.amount_std = 0.1;
+  BOOST_TEST(negligible_note(r, 1.0, " after the joint re-fit")
+                     .rfind("significant, negligible after the joint re-fit: 0.869 +- 0.1 N is within 1 standard "
+                            "error(s) of its floor 0.8 N",
+                            0) == 0u,
+             negligible_note(r, 1.0, " after the joint re-fit"));
+}
+
+BOOST_AUTO_TEST_CASE(an_amount_s_standard_error_follows_its_gradient) {
+  // The mass-centre offset's amount is |delta|: for delta = (3, 4) mm with standard errors (0.3, 0.8) mm its
+  // standard error is sqrt((0.6 * 0.3)^2 + (0.8 * 0.8)^2) mm, the parameters taken as uncorrelated.
+  const auto com = EffectLibrary::standard().find("com_offset");
+  const Eigen::Vector2d delta(0.003, 0.004), std(0.0003, 0.0008);
+  BOOST_TEST(amount_standard_error(*com, delta, std) == std::hypot(0.6 * 0.0003, 0.8 * 0.0008),
+             boost::test_tools::tolerance(1e-6));
+  BOOST_TEST(amount_standard_error(*com, delta, Eigen::VectorXd()) == 0.0);  // no standard errors: none
 }
 
 BOOST_AUTO_TEST_CASE(a_mass_centre_offset_beyond_half_the_radius_of_gyration_is_not_a_mass_centre_offset) {

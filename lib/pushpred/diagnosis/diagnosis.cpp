@@ -19,6 +19,8 @@ void DiagnosisOptions::validate() const {
   if (max_refits < 0) throw InputError("diagnosis: the number of re-fits must not be negative");
   if (!(relevance_fraction > 0) || !(relevance_fraction < 1))
     throw InputError("diagnosis: the relevance fraction must be between 0 and 1");
+  if (!(floor_margin_std >= 0) || !std::isfinite(floor_margin_std))
+    throw InputError("diagnosis: the floor margin must be a non-negative number of standard errors");
   if (study.correction) throw InputError("diagnosis: the study options must not carry a correction of their own");
 }
 

@@ -19,8 +19,9 @@
 //    its BIC drop exceeds `bic_threshold` (residual_regression.hpp). Data corrections (delay, bias, mass) are
 //    applied and the found set re-fitted until their residual amounts vanish; a delay found against a bare Coulomb
 //    law is re-tested beside the friction refinements found without it.
-//    Evidence decides: an effect is FOUND when its test passes and its amount is at or above its floor. One that
-//    passes below its floor is reported as "significant, negligible" and not found. Nothing found on the fit
+//    Evidence decides: an effect is FOUND when its test passes and its amount exceeds its floor by
+//    `floor_margin_std` standard errors of the amount. One that passes short of that is reported as
+//    "significant, negligible" and not found. Nothing found on the fit
 //    pushes' predictions can drop a found effect.
 // 5. The base model's structure is fixed, whatever the data: predictions start from the observer's velocity,
 //    the quasi-static push law replaces the relation and ends when the pusher stops, and the friction law stops the
@@ -47,6 +48,11 @@ struct DiagnosisOptions {
   int max_refits = 4;                ///< re-fits after applying data corrections
   /// kappa of FloorContext: the share of the support friction force below which a term is negligible.
   double relevance_fraction = 0.05;
+  /// An effect is found when its amount exceeds its floor by this many of the amount's standard errors (its
+  /// parameters' standard errors through the amount's gradient): the data must show it at least as large as what
+  /// matters, not merely put the point estimate there. 0: the point estimate alone (the rule before the eleventh
+  /// session). Chosen among 0, 1 and 2 on tuning seeds (docs/diagnosis.md).
+  double floor_margin_std = 1.0;
   /// Step 5: fit the base model's settings (the quasi-static stop fraction) on the fit phases; off: each part's
   /// middle setting (faster, for tests and quick looks).
   bool fit_base_settings = true;
@@ -72,6 +78,7 @@ struct EffectReport {
   bool negligible = false;
   bool selected = false;     ///< in the corrected model: found (significant, above the floor), or part of the base
   double amount = 0;         ///< CandidateEffect::amount() of theta, in amount_unit
+  double amount_std = 0;     ///< its standard error (theta_std through the amount's gradient; 0: not known)
   std::string amount_unit;
   EffectFloor floor;         ///< the smallest amount that matters (infinite: could not be stated)
   /// Regression and direct effects: the BIC drop when last tried (for a selected effect, when it joined);

@@ -20,12 +20,17 @@ std::string diagnosis_format(const char* fmt, double a, double b, double c) {
   return buf;
 }
 
-std::string negligible_note(const EffectReport& r, const std::string& when) {
+std::string negligible_note(const EffectReport& r, double margin_std, const std::string& when) {
   // An unknown floor (a quantity it needs was not measured) is infinite, so nothing is found on it; saying the
   // amount is "below" it would call a term negligible that no one could size.
   if (!std::isfinite(r.floor.amount))
     return "significant, but not found" + when + ": " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit +
            " with no floor to weigh it against (" + r.floor.basis + ")";
+  if (r.amount >= r.floor.amount)
+    return "significant, negligible" + when + ": " + diagnosis_format("%.3g +- %.2g", r.amount, r.amount_std) + " " +
+           r.amount_unit + diagnosis_format(" is within %g standard error(s) of its floor %.3g ", margin_std,
+                                            r.floor.amount) +
+           r.amount_unit + " (" + r.floor.basis + ")";
   return "significant, negligible" + when + ": " + diagnosis_format("%.3g", r.amount) + " " + r.amount_unit +
          " is below its floor " + diagnosis_format("%.3g", r.floor.amount) + " " + r.amount_unit + " (" +
          r.floor.basis + ")";
@@ -212,12 +217,31 @@ RegressionFit DiagnosisRun::fit_selected(const std::vector<Selection>& selected,
   return regression.fit(pointers, extra);
 }
 
-bool DiagnosisRun::above_floor(std::size_t i, const Eigen::VectorXd& theta) {
+bool DiagnosisRun::above_floor(std::size_t i, const Eigen::VectorXd& theta, const Eigen::VectorXd& std) {
   const auto& effect = library_.effects()[i];
   EffectReport& r = result_.effects[i];
   r.amount = effect->amount(theta);
+  r.amount_std = amount_standard_error(*effect, theta, std);
   r.floor = effect->floor(result_.floor_context);
-  return r.amount >= r.floor.amount;
+  return r.amount - o_.floor_margin_std * r.amount_std >= r.floor.amount;
+}
+
+double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std) {
+  if (std.size() != theta.size()) return 0.0;
+  // The parameters' covariance is not kept beside theta_std, so their correlation is left out: the amounts are
+  // norms of one or two parameters, whose estimates the regressions keep nearly uncorrelated.
+  double variance = 0;
+  Eigen::VectorXd up = theta, down = theta;
+  for (Eigen::Index j = 0; j < theta.size(); ++j) {
+    if (!(std(j) > 0) || !std::isfinite(std(j))) continue;
+    const double h = 1e-3 * std(j);
+    up(j) = theta(j) + h;
+    down(j) = theta(j) - h;
+    const double slope = (effect.amount(up) - effect.amount(down)) / (2 * h);
+    up(j) = down(j) = theta(j);
+    variance += slope * slope * std(j) * std(j);
+  }
+  return std::sqrt(variance);
 }
 
 void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, double log_neff) {
@@ -305,9 +329,9 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
     }
     EffectReport& r = result_.effects[best->candidate];
     r.passed_test = true;
-    if (!above_floor(best->candidate, best->total)) {
+    if (!above_floor(best->candidate, best->total, best->std)) {
       r.negligible = true;
-      r.note = negligible_note(r);
+      r.note = negligible_note(r, o_.floor_margin_std);
       log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
           diagnosis_format(" scores %.1f but its amount is below its floor: negligible", best->score));
       negligible.push_back(best->candidate);

@@ -72,8 +72,9 @@ class DiagnosisRun {
   void refit(std::vector<Selection>& selected);
   void retest_direct(std::vector<Selection>& selected, double log_neff);
   void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
-  /// Records effect i's floor and amount; true when the amount is at or above the floor.
-  bool above_floor(std::size_t i, const Eigen::VectorXd& theta);
+  /// Records effect i's floor, amount and the amount's standard error (from `std`, theta's; empty: none); true when
+  /// the amount exceeds the floor by options.floor_margin_std standard errors.
+  bool above_floor(std::size_t i, const Eigen::VectorXd& theta, const Eigen::VectorXd& std);
   /// The base model's selections: the friction law and the prediction structure.
   std::vector<Selection> base_selections() const;
   std::vector<const SynchronisedPush*> fit_pointers() const;

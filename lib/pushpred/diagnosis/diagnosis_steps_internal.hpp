@@ -10,7 +10,11 @@ namespace pushpred {
 std::string diagnosis_format(const char* fmt, double a, double b = 0, double c = 0);
 
 /// The note of an effect that passed its test below its floor: "significant, negligible<when>: amount ... is below
-/// its floor ... (basis)".
-std::string negligible_note(const EffectReport& r, const std::string& when = "");
+/// its floor ... (basis)", or, above the floor by less than `margin_std` of its standard errors, "... is within
+/// ... standard error(s) of its floor ...".
+std::string negligible_note(const EffectReport& r, double margin_std, const std::string& when = "");
+
+/// The standard error of effect.amount(theta) from theta's standard errors `std` (0 when std is empty).
+double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std);
 
 }  // namespace pushpred

@@ -31,9 +31,9 @@ void DiagnosisRun::direct_effects() {
     }
     if (!(f.score > o_.bic_threshold)) continue;
     r.passed_test = true;
-    if (!above_floor(i, f.theta)) {
+    if (!above_floor(i, f.theta, r.theta_std)) {
       r.negligible = true;
-      r.note = negligible_note(r);
+      r.note = negligible_note(r, o_.floor_margin_std);
       log("  significant, but below its floor: negligible");
       continue;
     }

@@ -88,7 +88,7 @@ void DiagnosisRun::force_laws() {
   bool removed = false;
   for (std::size_t k = 0; k < selected_.size();) {
     const std::size_t i = selected_[k].candidate;
-    if (is_base(i) || above_floor(i, selected_[k].total)) {
+    if (is_base(i) || above_floor(i, selected_[k].total, selected_[k].std)) {
       ++k;
       continue;
     }
@@ -96,7 +96,7 @@ void DiagnosisRun::force_laws() {
     r.negligible = true;
     r.theta = selected_[k].total;
     r.theta_std = selected_[k].std;
-    r.note = negligible_note(r, " after the joint re-fit");
+    r.note = negligible_note(r, o_.floor_margin_std, " after the joint re-fit");
     log(effects[i]->kind() + ": below its floor after the joint re-fit: negligible");
     if (effects[i]->corrects_data()) selected_[k].total.setZero();
     selected_.erase(selected_.begin() + static_cast<std::ptrdiff_t>(k));

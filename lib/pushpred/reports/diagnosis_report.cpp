@@ -54,6 +54,7 @@ nlohmann::json effect_json(const EffectReport& r) {
   if (r.has_ablation) j["held_out_without"] = error_summary_json(r.held_out_without);
   if (!r.structural)
     j["amount"] = {{"value", number_or_null(r.amount)},
+                   {"std", number_or_null(r.amount_std)},
                    {"unit", r.amount_unit},
                    {"floor", number_or_null(r.floor.amount)},
                    {"floor_basis", r.floor.basis}};
@@ -341,6 +342,7 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
             {"estimator", o.study.estimator},
             {"bic_threshold", o.bic_threshold},
             {"relevance_fraction", o.relevance_fraction},
+            {"floor_margin_std", o.floor_margin_std},
             {"fit_base_settings", o.fit_base_settings}}},
           {"held_out", r.held_out},
           {"fit_pushes", r.fit_sources},
@@ -417,8 +419,9 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
      << " intervals over the " << schedule_span_name(o.study.schedule.span) << " span, plan at "
      << general(o.study.plan_rate_hz) << " Hz, relation estimator `" << o.study.estimator
      << "`. An effect is found when its test passes (greedy BIC with the effective sample count, threshold "
-     << general(o.bic_threshold) << ") and its amount is at or above its floor (" << fixed(100 * o.relevance_fraction, 0)
-     << " % of the support friction, scaled per effect; docs/diagnosis.md).\n\n";
+     << general(o.bic_threshold) << ") and its amount exceeds its floor (" << fixed(100 * o.relevance_fraction, 0)
+     << " % of the support friction, scaled per effect) by " << general(o.floor_margin_std)
+     << " standard error(s) of the amount (docs/diagnosis.md).\n\n";
   if (!r.step_failures.empty()) {
     md << "**Steps that failed** (the diagnosis went on without them):\n\n";
     for (const auto& f : r.step_failures) md << "- " << f.step << ": " << f.what << "\n";
