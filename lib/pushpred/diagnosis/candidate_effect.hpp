@@ -237,6 +237,12 @@ class CandidateEffect {
   /// True when apply() changes the data the observer reads (delay, bias, mass): the diagnosis then re-runs the
   /// observer and re-fits, and the parameters found next are residual amounts to compose with the applied ones.
   virtual bool corrects_data() const { return false; }
+
+  /// True when apply() changes how the pushing model moves the object (the mass-centre offset moves its centre of
+  /// friction). Such an effect is a claim about the motion, so the fit pushes' own motion must confirm it: it is
+  /// found only if the corrected model predicts the fit pushes' phases better with it than without it
+  /// (DiagnosisRun::motion_confirmation). A residual the motion contradicts is some other term of the same shape.
+  virtual bool confirmed_by_motion() const { return false; }
   /// The total amount after applying `applied` and then finding `residual` on the corrected data.
   virtual Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const {
     return applied + residual;

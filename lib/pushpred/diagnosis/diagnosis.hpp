@@ -76,6 +76,9 @@ struct EffectReport {
   bool passed_test = false;  ///< significant: passed its own test (BIC drop above the threshold)
   /// Significant but below its floor: reported as "significant, negligible", not found.
   bool negligible = false;
+  /// Significant and above its floor, but the fit pushes' motion contradicts it (CandidateEffect::
+  /// confirmed_by_motion): with it the corrected model predicted their phases no better. Not found.
+  bool contradicted_by_motion = false;
   bool selected = false;     ///< in the corrected model: found (significant, above the floor), or part of the base
   double amount = 0;         ///< CandidateEffect::amount() of theta, in amount_unit
   double amount_std = 0;     ///< its standard error (theta_std through the amount's gradient; 0: not known)
@@ -95,6 +98,9 @@ struct EffectReport {
   /// the test phases; reported only, never used to select).
   bool has_ablation = false;
   ErrorSummary held_out_without;
+  /// Selected effects: the same on the fit pushes' phases (in-sample).
+  bool has_fit_ablation = false;
+  ErrorSummary fit_without;
 };
 
 /// Errors over time of one phase, for plots.

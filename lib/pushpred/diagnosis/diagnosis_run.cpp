@@ -434,6 +434,7 @@ DiagnosisResult DiagnosisRun::run() {
   step("direct_effects", &DiagnosisRun::direct_effects);
   step("force_laws", &DiagnosisRun::force_laws);
   step("base_structure", &DiagnosisRun::base_structure);
+  step("motion_confirmation", &DiagnosisRun::motion_confirmation);
   held_out();
   return result_;
 }

@@ -9,6 +9,9 @@
 //                        joining only when significant and above its floor; data corrections iterated
 //   5. base_structure    the prediction structure of the base model: the quasi-static push's stop fraction fitted on
 //                        the fit phases (the structure itself is fixed, never re-selected)
+//      motion_confirmation  a found effect that changes how the pushing model moves the object (the mass-centre
+//                        offset) stays found only if it predicts the fit pushes' phases better than the model
+//                        without it; otherwise it is dropped, the rest re-fitted and step 5 repeated
 //   6. held_out          the test phases: the paper's `dob`, the base model, the base model plus what was found, the
 //                        references; what each found effect contributes there (the model without it)
 // A step that fails reports the failure (DiagnosisResult::step_failures) instead of scoring anything as infinite;
@@ -45,6 +48,7 @@ class DiagnosisRun {
   void direct_effects();
   void force_laws();
   void base_structure();
+  void motion_confirmation();
   void held_out();
 
   /// Runs every step, reporting failures; returns the result.
@@ -66,6 +70,8 @@ class DiagnosisRun {
   std::vector<StudyPhase> fit_phases(const std::vector<PushStudy>& s) const;
   std::vector<StudyPhase> test_phases(const std::vector<PushStudy>& s) const;
   std::vector<double> normalised(const std::vector<StudyPhase>& phases, const std::string& method) const;
+  /// The mean normalised error (normalised()) of `model`'s corrected prediction over the fit pushes' phases.
+  double fit_phase_error(const std::vector<Selection>& model) const;
   Relation group_of(std::size_t candidate) const;
   RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
                              std::vector<EffectColumns>& storage) const;

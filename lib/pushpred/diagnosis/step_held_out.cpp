@@ -188,6 +188,20 @@ void DiagnosisRun::predict_fit_phases() {
   } catch (const std::exception& e) {
     fail("held_out", std::string("the corrected model on the fit pushes: ") + e.what());
   }
+  std::vector<Selection> model = selected_;
+  model.insert(model.end(), base_.begin(), base_.end());
+  for (std::size_t k = 0; k < selected_.size(); ++k) {
+    if (is_base(selected_[k].candidate)) continue;
+    std::vector<Selection> without = model;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
+    try {
+      EffectReport& r = result_.effects[selected_[k].candidate];
+      r.fit_without = summarise_errors(fit_phases(studies(fit_pointers(), correction_of(without, true))), kCorrectedMethod);
+      r.has_fit_ablation = true;
+    } catch (const std::exception& e) {
+      fail("held_out", library_.effects()[selected_[k].candidate]->kind() + " left out on the fit pushes: " + e.what());
+    }
+  }
 }
 
 }  // namespace pushpred

@@ -48,6 +48,7 @@ nlohmann::json effect_json(const EffectReport& r) {
                       {"base_model", r.structural},
                       {"passed_test", r.passed_test},
                       {"negligible", r.negligible},
+                      {"contradicted_by_motion", r.contradicted_by_motion},
                       {"selected", r.selected},
                       {"score", number_or_null(r.score)},
                       {"parameters", parameters}};
@@ -274,15 +275,17 @@ std::string found_effect_text(const DiagnosisResult& r, const EffectReport& e) {
 }  // namespace
 
 std::string findings_text(const DiagnosisResult& r) {
-  std::vector<std::string> found, negligible;
+  std::vector<std::string> found, negligible, contradicted;
   for (const auto& e : r.effects) {
     if (e.structural) continue;
     if (e.selected) found.push_back(found_effect_text(r, e));
     else if (e.negligible) negligible.push_back(e.kind);
+    else if (e.contradicted_by_motion) contradicted.push_back(e.kind);
   }
   std::string s = found.empty() ? "nothing found: no physical effect beyond the base model explains the residual"
                                 : "found: " + joined(found);
   if (!negligible.empty()) s += "; significant but negligible: " + joined(negligible);
+  if (!contradicted.empty()) s += "; significant, but contradicted by the fit pushes' motion: " + joined(contradicted);
   const auto fixes = kinds_of(r, true);
   if (!fixes.empty()) s += "; base model: " + joined(fixes);
   return s;
@@ -458,7 +461,7 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
        << " | "
        << (e.structural ? std::string("base model")
                         : general(e.amount) + " / " + general(e.floor.amount) + " " + e.amount_unit +
-                              (e.negligible ? " (negligible)" : ""))
+                              (e.negligible ? " (negligible)" : e.contradicted_by_motion ? " (contradicted)" : ""))
        << " | " << (e.selected ? (e.structural ? "base" : "**found**") : "no") << " | "
        << (std::isfinite(e.score) ? general(e.score) : std::string("—")) << " | " << effect_parameters_text(e) << " | "
        << (e.has_ablation ? fixed(e.held_out_without.pos_mm_mean) + " mm / " + fixed(e.held_out_without.theta_deg_mean) +
@@ -467,8 +470,10 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
        << " | " << e.note << " |\n";
   md << "\nScore: for regression and direct effects the drop of the BIC when the effect joins (robust Wald "
         "statistic minus k ln N_eff; direct effects: their own likelihood ratio), for prediction effects the relative "
-        "drop of the fit phases' normalised prediction error. Significant: its own test passed; found: significant and "
-        "its amount at or above its floor (the smallest amount that matters; its basis is in diagnosis.json). "
+        "drop of the fit phases' normalised prediction error. Significant: its own test passed; found: significant, "
+        "its amount above its floor (the smallest amount that matters; its basis is in diagnosis.json) by the margin "
+        "of standard errors asked, and, for an effect that changes how the pushing model moves the object (the "
+        "mass-centre offset), predicting the fit pushes' phases better with it than without it. "
         "Uncertainty: the larger of the Newey-West and the "
         "push-clustered standard errors (direct effects: their own). The held-out column is the corrected model "
         "without that one effect, on the test phases (reported, never used to select).\n\n";
