@@ -102,6 +102,7 @@ nlohmann::json options_json(const DiagnoseRun& run, std::size_t pushes_read, con
             {"rate_hz", num(run.preprocess.rate_hz)},
             {"bic_threshold", num(o.bic_threshold)},
             {"relevance_fraction", num(o.relevance_fraction)},
+            {"floor_margin_std", num(o.floor_margin_std)},
             {"fit_base_settings", o.fit_base_settings},
             {"max_refits", o.max_refits},
             {"exclude", run.exclude},

@@ -28,6 +28,7 @@ nlohmann::json options_json(const ValidationOptions& o) {
           {"max_floor_multiple", exact_number_json(o.max_floor_multiple)},
           {"relevance_fraction", exact_number_json(o.diagnosis.relevance_fraction)},
           {"bic_threshold", exact_number_json(o.diagnosis.bic_threshold)},
+          {"floor_margin_std", exact_number_json(o.diagnosis.floor_margin_std)},
           {"fit_base_settings", o.diagnosis.fit_base_settings}};
 }
 
@@ -43,6 +44,7 @@ ValidationOptions options_from(const nlohmann::json& j) {
     o.max_floor_multiple = exact_number(j.at("max_floor_multiple"));
     o.diagnosis.relevance_fraction = exact_number(j.at("relevance_fraction"));
     o.diagnosis.bic_threshold = exact_number(j.at("bic_threshold"));
+    o.diagnosis.floor_margin_std = exact_number(j.at("floor_margin_std"));
     o.diagnosis.fit_base_settings = j.at("fit_base_settings").get<bool>();
     return o;
   } catch (const nlohmann::json::exception& e) {

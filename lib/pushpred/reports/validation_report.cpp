@@ -70,7 +70,8 @@ nlohmann::json validation_json(const ValidationResult& r) {
             {"pushes", {o.min_pushes, o.max_pushes}},
             {"floor_multiples", {o.min_floor_multiple, o.max_floor_multiple}},
             {"relevance_fraction", o.diagnosis.relevance_fraction},
-            {"bic_threshold", o.diagnosis.bic_threshold}}},
+            {"bic_threshold", o.diagnosis.bic_threshold},
+            {"floor_margin_std", o.diagnosis.floor_margin_std}}},
           {"summary",
            {{"trials", s.trials},
             {"failed", s.failed},
@@ -94,6 +95,7 @@ std::string validation_markdown(const ValidationResult& r) {
      << "-" << o.max_pushes << " pushes each, effect amounts " << fixed(o.min_floor_multiple, 1) << "-"
      << fixed(o.max_floor_multiple, 1) << " times their floor; relevance fraction "
      << fixed(o.diagnosis.relevance_fraction, 3) << ", BIC threshold " << fixed(o.diagnosis.bic_threshold, 1)
+     << ", floor margin " << fixed(o.diagnosis.floor_margin_std, 1) << " standard error(s)"
      << ". Scenarios and ranges: lib/pushpred/diagnosis/validation.hpp.";
   if (s.failed > 0) md << " " << s.failed << " trial(s) could not be diagnosed (listed at the end).";
   md << "\n\n## Targets\n\n| target | result | met |\n|---|---|---|\n";
