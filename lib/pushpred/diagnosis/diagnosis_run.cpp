@@ -226,6 +226,26 @@ bool DiagnosisRun::above_floor(std::size_t i, const Eigen::VectorXd& theta, cons
   return r.amount - o_.floor_margin_std * r.amount_std >= r.floor.amount;
 }
 
+double DiagnosisRun::support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const {
+  // The friction-law group's parameters come in `selected`'s order (fit_selected, greedy), then any candidate.
+  double coefficient = 0;
+  bool law = false;
+  Eigen::Index j = 0;
+  for (const auto& s : selected) {
+    const auto& effect = library_.effects()[s.candidate];
+    if (effect->test() != EffectTest::Regression || group_of(s.candidate) != Relation::Friction) continue;
+    if (j >= fit.theta.size()) break;
+    if (effect->replaces_relation()) {
+      coefficient += fit.theta(j);
+      law = true;
+    } else if (effect->kind() == "friction_torque") {
+      coefficient += fit.theta(j);
+    }
+    j += static_cast<Eigen::Index>(effect->parameters().size());
+  }
+  return law ? coefficient : 1.0;
+}
+
 double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std) {
   if (std.size() != theta.size()) return 0.0;
   // The parameters' covariance is not kept beside theta_std, so their correlation is left out: the amounts are
@@ -276,6 +296,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
       const int extra = settings.size() > 1 ? 1 : 0;
       if (settings.empty()) settings.push_back(0.0);
       std::optional<Selection> here;
+      double here_torque = 1.0;  // the support's friction torque coefficient in here's joint fit
       std::string unidentifiable;
       for (double setting : settings) {
         const EffectColumns cols = columns(i, setting);
@@ -293,8 +314,10 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         // Settings whose fit is outside the physical range do not compete (unless none is inside).
         const bool plausible = effects[i]->implausible(f.theta.segment(at, k), result_.floor_context).empty();
         const bool here_plausible = here && effects[i]->implausible(here->total, result_.floor_context).empty();
-        if (!here || (plausible && !here_plausible) || (plausible == here_plausible && score > here->score))
+        if (!here || (plausible && !here_plausible) || (plausible == here_plausible && score > here->score)) {
           here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score};
+          here_torque = group == Relation::Friction ? support_torque_coefficient(selected, f) : 1.0;
+        }
       }
       EffectReport& r = result_.effects[i];
       if (!here) {
@@ -306,6 +329,13 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
       r.theta_std = here->std;
       r.setting = here->setting;
       r.note.clear();
+      if (!(here_torque > 0)) {
+        // E.g. a drag -c I omega beside a Coulomb torque that turns negative: the pair fits the sliding data, but
+        // the object, once free, would spin at the speed where the two balance.
+        r.note = "with it the support's friction torque would drive the rotation (mu + torque_excess = " +
+                 diagnosis_format("%.3g", here_torque) + " in the joint fit): not this effect";
+        continue;
+      }
       const std::string why = effects[i]->implausible(here->total, result_.floor_context);
       if (!why.empty()) {
         const auto start = effects[i]->corrects_data() ? effects[i]->plausible_start(here->total) : std::nullopt;

@@ -70,6 +70,11 @@ class DiagnosisRun {
   std::vector<StudyPhase> fit_phases(const std::vector<PushStudy>& s) const;
   std::vector<StudyPhase> test_phases(const std::vector<PushStudy>& s) const;
   std::vector<double> normalised(const std::vector<StudyPhase>& phases, const std::string& method) const;
+  /// The support's friction torque coefficient in `fit` (a friction-group fit of `selected`'s regression effects,
+  /// then any candidate's): the friction law's mu plus the base model's torque excess (friction_torque), both scaling
+  /// the footprint's Coulomb torque. 1 when no friction law is in `selected`. At or below zero the friction would
+  /// drive the rotation instead of damping it.
+  double support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;
   /// The mean normalised error (normalised()) of `model`'s corrected prediction over the fit pushes' phases.
   double fit_phase_error(const std::vector<Selection>& model) const;
   Relation group_of(std::size_t candidate) const;
