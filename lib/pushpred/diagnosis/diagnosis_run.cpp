@@ -248,8 +248,8 @@ double DiagnosisRun::support_torque_coefficient(const std::vector<Selection>& se
 
 double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std) {
   if (std.size() != theta.size()) return 0.0;
-  // The parameters' covariance is not kept beside theta_std, so their correlation is left out: the amounts are
-  // norms of one or two parameters, whose estimates the regressions keep nearly uncorrelated.
+  // Only the parameters' standard errors are kept (Selection::std, EffectReport::theta_std), so their correlation is
+  // left out: for a two-parameter amount (the mass-centre offset's |delta|) this is an approximation.
   double variance = 0;
   Eigen::VectorXd up = theta, down = theta;
   for (Eigen::Index j = 0; j < theta.size(); ++j) {
@@ -363,7 +363,8 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
       r.negligible = true;
       r.note = negligible_note(r, o_.floor_margin_std);
       log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
-          diagnosis_format(" scores %.1f but its amount is below its floor: negligible", best->score));
+          diagnosis_format(" scores %.1f but its amount does not clear its floor by the margin: negligible",
+                           best->score));
       negligible.push_back(best->candidate);
       continue;
     }

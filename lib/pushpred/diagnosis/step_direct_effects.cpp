@@ -34,7 +34,7 @@ void DiagnosisRun::direct_effects() {
     if (!above_floor(i, f.theta, r.theta_std)) {
       r.negligible = true;
       r.note = negligible_note(r, o_.floor_margin_std);
-      log("  significant, but below its floor: negligible");
+      log("  significant, but it does not clear its floor by the margin: negligible");
       continue;
     }
     selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, f.score});

@@ -97,7 +97,7 @@ void DiagnosisRun::force_laws() {
     r.theta = selected_[k].total;
     r.theta_std = selected_[k].std;
     r.note = negligible_note(r, o_.floor_margin_std, " after the joint re-fit");
-    log(effects[i]->kind() + ": below its floor after the joint re-fit: negligible");
+    log(effects[i]->kind() + ": does not clear its floor by the margin after the joint re-fit: negligible");
     if (effects[i]->corrects_data()) selected_[k].total.setZero();
     selected_.erase(selected_.begin() + static_cast<std::ptrdiff_t>(k));
     removed = true;
