@@ -114,6 +114,24 @@ BOOST_AUTO_TEST_CASE(a_significant_but_negligible_effect_is_reported_as_such_and
   BOOST_TEST(j["effects"][0]["amount"]["floor"].get<double>() == 0.008);
 }
 
+BOOST_AUTO_TEST_CASE(an_effect_the_motion_contradicts_is_reported_as_such_and_not_found) {
+  DiagnosisResult r = made_up_result();
+  r.effects[0].selected = false;
+  r.effects[0].passed_test = true;
+  r.effects[0].contradicted_by_motion = true;
+  r.effects[0].amount = 0.02;
+  r.effects[0].amount_std = 0.002;
+  r.effects[0].amount_unit = "s";
+  BOOST_TEST(effects_found(r).empty());
+  BOOST_TEST(findings_text(r).rfind("nothing found", 0) == 0u, findings_text(r));
+  BOOST_TEST(findings_text(r).find("contradicted by the fit pushes' motion: time_offset") != std::string::npos,
+             findings_text(r));
+  const nlohmann::json j = diagnosis_json(r, DiagnosisOptions{});
+  BOOST_TEST(j["effects"][0]["contradicted_by_motion"].get<bool>());
+  BOOST_TEST(!j["effects"][0]["negligible"].get<bool>());
+  BOOST_TEST(j["effects"][0]["amount"]["std"].get<double>() == 0.002);
+}
+
 BOOST_AUTO_TEST_CASE(a_found_effect_that_does_not_help_prediction_is_reported_with_its_held_out_change) {
   DiagnosisResult r = made_up_result();
   r.effects[0].amount = 0.02;
@@ -125,6 +143,11 @@ BOOST_AUTO_TEST_CASE(a_found_effect_that_does_not_help_prediction_is_reported_wi
   BOOST_TEST(text.rfind("found: time_offset 0.02 s", 0) == 0u, text);
   BOOST_TEST(text.find("held-out change +0.10 mm") != std::string::npos, text);
   BOOST_TEST(text.find("does not help prediction") != std::string::npos, text);
+  r.effects[0].has_fit_ablation = true;
+  r.effects[0].fit_without.pos_mm_mean = 0.7;
+  const nlohmann::json j = diagnosis_json(r, DiagnosisOptions{});
+  BOOST_TEST(j["effects"][0]["held_out_without"]["pos_mm_mean"].get<double>() == 1.9);
+  BOOST_TEST(j["effects"][0]["fit_without"]["pos_mm_mean"].get<double>() == 0.7);
 }
 
 BOOST_AUTO_TEST_CASE(the_overview_lists_every_object_and_the_ones_not_diagnosed) {

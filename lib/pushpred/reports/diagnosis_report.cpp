@@ -53,6 +53,7 @@ nlohmann::json effect_json(const EffectReport& r) {
                       {"score", number_or_null(r.score)},
                       {"parameters", parameters}};
   if (r.has_ablation) j["held_out_without"] = error_summary_json(r.held_out_without);
+  if (r.has_fit_ablation) j["fit_without"] = error_summary_json(r.fit_without);
   if (!r.structural)
     j["amount"] = {{"value", number_or_null(r.amount)},
                    {"std", number_or_null(r.amount_std)},
