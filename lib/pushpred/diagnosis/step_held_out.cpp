@@ -162,17 +162,25 @@ void DiagnosisRun::base_and_ablations(const std::vector<const SynchronisedPush*>
       fail("held_out", std::string("the base model's prediction failed: ") + e.what());
     }
   }
-  // What each found effect contributes on the test phases (reported only, never used to decide).
+  // What each found effect contributes on the test phases and on the fit phases (reported only, never used to
+  // decide; the motion confirmation made its own comparison on the fit phases before).
   for (std::size_t k = 0; k < selected_.size(); ++k) {
     if (is_base(selected_[k].candidate)) continue;
     std::vector<Selection> without = model;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
+    EffectReport& r = result_.effects[selected_[k].candidate];
+    const std::string kind = library_.effects()[selected_[k].candidate]->kind();
     try {
-      EffectReport& r = result_.effects[selected_[k].candidate];
       r.held_out_without = summarise_errors(test_phases(studies(tested, correction_of(without, true))), kCorrectedMethod);
       r.has_ablation = true;
     } catch (const std::exception& e) {
-      fail("held_out", library_.effects()[selected_[k].candidate]->kind() + " left out: " + e.what());
+      fail("held_out", kind + " left out: " + e.what());
+    }
+    try {
+      r.fit_without = summarise_errors(fit_phases(studies(fit_pointers(), correction_of(without, true))), kCorrectedMethod);
+      r.has_fit_ablation = true;
+    } catch (const std::exception& e) {
+      fail("held_out", kind + " left out on the fit pushes: " + e.what());
     }
   }
 }
@@ -187,20 +195,6 @@ void DiagnosisRun::predict_fit_phases() {
     result_.fit_const_velocity = summarise_errors(fp, "const_velocity");
   } catch (const std::exception& e) {
     fail("held_out", std::string("the corrected model on the fit pushes: ") + e.what());
-  }
-  std::vector<Selection> model = selected_;
-  model.insert(model.end(), base_.begin(), base_.end());
-  for (std::size_t k = 0; k < selected_.size(); ++k) {
-    if (is_base(selected_[k].candidate)) continue;
-    std::vector<Selection> without = model;
-    without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
-    try {
-      EffectReport& r = result_.effects[selected_[k].candidate];
-      r.fit_without = summarise_errors(fit_phases(studies(fit_pointers(), correction_of(without, true))), kCorrectedMethod);
-      r.has_fit_ablation = true;
-    } catch (const std::exception& e) {
-      fail("held_out", library_.effects()[selected_[k].candidate]->kind() + " left out on the fit pushes: " + e.what());
-    }
   }
 }
 
