@@ -23,4 +23,11 @@ expect_in "$tmp/err" "unknown effect 'bogus'" "the error names the kind"
 expect_absent "$tmp/bad1" "output written for a bad kind"
 expect_exit 2 "too few pushes" -- "$bin" validate-diagnosis --trials 1 --min-pushes 1 --out "$tmp/bad2"
 expect_absent "$tmp/bad2" "output written for bad pushes"
+expect_in "$tmp/v/validation.json" '"floor_margin_std": 1.0' "validation.json records the floor margin"
+expect_in "$tmp/v/validation.md" "floor margin 1.0 standard error(s)" "validation.md states the floor margin"
+for margin in -1 nan; do
+  expect_exit 2 "a floor margin of $margin" -- "$bin" validate-diagnosis --trials 1 --floor-margin "$margin" --out "$tmp/bad3"
+  expect_in "$tmp/err" "--floor-margin: must be a finite number >= 0, got '$margin'" "the error names flag and value ($margin)"
+  expect_absent "$tmp/bad3" "output written for a floor margin of $margin"
+done
 finish
