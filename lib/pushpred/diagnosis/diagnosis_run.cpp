@@ -226,6 +226,21 @@ bool DiagnosisRun::above_floor(std::size_t i, const Eigen::VectorXd& theta, cons
   return r.amount - o_.floor_margin_std * r.amount_std >= r.floor.amount;
 }
 
+double DiagnosisRun::fit_phase_error(const ModelCorrection& correction) const {
+  const std::vector<double> e = normalised(fit_phases(studies(fit_pointers(), correction)), kCorrectedMethod);
+  if (e.empty()) return std::numeric_limits<double>::infinity();
+  double sum = 0;
+  for (double v : e) sum += v;
+  return sum / static_cast<double>(e.size());
+}
+
+void DiagnosisRun::refit_after_dropping() {
+  for (auto& s : selected_)
+    if (library_.effects()[s.candidate]->corrects_data() && library_.effects()[s.candidate]->test() == EffectTest::Regression)
+      s.total = Eigen::VectorXd::Zero(s.total.size());
+  refit(selected_);
+}
+
 double DiagnosisRun::support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const {
   // The friction-law group's parameters come in `selected`'s order (fit_selected, greedy), then any candidate.
   double coefficient = 0;

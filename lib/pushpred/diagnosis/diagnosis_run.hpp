@@ -75,12 +75,16 @@ class DiagnosisRun {
   /// the footprint's Coulomb torque. 1 when no friction law is in `selected`. At or below zero the friction would
   /// drive the rotation instead of damping it.
   double support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;
-  /// The mean normalised error (normalised()) of `model`'s corrected prediction over the fit pushes' phases.
-  double fit_phase_error(const std::vector<Selection>& model) const;
+  /// The mean normalised error (normalised()) of the corrected prediction with `correction` over the fit pushes'
+  /// phases; infinite when there is none. Throws what the study throws.
+  double fit_phase_error(const ModelCorrection& correction) const;
   Relation group_of(std::size_t candidate) const;
   RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
                              std::vector<EffectColumns>& storage) const;
   void refit(std::vector<Selection>& selected);
+  /// After selections were dropped from selected_: the rest re-fitted from scratch (the data corrections that are
+  /// regression effects restart from zero, as the data are rebuilt without the dropped ones).
+  void refit_after_dropping();
   void retest_direct(std::vector<Selection>& selected, double log_neff);
   void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
   /// Records effect i's floor, amount and the amount's standard error (from `std`, theta's; empty: none); true when

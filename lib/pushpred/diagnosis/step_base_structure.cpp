@@ -51,11 +51,7 @@ void DiagnosisRun::base_structure() {
       // The settings are the relation model's (the pushing model's fallback): scored with that model predicting.
       ModelCorrection fallback = correction_of(model, true);
       fallback.pushing_model = false;
-      const auto s = studies(fit_pointers(), fallback);
-      const std::vector<double> e = normalised(fit_phases(s), kCorrectedMethod);
-      double mean = 0;
-      for (double v : e) mean += v;
-      mean = e.empty() ? std::numeric_limits<double>::infinity() : mean / static_cast<double>(e.size());
+      const double mean = fit_phase_error(fallback);
       if (mean < best) {
         best = mean;
         best_base = trial;

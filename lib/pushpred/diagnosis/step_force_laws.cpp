@@ -102,12 +102,7 @@ void DiagnosisRun::force_laws() {
     selected_.erase(selected_.begin() + static_cast<std::ptrdiff_t>(k));
     removed = true;
   }
-  if (removed) {
-    for (auto& s : selected_)
-      if (effects[s.candidate]->corrects_data() && effects[s.candidate]->test() == EffectTest::Regression)
-        s.total = Eigen::VectorXd::Zero(s.total.size());
-    refit(selected_);
-  }
+  if (removed) refit_after_dropping();
 }
 
 }  // namespace pushpred

@@ -3,21 +3,10 @@
 // confirm it. The corrected model (the found effects and the base model with its fitted settings) predicts the fit
 // pushes' phases with the effect and without it; the effect stays found only if its mean normalised error (position
 // over `hold`'s plus yaw over `hold`'s, as the base settings are scored) is lower with it. Only fit pushes are read.
-#include <limits>
-
 #include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
-
-double DiagnosisRun::fit_phase_error(const std::vector<Selection>& model) const {
-  const std::vector<double> e = normalised(fit_phases(studies(fit_pointers(), correction_of(model, true))),
-                                           kCorrectedMethod);
-  if (e.empty()) return std::numeric_limits<double>::infinity();
-  double sum = 0;
-  for (double v : e) sum += v;
-  return sum / static_cast<double>(e.size());
-}
 
 void DiagnosisRun::motion_confirmation() {
   const auto& effects = library_.effects();
@@ -32,7 +21,8 @@ void DiagnosisRun::motion_confirmation() {
     with.insert(with.end(), base_.begin(), base_.end());
     std::vector<Selection> without = with;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
-    const double error_with = fit_phase_error(with), error_without = fit_phase_error(without);
+    const double error_with = fit_phase_error(correction_of(with, true));
+    const double error_without = fit_phase_error(correction_of(without, true));
     if (error_with < error_without) {
       log(effects[i]->kind() + diagnosis_format(": confirmed by the fit pushes' motion (normalised error %.3f with it, "
                                                 "%.3f without)",
@@ -55,10 +45,7 @@ void DiagnosisRun::motion_confirmation() {
   }
   if (!removed) return;
   // The others were fitted jointly with it, and the base settings scored with it in the model.
-  for (auto& s : selected_)
-    if (effects[s.candidate]->corrects_data() && effects[s.candidate]->test() == EffectTest::Regression)
-      s.total = Eigen::VectorXd::Zero(s.total.size());
-  refit(selected_);
+  refit_after_dropping();
   base_structure();
 }
 
