@@ -396,9 +396,11 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
   for (int iteration = 0; iteration <= o_.max_refits; ++iteration) {
     rebuild_data(correction_of(selected, false));
     bool converged = true;
+    double support_torque = 1.0;  // the friction group's mu + torque_excess after this re-fit
     for (const Relation group : {Relation::Linear, Relation::Friction}) {
       std::vector<EffectColumns> storage;
       const RegressionFit fit = fit_selected(selected, group, storage);
+      if (group == Relation::Friction) support_torque = support_torque_coefficient(selected, fit);
       int j = 0;
       for (auto& s : selected) {
         const auto& effect = library_.effects()[s.candidate];
@@ -435,6 +437,24 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
         continue;
       }
       ++k;
+    }
+    // The joint re-fit must keep the support's friction torque positive, as the greedy search required when each
+    // effect joined: otherwise the last refinement of the friction law to join (not the base model's) goes.
+    if (!dropped && !(support_torque > 0)) {
+      for (std::size_t k = selected.size(); k-- > 0;) {
+        const auto& effect = library_.effects()[selected[k].candidate];
+        if (is_base(selected[k].candidate) || effect->test() != EffectTest::Regression ||
+            group_of(selected[k].candidate) != Relation::Friction || effect->replaces_relation())
+          continue;
+        result_.effects[selected[k].candidate].note =
+            "dropped: its re-fit turned the support's friction torque negative (mu + torque_excess = " +
+            diagnosis_format("%.3g", support_torque) + ")";
+        log(effect->kind() + diagnosis_format(": re-fit turned the support's friction torque negative (%.3g); dropped",
+                                              support_torque));
+        selected.erase(selected.begin() + static_cast<std::ptrdiff_t>(k));
+        dropped = true;
+        break;
+      }
     }
     if (dropped) continue;
     if (converged) {

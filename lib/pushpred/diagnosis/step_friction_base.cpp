@@ -57,6 +57,15 @@ void DiagnosisRun::measure_floors(bool add_law) {
           log(effects[j]->kind() + " (base model): not resolved by the fit pushes; left out");
           continue;
         }
+        // As in the greedy search: a refinement that turns the support's friction torque negative would make the
+        // free object spin up, whatever it does to the sliding samples' fit.
+        if (const double torque = support_torque_coefficient(trial, g); !(torque > 0)) {
+          result_.effects[j].note = "not in the base model here: with it the support's friction torque would drive "
+                                    "the rotation (mu + torque_excess = " + diagnosis_format("%.3g", torque) + ")";
+          log(effects[j]->kind() + diagnosis_format(" (base model): mu + torque_excess = %.3g, not positive; left out",
+                                                    torque));
+          continue;
+        }
         trial.back().total = tj;
         trial.back().std = g.standard_error().tail(kj);
         for (auto& t : trial)
