@@ -69,6 +69,18 @@ Trial run_trial(const std::string& kind, int index, double multiple, std::uint64
   return t;
 }
 
+/// Trial `index` of a blind validation run of `seed` with the validation's defaults (validate-diagnosis's trials),
+/// simulated, diagnosed and scored.
+Trial blind_trial(std::uint64_t seed, int index, const std::string& kind) {
+  ValidationOptions o;
+  o.seed = seed;
+  Trial t;
+  t.result = diagnose(simulate_trial(draw_validation_trial(o, index, kind, t.trial)), EffectLibrary::standard(),
+                      o.diagnosis);
+  score_trial(t.result, t.trial);
+  return t;
+}
+
 /// A user's effect whose regressor cannot be computed: its failure must be reported, not scored.
 class BrokenEffect final : public CandidateEffect {
  public:
@@ -241,14 +253,8 @@ BOOST_AUTO_TEST_CASE(a_mass_centre_offset_the_fit_pushes_motion_contradicts_is_n
   // A blind clean trial of the tuning seeds 171000 (validation defaults, rect1, 4 pushes): the torque residual fits a
   // 10.9 mm offset, significant and several floors above the floor even by one standard error, but moving the
   // pushing model's centre of friction by it predicts the fit pushes' motion worse (held out: 0.27 -> 0.48 mm).
-  ValidationOptions o;
-  o.seed = 171000;
-  ValidationTrial v;
-  const auto scenarios = draw_validation_trial(o, 50, "none", v);
-  const DiagnosisResult r = diagnose(simulate_trial(scenarios), EffectLibrary::standard(), o.diagnosis);
-  score_trial(r, v);
-  const auto com = std::find_if(r.effects.begin(), r.effects.end(), [](const EffectReport& e) { return e.kind == "com_offset"; });
-  BOOST_TEST_REQUIRE((com != r.effects.end()));
+  const auto [v, r] = blind_trial(171000, 50, "none");
+  const EffectReport* com = &report(r, "com_offset");
   BOOST_TEST(com->passed_test, "the offset should pass its test, or this no longer tests the motion: " << com->note);
   BOOST_TEST(com->amount - com->amount_std > com->floor.amount, "it should clear its floor by the margin: " << com->note);
   BOOST_TEST(com->contradicted_by_motion, com->note);
@@ -261,12 +267,7 @@ BOOST_AUTO_TEST_CASE(a_mass_centre_offset_the_fit_pushes_motion_contradicts_is_n
 BOOST_AUTO_TEST_CASE(a_true_mass_centre_offset_is_confirmed_by_the_motion) {
   // A blind trial of the tuning seeds 150000 (validation defaults): of the true offsets there, the one whose fit
   // pushes' prediction it improves least (normalised error 0.86 of the model's without it). Still found.
-  ValidationOptions o;
-  o.seed = 150000;
-  ValidationTrial v;
-  const auto scenarios = draw_validation_trial(o, 94, "com_offset", v);
-  const DiagnosisResult r = diagnose(simulate_trial(scenarios), EffectLibrary::standard(), o.diagnosis);
-  score_trial(r, v);
+  const auto [v, r] = blind_trial(150000, 94, "com_offset");
   BOOST_TEST(v.true_named, "the offset should be found: " << findings_text(r));
   const bool confirmed = std::any_of(r.log.begin(), r.log.end(), [](const std::string& line) {
     return line.find("com_offset: confirmed by the fit pushes' motion") != std::string::npos;
@@ -279,14 +280,8 @@ BOOST_AUTO_TEST_CASE(a_drag_that_would_turn_the_support_friction_torque_negative
   // mu 0.14 and a torque excess of -0.46: the support's friction torque would drive the rotation, and the corrected
   // model, once the push ended, spun the object where drag and torque balance (held-out yaw 13.4 deg, the base
   // model's 0.39).
-  ValidationOptions o;
-  o.seed = 180000;
-  ValidationTrial v;
-  const auto scenarios = draw_validation_trial(o, 132, "stribeck_friction", v);
-  const DiagnosisResult r = diagnose(simulate_trial(scenarios), EffectLibrary::standard(), o.diagnosis);
-  const auto drag =
-      std::find_if(r.effects.begin(), r.effects.end(), [](const EffectReport& e) { return e.kind == "viscous_friction"; });
-  BOOST_TEST_REQUIRE((drag != r.effects.end()));
+  const DiagnosisResult r = blind_trial(180000, 132, "stribeck_friction").result;
+  const EffectReport* drag = &report(r, "viscous_friction");
   BOOST_TEST(!drag->selected, findings_text(r));
   BOOST_TEST(drag->note.find("would drive the rotation") != std::string::npos, drag->note);
   BOOST_TEST(r.error_after.theta_deg_mean < 1.0);
@@ -296,14 +291,8 @@ BOOST_AUTO_TEST_CASE(the_base_model_leaves_out_a_friction_torque_that_would_driv
   // A blind mass-centre trial of seeds 180000. The base model's friction torque, fitted beside mu on the sliding
   // samples, came out at mu + torque_excess = -0.44: with it the corrected model's held-out yaw error was 0.40 deg
   // (0.17 without it), the same check as the greedy search's, applied where the base model is fitted.
-  ValidationOptions o;
-  o.seed = 180000;
-  ValidationTrial v;
-  const auto scenarios = draw_validation_trial(o, 30, "com_offset", v);
-  const DiagnosisResult r = diagnose(simulate_trial(scenarios), EffectLibrary::standard(), o.diagnosis);
-  const auto torque =
-      std::find_if(r.effects.begin(), r.effects.end(), [](const EffectReport& e) { return e.kind == "friction_torque"; });
-  BOOST_TEST_REQUIRE((torque != r.effects.end()));
+  const DiagnosisResult r = blind_trial(180000, 30, "com_offset").result;
+  const EffectReport* torque = &report(r, "friction_torque");
   BOOST_TEST(!torque->selected, findings_text(r));
   BOOST_TEST(torque->note.find("would drive the rotation") != std::string::npos, torque->note);
   BOOST_TEST(r.error_after.theta_deg_mean < 0.3);
