@@ -262,6 +262,18 @@ BOOST_AUTO_TEST_CASE(a_mass_centre_offset_the_fit_pushes_motion_contradicts_is_n
   BOOST_TEST(v.true_named, "nothing should be named: " << findings_text(r));
   BOOST_TEST(findings_text(r).find("contradicted by the fit pushes' motion: com_offset") != std::string::npos,
              findings_text(r));
+  // The friction laws are then searched again without it, and it is not tried again.
+  const auto contradicted = std::find_if(r.log.begin(), r.log.end(), [](const std::string& line) {
+    return line.find("com_offset: contradicted by the fit pushes' motion") != std::string::npos;
+  });
+  BOOST_TEST_REQUIRE((contradicted != r.log.end()));
+  const auto searched = std::find_if(contradicted, r.log.end(), [](const std::string& line) {
+    return line.find("greedy (against the friction law)") != std::string::npos;
+  });
+  BOOST_TEST((searched != r.log.end()), "no search after the contradiction");
+  BOOST_TEST(std::none_of(contradicted, r.log.end(), [](const std::string& line) {
+    return line.find("com_offset joins") != std::string::npos;
+  }));
 }
 
 BOOST_AUTO_TEST_CASE(a_true_mass_centre_offset_is_confirmed_by_the_motion) {

@@ -303,6 +303,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
       if (effects[i]->test() != EffectTest::Regression || group_of(i) != group || is_base(i)) continue;
       if (std::any_of(selected.begin(), selected.end(), [&](const Selection& s) { return s.candidate == i; })) continue;
       if (std::find(negligible.begin(), negligible.end(), i) != negligible.end()) continue;
+      if (result_.effects[i].contradicted_by_motion) continue;  // the fit pushes' motion has ruled it out
       if (group == Relation::Friction && !law_selected()) {
         result_.effects[i].note = "not tested: it refines a friction law, and none is in the base model";
         continue;

@@ -11,7 +11,8 @@
 //                        the fit phases (the structure itself is fixed, never re-selected)
 //      motion_confirmation  a found effect that changes how the pushing model moves the object (the mass-centre
 //                        offset) stays found only if it predicts the fit pushes' phases better than the model
-//                        without it; otherwise it is dropped, the rest re-fitted and step 5 repeated
+//                        without it; otherwise it is dropped, the friction laws searched again without it (step 4's
+//                        friction part) and step 5 repeated
 //   6. held_out          the test phases: the paper's `dob`, the base model, the base model plus what was found, the
 //                        references; what each found effect contributes there (the model without it)
 // A step that fails reports the failure (DiagnosisResult::step_failures) instead of scoring anything as infinite;
@@ -86,6 +87,9 @@ class DiagnosisRun {
   /// regression effects restart from zero, as the data are rebuilt without the dropped ones).
   void refit_after_dropping();
   void retest_direct(std::vector<Selection>& selected, double log_neff);
+  /// The found effects whose amount no longer clears its floor by the margin after a joint re-fit: reported
+  /// negligible and dropped, the rest re-fitted.
+  void drop_below_floor();
   void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
   /// Records effect i's floor, amount and the amount's standard error (from `std`, theta's; empty: none); true when
   /// the amount exceeds the floor by options.floor_margin_std standard errors.

@@ -84,6 +84,11 @@ void DiagnosisRun::force_laws() {
   greedy(selected_, Relation::Friction, log_neff_);
   if (any_regression()) refit(selected_);
   retest_direct(selected_, log_neff_);
+  drop_below_floor();
+}
+
+void DiagnosisRun::drop_below_floor() {
+  const auto& effects = library_.effects();
   // After the joint re-fit an amount may have fallen below its floor: then it is negligible, not found.
   bool removed = false;
   for (std::size_t k = 0; k < selected_.size();) {
