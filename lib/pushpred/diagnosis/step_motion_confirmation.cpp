@@ -6,6 +6,8 @@
 // Where one is ruled out, the friction laws are searched again without it: the other candidates were tested against
 // a model that held it, and one it took the residual from (seeds 190000, trial 140: a Stribeck friction tested beside
 // a contradicted offset) deserves its test against the model that is kept.
+#include <algorithm>
+
 #include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
@@ -50,6 +52,16 @@ void DiagnosisRun::motion_confirmation() {
   // The others were fitted jointly with it, and searched for against a model that held it: the friction laws are
   // searched again without it (it is not tried again), as in step 4, and the base settings scored anew.
   refit_after_dropping();
+  // The new search's verdicts replace the first search's for every candidate it tries again.
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    EffectReport& r = result_.effects[i];
+    const bool selected = std::any_of(selected_.begin(), selected_.end(), [&](const Selection& s) { return s.candidate == i; });
+    if (selected || is_base(i) || r.contradicted_by_motion || effects[i]->test() != EffectTest::Regression ||
+        group_of(i) != Relation::Friction)
+      continue;
+    r.passed_test = r.negligible = false;
+    r.note.clear();
+  }
   greedy(selected_, Relation::Friction, log_neff_);
   refit(selected_);
   drop_below_floor();
