@@ -117,13 +117,26 @@ BOOST_AUTO_TEST_CASE(a_significant_term_without_a_floor_is_not_called_negligible
 }
 
 BOOST_AUTO_TEST_CASE(an_amount_s_standard_error_follows_its_gradient) {
-  // The mass-centre offset's amount is |delta|: for delta = (3, 4) mm with standard errors (0.3, 0.8) mm its
-  // standard error is sqrt((0.6 * 0.3)^2 + (0.8 * 0.8)^2) mm, the parameters taken as uncorrelated.
+  // The mass-centre offset's amount is |delta|: for delta = (3, 4) mm with standard errors (0.3, 0.8) mm and no
+  // covariance given, its standard error is sqrt((0.6 * 0.3)^2 + (0.8 * 0.8)^2) mm, the parameters taken as
+  // uncorrelated.
   const auto com = EffectLibrary::standard().find("com_offset");
   const Eigen::Vector2d delta(0.003, 0.004), std(0.0003, 0.0008);
   BOOST_TEST(amount_standard_error(*com, delta, std) == std::hypot(0.6 * 0.0003, 0.8 * 0.0008),
              boost::test_tools::tolerance(1e-6));
   BOOST_TEST(amount_standard_error(*com, delta, Eigen::VectorXd()) == 0.0);  // no standard errors: none
+  // Correlated (rho = -0.9): the variance is g^T C g with g = (0.6, 0.8), the larger of two covariances' where the
+  // fit has two (Newey-West and clustered by push).
+  Eigen::Matrix2d correlated;
+  correlated << 0.0003 * 0.0003, -0.9 * 0.0003 * 0.0008, -0.9 * 0.0003 * 0.0008, 0.0008 * 0.0008;
+  const Eigen::Vector2d g(0.6, 0.8);
+  const double expected = std::sqrt(g.dot(correlated * g));
+  BOOST_TEST(expected < std::hypot(0.6 * 0.0003, 0.8 * 0.0008));  // anti-correlated along the offset: smaller
+  BOOST_TEST(amount_standard_error(*com, delta, std, {correlated}) == expected, boost::test_tools::tolerance(1e-6));
+  const Eigen::Matrix2d uncorrelated = std.cwiseAbs2().asDiagonal();
+  BOOST_TEST(amount_standard_error(*com, delta, std, {correlated, uncorrelated}) ==
+                 std::hypot(0.6 * 0.0003, 0.8 * 0.0008),
+             boost::test_tools::tolerance(1e-6));
 }
 
 BOOST_AUTO_TEST_CASE(a_mass_centre_offset_beyond_half_the_radius_of_gyration_is_not_a_mass_centre_offset) {

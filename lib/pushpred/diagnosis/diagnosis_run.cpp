@@ -217,11 +217,11 @@ RegressionFit DiagnosisRun::fit_selected(const std::vector<Selection>& selected,
   return regression.fit(pointers, extra);
 }
 
-bool DiagnosisRun::above_floor(std::size_t i, const Eigen::VectorXd& theta, const Eigen::VectorXd& std) {
+bool DiagnosisRun::above_floor(std::size_t i, const Selection& s) {
   const auto& effect = library_.effects()[i];
   EffectReport& r = result_.effects[i];
-  r.amount = effect->amount(theta);
-  r.amount_std = amount_standard_error(*effect, theta, std);
+  r.amount = effect->amount(s.total);
+  r.amount_std = amount_standard_error(*effect, s.total, s.std, s.covariances);
   r.floor = effect->floor(result_.floor_context);
   return r.amount - o_.floor_margin_std * r.amount_std >= r.floor.amount;
 }
@@ -261,22 +261,29 @@ double DiagnosisRun::support_torque_coefficient(const std::vector<Selection>& se
   return law ? coefficient : 1.0;
 }
 
-double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std) {
+double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std,
+                             const std::vector<Eigen::MatrixXd>& covariances) {
   if (std.size() != theta.size()) return 0.0;
-  // Only the parameters' standard errors are kept (Selection::std, EffectReport::theta_std), so their correlation is
-  // left out: for a two-parameter amount (the mass-centre offset's |delta|) this is an approximation.
-  double variance = 0;
+  // The amount's gradient by central differences, each a thousandth of its parameter's standard error.
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(theta.size());
   Eigen::VectorXd up = theta, down = theta;
   for (Eigen::Index j = 0; j < theta.size(); ++j) {
     if (!(std(j) > 0) || !std::isfinite(std(j))) continue;
     const double h = 1e-3 * std(j);
     up(j) = theta(j) + h;
     down(j) = theta(j) - h;
-    const double slope = (effect.amount(up) - effect.amount(down)) / (2 * h);
+    gradient(j) = (effect.amount(up) - effect.amount(down)) / (2 * h);
     up(j) = down(j) = theta(j);
-    variance += slope * slope * std(j) * std(j);
   }
-  return std::sqrt(variance);
+  double variance = 0;
+  bool from_matrix = false;
+  for (const auto& c : covariances) {
+    if (c.rows() != theta.size() || c.cols() != theta.size() || !c.allFinite()) continue;
+    variance = std::max(variance, gradient.dot(c * gradient));
+    from_matrix = true;
+  }
+  if (!from_matrix) variance = gradient.cwiseProduct(std).squaredNorm();
+  return std::sqrt(std::max(0.0, variance));
 }
 
 void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, double log_neff) {
@@ -331,7 +338,8 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         const bool plausible = effects[i]->implausible(f.theta.segment(at, k), result_.floor_context).empty();
         const bool here_plausible = here && effects[i]->implausible(here->total, result_.floor_context).empty();
         if (!here || (plausible && !here_plausible) || (plausible == here_plausible && score > here->score)) {
-          here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score};
+          here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score,
+                           f.covariance_blocks(at, k)};
           here_torque = group == Relation::Friction ? support_torque_coefficient(selected, f) : 1.0;
         }
       }
@@ -375,7 +383,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
     }
     EffectReport& r = result_.effects[best->candidate];
     r.passed_test = true;
-    if (!above_floor(best->candidate, best->total, best->std)) {
+    if (!above_floor(best->candidate, *best)) {
       r.negligible = true;
       r.note = negligible_note(r, o_.floor_margin_std);
       log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
@@ -409,6 +417,7 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
         const int k = static_cast<int>(effect->parameters().size());
         const Eigen::VectorXd theta = fit.theta.segment(j, k);
         s.std = fit.standard_error().segment(j, k);
+        s.covariances = fit.covariance_blocks(j, k);
         if (effect->corrects_data()) {
           s.total = effect->compose(s.total, theta);
           if ((theta.array().abs() > 0.25 * s.std.array()).any()) converged = false;

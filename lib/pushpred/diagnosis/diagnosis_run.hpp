@@ -34,6 +34,10 @@ struct Selection {
   Eigen::VectorXd total;      ///< amount applied so far (data corrections) or fitted (force laws)
   Eigen::VectorXd std;
   double score = 0;
+  /// The fit's covariance blocks of these parameters (Newey-West, and clustered by push where the fit uses it; `std`
+  /// is the larger diagonal): the amount's standard error takes the larger of its variances under them, so that
+  /// correlated parameters (the mass-centre offset's delta_x, delta_y) count as such. Empty: only `std` is known.
+  std::vector<Eigen::MatrixXd> covariances;
 };
 
 class DiagnosisRun {
@@ -93,7 +97,7 @@ class DiagnosisRun {
   void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
   /// Records effect i's floor, amount and the amount's standard error (from `std`, theta's; empty: none); true when
   /// the amount exceeds the floor by options.floor_margin_std standard errors.
-  bool above_floor(std::size_t i, const Eigen::VectorXd& theta, const Eigen::VectorXd& std);
+  bool above_floor(std::size_t i, const Selection& s);
   /// The base model's selections: the friction law and the prediction structure.
   std::vector<Selection> base_selections() const;
   std::vector<const SynchronisedPush*> fit_pointers() const;

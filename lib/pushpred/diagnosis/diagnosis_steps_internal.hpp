@@ -14,7 +14,10 @@ std::string diagnosis_format(const char* fmt, double a, double b = 0, double c =
 /// ... standard error(s) of its floor ...".
 std::string negligible_note(const EffectReport& r, double margin_std, const std::string& when = "");
 
-/// The standard error of effect.amount(theta) from theta's standard errors `std` (0 when std is empty).
-double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std);
+/// The standard error of effect.amount(theta) through its gradient: the largest of its variances under
+/// `covariances` (theta's covariance matrices), or, where none is given, from theta's standard errors `std` taken as
+/// uncorrelated (0 when std is empty too).
+double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std,
+                             const std::vector<Eigen::MatrixXd>& covariances = {});
 
 }  // namespace pushpred

@@ -17,6 +17,15 @@ Eigen::VectorXd RegressionFit::standard_error() const {
   return v.cwiseSqrt();
 }
 
+std::vector<Eigen::MatrixXd> RegressionFit::covariance_blocks(Eigen::Index first, Eigen::Index count) const {
+  std::vector<Eigen::MatrixXd> out;
+  if (first < 0 || count < 0 || first + count > covariance.rows()) return out;
+  out.push_back(covariance.block(first, first, count, count));
+  if (clusters >= 3 && cluster_covariance.size() == covariance.size())
+    out.push_back(cluster_covariance.block(first, first, count, count));
+  return out;
+}
+
 namespace {
 
 double wald_with(const Eigen::VectorXd& t, const Eigen::MatrixXd& V) {

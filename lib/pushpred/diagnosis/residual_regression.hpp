@@ -63,6 +63,9 @@ struct RegressionFit {
   bool identifiable = true;    ///< false when the columns are (numerically) dependent: bic is then +inf
   /// The larger of the two covariances' standard errors.
   Eigen::VectorXd standard_error() const;
+  /// The blocks [first, first + count) of the covariances standard_error() reads (Newey-West, and the clustered one
+  /// where it is used).
+  std::vector<Eigen::MatrixXd> covariance_blocks(Eigen::Index first, Eigen::Index count) const;
   /// Robust Wald statistic of the parameters [first, first + count): theta^T V^-1 theta with Newey-West's V.
   double wald(Eigen::Index first, Eigen::Index count) const;
   int clusters = 0;

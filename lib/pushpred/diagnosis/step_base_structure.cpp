@@ -30,7 +30,7 @@ void DiagnosisRun::base_structure() {
     if (!o_.fit_base_settings) grid = {grid[grid.size() / 2]};
     parts.push_back(i);
     grids.push_back(grid);
-    base_.push_back({i, grid[grid.size() / 2], grid.size() > 1 ? 1 : 0, t, sd, 0.0});
+    base_.push_back({i, grid[grid.size() / 2], grid.size() > 1 ? 1 : 0, t, sd, 0.0, {}});
   }
   // Every combination of the parts' settings, scored on the fit phases (the parts themselves are not chosen).
   std::vector<std::size_t> at(parts.size(), 0);

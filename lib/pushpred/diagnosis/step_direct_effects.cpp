@@ -31,13 +31,14 @@ void DiagnosisRun::direct_effects() {
     }
     if (!(f.score > o_.bic_threshold)) continue;
     r.passed_test = true;
-    if (!above_floor(i, f.theta, r.theta_std)) {
+    const Selection found{i, 0.0, 0, f.theta, r.theta_std, f.score, {f.covariance}};
+    if (!above_floor(i, found)) {
       r.negligible = true;
       r.note = negligible_note(r, o_.floor_margin_std);
       log("  significant, but it does not clear its floor by the margin: negligible");
       continue;
     }
-    selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, f.score});
+    selected_.push_back(found);
     log("  found");
     rebuild_data(correction_of(selected_, false));
   }

@@ -93,7 +93,7 @@ void DiagnosisRun::drop_below_floor() {
   bool removed = false;
   for (std::size_t k = 0; k < selected_.size();) {
     const std::size_t i = selected_[k].candidate;
-    if (is_base(i) || above_floor(i, selected_[k].total, selected_[k].std)) {
+    if (is_base(i) || above_floor(i, selected_[k])) {
       ++k;
       continue;
     }

@@ -40,7 +40,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
     r.passed_test = r.score > o_.bic_threshold;
     mu = f.theta(0);
     if (add_law) {
-      selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score});
+      selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score, f.covariance_blocks(0, f.theta.size())});
       // The law's own refinements in the base model (friction_torque), fitted with it when the data resolve them.
       for (std::size_t j = 0; j < effects.size(); ++j) {
         if (j == i || !is_base(j) || effects[j]->test() != EffectTest::Regression || group_of(j) != Relation::Friction)
@@ -48,7 +48,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
         std::vector<EffectColumns> storage;
         std::vector<Selection> trial = selected_;
         trial.push_back({j, 0.0, 0, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(effects[j]->parameters().size())),
-                         Eigen::VectorXd(), 0.0});
+                         Eigen::VectorXd(), 0.0, {}});
         const RegressionFit g = fit_selected(trial, Relation::Friction, storage);
         const Eigen::Index kj = static_cast<Eigen::Index>(effects[j]->parameters().size());
         const Eigen::VectorXd tj = g.theta.tail(kj);
@@ -68,6 +68,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
         }
         trial.back().total = tj;
         trial.back().std = g.standard_error().tail(kj);
+        trial.back().covariances = g.covariance_blocks(g.theta.size() - kj, kj);
         for (auto& t : trial)
           if (t.candidate == i) t.total = g.theta.head(k);  // the law's own parameters come first in the fit
         result_.effects[j].theta = tj;
