@@ -310,6 +310,28 @@ BOOST_AUTO_TEST_CASE(the_base_model_leaves_out_a_friction_torque_that_would_driv
   BOOST_TEST(r.error_after.theta_deg_mean < 0.3);
 }
 
+BOOST_AUTO_TEST_CASE(fewer_pushes_than_the_validation_used_are_flagged) {
+  // The blind validation draws 4 to 8 pushes; a diagnosis of fewer says so in the result, its JSON and its report.
+  for (int pushes : {2, 4}) {
+    ValidationOptions o;
+    o.seed = 7000;
+    o.min_pushes = o.max_pushes = pushes;
+    o.diagnosis = fast_options();
+    ValidationTrial v;
+    const DiagnosisResult r =
+        diagnose(simulate_trial(draw_validation_trial(o, 0, "none", v)), EffectLibrary::standard(), o.diagnosis);
+    const std::string report = diagnosis_markdown(r, o.diagnosis, {}, "");
+    if (pushes < 4) {
+      BOOST_TEST(r.caution.find("only 2 pushes") != std::string::npos, r.caution);
+      BOOST_TEST(diagnosis_json(r, o.diagnosis).at("caution").get<std::string>() == r.caution);
+      BOOST_TEST(report.find("> Caution: only 2 pushes") != std::string::npos);
+    } else {
+      BOOST_TEST(r.caution.empty(), r.caution);
+      BOOST_TEST(report.find("Caution") == std::string::npos);
+    }
+  }
+}
+
 BOOST_AUTO_TEST_CASE(blind_clean_trials_name_nothing) {
   for (int index : {0, 8, 16}) {
     const Trial t = run_trial("none", index, 2.0);

@@ -125,6 +125,9 @@ struct ResidualTrace {
 struct DiagnosisResult {
   std::string shape, surface;
   std::string held_out;  ///< how the test phases were chosen
+  /// Non-empty when the data lie outside what the blind validation covered (fewer pushes than its 4 to 8 per
+  /// object), saying so: what is found is then weaker evidence than the validation's rates suggest.
+  std::string caution;
   std::vector<std::string> fit_sources, test_sources;
   std::vector<EffectReport> effects;  ///< every candidate, in library order
   ModelCorrection correction;         ///< the selected effects together

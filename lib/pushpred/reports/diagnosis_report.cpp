@@ -349,6 +349,7 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
             {"floor_margin_std", o.floor_margin_std},
             {"fit_base_settings", o.fit_base_settings}}},
           {"held_out", r.held_out},
+          {"caution", r.caution},
           {"fit_pushes", r.fit_sources},
           {"test_pushes", r.test_sources},
           {"effects", effects},
@@ -397,6 +398,7 @@ std::string diagnosis_summary_text(const DiagnosisResult& r) {
   s << "diagnosis of " << r.fit_sources.size() << " fit and " << r.test_sources.size() << " test pushes (" << r.shape
     << " on " << r.surface << ")\n";
   s << "  " << findings_text(r) << "\n";
+  if (!r.caution.empty()) s << "  caution: " << r.caution << "\n";
   for (const auto& e : r.effects)
     if (e.selected) s << "  " << (e.structural ? "base " : "found ") << e.kind << ": " << effect_parameters_text(e) << "\n";
   for (const auto& f : r.step_failures) s << "  step " << f.step << " failed: " << f.what << "\n";
@@ -433,6 +435,7 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
   }
 
   md << "**" << findings_text(r) << ".**\n\n";
+  if (!r.caution.empty()) md << "> Caution: " << r.caution << ".\n\n";
   md << "## Prediction error on the held-out phases\n\n"
      << "Mean over " << r.error_after.phases << " phases of the per-phase mean error. `before` is the paper's method "
      << "(`dob`: relation identified online, initial velocity zero); `base` is the corrected base model (initial "
