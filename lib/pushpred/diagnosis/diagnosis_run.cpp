@@ -11,6 +11,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/corrected_prediction.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
+#include "pushpred/diagnosis/validation.hpp"
 
 namespace pushpred {
 
@@ -105,14 +106,16 @@ DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const Eff
     }
     result_.held_out = "alternate pushes (sorted by name): the 1st, 3rd, ... fit; the 2nd, 4th, ... test";
   }
-  // The blind validation (validation.hpp) draws 4 to 8 pushes per trial; with fewer, the push-to-push spread of a
-  // shared amount is estimated from fewer pushes or not at all, and clean simulated trials named effects more often
+  // The blind validation draws its default 4 to 8 pushes per trial; with fewer, the push-to-push spread of a shared
+  // amount is estimated from fewer pushes or not at all, and clean simulated trials named effects more often
   // (docs/diagnosis.md, "Few pushes").
-  if (usable.size() < 4)
+  const ValidationOptions validated;
+  if (usable.size() < static_cast<std::size_t>(validated.min_pushes))
     result_.caution = "only " + std::to_string(usable.size()) + (usable.size() == 1 ? " push" : " pushes") +
-                      ", fewer than the 4 to 8 per object the diagnosis was validated on: with fewer pushes it names "
-                      "effects on clean data more often (docs/diagnosis.md, \"Few pushes\"); take what is found as "
-                      "tentative";
+                      ", fewer than the " + std::to_string(validated.min_pushes) + " to " +
+                      std::to_string(validated.max_pushes) +
+                      " per object the diagnosis was validated on: with fewer pushes it names effects on clean data "
+                      "more often (docs/diagnosis.md, \"Few pushes\"); take what is found as tentative";
   for (const auto& p : fit_raw_) result_.fit_sources.push_back(p.source);
   for (const auto& p : test_raw_) result_.test_sources.push_back(p.source);
 }

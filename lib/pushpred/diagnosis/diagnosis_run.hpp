@@ -95,8 +95,9 @@ class DiagnosisRun {
   /// negligible and dropped, the rest re-fitted.
   void drop_below_floor();
   void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
-  /// Records effect i's floor, amount and the amount's standard error (from `std`, theta's; empty: none); true when
-  /// the amount exceeds the floor by options.floor_margin_std standard errors.
+  /// Records effect i's floor, amount (of s.total) and the amount's standard error (amount_standard_error from s's
+  /// covariances, or its `std` without them; none when both are empty); true when the amount exceeds the floor by
+  /// options.floor_margin_std standard errors.
   bool above_floor(std::size_t i, const Selection& s);
   /// The base model's selections: the friction law and the prediction structure.
   std::vector<Selection> base_selections() const;

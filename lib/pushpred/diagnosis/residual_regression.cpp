@@ -11,9 +11,13 @@
 
 namespace pushpred {
 
+bool RegressionFit::uses_cluster_covariance() const {
+  return clusters >= 3 && cluster_covariance.size() == covariance.size();
+}
+
 Eigen::VectorXd RegressionFit::standard_error() const {
   Eigen::VectorXd v = covariance.diagonal().cwiseMax(0.0);
-  if (clusters >= 3 && cluster_covariance.size() == covariance.size()) v = v.cwiseMax(cluster_covariance.diagonal());
+  if (uses_cluster_covariance()) v = v.cwiseMax(cluster_covariance.diagonal());
   return v.cwiseSqrt();
 }
 
@@ -21,8 +25,7 @@ std::vector<Eigen::MatrixXd> RegressionFit::covariance_blocks(Eigen::Index first
   std::vector<Eigen::MatrixXd> out;
   if (first < 0 || count < 0 || first + count > covariance.rows()) return out;
   out.push_back(covariance.block(first, first, count, count));
-  if (clusters >= 3 && cluster_covariance.size() == covariance.size())
-    out.push_back(cluster_covariance.block(first, first, count, count));
+  if (uses_cluster_covariance()) out.push_back(cluster_covariance.block(first, first, count, count));
   return out;
 }
 

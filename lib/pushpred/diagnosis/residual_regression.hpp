@@ -61,6 +61,8 @@ struct RegressionFit {
   double bic = 0;              ///< N_eff ln(RSS / N) + k ln(N_eff), k including the base's nuisance
   int parameters = 0;          ///< effect parameters (plus settings) counted in k
   bool identifiable = true;    ///< false when the columns are (numerically) dependent: bic is then +inf
+  /// Whether the clustered covariance counts beside Newey-West's: from three pushes (clusters) on.
+  bool uses_cluster_covariance() const;
   /// The larger of the two covariances' standard errors.
   Eigen::VectorXd standard_error() const;
   /// The blocks [first, first + count) of the covariances standard_error() reads (Newey-West, and the clustered one
