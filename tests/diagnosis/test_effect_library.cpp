@@ -32,6 +32,15 @@ class NamedEffect final : public CandidateEffect {
   std::string kind_;
 };
 
+/// A user's support-torque refinement that, wrongly, has two parameters.
+class TwoParameterTorqueEffect final : public CandidateEffect {
+ public:
+  std::string kind() const override { return "two_parameter_torque"; }
+  std::string description() const override { return "test"; }
+  std::vector<EffectParameter> parameters() const override { return {{"a", "-"}, {"b", "-"}}; }
+  bool adds_to_support_torque() const override { return true; }
+};
+
 }  // namespace
 
 BOOST_AUTO_TEST_SUITE(effect_library)
@@ -164,6 +173,12 @@ BOOST_AUTO_TEST_CASE(a_user_adds_and_removes_effects_and_mistakes_are_input_erro
   BOOST_CHECK_THROW(library.register_effect(std::make_unique<NamedEffect>("my_effect")), InputError);
   BOOST_CHECK_THROW(library.register_effect(std::make_unique<NamedEffect>("")), InputError);
   BOOST_CHECK_THROW(library.register_effect(nullptr), InputError);
+  // A term that adds to the friction law's torque coefficient adds one number to it.
+  BOOST_CHECK_THROW(library.register_effect(std::make_unique<TwoParameterTorqueEffect>()), InputError);
+  std::vector<std::string> torque_terms;
+  for (const auto& e : library.effects())
+    if (e->adds_to_support_torque()) torque_terms.push_back(e->kind());
+  BOOST_TEST(torque_terms == std::vector<std::string>{"friction_torque"});
   library.remove("my_effect");
   BOOST_TEST(library.find("my_effect") == nullptr);
   BOOST_CHECK_THROW(library.remove("my_effect"), InputError);

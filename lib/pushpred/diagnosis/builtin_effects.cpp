@@ -459,6 +459,7 @@ class FrictionTorqueEffect final : public FootprintFrictionLaw {
   std::vector<EffectParameter> parameters() const override { return {{"torque_excess", "-"}}; }
   bool needs_friction_base() const override { return true; }
   bool in_base_model() const override { return true; }
+  bool adds_to_support_torque() const override { return true; }
   std::string implausible(const Eigen::VectorXd& theta) const override {
     return std::abs(theta(0)) < 1 ? "" : "a friction torque coefficient change of 1 or more";
   }

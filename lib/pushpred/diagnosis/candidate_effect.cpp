@@ -150,6 +150,9 @@ void EffectLibrary::register_effect(std::unique_ptr<CandidateEffect> effect) {
   const std::string kind = effect->kind();
   if (kind.empty()) throw InputError("effect library: an effect needs a kind");
   if (find(kind)) throw InputError("effect library: an effect of kind '" + kind + "' is already registered");
+  if (effect->adds_to_support_torque() && effect->parameters().size() != 1)
+    throw InputError("effect library: '" + kind + "' adds to the support's friction torque, so it needs exactly one "
+                     "parameter, not " + std::to_string(effect->parameters().size()));
   effects_.push_back(std::shared_ptr<const CandidateEffect>(std::move(effect)));
 }
 

@@ -195,6 +195,10 @@ class CandidateEffect {
   /// A friction law that replaces the paper's relation as the base the other effects are tested against
   /// (residual_regression.hpp, Relation::Friction); at most one is selected.
   virtual bool replaces_relation() const { return false; }
+  /// Its one parameter adds to the friction law's coefficient in the torque channel only (the support's friction
+  /// torque scales with mu + theta): the sum must stay positive, or the fitted friction would drive the rotation
+  /// (DiagnosisRun::support_torque_coefficient).
+  virtual bool adds_to_support_torque() const { return false; }
   /// Tested only against a friction law (Relation::Friction): against the paper's free relation the effect is
   /// confounded with the relation's own misfit (a friction change is mirrored by the push force and absorbed;
   /// the relation's misfit at accelerations reads as a mass error).

@@ -264,7 +264,7 @@ double DiagnosisRun::support_torque_coefficient(const std::vector<Selection>& se
     if (effect->replaces_relation()) {
       coefficient += fit.theta(j);
       law = true;
-    } else if (effect->kind() == "friction_torque") {
+    } else if (effect->adds_to_support_torque()) {
       coefficient += fit.theta(j);
     }
     j += static_cast<Eigen::Index>(effect->parameters().size());

@@ -76,9 +76,9 @@ class DiagnosisRun {
   std::vector<StudyPhase> test_phases(const std::vector<PushStudy>& s) const;
   std::vector<double> normalised(const std::vector<StudyPhase>& phases, const std::string& method) const;
   /// The support's friction torque coefficient in `fit` (a friction-group fit of `selected`'s regression effects,
-  /// then any candidate's): the friction law's mu plus the base model's torque excess (friction_torque), both scaling
-  /// the footprint's Coulomb torque. 1 when no friction law is in `selected`. At or below zero the friction would
-  /// drive the rotation instead of damping it.
+  /// then any candidate's): the friction law's mu plus the parameter of every effect that adds_to_support_torque()
+  /// (the base model's friction_torque), all scaling the footprint's Coulomb torque. 1 when no friction law is in
+  /// `selected`. At or below zero the friction would drive the rotation instead of damping it.
   double support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;
   /// The mean normalised error (normalised()) of the corrected prediction with `correction` over the fit pushes'
   /// phases; infinite when there is none. Throws what the study throws.
