@@ -33,15 +33,11 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 /// A partial output held in memory: `manifest`, and `files` by relative path.
 PartialOutput in_memory(const std::string& name, const nlohmann::json& manifest,
                         const std::map<std::string, std::string>& files) {
-  PartialOutput out;
-  out.name = name;
-  out.manifest = manifest;
-  out.read_file = [files, name](const std::string& relative) {
+  return partial_output(name, manifest, [files, name](const std::string& relative) {
     const auto it = files.find(relative);
     if (it == files.end()) throw InputError(name + ": its file " + relative + " is missing");
     return it->second;
-  };
-  return out;
+  });
 }
 
 /// A partial output in memory of shard `index`/`count` over `inputs`, one result per item at `positions`.
@@ -117,10 +113,15 @@ BOOST_AUTO_TEST_CASE(every_shard_once_gives_every_item_in_the_order_given) {
   BOOST_TEST(merged.command == "predict");
   BOOST_TEST(merged.options == (nlohmann::json{{"o", 1}}));
   BOOST_REQUIRE(merged.items.size() == 5u);
-  for (std::size_t k = 0; k < 5; ++k) BOOST_TEST(merged.items[k].item.index == k);
-  BOOST_TEST(merged.items[1].item.failure.has_value());
-  BOOST_TEST(merged.items[1].item.failure->reason == "cannot read");
-  BOOST_TEST(merged.items[3].part == &parts[0]);
+  for (std::size_t k = 0; k < 5; ++k) BOOST_TEST(merged.items[k].index == k);
+  BOOST_TEST(merged.items[1].failure.has_value());
+  BOOST_TEST(merged.items[1].failure->reason == "cannot read");
+  BOOST_TEST(!merged.items[1].result_json.has_value());
+  BOOST_TEST(contains(input_error([&] { merged.items[1].result(); }), "no result"));
+  for (std::size_t k : {0u, 2u, 3u, 4u}) BOOST_TEST(merged.items[k].result() == (nlohmann::json{{"k", k}}));
+  BOOST_REQUIRE(merged.parts.size() == 2u);
+  BOOST_TEST(merged.items[3].part == &merged.parts[0]);
+  BOOST_TEST(merged.items[3].part->name == "part2");
   BOOST_TEST(merged.items[3].part->read_file("out/3.csv") == "text of out/3.csv");
   BOOST_TEST(contains(input_error([&] { merged.items[3].part->read_file("out/9.csv"); }), "part2: its file out/9.csv"));
 }
@@ -195,7 +196,10 @@ BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
                                {"tiny", exact_number_json(4.9e-324)},
                                {"name", "caf\xc3\xa9 \"q\"\n"}};
   item.files = {"obj/plots/fit.png"};
-  const auto manifest = partial_manifest("predict", {2, 3}, {"a.h5", "b.h5"}, {{"o", 1}}, {item});
+  const nlohmann::json result = *item.result;
+  // An options object holding a "result" key of its own is read as it is: only items' results are set aside.
+  const nlohmann::json options = {{"o", 1}, {"nested", {{"result", {{"deeper", 7}}}}}};
+  const auto manifest = partial_manifest("predict", {2, 3}, {"a.h5", "b.h5"}, options, {item});
 
   const ScratchFolder scratch("test-shard");
   const fs::path folder = scratch.path() / "rank1";
@@ -203,8 +207,14 @@ BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
   BOOST_TEST(fs::exists(folder / "partial.json"));
   const PartialOutput part = read_partial_output(folder, "rank 1");
   BOOST_TEST(part.name == "rank 1");
-  BOOST_TEST(part.manifest == manifest);
-  BOOST_TEST(part.manifest.dump() == manifest.dump());  // the numbers' exact digits too
+  // The item's result is held as its compact text, its place in the manifest taken by its position among them.
+  nlohmann::json expected = manifest;
+  expected["items"][0]["result"] = 0;
+  BOOST_TEST(part.manifest == expected);
+  BOOST_TEST(part.manifest["options"] == options);
+  BOOST_REQUIRE(part.result_texts.size() == 1u);
+  BOOST_TEST(part.result_texts[0] == result.dump());  // the numbers' exact digits too
+  BOOST_TEST(nlohmann::json::parse(part.result_texts[0]) == result);
   for (const auto& [name, bytes] : files) {
     BOOST_TEST(part.read_file(name) == bytes);
     BOOST_TEST(fs::file_size(folder / name) == bytes.size());
@@ -224,6 +234,13 @@ BOOST_AUTO_TEST_CASE(a_bad_bundle_is_refused_naming_its_rank) {
   BOOST_TEST(contains(
       input_error([&] { unpack_partial_bundle("rank 2", R"({"manifest": {}, "files": {"a": "QQ=A"}})", folder); }),
       "rank 2: its file a is garbled"));
+  for (const std::string bad : {R"({"x": [1]})", R"([1, 2])", "7"}) {
+    const std::string bundle = R"({"manifest": {}, "files": {"a": )" + bad + "}}";
+    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", bundle, folder); }),
+                        "rank 2: its file a is garbled"));
+  }
+  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", R"({"manifest": {}, "files": ["QQ=="]})", folder); }),
+                      "rank 2: its partial output is not readable"));
   // A file name that would leave the folder is refused before anything is written.
   for (const std::string bad : {"../escape", "/tmp/escape", "a/../../escape", ""}) {
     const std::string bundle =

@@ -132,11 +132,11 @@ void open_output_at_root(const MpiWorld& world, const std::string& out, std::opt
   }
 }
 
-BatchRunOutcome merge_at_root(const MpiWorld& world, const nlohmann::json& manifest,
+BatchRunOutcome merge_at_root(const MpiWorld& world, nlohmann::json manifest,
                               std::map<std::string, std::string> files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
-  std::string bundle = partial_bundle(manifest, files);
-  files.clear();  // the bundle holds them now
+  std::string bundle = partial_bundle(manifest, std::move(files));  // the files are dropped as they are encoded
+  manifest = nlohmann::json();                                        // the bundle holds it now
   if (!world.root()) {
     world.send_to_root(std::move(bundle), nullptr);
     BatchRunOutcome quiet;
@@ -152,7 +152,7 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, const nlohmann::json& manif
                        [&](int r, const std::string& text) { unpack_partial_bundle(name_of(r), text, folder_of(r)); });
     std::vector<PartialOutput> parts;
     for (int r = 0; r < world.size(); ++r) parts.push_back(read_partial_output(folder_of(r), name_of(r)));
-    return write_merged(check_partial_outputs(parts));
+    return write_merged(check_partial_outputs(std::move(parts)));
   } catch (const std::exception& e) {
     std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
     world.abort(2);

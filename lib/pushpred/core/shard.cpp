@@ -165,18 +165,19 @@ void FileSink::write(const std::string& name, const std::string& text) {
 }
 
 nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, const std::vector<fs::path>& inputs,
-                                const nlohmann::json& options, const std::vector<PartialItem>& items) {
-  return partial_manifest(command, shard, inputs.size(), inputs_fingerprint(inputs), options, items);
+                                const nlohmann::json& options, std::vector<PartialItem> items) {
+  return partial_manifest(command, shard, inputs.size(), inputs_fingerprint(inputs), options, std::move(items));
 }
 
 nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
                                 const std::string& fingerprint, const nlohmann::json& options,
-                                const std::vector<PartialItem>& items) {
+                                std::vector<PartialItem> items) {
   nlohmann::json list = nlohmann::json::array();
-  for (const auto& item : items) {
+  for (auto& item : items) {
     nlohmann::json entry = {{"index", item.index}};
     if (item.result) {
-      entry["result"] = *item.result;
+      entry["result"] = std::move(*item.result);
+      item.result.reset();
       entry["files"] = item.files;
     } else if (item.failure) {
       entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
@@ -197,6 +198,32 @@ void write_partial_output(StagedOutput& out, const nlohmann::json& manifest) {
   out.commit();
 }
 
+namespace {
+
+constexpr int kItemsDepth = 1, kItemDepth = 2;  // {"items": [ {item}, ... ]}: the key's and an item's depth
+
+/// Sets `item`'s result aside as compact text in `texts`, leaving its position there in its place.
+void set_result_aside(nlohmann::json& item, std::vector<std::string>& texts) {
+  if (!item.is_object()) return;
+  const auto it = item.find("result");
+  if (it == item.end()) return;
+  texts.push_back(dump(*it, -1));
+  *it = texts.size() - 1;
+}
+
+}  // namespace
+
+PartialOutput partial_output(std::string name, nlohmann::json manifest,
+                             std::function<std::string(const std::string&)> read_file) {
+  PartialOutput part;
+  part.name = std::move(name);
+  part.manifest = std::move(manifest);
+  part.read_file = std::move(read_file);
+  if (part.manifest.is_object() && part.manifest.contains("items") && part.manifest["items"].is_array())
+    for (auto& item : part.manifest["items"]) set_result_aside(item, part.result_texts);
+  return part;
+}
+
 PartialOutput read_partial_output(const fs::path& folder, const std::string& shown) {
   const std::string name = shown.empty() ? folder.string() : shown;
   std::error_code ec;
@@ -209,12 +236,18 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
   if (!in)
     throw InputError(about(plain_text(name), std::string("no ") + kManifestName +
                                                  ": not a partial output of pushpred (make them with --shard I/N)"));
-  std::ostringstream text;
-  text << in.rdbuf();
   PartialOutput part;
   part.name = name;
+  // Parsed as a stream: each item's result becomes text as soon as it is complete (set_result_aside).
+  std::string top_key;
+  const auto set_aside = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::key && depth == kItemsDepth) top_key = parsed.get<std::string>();
+    else if (event == nlohmann::json::parse_event_t::object_end && depth == kItemDepth && top_key == "items")
+      set_result_aside(parsed, part.result_texts);
+    return true;
+  };
   try {
-    part.manifest = nlohmann::json::parse(text.str());
+    part.manifest = nlohmann::json::parse(in, set_aside);
   } catch (const std::exception& e) {
     throw InputError(about(plain_text(manifest_path.string()), std::string("not valid JSON: ") + e.what()));
   }
@@ -228,24 +261,32 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
   return part;
 }
 
-std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::string, std::string>& files) {
-  nlohmann::json encoded = nlohmann::json::object();  // base64: a file may be binary (a plot), JSON text is UTF-8
-  for (const auto& [name, bytes] : files) encoded[name] = to_base64(bytes);
-  return dump({{"manifest", manifest}, {"files", encoded}}, -1);
+std::string partial_bundle(const nlohmann::json& manifest, std::map<std::string, std::string> files) {
+  // Written as text one file at a time, each dropped once encoded: a tree of the encoded files and its dump would
+  // hold every file twice more (issue 12). Base64: a file may be binary (a plot), JSON text is UTF-8.
+  std::string text = "{\"manifest\":" + dump(manifest, -1) + ",\"files\":{";
+  std::size_t size = text.size() + 2;
+  for (const auto& [name, bytes] : files) size += name.size() + 8 + (bytes.size() + 2) / 3 * 4;  // names' escapes aside
+  text.reserve(size);  // grown by doubling, the text would take up to twice its size at its last step
+  const char* separator = "";
+  while (!files.empty()) {
+    auto node = files.extract(files.begin());
+    text += separator;
+    separator = ",";
+    text += dump(nlohmann::json(node.key()), -1);
+    text += ":\"";
+    text += to_base64(node.mapped());
+    text += '"';
+  }
+  text += "}}";  // in place: `text + "}}"` would copy the whole text and grow the copy past its size
+  return text;
 }
 
 void unpack_partial_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(bundle);
-    if (!doc.at("manifest").is_object() || !doc.at("files").is_object()) throw InputError("not a partial bundle");
-  } catch (const std::exception& e) {
-    throw InputError(about(plain_text(name), std::string("its partial output is not readable: ") + e.what()));
-  }
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec) throw InputError(about(plain_text(folder.string()), "cannot create folder: " + ec.message()));
-  for (const auto& [relative, encoded] : doc["files"].items()) {
+  const auto write_file = [&](const std::string& relative, const nlohmann::json& encoded) {
     if (!relative_inside(relative))
       throw InputError(
           about(plain_text(name), "its file '" + plain_text(relative) + "' is not a path inside the output"));
@@ -255,20 +296,57 @@ void unpack_partial_bundle(const std::string& name, const std::string& bundle, c
     fs::create_directories(path.parent_path(), ec);
     if (ec) throw InputError(about(plain_text(path.parent_path().string()), "cannot create folder: " + ec.message()));
     write_text_atomically(path, from_base64(encoded.get_ref<const std::string&>(), name, relative));
+  };
+  // Parsed as a stream: each file is written as soon as it is read and dropped from the tree (the callback returns
+  // false), so that rank 0 holds the bundle's text and one file, not every file decoded twice over.
+  using Event = nlohmann::json::parse_event_t;
+  std::string top_key, file_name;
+  bool in_files = false;
+  const auto write_as_read = [&](int depth, Event event, nlohmann::json& parsed) {
+    if (depth == 1 && event == Event::key) {
+      top_key = parsed.get<std::string>();
+    } else if (depth == 1 && event == Event::object_start) {
+      in_files = top_key == "files";
+    } else if (depth == 1 && event == Event::object_end) {
+      in_files = false;
+    } else if (in_files && depth == 2 && event == Event::key) {
+      file_name = parsed.get<std::string>();
+    } else if (in_files && depth == 2 && (event == Event::value || event == Event::object_end ||
+                                          event == Event::array_end)) {
+      write_file(file_name, parsed);
+      return false;
+    }
+    return true;
+  };
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(bundle, write_as_read);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(about(plain_text(name), std::string("its partial output is not readable: ") + e.what()));
   }
+  if (!doc.is_object() || !doc.contains("manifest") || !doc["manifest"].is_object() || !doc.contains("files") ||
+      !doc["files"].is_object())
+    throw InputError(about(plain_text(name), "its partial output is not readable: not a partial bundle"));
   write_text_atomically(folder / kManifestName, json_file_text(doc["manifest"]));
 }
 
-MergedParts check_partial_outputs(const std::vector<PartialOutput>& parts) {
-  if (parts.empty()) throw InputError("merge: no partial outputs given");
+nlohmann::json MergedItem::result() const {
+  if (!result_json) throw InputError("it lists no result");
+  return nlohmann::json::parse(*result_json);
+}
+
+MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
+  if (given.empty()) throw InputError("merge: no partial outputs given");
   MergedParts merged;
+  merged.parts = std::move(given);
+  std::vector<PartialOutput>& parts = merged.parts;
   const PartialOutput& first = parts.front();
   std::size_t count = 0;
   std::string fingerprint;
   int shards = 0;
   std::map<int, const PartialOutput*> seen;
   std::vector<std::optional<MergedItem>> items;
-  for (const auto& part : parts) {
+  for (auto& part : parts) {
     const auto& m = part.manifest;
     try {
       if (!m.is_object() || m.value("pushpred_partial", 0) != kPartialFormat)
@@ -311,22 +389,25 @@ MergedParts check_partial_outputs(const std::vector<PartialOutput>& parts) {
       for (const auto& entry : m.at("items")) {
         MergedItem mi;
         mi.part = &part;
-        mi.item.index = entry.at("index").get<std::size_t>();
-        if (mi.item.index >= count)
-          throw InputError("its item " + std::to_string(mi.item.index) + " is beyond the " + std::to_string(count) +
+        mi.index = entry.at("index").get<std::size_t>();
+        if (mi.index >= count)
+          throw InputError("its item " + std::to_string(mi.index) + " is beyond the " + std::to_string(count) +
                            " inputs");
         if (entry.contains("result")) {
-          mi.item.result = entry.at("result");
-          mi.item.files = entry.at("files").get<std::vector<std::string>>();
-          for (const auto& f : mi.item.files) require_relative_inside(f);
+          // Its position among the part's result texts (partial_output, read_partial_output).
+          const std::size_t at = entry.at("result").get<std::size_t>();
+          if (at >= part.result_texts.size()) throw InputError("its result " + std::to_string(at) + " is not held");
+          mi.result_json = std::move(part.result_texts[at]);
+          mi.files = entry.at("files").get<std::vector<std::string>>();
+          for (const auto& f : mi.files) require_relative_inside(f);
         } else {
           const auto& f = entry.at("failure");
-          mi.item.failure = BatchFailure{f.at("source").get<std::string>(), f.at("reason").get<std::string>()};
+          mi.failure = BatchFailure{f.at("source").get<std::string>(), f.at("reason").get<std::string>()};
         }
-        if (items[mi.item.index])
-          throw InputError("input " + std::to_string(mi.item.index + 1) + " is also in " +
-                           plain_text(items[mi.item.index]->part->name));
-        items[mi.item.index] = std::move(mi);
+        if (items[mi.index])
+          throw InputError("input " + std::to_string(mi.index + 1) + " is also in " +
+                           plain_text(items[mi.index]->part->name));
+        items[mi.index] = std::move(mi);
       }
     } catch (const InputError& e) {
       throw InputError(part_error(part, e.what()));

@@ -103,56 +103,73 @@ struct PartialItem {
 };
 
 /// The partial.json of one shard (see the top of this file). `options` is whatever the command needs to write its
-/// outputs and to tell two runs apart.
+/// outputs and to tell two runs apart. The items' results are moved into the manifest, not copied.
 nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard,
                                 const std::vector<std::filesystem::path>& inputs, const nlohmann::json& options,
-                                const std::vector<PartialItem>& items);
+                                std::vector<PartialItem> items);
 
 /// The same for a batch whose units are not its input files (`diagnose --per-object`: the objects): `count` units,
 /// and a `fingerprint` of whatever tells its inputs apart.
 nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
                                 const std::string& fingerprint, const nlohmann::json& options,
-                                const std::vector<PartialItem>& items);
+                                std::vector<PartialItem> items);
 
 /// Writes `manifest` as out's partial.json and commits `out` (the item's files are in it already).
 void write_partial_output(StagedOutput& out, const nlohmann::json& manifest);
 
 /// A partial output as a merge reads it: its name (the folder, or "rank R" of an MPI run), its partial.json, and
 /// how to read one of its files by relative path (throws InputError naming the part when it is missing).
+/// The items' results are held as compact JSON text, not as parsed trees (a parsed result takes several times its
+/// text, and a merge of many pushes would hold every one; issue 12): in `manifest`, each item's "result" is replaced
+/// by its position in `result_texts`. Make one with partial_output() or read_partial_output().
 struct PartialOutput {
   std::string name;
   nlohmann::json manifest;
+  std::vector<std::string> result_texts;
   std::function<std::string(const std::string&)> read_file;
 };
 
+/// A partial output from a manifest in memory (partial_manifest's), its results set aside as text as above.
+PartialOutput partial_output(std::string name, nlohmann::json manifest,
+                             std::function<std::string(const std::string&)> read_file);
+
 /// Reads the partial output in `folder`; throws InputError naming the folder when it is not one (no partial.json,
-/// not JSON, not pushpred's partial format). Its files are read from disk only when asked for (read_file), one at a
-/// time. `name` is the part's name in messages; the folder's path when empty.
+/// not JSON, not pushpred's partial format). partial.json is parsed as a stream, each item's result set aside as
+/// text as soon as it is read, so no part's whole tree is ever in memory. Its files are read from disk only when
+/// asked for (read_file), one at a time. `name` is the part's name in messages; the folder's path when empty.
 PartialOutput read_partial_output(const std::filesystem::path& folder, const std::string& name = "");
 
 /// One text holding a manifest and its files (base64-encoded: a file may be binary, e.g. a plot), to send to another
-/// process.
-std::string partial_bundle(const nlohmann::json& manifest, const std::map<std::string, std::string>& files);
+/// process. Each file is dropped from `files` as soon as it is in the text.
+std::string partial_bundle(const nlohmann::json& manifest, std::map<std::string, std::string> files);
 /// Writes the partial output in `bundle` (partial_bundle's text, from another process) into the plain folder
 /// `folder` (made if missing) as a `--shard` run lays one out: partial.json and each file at its relative path,
 /// decoded one at a time. Then read_partial_output reads it back and the text can be dropped: MPI rank 0 keeps one
-/// rank's bundle in memory at a time, not every rank's (issue 12). `name` names the part in messages ("rank 1");
-/// throws InputError when the bundle is not readable, a file is garbled, or a file's name is not a path inside the
-/// output (nothing is then written outside `folder`).
+/// rank's bundle in memory at a time, not every rank's (issue 12); the bundle is parsed as a stream, each file
+/// written as it is read. `name` names the part in messages ("rank 1"); throws InputError when the bundle is not
+/// readable, a file is garbled, or a file's name is not a path inside the output (nothing is then written outside
+/// `folder`; files read before the problem may be in it: the caller's scratch folder is removed).
 void unpack_partial_bundle(const std::string& name, const std::string& bundle, const std::filesystem::path& folder);
 
 /// The items of every part, checked to be one whole batch, in input order: the same command, version, inputs and
 /// options in every part; shards 1..N each given once; every input's item present exactly once. Each item comes with
-/// the part that holds it. Throws InputError naming the part and the problem otherwise.
+/// the part that holds it (MergedParts owns the parts). Throws InputError naming the part and the problem otherwise.
 struct MergedItem {
-  PartialItem item;
+  std::size_t index = 0;                   ///< position among all inputs
+  std::optional<std::string> result_json;  ///< the item's result, compact JSON text (taken from its part)
+  std::vector<std::string> files;          ///< relative paths in its part
+  std::optional<BatchFailure> failure;
   const PartialOutput* part = nullptr;
+  /// result_json parsed (one item at a time, so a merge never holds every result as a tree); throws InputError when
+  /// the item has no result, nlohmann's exception when its text is not JSON.
+  nlohmann::json result() const;
 };
 struct MergedParts {
   std::string command;
   nlohmann::json options;
-  std::vector<MergedItem> items;  ///< one per input, in the order given
+  std::vector<PartialOutput> parts;  ///< as given; the items point into it
+  std::vector<MergedItem> items;     ///< one per input, in the order given
 };
-MergedParts check_partial_outputs(const std::vector<PartialOutput>& parts);
+MergedParts check_partial_outputs(std::vector<PartialOutput> parts);
 
 }  // namespace pushpred

@@ -170,15 +170,14 @@ BatchRunOutcome merged_diagnoses(const MergedParts& merged, StagedOutput& out, b
   std::vector<ObjectDone> objects;
   for (const auto& m : merged.items) {
     try {
-      if (!m.item.result) throw InputError("it lists no result");
-      objects.push_back(object_from_exact_json(*m.item.result));
+      objects.push_back(object_from_exact_json(m.result()));
     } catch (const std::exception& e) {
       throw InputError(about(plain_text(m.part->name),
-                             "object " + std::to_string(m.item.index + 1) + " is not readable: " + e.what()));
+                             "object " + std::to_string(m.index + 1) + " is not readable: " + e.what()));
     }
   }
   for (const auto& m : merged.items)
-    for (const auto& file : m.item.files) write_text_atomically(out.path(file), m.part->read_file(file));
+    for (const auto& file : m.files) write_text_atomically(out.path(file), m.part->read_file(file));
   return finish_per_object(std::move(objects), pushes_read, !read_failures.empty(),
                            list_read_failures ? failure_lines(read_failures) : std::string(), out);
 }
@@ -409,11 +408,11 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   std::vector<fs::path> listed = inputs;
   listed.emplace_back("");
   listed.insert(listed.end(), names.begin(), names.end());
-  const nlohmann::json manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
-                                                   options_json(run, loaded_count, loaded.failures), share.items);
+  nlohmann::json manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
+                                                   options_json(run, loaded_count, loaded.failures), std::move(share.items));
   if (mpi) {
     scratch.reset();
-    return merge_at_root(world, manifest, std::move(share.files),
+    return merge_at_root(world, std::move(manifest), std::move(share.files),
                          [&](const MergedParts& merged) { return merged_diagnoses(merged, *out, false); });
   }
   write_partial_output(*out, manifest);

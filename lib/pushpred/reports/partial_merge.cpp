@@ -19,7 +19,7 @@ BatchRunOutcome merge_partial_outputs(const std::vector<std::string>& part_folde
       throw InputError("--out " + plain_text(out_folder) + " is one of the parts; merge into another folder");
     parts.push_back(read_partial_output(folder));
   }
-  const MergedParts merged = check_partial_outputs(parts);
+  const MergedParts merged = check_partial_outputs(std::move(parts));
   if (merged.command != "predict" && merged.command != kValidationCommand && merged.command != kDiagnoseCommand)
     throw InputError("merge: the parts are partial outputs of `" + plain_text(merged.command) +
                      "`, which this pushpred cannot merge");

@@ -159,14 +159,14 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
                      ": its partial.json's options are not those of `predict`");
   Batch<PushStudy> batch;
   for (const auto& m : merged.items) {
-    if (m.item.failure) {
-      batch.failures.push_back(*m.item.failure);
+    if (m.failure) {
+      batch.failures.push_back(*m.failure);
       continue;
     }
     try {
-      batch.results.push_back(push_study_from_exact_json(*m.item.result));
+      batch.results.push_back(push_study_from_exact_json(m.result()));
     } catch (const std::exception& e) {
-      throw InputError(about(plain_text(m.part->name), "the result of input " + std::to_string(m.item.index + 1) +
+      throw InputError(about(plain_text(m.part->name), "the result of input " + std::to_string(m.index + 1) +
                                                            " is not readable: " + e.what()));
     }
   }
@@ -174,11 +174,11 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
   const std::vector<std::string> names = studied_file_names(batch.results);
   std::size_t studied = 0;
   for (const auto& m : merged.items) {
-    if (m.item.failure) continue;
-    if (m.item.files.size() != 1)
-      throw InputError(about(plain_text(m.part->name), "input " + std::to_string(m.item.index + 1) +
+    if (m.failure) continue;
+    if (m.files.size() != 1)
+      throw InputError(about(plain_text(m.part->name), "input " + std::to_string(m.index + 1) +
                                                            " does not hold one predictions file"));
-    write_text_atomically(out.path(names[studied++]), m.part->read_file(m.item.files.front()));
+    write_text_atomically(out.path(names[studied++]), m.part->read_file(m.files.front()));
   }
   return write_prediction_outputs(batch, options, out);
 }
@@ -339,25 +339,27 @@ BatchRunOutcome run_predict(const PredictRun& run) {
       if (outcomes[k].result) {
         item.result = push_study_exact_json(outcomes[k].result->study);
         item.files = {outcomes[k].result->file};
+        outcomes[k].result.reset();  // its study is in the item now
       } else {
         item.failure = outcomes[k].failure;
       }
       items.push_back(std::move(item));
     }
   }
-  const nlohmann::json manifest = partial_manifest(kCommand, shard, inputs, predict_options_json(run), items);
-
-  if (mpi)
-    return merge_at_root(world, manifest, sink->take_files(),
-                         [&](const MergedParts& merged) { return write_merged_predictions(merged, *out); });
-
-  write_partial_output(*out, manifest);
   BatchRunOutcome outcome;
   outcome.partial = true;
   for (const auto& item : items) {
     if (item.failure) outcome.failures.push_back(*item.failure);
     else ++outcome.used;
   }
+  nlohmann::json manifest =
+      partial_manifest(kCommand, shard, inputs, predict_options_json(run), std::move(items));
+
+  if (mpi)
+    return merge_at_root(world, std::move(manifest), sink->take_files(),
+                         [&](const MergedParts& merged) { return write_merged_predictions(merged, *out); });
+
+  write_partial_output(*out, manifest);
   outcome.report = "predicted " + std::to_string(outcome.used) + " of the " + std::to_string(mine.size()) +
                    " pushes of shard " + shard.text() + " (" + std::to_string(inputs.size()) +
                    " inputs in all); partial output in " + out->destination().string() +

@@ -179,10 +179,10 @@ BatchRunOutcome run_validation(const ValidateRun& run) {
   // The trials are the inputs: their count is what a merge compares (the options carry the seed and the kinds).
   std::vector<fs::path> trials;
   for (int k = 0; k < count; ++k) trials.emplace_back("trial " + std::to_string(k));
-  const nlohmann::json manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), items);
+  nlohmann::json manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), std::move(items));
 
   if (mpi)
-    return merge_at_root(world, manifest, {},
+    return merge_at_root(world, std::move(manifest), {},
                          [&](const MergedParts& merged) { return write_merged_validation(merged, *out); });
 
   write_partial_output(*out, manifest);
@@ -209,12 +209,11 @@ BatchRunOutcome write_merged_validation(const MergedParts& merged, StagedOutput&
   }
   for (const auto& m : merged.items) {
     try {
-      if (!m.item.result) throw InputError("it lists no result");
-      r.trials.push_back(validation_trial_from_exact_json(*m.item.result));
-      if (r.trials.back().index != static_cast<int>(m.item.index)) throw InputError("its index differs");
+      r.trials.push_back(validation_trial_from_exact_json(m.result()));
+      if (r.trials.back().index != static_cast<int>(m.index)) throw InputError("its index differs");
     } catch (const std::exception& e) {
       throw InputError(about(plain_text(m.part->name),
-                             "trial " + std::to_string(m.item.index) + " is not readable: " + e.what()));
+                             "trial " + std::to_string(m.index) + " is not readable: " + e.what()));
     }
   }
   return write_validation_outputs(r, out);
