@@ -31,9 +31,9 @@ std::string input_error(F&& f) {
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 /// A partial output held in memory: `manifest`, and `files` by relative path.
-PartialOutput in_memory(const std::string& name, const nlohmann::json& manifest,
+PartialOutput in_memory(const std::string& name, const std::string& manifest,
                         const std::map<std::string, std::string>& files) {
-  return partial_output(name, manifest, [files, name](const std::string& relative) {
+  return partial_output(name, nlohmann::json::parse(manifest), [files, name](const std::string& relative) {
     const auto it = files.find(relative);
     if (it == files.end()) throw InputError(name + ": its file " + relative + " is missing");
     return it->second;
@@ -50,7 +50,7 @@ PartialOutput part(int index, int count, const std::vector<fs::path>& inputs, co
     if (k == 1) {
       item.failure = BatchFailure{inputs[k].string(), "cannot read"};
     } else {
-      item.result = nlohmann::json{{"k", k}};
+      item.result_json = partial_result_text(nlohmann::json{{"k", k}});
       item.files = {"out/" + std::to_string(k) + ".csv"};
     }
     items.push_back(item);
@@ -168,7 +168,7 @@ BOOST_AUTO_TEST_CASE(a_part_that_lost_an_item_or_holds_one_twice_is_refused) {
 BOOST_AUTO_TEST_CASE(a_listed_file_outside_the_output_is_refused) {
   PartialItem item;
   item.index = 0;
-  item.result = nlohmann::json::object();
+  item.result_json = partial_result_text(nlohmann::json::object());
   item.files = {"../escape.csv"};
   const auto manifest = partial_manifest("predict", {1, 1}, {"a.h5"}, {}, {item});
   const std::string message = input_error([&] { check_partial_outputs({in_memory("p", manifest, {})}); });
@@ -189,17 +189,23 @@ BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
   for (std::size_t n = 0; n <= png.size(); ++n) files["f" + std::to_string(n)] = png.substr(0, n);  // every padding
   files["obj/plots/fit.png"] = png;                                                                 // in subfolders
   files["predictions/a b.csv"] = "t_s,x_m\n0,1.5\n";
+  const nlohmann::json result = {{"x_m", exact_number_json(0.1)},
+                                 {"nan", exact_number_json(std::nan(""))},
+                                 {"tiny", exact_number_json(4.9e-324)},
+                                 {"name", "caf\xc3\xa9 \"q\"\n"}};
   PartialItem item;
   item.index = 0;
-  item.result = nlohmann::json{{"x_m", exact_number_json(0.1)},
-                               {"nan", exact_number_json(std::nan(""))},
-                               {"tiny", exact_number_json(4.9e-324)},
-                               {"name", "caf\xc3\xa9 \"q\"\n"}};
+  item.result_json = partial_result_text(result);
   item.files = {"obj/plots/fit.png"};
-  const nlohmann::json result = *item.result;
   // An options object holding a "result" key of its own is read as it is: only items' results are set aside.
   const nlohmann::json options = {{"o", 1}, {"nested", {{"result", {{"deeper", 7}}}}}};
-  const auto manifest = partial_manifest("predict", {2, 3}, {"a.h5", "b.h5"}, options, {item});
+  const std::string manifest = partial_manifest("predict", {2, 3}, {"a.h5", "b.h5"}, options, {item});
+  // The manifest's text is JSON, each item on a line of its own.
+  const nlohmann::json parsed = nlohmann::json::parse(manifest);
+  BOOST_TEST(parsed["items"][0]["result"] == result);
+  BOOST_TEST(parsed["items"][0]["files"] == (nlohmann::json{"obj/plots/fit.png"}));
+  BOOST_TEST(parsed["shard"]["index"] == 2);
+  BOOST_TEST(contains(manifest, "\n    {\"files\":[\"obj/plots/fit.png\"],\"index\":0,\"result\":{"));
 
   const ScratchFolder scratch("test-shard");
   const fs::path folder = scratch.path() / "rank1";
@@ -208,7 +214,7 @@ BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
   const PartialOutput part = read_partial_output(folder, "rank 1");
   BOOST_TEST(part.name == "rank 1");
   // The item's result is held as its compact text, its place in the manifest taken by its position among them.
-  nlohmann::json expected = manifest;
+  nlohmann::json expected = parsed;
   expected["items"][0]["result"] = 0;
   BOOST_TEST(part.manifest == expected);
   BOOST_TEST(part.manifest["options"] == options);
@@ -227,24 +233,21 @@ BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
 BOOST_AUTO_TEST_CASE(a_bad_bundle_is_refused_naming_its_rank) {
   const ScratchFolder scratch("test-shard");
   const fs::path folder = scratch.path() / "rank";
-  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 1", "{", folder); }),
-                      "rank 1: its partial output is not readable"));
-  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 1", R"({"files": {}})", folder); }),
-                      "rank 1: its partial output is not readable"));
-  BOOST_TEST(contains(
-      input_error([&] { unpack_partial_bundle("rank 2", R"({"manifest": {}, "files": {"a": "QQ=A"}})", folder); }),
-      "rank 2: its file a is garbled"));
-  for (const std::string bad : {R"({"x": [1]})", R"([1, 2])", "7"}) {
-    const std::string bundle = R"({"manifest": {}, "files": {"a": )" + bad + "}}";
-    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", bundle, folder); }),
-                        "rank 2: its file a is garbled"));
-  }
-  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", R"({"manifest": {}, "files": ["QQ=="]})", folder); }),
-                      "rank 2: its partial output is not readable"));
-  // A file name that would leave the folder is refused before anything is written.
+  const std::string header = "pushpred-bundle 1\n";
+  const std::string good = partial_bundle("{}", {{"a.csv", "xyz"}});
+  BOOST_TEST(good == header + "12 2\npartial.json{}" + "5 3\na.csvxyz");
+  for (const std::string bad : {std::string("{"), std::string(""), std::string("pushpred-bundle 2\n")})
+    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 1", bad, folder); }),
+                        "rank 1: its partial output is not readable: not a partial bundle"));
+  // Length lines that are not two numbers, lengths beyond the end, no partial.json.
+  for (const std::string bad : {"x 1\nab", "1\na", "1 1 a", "-1 1\nab", "1 1\n", "2 5\nabcd", "99999999999999999 1\na"})
+    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", header + bad, folder); }),
+                        "rank 2: its partial output is not readable"));
+  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", header + "5 3\na.csvxyz", folder); }),
+                      "rank 2: its partial output is not readable: it holds no partial.json"));
+  // A file name that would leave the folder is refused before anything is written there.
   for (const std::string bad : {"../escape", "/tmp/escape", "a/../../escape", ""}) {
-    const std::string bundle =
-        nlohmann::json{{"manifest", nlohmann::json::object()}, {"files", {{bad, "QQ=="}}}}.dump();
+    const std::string bundle = header + std::to_string(bad.size()) + " 1\n" + bad + "A";
     BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 3", bundle, folder); }),
                         "is not a path inside the output"));
   }
@@ -252,7 +255,8 @@ BOOST_AUTO_TEST_CASE(a_bad_bundle_is_refused_naming_its_rank) {
 }
 
 BOOST_AUTO_TEST_CASE(a_partial_manifest_of_units_that_are_not_files) {
-  const auto m = partial_manifest("diagnose", {1, 2}, 3, "abc", {{"o", 1}}, {});
+  const auto m = nlohmann::json::parse(partial_manifest("diagnose", {1, 2}, 3, "abc", {{"o", 1}}, {}));
+  BOOST_TEST(m["items"] == nlohmann::json::array());
   BOOST_TEST(m["inputs"]["count"].get<std::size_t>() == 3u);
   BOOST_TEST(m["inputs"]["fingerprint"].get<std::string>() == "abc");
 }

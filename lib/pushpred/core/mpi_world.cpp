@@ -132,11 +132,11 @@ void open_output_at_root(const MpiWorld& world, const std::string& out, std::opt
   }
 }
 
-BatchRunOutcome merge_at_root(const MpiWorld& world, nlohmann::json manifest,
+BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest,
                               std::map<std::string, std::string> files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
-  std::string bundle = partial_bundle(manifest, std::move(files));  // the files are dropped as they are encoded
-  manifest = nlohmann::json();                                        // the bundle holds it now
+  std::string bundle = partial_bundle(manifest, std::move(files));  // the files are dropped as they go in
+  std::string().swap(manifest);                                      // the bundle holds it now
   if (!world.root()) {
     world.send_to_root(std::move(bundle), nullptr);
     BatchRunOutcome quiet;

@@ -68,7 +68,7 @@ void open_output_at_root(const MpiWorld& world, const std::string& out, std::opt
 /// (check_partial_outputs) and writes them with `write_merged`; the other ranks return a quiet outcome. The scratch
 /// folder is removed on every way out. A failure of the check or the write is printed and stops every rank with
 /// exit code 2.
-BatchRunOutcome merge_at_root(const MpiWorld& world, nlohmann::json manifest,
+BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest,
                               std::map<std::string, std::string> files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged);
 

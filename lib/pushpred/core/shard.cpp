@@ -54,47 +54,6 @@ void require_relative_inside(const std::string& name) {
     throw InputError("its item lists the file '" + plain_text(name) + "', which is not a path inside the output");
 }
 
-constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
-std::string to_base64(const std::string& bytes) {
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
-    std::uint32_t v = 0;
-    for (std::size_t k = 0; k < 3; ++k)
-      v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
-    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kBase64[(v >> (18 - 6 * k)) & 63] : '=';
-  }
-  return out;
-}
-
-std::string from_base64(const std::string& text, const std::string& part, const std::string& file) {
-  const auto bad = [&] { return InputError(about(plain_text(part), "its file " + plain_text(file) + " is garbled")); };
-  if (text.size() % 4 != 0) throw bad();
-  std::string out;
-  out.reserve(text.size() / 4 * 3);
-  for (std::size_t i = 0; i < text.size(); i += 4) {
-    std::uint32_t v = 0;
-    int pad = 0;
-    for (std::size_t k = 0; k < 4; ++k) {
-      const char c = text[i + k];
-      const char* at = c == '\0' ? nullptr : std::strchr(kBase64, c);
-      if (c == '=' && i + 4 == text.size() && k >= 2) {
-        ++pad;
-        v <<= 6;
-        continue;
-      }
-      if (!at || pad > 0) throw bad();
-      v = (v << 6) | static_cast<std::uint32_t>(at - kBase64);
-    }
-    out += static_cast<char>((v >> 16) & 255);
-    if (pad < 2) out += static_cast<char>((v >> 8) & 255);
-    if (pad < 1) out += static_cast<char>(v & 255);
-  }
-  return out;
-}
-
 }  // namespace
 
 nlohmann::json exact_number_json(double x) {
@@ -164,37 +123,53 @@ void FileSink::write(const std::string& name, const std::string& text) {
   files_[name] = text;
 }
 
-nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, const std::vector<fs::path>& inputs,
-                                const nlohmann::json& options, std::vector<PartialItem> items) {
+std::string partial_result_text(const nlohmann::json& result) { return dump(result, -1); }
+
+std::string partial_manifest(const std::string& command, const ShardSpec& shard, const std::vector<fs::path>& inputs,
+                             const nlohmann::json& options, std::vector<PartialItem> items) {
   return partial_manifest(command, shard, inputs.size(), inputs_fingerprint(inputs), options, std::move(items));
 }
 
-nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
-                                const std::string& fingerprint, const nlohmann::json& options,
-                                std::vector<PartialItem> items) {
-  nlohmann::json list = nlohmann::json::array();
+std::string partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
+                             const std::string& fingerprint, const nlohmann::json& options,
+                             std::vector<PartialItem> items) {
+  // The document is dumped with a marker where its items go; each item is written on a line of its own there, its
+  // result's text put in as it is (a tree of every result would take several times the text).
+  const std::string marker = "pushpred: the items are written here";
+  const nlohmann::json head = {{"pushpred_partial", kPartialFormat},
+                               {"pushpred_version", kVersion},
+                               {"command", command},
+                               {"shard", {{"index", shard.index}, {"count", shard.count}}},
+                               {"inputs", {{"count", count}, {"fingerprint", fingerprint}}},
+                               {"options", options},
+                               {"items", marker}};
+  const std::string text = json_file_text(head);
+  const std::string slot = "\"items\": \"" + marker + "\"";
+  const std::size_t at = text.find(slot);
+  if (at == std::string::npos) throw std::logic_error("partial_manifest: the items' place was not found");
+  std::string out = text.substr(0, at) + "\"items\": [";
+  const char* separator = "\n    ";
   for (auto& item : items) {
     nlohmann::json entry = {{"index", item.index}};
-    if (item.result) {
-      entry["result"] = std::move(*item.result);
-      item.result.reset();
-      entry["files"] = item.files;
-    } else if (item.failure) {
-      entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
+    if (item.result_json) entry["files"] = item.files;
+    else if (item.failure) entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
+    std::string line = dump(entry, -1);
+    if (item.result_json) {
+      line.pop_back();  // the closing brace: the result goes last
+      line += ",\"result\":" + *item.result_json + "}";
+      item.result_json.reset();
     }
-    list.push_back(std::move(entry));
+    out += separator;
+    out += line;
+    separator = ",\n    ";
   }
-  return {{"pushpred_partial", kPartialFormat},
-          {"pushpred_version", kVersion},
-          {"command", command},
-          {"shard", {{"index", shard.index}, {"count", shard.count}}},
-          {"inputs", {{"count", count}, {"fingerprint", fingerprint}}},
-          {"options", options},
-          {"items", list}};
+  out += items.empty() ? "]" : "\n  ]";
+  out.append(text, at + slot.size(), std::string::npos);
+  return out;
 }
 
-void write_partial_output(StagedOutput& out, const nlohmann::json& manifest) {
-  write_text_atomically(out.path(kManifestName), json_file_text(manifest));
+void write_partial_output(StagedOutput& out, const std::string& manifest) {
+  write_text_atomically(out.path(kManifestName), manifest);
   out.commit();
 }
 
@@ -261,73 +236,73 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
   return part;
 }
 
-std::string partial_bundle(const nlohmann::json& manifest, std::map<std::string, std::string> files) {
-  // Written as text one file at a time, each dropped once encoded: a tree of the encoded files and its dump would
-  // hold every file twice more (issue 12). Base64: a file may be binary (a plot), JSON text is UTF-8.
-  std::string text = "{\"manifest\":" + dump(manifest, -1) + ",\"files\":{";
-  std::size_t size = text.size() + 2;
-  for (const auto& [name, bytes] : files) size += name.size() + 8 + (bytes.size() + 2) / 3 * 4;  // names' escapes aside
-  text.reserve(size);  // grown by doubling, the text would take up to twice its size at its last step
-  const char* separator = "";
+namespace {
+
+constexpr const char* kBundleHeader = "pushpred-bundle 1\n";
+
+void add_to_bundle(std::string& bundle, const std::string& name, const std::string& data) {
+  bundle += std::to_string(name.size()) + " " + std::to_string(data.size()) + "\n";
+  bundle += name;
+  bundle += data;
+}
+
+}  // namespace
+
+std::string partial_bundle(const std::string& manifest, std::map<std::string, std::string> files) {
+  std::size_t size = std::strlen(kBundleHeader) + manifest.size() + 64;
+  for (const auto& [name, bytes] : files) size += name.size() + bytes.size() + 48;
+  std::string bundle;
+  bundle.reserve(size);  // grown by doubling, it would take up to twice its size at its last step
+  bundle += kBundleHeader;
+  add_to_bundle(bundle, kManifestName, manifest);
   while (!files.empty()) {
     auto node = files.extract(files.begin());
-    text += separator;
-    separator = ",";
-    text += dump(nlohmann::json(node.key()), -1);
-    text += ":\"";
-    text += to_base64(node.mapped());
-    text += '"';
+    add_to_bundle(bundle, node.key(), node.mapped());
   }
-  text += "}}";  // in place: `text + "}}"` would copy the whole text and grow the copy past its size
-  return text;
+  return bundle;
 }
 
 void unpack_partial_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
+  const auto unreadable = [&](const std::string& why) {
+    return InputError(about(plain_text(name), "its partial output is not readable: " + why));
+  };
+  const std::string header = kBundleHeader;
+  if (bundle.compare(0, header.size(), header) != 0) throw unreadable("not a partial bundle");
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec) throw InputError(about(plain_text(folder.string()), "cannot create folder: " + ec.message()));
-  const auto write_file = [&](const std::string& relative, const nlohmann::json& encoded) {
+  // A length: decimal digits, at most 15 (a petabyte), ended by `end`.
+  const auto length = [&](std::size_t& at, char end) {
+    std::size_t value = 0, digits = 0;
+    while (at < bundle.size() && bundle[at] >= '0' && bundle[at] <= '9' && digits < 15) {
+      value = value * 10 + static_cast<std::size_t>(bundle[at++] - '0');
+      ++digits;
+    }
+    if (digits == 0 || at >= bundle.size() || bundle[at] != end) throw unreadable("a garbled length line");
+    ++at;
+    return value;
+  };
+  bool manifest = false;
+  for (std::size_t at = header.size(); at < bundle.size();) {
+    const std::size_t name_bytes = length(at, ' ');
+    const std::size_t data_bytes = length(at, '\n');
+    if (name_bytes > bundle.size() - at || data_bytes > bundle.size() - at - name_bytes)
+      throw unreadable("it ends inside a file");
+    const std::string relative = bundle.substr(at, name_bytes);
+    at += name_bytes;
     if (!relative_inside(relative))
       throw InputError(
           about(plain_text(name), "its file '" + plain_text(relative) + "' is not a path inside the output"));
-    if (!encoded.is_string())
-      throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is garbled"));
     const fs::path path = folder / relative;
     fs::create_directories(path.parent_path(), ec);
     if (ec) throw InputError(about(plain_text(path.parent_path().string()), "cannot create folder: " + ec.message()));
-    write_text_atomically(path, from_base64(encoded.get_ref<const std::string&>(), name, relative));
-  };
-  // Parsed as a stream: each file is written as soon as it is read and dropped from the tree (the callback returns
-  // false), so that rank 0 holds the bundle's text and one file, not every file decoded twice over.
-  using Event = nlohmann::json::parse_event_t;
-  std::string top_key, file_name;
-  bool in_files = false;
-  const auto write_as_read = [&](int depth, Event event, nlohmann::json& parsed) {
-    if (depth == 1 && event == Event::key) {
-      top_key = parsed.get<std::string>();
-    } else if (depth == 1 && event == Event::object_start) {
-      in_files = top_key == "files";
-    } else if (depth == 1 && event == Event::object_end) {
-      in_files = false;
-    } else if (in_files && depth == 2 && event == Event::key) {
-      file_name = parsed.get<std::string>();
-    } else if (in_files && depth == 2 && (event == Event::value || event == Event::object_end ||
-                                          event == Event::array_end)) {
-      write_file(file_name, parsed);
-      return false;
-    }
-    return true;
-  };
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(bundle, write_as_read);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(about(plain_text(name), std::string("its partial output is not readable: ") + e.what()));
+    write_file_atomically(path, [&](std::ostream& out) {
+      out.write(bundle.data() + at, static_cast<std::streamsize>(data_bytes));
+    });
+    at += data_bytes;
+    manifest = manifest || relative == kManifestName;
   }
-  if (!doc.is_object() || !doc.contains("manifest") || !doc["manifest"].is_object() || !doc.contains("files") ||
-      !doc["files"].is_object())
-    throw InputError(about(plain_text(name), "its partial output is not readable: not a partial bundle"));
-  write_text_atomically(folder / kManifestName, json_file_text(doc["manifest"]));
+  if (!manifest) throw unreadable(std::string("it holds no ") + kManifestName);
 }
 
 nlohmann::json MergedItem::result() const {

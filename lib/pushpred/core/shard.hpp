@@ -93,29 +93,35 @@ class FileSink {
   std::mutex mutex_;
 };
 
-/// One item of a sharded batch: its position among all inputs, and its result (as the command encodes it) with the
-/// files it wrote, or its failure.
+/// One item of a sharded batch: its position among all inputs, and its result (as the command encodes it, made
+/// text by partial_result_text as soon as it is known: a shard of many pushes would otherwise hold every result as a
+/// tree, several times its text) with the files it wrote, or its failure.
 struct PartialItem {
   std::size_t index = 0;
-  std::optional<nlohmann::json> result;
+  std::optional<std::string> result_json;
   std::vector<std::string> files;  ///< relative paths
   std::optional<BatchFailure> failure;
 };
 
-/// The partial.json of one shard (see the top of this file). `options` is whatever the command needs to write its
-/// outputs and to tell two runs apart. The items' results are moved into the manifest, not copied.
-nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard,
-                                const std::vector<std::filesystem::path>& inputs, const nlohmann::json& options,
-                                std::vector<PartialItem> items);
+/// A result as PartialItem holds it: compact JSON text, invalid UTF-8 replaced.
+std::string partial_result_text(const nlohmann::json& result);
+
+/// The text of one shard's partial.json (see the top of this file): the document indented, each item on a line of
+/// its own with its result's text as given. `options` is whatever the command needs to write its outputs and to
+/// tell two runs apart. Each item's text is dropped from `items` once in the manifest.
+std::string partial_manifest(const std::string& command, const ShardSpec& shard,
+                             const std::vector<std::filesystem::path>& inputs, const nlohmann::json& options,
+                             std::vector<PartialItem> items);
 
 /// The same for a batch whose units are not its input files (`diagnose --per-object`: the objects): `count` units,
 /// and a `fingerprint` of whatever tells its inputs apart.
-nlohmann::json partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
-                                const std::string& fingerprint, const nlohmann::json& options,
-                                std::vector<PartialItem> items);
+std::string partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
+                             const std::string& fingerprint, const nlohmann::json& options,
+                             std::vector<PartialItem> items);
 
-/// Writes `manifest` as out's partial.json and commits `out` (the item's files are in it already).
-void write_partial_output(StagedOutput& out, const nlohmann::json& manifest);
+/// Writes `manifest` (partial_manifest's text) as out's partial.json and commits `out` (the items' files are in it
+/// already).
+void write_partial_output(StagedOutput& out, const std::string& manifest);
 
 /// A partial output as a merge reads it: its name (the folder, or "rank R" of an MPI run), its partial.json, and
 /// how to read one of its files by relative path (throws InputError naming the part when it is missing).
@@ -139,16 +145,22 @@ PartialOutput partial_output(std::string name, nlohmann::json manifest,
 /// asked for (read_file), one at a time. `name` is the part's name in messages; the folder's path when empty.
 PartialOutput read_partial_output(const std::filesystem::path& folder, const std::string& name = "");
 
-/// One text holding a manifest and its files (base64-encoded: a file may be binary, e.g. a plot), to send to another
-/// process. Each file is dropped from `files` as soon as it is in the text.
-std::string partial_bundle(const nlohmann::json& manifest, std::map<std::string, std::string> files);
-/// Writes the partial output in `bundle` (partial_bundle's text, from another process) into the plain folder
-/// `folder` (made if missing) as a `--shard` run lays one out: partial.json and each file at its relative path,
-/// decoded one at a time. Then read_partial_output reads it back and the text can be dropped: MPI rank 0 keeps one
-/// rank's bundle in memory at a time, not every rank's (issue 12); the bundle is parsed as a stream, each file
-/// written as it is read. `name` names the part in messages ("rank 1"); throws InputError when the bundle is not
-/// readable, a file is garbled, or a file's name is not a path inside the output (nothing is then written outside
-/// `folder`; files read before the problem may be in it: the caller's scratch folder is removed).
+/// One byte string holding a partial output, to send to another process: partial.json (`manifest`, partial_manifest's
+/// text) and each of `files` by relative path, as the bytes they are (a plot is binary), each behind a line giving
+/// its name's and its contents' lengths:
+///
+///   pushpred-bundle 1\n
+///   NAME_BYTES DATA_BYTES\nNAMEDATA     (partial.json first, then every file)
+///
+/// Each file is dropped from `files` as soon as it is in the bundle.
+std::string partial_bundle(const std::string& manifest, std::map<std::string, std::string> files);
+/// Writes the partial output in `bundle` (partial_bundle's, from another process) into the plain folder `folder`
+/// (made if missing) as a `--shard` run lays one out: partial.json and each file at its relative path, one at a
+/// time. Then read_partial_output reads it back and the bundle can be dropped: MPI rank 0 keeps one rank's bundle in
+/// memory at a time, not every rank's (issue 12). `name` names the part in messages ("rank 1"); throws InputError
+/// when the bundle is not one (its first line, a length line, a length beyond its end, no partial.json) or a file's
+/// name is not a path inside the output (nothing is then written outside `folder`; files read before the problem
+/// may be in it: the caller's scratch folder is removed).
 void unpack_partial_bundle(const std::string& name, const std::string& bundle, const std::filesystem::path& folder);
 
 /// The items of every part, checked to be one whole batch, in input order: the same command, version, inputs and

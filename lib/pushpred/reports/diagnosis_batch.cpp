@@ -324,7 +324,7 @@ PartialShare partial_share(const std::vector<ObjectDone>& done, const std::vecto
     const ObjectDone& d = done[k];
     PartialItem item;
     item.index = mine[k];
-    item.result = object_exact_json(d);
+    item.result_json = partial_result_text(object_exact_json(d));
     item.files = files_under(folder_of(d.outcome.name), d.outcome.name);
     if (scratch)
       for (const auto& f : item.files) share.files[f] = read_binary(scratch->path() / f);
@@ -408,7 +408,7 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   std::vector<fs::path> listed = inputs;
   listed.emplace_back("");
   listed.insert(listed.end(), names.begin(), names.end());
-  nlohmann::json manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
+  std::string manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
                                                    options_json(run, loaded_count, loaded.failures), std::move(share.items));
   if (mpi) {
     scratch.reset();

@@ -196,8 +196,9 @@ nlohmann::json predict_options_json(const PredictRun& run) {
 }
 
 struct StudiedPush {
-  PushStudy study;
-  std::string file;  ///< its predictions CSV, relative to the output
+  PushStudy study;            ///< empty in a shard or rank, which keeps only result_json
+  std::string file;           ///< its predictions CSV, relative to the output
+  std::string result_json{};  ///< a shard's or rank's: the study as its partial output holds it
 };
 
 }  // namespace
@@ -303,6 +304,10 @@ BatchRunOutcome run_predict(const PredictRun& run) {
                   pending_predictions_file(position.at(path))};
     sink->write(p.file, predictions_csv(p.study));
     drop_samples(p.study);  // the summary and tables need only errors and parameters
+    if (partial) {  // a shard or rank keeps the study only as its partial output's text
+      p.result_json = partial_result_text(push_study_exact_json(p.study));
+      p.study = PushStudy{};
+    }
     return p;
   };
 
@@ -337,9 +342,8 @@ BatchRunOutcome run_predict(const PredictRun& run) {
       PartialItem item;
       item.index = positions[k];
       if (outcomes[k].result) {
-        item.result = push_study_exact_json(outcomes[k].result->study);
+        item.result_json = std::move(outcomes[k].result->result_json);
         item.files = {outcomes[k].result->file};
-        outcomes[k].result.reset();  // its study is in the item now
       } else {
         item.failure = outcomes[k].failure;
       }
@@ -352,7 +356,7 @@ BatchRunOutcome run_predict(const PredictRun& run) {
     if (item.failure) outcome.failures.push_back(*item.failure);
     else ++outcome.used;
   }
-  nlohmann::json manifest =
+  std::string manifest =
       partial_manifest(kCommand, shard, inputs, predict_options_json(run), std::move(items));
 
   if (mpi)

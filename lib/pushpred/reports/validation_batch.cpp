@@ -173,13 +173,13 @@ BatchRunOutcome run_validation(const ValidateRun& run) {
   for (const auto& t : r.trials) {
     PartialItem item;
     item.index = static_cast<std::size_t>(t.index);
-    item.result = validation_trial_exact_json(t);
+    item.result_json = partial_result_text(validation_trial_exact_json(t));
     items.push_back(std::move(item));
   }
   // The trials are the inputs: their count is what a merge compares (the options carry the seed and the kinds).
   std::vector<fs::path> trials;
   for (int k = 0; k < count; ++k) trials.emplace_back("trial " + std::to_string(k));
-  nlohmann::json manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), std::move(items));
+  std::string manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), std::move(items));
 
   if (mpi)
     return merge_at_root(world, std::move(manifest), {},
