@@ -261,12 +261,29 @@ BOOST_AUTO_TEST_CASE(a_partial_manifest_of_units_that_are_not_files) {
   BOOST_TEST(m["inputs"]["fingerprint"].get<std::string>() == "abc");
 }
 
-BOOST_AUTO_TEST_CASE(a_memory_sink_keeps_what_was_written) {
-  FileSink sink;
-  sink.write("a/b.csv", "1");
+BOOST_AUTO_TEST_CASE(a_folder_sink_writes_and_lists_what_was_written) {
+  const ScratchFolder scratch("test-sink");
+  FileSink sink(scratch.path());
   sink.write("c.csv", "2");
-  BOOST_TEST(sink.files().size() == 2u);
-  BOOST_TEST(sink.files().at("a/b.csv") == "1");
+  sink.write("a/b.csv", "1");
+  BOOST_TEST(sink.names() == (std::vector<std::string>{"a/b.csv", "c.csv"}));
+  BOOST_TEST(read_file_bytes(scratch.path() / "a/b.csv") == "1");
+  BOOST_TEST(contains(input_error([&] { read_file_bytes(scratch.path() / "none.csv"); }), "none.csv: cannot be read"));
+}
+
+BOOST_AUTO_TEST_CASE(files_sent_one_bundle_at_a_time_unpack_into_one_folder) {
+  // An MPI rank sends its manifest and then each file as a bundle of its own; rank 0 writes each as it arrives.
+  const ScratchFolder scratch("test-file-bundles");
+  const fs::path folder = scratch.path() / "rank1";
+  const std::string binary("\0\xff\n7 9\n", 7);
+  BOOST_TEST(unpack_bundle("rank 1", partial_bundle("{\"a\": 1}", {}), folder) ==
+             std::vector<std::string>{"partial.json"});
+  BOOST_TEST(unpack_bundle("rank 1", file_bundle("p/x.png", binary), folder) == std::vector<std::string>{"p/x.png"});
+  BOOST_TEST(read_file_bytes(folder / "p/x.png") == binary);
+  BOOST_TEST(read_file_bytes(folder / "partial.json") == "{\"a\": 1}");
+  // Alone, a file's bundle is no partial output.
+  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", file_bundle("y.csv", "1"), folder); }),
+                      "it holds no partial.json"));
 }
 
 BOOST_AUTO_TEST_SUITE_END()

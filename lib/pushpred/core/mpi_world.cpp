@@ -85,30 +85,36 @@ MpiWorld& MpiWorld::get() {
   return world;
 }
 
-void MpiWorld::send_to_root(std::string text,
+void MpiWorld::send_to_root(const std::function<std::optional<std::string>()>& next,
                             const std::function<void(int rank, const std::string& text)>& take) const {
-  if (root()) {
-    take(0, text);
-    std::string().swap(text);  // its memory freed before the next rank's arrives
-  }
+  if (root())
+    while (auto text = next()) take(0, *text);
   if (size_ == 1) return;
 #ifdef PUSHPRED_HAVE_MPI
+  // A text is its length, then its pieces; a rank's last message is the length kEnd.
+  constexpr std::uint64_t kEnd = ~std::uint64_t{0};
   if (!root()) {
-    const std::uint64_t length = text.size();
-    MPI_Send(&length, 1, MPI_UINT64_T, 0, 0, MPI_COMM_WORLD);
-    for (std::uint64_t at = 0; at < length; at += kPiece)
-      MPI_Send(text.data() + at, static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, 0, 0, MPI_COMM_WORLD);
+    while (auto text = next()) {
+      const std::uint64_t length = text->size();
+      MPI_Send(&length, 1, MPI_UINT64_T, 0, 0, MPI_COMM_WORLD);
+      for (std::uint64_t at = 0; at < length; at += kPiece)
+        MPI_Send(text->data() + at, static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, 0, 0, MPI_COMM_WORLD);
+    }
+    MPI_Send(&kEnd, 1, MPI_UINT64_T, 0, 0, MPI_COMM_WORLD);
     return;
   }
   for (int r = 1; r < size_; ++r) {
-    // One sender's messages arrive in the order sent: its length, then its pieces.
-    std::uint64_t length = 0;
-    MPI_Recv(&length, 1, MPI_UINT64_T, r, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    std::string t(length, '\0');
-    for (std::uint64_t at = 0; at < length; at += kPiece)
-      MPI_Recv(&t[at], static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, r, 0, MPI_COMM_WORLD,
-               MPI_STATUS_IGNORE);
-    take(r, t);
+    // One sender's messages arrive in the order sent.
+    for (;;) {
+      std::uint64_t length = 0;
+      MPI_Recv(&length, 1, MPI_UINT64_T, r, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      if (length == kEnd) break;
+      std::string t(length, '\0');
+      for (std::uint64_t at = 0; at < length; at += kPiece)
+        MPI_Recv(&t[at], static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, r, 0, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+      take(r, t);
+    }
   }
 #endif
 }
@@ -132,13 +138,26 @@ void open_output_at_root(const MpiWorld& world, const std::string& out, std::opt
   }
 }
 
-BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest,
-                              std::map<std::string, std::string> files,
+BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const std::filesystem::path& files_folder,
+                              const std::vector<std::string>& files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
-  std::string bundle = partial_bundle(manifest, std::move(files));  // the files are dropped as they go in
-  std::string().swap(manifest);                                      // the bundle holds it now
   if (!world.root()) {
-    world.send_to_root(std::move(bundle), nullptr);
+    // The manifest first, then each file as it is read: one file in memory at a time.
+    std::size_t sent = 0;
+    bool manifest_sent = false;
+    world.send_to_root(
+        [&]() -> std::optional<std::string> {
+          if (!manifest_sent) {
+            manifest_sent = true;
+            std::string bundle = partial_bundle(manifest, {});
+            std::string().swap(manifest);
+            return bundle;
+          }
+          if (sent == files.size()) return std::nullopt;
+          const std::string& name = files[sent++];
+          return file_bundle(name, read_file_bytes(files_folder / name));
+        },
+        nullptr);
     BatchRunOutcome quiet;
     quiet.quiet = true;
     return quiet;
@@ -146,10 +165,12 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest,
   try {
     // Destroyed (the folder removed) before the handler below runs: MPI_Abort would not unwind the stack.
     const ScratchFolder scratch("merge");
-    const auto folder_of = [&](int r) { return scratch.path() / ("rank" + std::to_string(r)); };
+    const auto folder_of = [&](int r) { return r == 0 ? files_folder : scratch.path() / ("rank" + std::to_string(r)); };
     const auto name_of = [](int r) { return "rank " + std::to_string(r); };
-    world.send_to_root(std::move(bundle),
-                       [&](int r, const std::string& text) { unpack_partial_bundle(name_of(r), text, folder_of(r)); });
+    write_text_atomically(files_folder / "partial.json", manifest);  // rank 0's part is its own folder
+    std::string().swap(manifest);
+    world.send_to_root([] { return std::optional<std::string>(); },
+                       [&](int r, const std::string& text) { unpack_bundle(name_of(r), text, folder_of(r)); });
     std::vector<PartialOutput> parts;
     for (int r = 0; r < world.size(); ++r) parts.push_back(read_partial_output(folder_of(r), name_of(r)));
     return write_merged(check_partial_outputs(std::move(parts)));

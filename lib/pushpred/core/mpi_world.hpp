@@ -5,6 +5,7 @@
 // process writes. MPI is optional at build time (CMake's find_package(MPI COMPONENTS C)); mpi_built() says whether
 // this build has it. MPI is initialised only in a process that a launcher started (mpirun, mpiexec, srun: one of
 // OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK is set), so a plain run never touches it.
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -39,12 +40,14 @@ class MpiWorld {
   int size() const { return size_; }
   bool root() const { return rank_ == 0; }
 
-  /// Every rank's `text` to rank 0, one rank at a time: rank 0 calls `take(r, text)` for r = 0, 1, ..., N-1 (its own
-  /// text first) and receives rank r's text only once take has returned for rank r-1, and drops each text when its
-  /// take returns, so that it holds one rank's text at a time rather than every rank's (issue 12: rank 0's memory
-  /// would grow with the whole job). The other ranks send theirs (waiting until rank 0 takes it) and never call
-  /// take. Called by every rank alike. Texts may be longer than an MPI count (sent in pieces, point to point).
-  void send_to_root(std::string text, const std::function<void(int rank, const std::string& text)>& take) const;
+  /// Every rank's texts to rank 0, one text at a time: each rank pulls its texts from `next` (until it returns
+  /// nothing), and rank 0 calls `take(r, text)` for each of rank r's texts in order, for r = 0, 1, ..., N-1 (its own
+  /// first), receiving a text only once take has returned for the one before and dropping each when its take returns,
+  /// so that rank 0 holds one text at a time and a rank one of its own (issue 12: memory would otherwise grow with
+  /// the whole job). The other ranks send theirs (waiting until rank 0 takes them) and never call take. Called by
+  /// every rank alike. Texts may be longer than an MPI count (sent in pieces, point to point).
+  void send_to_root(const std::function<std::optional<std::string>()>& next,
+                    const std::function<void(int rank, const std::string& text)>& take) const;
 
   /// Stops every rank of the job with `code` (after an error on one rank that the others cannot know of).
   [[noreturn]] void abort(int code) const;
@@ -61,15 +64,17 @@ class MpiWorld {
 /// parameter: a StagedOutput cannot be moved.)
 void open_output_at_root(const MpiWorld& world, const std::string& out, std::optional<StagedOutput>& staged);
 
-/// Ends a batch run under mpirun: every rank's partial output (`manifest` and its `files`, taken to free them) goes
-/// to rank 0, one rank at a time, into a scratch folder under the temporary folder (ScratchFolder, laid out as
-/// `--shard` writes a partial output), so that rank 0 holds one rank's share in memory at a time; rank 0 then reads
-/// the parts back from disk (read_partial_output, files read when written), checks them as one batch
+/// Ends a batch run under mpirun: every rank's partial output (`manifest`, and the `files` it wrote into its own
+/// folder `files_folder`, relative paths) goes to rank 0. Rank 0 writes its own manifest into its folder, which is
+/// its part; every other rank sends its manifest and then its files one at a time (file_bundle), each read from disk
+/// when sent, and rank 0 writes each as it arrives into a scratch folder under the temporary folder (ScratchFolder,
+/// laid out as `--shard` writes a partial output), so that no rank holds more than one file at a time. Rank 0 then
+/// reads the parts back from disk (read_partial_output, files read when written), checks them as one batch
 /// (check_partial_outputs) and writes them with `write_merged`; the other ranks return a quiet outcome. The scratch
 /// folder is removed on every way out. A failure of the check or the write is printed and stops every rank with
 /// exit code 2.
-BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest,
-                              std::map<std::string, std::string> files,
+BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const std::filesystem::path& files_folder,
+                              const std::vector<std::string>& files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged);
 
 }  // namespace pushpred

@@ -157,6 +157,15 @@ bool is_empty_folder(const fs::path& p) {
 
 }  // namespace
 
+std::string read_file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(about(plain_text(path.string()), "cannot be read"));
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) throw InputError(about(plain_text(path.string()), "cannot be read"));
+  return s.str();
+}
+
 std::string json_file_text(const nlohmann::json& doc) {
   return doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }

@@ -24,6 +24,9 @@ void write_text_atomically(const std::filesystem::path& path, const std::string&
 /// never held whole in memory.
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
+/// The bytes of the file at `path`; throws InputError naming it when it cannot be read.
+std::string read_file_bytes(const std::filesystem::path& path);
+
 /// JSON text for an output file: indented by 2, ending in a newline, invalid UTF-8 (from a file name) replaced
 /// rather than aborting the run.
 std::string json_file_text(const nlohmann::json& doc);

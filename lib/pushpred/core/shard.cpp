@@ -117,10 +117,20 @@ std::string inputs_fingerprint(const std::vector<fs::path>& inputs) {
 void FileSink::write(const std::string& name, const std::string& text) {
   if (out_) {
     write_text_atomically(out_->path(name), text);
-    return;
+  } else {
+    const fs::path path = folder_ / name;
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) throw InputError(about(plain_text(path.parent_path().string()), "cannot create folder: " + ec.message()));
+    write_text_atomically(path, text);
   }
   const std::lock_guard<std::mutex> lock(mutex_);
-  files_[name] = text;
+  names_.insert(name);
+}
+
+std::vector<std::string> FileSink::names() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return {names_.begin(), names_.end()};
 }
 
 std::string partial_result_text(const nlohmann::json& result) { return dump(result, -1); }
@@ -262,7 +272,22 @@ std::string partial_bundle(const std::string& manifest, std::map<std::string, st
   return bundle;
 }
 
+std::string file_bundle(const std::string& name, const std::string& data) {
+  std::string bundle;
+  bundle.reserve(std::strlen(kBundleHeader) + name.size() + data.size() + 48);
+  bundle += kBundleHeader;
+  add_to_bundle(bundle, name, data);
+  return bundle;
+}
+
 void unpack_partial_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
+  const std::vector<std::string> written = unpack_bundle(name, bundle, folder);
+  if (std::find(written.begin(), written.end(), kManifestName) == written.end())
+    throw InputError(about(plain_text(name), std::string("its partial output is not readable: it holds no ") +
+                                                 kManifestName));
+}
+
+std::vector<std::string> unpack_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
   const auto unreadable = [&](const std::string& why) {
     return InputError(about(plain_text(name), "its partial output is not readable: " + why));
   };
@@ -282,7 +307,7 @@ void unpack_partial_bundle(const std::string& name, const std::string& bundle, c
     ++at;
     return value;
   };
-  bool manifest = false;
+  std::vector<std::string> written;
   for (std::size_t at = header.size(); at < bundle.size();) {
     const std::size_t name_bytes = length(at, ' ');
     const std::size_t data_bytes = length(at, '\n');
@@ -300,9 +325,9 @@ void unpack_partial_bundle(const std::string& name, const std::string& bundle, c
       out.write(bundle.data() + at, static_cast<std::streamsize>(data_bytes));
     });
     at += data_bytes;
-    manifest = manifest || relative == kManifestName;
+    written.push_back(relative);
   }
-  if (!manifest) throw unreadable(std::string("it holds no ") + kManifestName);
+  return written;
 }
 
 nlohmann::json MergedItem::result() const {

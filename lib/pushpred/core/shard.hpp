@@ -25,6 +25,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -72,25 +73,26 @@ std::vector<std::size_t> shard_positions(const std::vector<std::filesystem::path
 /// A fingerprint of the input list as given (FNV-1a, 64 bits, of the paths and their order), in hexadecimal.
 std::string inputs_fingerprint(const std::vector<std::filesystem::path>& inputs);
 
-/// Where the files of one item go while a batch runs: into a staged folder (a shard, or a whole run), or into
-/// memory (an MPI rank's share, sent to rank 0). Safe to call from several threads.
+/// Where the files of one item go while a batch runs: into a staged folder (a shard, or a whole run), or into a
+/// plain folder (an MPI rank's scratch folder, whose files are sent to rank 0 one at a time at the end: held in
+/// memory, a rank's share would grow with its pushes). Safe to call from several threads.
 class FileSink {
  public:
   /// Into the staged folder `out` (which must outlive the sink).
   explicit FileSink(const StagedOutput& out) : out_(&out) {}
-  /// Into memory: files() holds them.
-  FileSink() = default;
+  /// Into the plain folder `folder` (which must exist); names() lists what was written.
+  explicit FileSink(std::filesystem::path folder) : folder_(std::move(folder)) {}
 
-  /// Writes `text` at the relative path `name` (write_text_atomically, or kept in memory).
+  /// Writes `text` at the relative path `name` (write_text_atomically; subfolders made as needed).
   void write(const std::string& name, const std::string& text);
-  /// The files kept in memory, by relative path.
-  const std::map<std::string, std::string>& files() const { return files_; }
-  std::map<std::string, std::string> take_files() { return std::move(files_); }
+  /// The relative paths written so far, sorted.
+  std::vector<std::string> names() const;
 
  private:
   const StagedOutput* out_ = nullptr;
-  std::map<std::string, std::string> files_;
-  std::mutex mutex_;
+  std::filesystem::path folder_;
+  std::set<std::string> names_;
+  mutable std::mutex mutex_;
 };
 
 /// One item of a sharded batch: its position among all inputs, and its result (as the command encodes it, made
@@ -154,6 +156,13 @@ PartialOutput read_partial_output(const std::filesystem::path& folder, const std
 ///
 /// Each file is dropped from `files` as soon as it is in the bundle.
 std::string partial_bundle(const std::string& manifest, std::map<std::string, std::string> files);
+/// A bundle of the one file `name` (relative path) holding `data`: an MPI rank sends its files one such bundle at
+/// a time.
+std::string file_bundle(const std::string& name, const std::string& data);
+/// Writes the files of `bundle` (partial_bundle's or file_bundle's) into `folder` (made if missing), as
+/// unpack_partial_bundle below but without asking for a partial.json among them. Returns the names written.
+std::vector<std::string> unpack_bundle(const std::string& name, const std::string& bundle,
+                                       const std::filesystem::path& folder);
 /// Writes the partial output in `bundle` (partial_bundle's, from another process) into the plain folder `folder`
 /// (made if missing) as a `--shard` run lays one out: partial.json and each file at its relative path, one at a
 /// time. Then read_partial_output reads it back and the bundle can be dropped: MPI rank 0 keeps one rank's bundle in

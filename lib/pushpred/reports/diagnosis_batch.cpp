@@ -193,14 +193,6 @@ std::vector<std::string> files_under(const fs::path& folder, const std::string& 
   return files;
 }
 
-std::string read_binary(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(about(plain_text(path.string()), "cannot be read back"));
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// The standard candidate effects less those the run excludes.
 EffectLibrary effect_library(const DiagnoseRun& run) {
   EffectLibrary library = EffectLibrary::standard();
@@ -310,14 +302,14 @@ std::string progress_label(bool mpi, bool partial, const MpiWorld& world, const 
 /// This process's share of a split per-object run, as the items of its partial output.
 struct PartialShare {
   std::vector<PartialItem> items;
-  std::map<std::string, std::string> files;  ///< under MPI: every file of this rank's objects, sent to rank 0
+  std::vector<std::string> files;  ///< every file of this rank's objects (relative paths), for MPI rank 0
   bool anything_failed = false;
   std::string complaints;
   std::size_t diagnosed = 0;
 };
 
 PartialShare partial_share(const std::vector<ObjectDone>& done, const std::vector<std::size_t>& mine, bool read_failed,
-                           const std::function<fs::path(const std::string&)>& folder_of, const ScratchFolder* scratch) {
+                           const std::function<fs::path(const std::string&)>& folder_of) {
   PartialShare share;
   share.anything_failed = read_failed;
   for (std::size_t k = 0; k < mine.size(); ++k) {
@@ -326,8 +318,7 @@ PartialShare partial_share(const std::vector<ObjectDone>& done, const std::vecto
     item.index = mine[k];
     item.result_json = partial_result_text(object_exact_json(d));
     item.files = files_under(folder_of(d.outcome.name), d.outcome.name);
-    if (scratch)
-      for (const auto& f : item.files) share.files[f] = read_binary(scratch->path() / f);
+    share.files.insert(share.files.end(), item.files.begin(), item.files.end());
     share.anything_failed = share.anything_failed || !d.outcome.result || d.left_out > 0;
     share.diagnosed += d.outcome.result ? 1 : 0;
     share.complaints += d.complaints;
@@ -394,7 +385,7 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
 
   std::optional<StagedOutput> out;  // under MPI only rank 0 writes
   open_output_at_root(world, run.out, out);
-  std::optional<ScratchFolder> scratch;  // under MPI each rank's objects go through memory to rank 0
+  std::optional<ScratchFolder> scratch;  // under MPI each rank's objects go from there to rank 0
   if (mpi) scratch.emplace("diagnose-rank" + std::to_string(world.rank()));
   const std::function<fs::path(const std::string&)> folder_of = [&](const std::string& name) {
     return mpi ? scratch->path() / name : out->path(name);
@@ -403,18 +394,16 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
       diagnose_objects(groups, mine, run, library, folder_of, progress_label(mpi, partial, world, shard), speaks);
   if (!partial) return finish_per_object(std::move(done), loaded_count, !loaded.failures.empty(), "", *out);
 
-  PartialShare share = partial_share(done, mine, !loaded.failures.empty(), folder_of, mpi ? &*scratch : nullptr);
+  PartialShare share = partial_share(done, mine, !loaded.failures.empty(), folder_of);
   // The units are the objects; the fingerprint covers the input files as given and the objects they make.
   std::vector<fs::path> listed = inputs;
   listed.emplace_back("");
   listed.insert(listed.end(), names.begin(), names.end());
   std::string manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
                                                    options_json(run, loaded_count, loaded.failures), std::move(share.items));
-  if (mpi) {
-    scratch.reset();
-    return merge_at_root(world, std::move(manifest), std::move(share.files),
+  if (mpi)
+    return merge_at_root(world, std::move(manifest), scratch->path(), share.files,
                          [&](const MergedParts& merged) { return merged_diagnoses(merged, *out, false); });
-  }
   write_partial_output(*out, manifest);
   return shard_outcome(share, mine.size(), groups.size(), shard, *out);
 }

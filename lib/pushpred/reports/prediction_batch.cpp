@@ -291,9 +291,14 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   // is bad, it stops the whole job).
   std::optional<StagedOutput> out;
   open_output_at_root(world, run.out, out);
-  std::optional<FileSink> sink;  // under MPI, in memory: every rank's files travel to rank 0 with its results
-  if (mpi) sink.emplace();
-  else sink.emplace(*out);
+  std::optional<ScratchFolder> scratch;  // under MPI, each rank's files go there, and from there to rank 0
+  std::optional<FileSink> sink;
+  if (mpi) {
+    scratch.emplace("predict-rank" + std::to_string(world.rank()));
+    sink.emplace(scratch->path());
+  } else {
+    sink.emplace(*out);
+  }
 
   // Each push's predictions are written under its input's position while the batch runs (threads, shards and ranks
   // finish in any order) and named at the end, once it is known which inputs were studied (studied_file_names).
@@ -360,7 +365,7 @@ BatchRunOutcome run_predict(const PredictRun& run) {
       partial_manifest(kCommand, shard, inputs, predict_options_json(run), std::move(items));
 
   if (mpi)
-    return merge_at_root(world, std::move(manifest), sink->take_files(),
+    return merge_at_root(world, std::move(manifest), scratch->path(), sink->names(),
                          [&](const MergedParts& merged) { return write_merged_predictions(merged, *out); });
 
   write_partial_output(*out, manifest);

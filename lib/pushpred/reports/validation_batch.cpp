@@ -181,9 +181,11 @@ BatchRunOutcome run_validation(const ValidateRun& run) {
   for (int k = 0; k < count; ++k) trials.emplace_back("trial " + std::to_string(k));
   std::string manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), std::move(items));
 
-  if (mpi)
-    return merge_at_root(world, std::move(manifest), {},
+  if (mpi) {
+    const ScratchFolder part("validate-rank" + std::to_string(world.rank()));  // rank 0's part: no files, a manifest
+    return merge_at_root(world, std::move(manifest), part.path(), {},
                          [&](const MergedParts& merged) { return write_merged_validation(merged, *out); });
+  }
 
   write_partial_output(*out, manifest);
   int failed = 0;
