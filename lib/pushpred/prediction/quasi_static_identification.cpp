@@ -261,6 +261,12 @@ void keep_defaults_for_too_few_samples(QuasiStaticIdentification& id, int min_sa
   for (int p = 0; p < 3; ++p) id.sources[static_cast<size_t>(p)] = why;
 }
 
+ceres::Problem::Options problem_options() {
+  ceres::Problem::Options o;
+  o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // the Fit's one Huber loss
+  return o;
+}
+
 ceres::Solver::Options solver_options() {
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
@@ -468,11 +474,11 @@ class Fit {
     if (centre_fixed_) {
       problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<AtCentroid<KinematicResidual>, 3, 1, 1>(
                                     new AtCentroid<KinematicResidual>{k}),
-                                new ceres::HuberLoss(1.0), &mu_p_, &c_);
+                                &huber_, &mu_p_, &c_);
     } else {
       problem_.AddResidualBlock(
           new ceres::AutoDiffCostFunction<KinematicResidual, 3, 1, 1, 2>(new KinematicResidual(k)),
-          new ceres::HuberLoss(1.0), &mu_p_, &c_, delta_);
+          &huber_, &mu_p_, &c_, delta_);
     }
   }
 
@@ -482,10 +488,10 @@ class Fit {
     if (centre_fixed_)
       problem_.AddResidualBlock(
           new ceres::AutoDiffCostFunction<AtCentroid<ForceResidual>, 1, 1, 1>(new AtCentroid<ForceResidual>{f}),
-          new ceres::HuberLoss(1.0), &c_, &mu_s_);
+          &huber_, &c_, &mu_s_);
     else
       problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<ForceResidual, 1, 1, 1, 2>(new ForceResidual(f)),
-                                new ceres::HuberLoss(1.0), &c_, &mu_s_, delta_);
+                                &huber_, &c_, &mu_s_, delta_);
   }
 
   void bound_to_physical_ranges() {
@@ -583,7 +589,10 @@ class Fit {
   const bool centre_fixed_;
   double mu_p_, c_, mu_s_;
   double delta_[2] = {0, 0};
-  ceres::Problem problem_;
+  // One loss shared by every residual (declared before the problem, which refers to it): a loss per residual
+  // block was an allocation per sample and fit.
+  ceres::HuberLoss huber_{1.0};
+  ceres::Problem problem_{problem_options()};
 };
 
 }  // namespace
