@@ -236,7 +236,7 @@ BOOST_AUTO_TEST_CASE(a_bad_bundle_is_refused_naming_its_rank) {
   const std::string header = "pushpred-bundle 1\n";
   const std::string good = partial_bundle("{}", {{"a.csv", "xyz"}});
   BOOST_TEST(good == header + "12 2\npartial.json{}" + "5 3\na.csvxyz");
-  for (const std::string bad : {std::string("{"), std::string(""), std::string("pushpred-bundle 2\n")})
+  for (const std::string& bad : {std::string("{"), std::string(""), std::string("pushpred-bundle 2\n")})
     BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 1", bad, folder); }),
                         "rank 1: its partial output is not readable: not a partial bundle"));
   // Length lines that are not two numbers, lengths beyond the end, no partial.json.

@@ -145,19 +145,25 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const
     // The manifest first, then each file as it is read: one file in memory at a time.
     std::size_t sent = 0;
     bool manifest_sent = false;
-    world.send_to_root(
-        [&]() -> std::optional<std::string> {
-          if (!manifest_sent) {
-            manifest_sent = true;
-            std::string bundle = partial_bundle(manifest, {});
-            std::string().swap(manifest);
-            return bundle;
-          }
-          if (sent == files.size()) return std::nullopt;
-          const std::string& name = files[sent++];
-          return file_bundle(name, read_file_bytes(files_folder / name));
-        },
-        nullptr);
+    try {
+      world.send_to_root(
+          [&]() -> std::optional<std::string> {
+            if (!manifest_sent) {
+              manifest_sent = true;
+              std::string bundle = partial_bundle(manifest, {});
+              std::string().swap(manifest);
+              return bundle;
+            }
+            if (sent == files.size()) return std::nullopt;
+            const std::string& name = files[sent++];
+            return file_bundle(name, read_file_bytes(files_folder / name));
+          },
+          nullptr);
+    } catch (const std::exception& e) {
+      // Rank 0 is waiting for this rank's next message: only stopping the job ends the wait.
+      std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+      world.abort(2);
+    }
     BatchRunOutcome quiet;
     quiet.quiet = true;
     return quiet;
@@ -167,7 +173,7 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const
     const ScratchFolder scratch("merge");
     const auto folder_of = [&](int r) { return r == 0 ? files_folder : scratch.path() / ("rank" + std::to_string(r)); };
     const auto name_of = [](int r) { return "rank " + std::to_string(r); };
-    write_text_atomically(files_folder / "partial.json", manifest);  // rank 0's part is its own folder
+    write_text_atomically(files_folder / kPartialManifestName, manifest);  // rank 0's part is its own folder
     std::string().swap(manifest);
     world.send_to_root([] { return std::optional<std::string>(); },
                        [&](int r, const std::string& text) { unpack_bundle(name_of(r), text, folder_of(r)); });

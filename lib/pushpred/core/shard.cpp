@@ -21,7 +21,6 @@ namespace pushpred {
 namespace {
 
 constexpr int kPartialFormat = 1;
-constexpr const char* kManifestName = "partial.json";
 
 std::string dump(const nlohmann::json& doc, int indent) {
   return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -179,7 +178,7 @@ std::string partial_manifest(const std::string& command, const ShardSpec& shard,
 }
 
 void write_partial_output(StagedOutput& out, const std::string& manifest) {
-  write_text_atomically(out.path(kManifestName), manifest);
+  write_text_atomically(out.path(kPartialManifestName), manifest);
   out.commit();
 }
 
@@ -216,10 +215,10 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
     throw InputError(about(plain_text(name), fs::exists(folder, ec) ? "not a folder (a merge reads the folders "
                                                                       "that --shard runs wrote)"
                                                                     : "no such folder"));
-  const fs::path manifest_path = folder / kManifestName;
+  const fs::path manifest_path = folder / kPartialManifestName;
   std::ifstream in(manifest_path, std::ios::binary);
   if (!in)
-    throw InputError(about(plain_text(name), std::string("no ") + kManifestName +
+    throw InputError(about(plain_text(name), std::string("no ") + kPartialManifestName +
                                                  ": not a partial output of pushpred (make them with --shard I/N)"));
   PartialOutput part;
   part.name = name;
@@ -264,7 +263,7 @@ std::string partial_bundle(const std::string& manifest, std::map<std::string, st
   std::string bundle;
   bundle.reserve(size);  // grown by doubling, it would take up to twice its size at its last step
   bundle += kBundleHeader;
-  add_to_bundle(bundle, kManifestName, manifest);
+  add_to_bundle(bundle, kPartialManifestName, manifest);
   while (!files.empty()) {
     auto node = files.extract(files.begin());
     add_to_bundle(bundle, node.key(), node.mapped());
@@ -282,9 +281,9 @@ std::string file_bundle(const std::string& name, const std::string& data) {
 
 void unpack_partial_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
   const std::vector<std::string> written = unpack_bundle(name, bundle, folder);
-  if (std::find(written.begin(), written.end(), kManifestName) == written.end())
+  if (std::find(written.begin(), written.end(), kPartialManifestName) == written.end())
     throw InputError(about(plain_text(name), std::string("its partial output is not readable: it holds no ") +
-                                                 kManifestName));
+                                                 kPartialManifestName));
 }
 
 std::vector<std::string> unpack_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {

@@ -48,6 +48,9 @@ struct BatchRunOutcome {
   std::string notes;
 };
 
+/// The manifest's name in a partial output folder.
+inline constexpr const char* kPartialManifestName = "partial.json";
+
 /// `--shard I/N`: share `index` (1-based) of `count`. 1/1 holds every input (and is still written as a partial
 /// output: an array job of one task).
 struct ShardSpec {
