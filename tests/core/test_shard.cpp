@@ -209,7 +209,10 @@ BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
 
   const ScratchFolder scratch("test-shard");
   const fs::path folder = scratch.path() / "rank1";
-  unpack_partial_bundle("rank 1", partial_bundle(manifest, files), folder);
+  // As an MPI rank sends them: partial.json first, then each file in a bundle of its own.
+  BOOST_TEST(unpack_file_bundle("rank 1", file_bundle("partial.json", manifest), folder) == "partial.json");
+  for (const auto& [name, bytes] : files)
+    BOOST_TEST(unpack_file_bundle("rank 1", file_bundle(name, bytes), folder) == name);
   BOOST_TEST(fs::exists(folder / "partial.json"));
   const PartialOutput part = read_partial_output(folder, "rank 1");
   BOOST_TEST(part.name == "rank 1");
@@ -234,21 +237,20 @@ BOOST_AUTO_TEST_CASE(a_bad_bundle_is_refused_naming_its_rank) {
   const ScratchFolder scratch("test-shard");
   const fs::path folder = scratch.path() / "rank";
   const std::string header = "pushpred-bundle 1\n";
-  const std::string good = partial_bundle("{}", {{"a.csv", "xyz"}});
-  BOOST_TEST(good == header + "12 2\npartial.json{}" + "5 3\na.csvxyz");
+  BOOST_TEST(file_bundle("a.csv", "xyz") == header + "5 3\na.csvxyz");
   for (const std::string& bad : {std::string("{"), std::string(""), std::string("pushpred-bundle 2\n")})
-    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 1", bad, folder); }),
+    BOOST_TEST(contains(input_error([&] { unpack_file_bundle("rank 1", bad, folder); }),
                         "rank 1: its partial output is not readable: not a partial bundle"));
-  // Length lines that are not two numbers, lengths beyond the end, no partial.json.
-  for (const std::string bad : {"x 1\nab", "1\na", "1 1 a", "-1 1\nab", "1 1\n", "2 5\nabcd", "99999999999999999 1\na"})
-    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", header + bad, folder); }),
+  // Length lines that are not two numbers, lengths beyond the end, bytes after the file.
+  for (const std::string bad :
+       {"x 1\nab", "1\na", "1 1 a", "-1 1\nab", "1 1\n", "2 5\nabcd", "99999999999999999 1\na", "1 1\nab1 1\ncd"})
+    BOOST_TEST(contains(input_error([&] { unpack_file_bundle("rank 2", header + bad, folder); }),
                         "rank 2: its partial output is not readable"));
-  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", header + "5 3\na.csvxyz", folder); }),
-                      "rank 2: its partial output is not readable: it holds no partial.json"));
+  BOOST_TEST(!fs::exists(folder));
   // A file name that would leave the folder is refused before anything is written there.
   for (const std::string bad : {"../escape", "/tmp/escape", "a/../../escape", ""}) {
     const std::string bundle = header + std::to_string(bad.size()) + " 1\n" + bad + "A";
-    BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 3", bundle, folder); }),
+    BOOST_TEST(contains(input_error([&] { unpack_file_bundle("rank 3", bundle, folder); }),
                         "is not a path inside the output"));
   }
   BOOST_TEST(!fs::exists(scratch.path() / "escape"));
@@ -276,14 +278,12 @@ BOOST_AUTO_TEST_CASE(files_sent_one_bundle_at_a_time_unpack_into_one_folder) {
   const ScratchFolder scratch("test-file-bundles");
   const fs::path folder = scratch.path() / "rank1";
   const std::string binary("\0\xff\n7 9\n", 7);
-  BOOST_TEST(unpack_bundle("rank 1", partial_bundle("{\"a\": 1}", {}), folder) ==
-             std::vector<std::string>{"partial.json"});
-  BOOST_TEST(unpack_bundle("rank 1", file_bundle("p/x.png", binary), folder) == std::vector<std::string>{"p/x.png"});
+  BOOST_TEST(unpack_file_bundle("rank 1", file_bundle("p/x.png", binary), folder) == "p/x.png");
   BOOST_TEST(read_file_bytes(folder / "p/x.png") == binary);
+  // Files without their partial.json are no partial output.
+  BOOST_TEST(contains(input_error([&] { read_partial_output(folder, "rank 1"); }), "rank 1: no partial.json"));
+  BOOST_TEST(unpack_file_bundle("rank 1", file_bundle("partial.json", "{\"a\": 1}"), folder) == "partial.json");
   BOOST_TEST(read_file_bytes(folder / "partial.json") == "{\"a\": 1}");
-  // Alone, a file's bundle is no partial output.
-  BOOST_TEST(contains(input_error([&] { unpack_partial_bundle("rank 2", file_bundle("y.csv", "1"), folder); }),
-                      "it holds no partial.json"));
 }
 
 BOOST_AUTO_TEST_SUITE_END()

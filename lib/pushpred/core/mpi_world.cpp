@@ -150,7 +150,7 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const
           [&]() -> std::optional<std::string> {
             if (!manifest_sent) {
               manifest_sent = true;
-              std::string bundle = partial_bundle(manifest, {});
+              std::string bundle = file_bundle(kPartialManifestName, manifest);
               std::string().swap(manifest);
               return bundle;
             }
@@ -176,7 +176,7 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const
     write_text_atomically(files_folder / kPartialManifestName, manifest);  // rank 0's part is its own folder
     std::string().swap(manifest);
     world.send_to_root([] { return std::optional<std::string>(); },
-                       [&](int r, const std::string& text) { unpack_bundle(name_of(r), text, folder_of(r)); });
+                       [&](int r, const std::string& text) { unpack_file_bundle(name_of(r), text, folder_of(r)); });
     std::vector<PartialOutput> parts;
     for (int r = 0; r < world.size(); ++r) parts.push_back(read_partial_output(folder_of(r), name_of(r)));
     return write_merged(check_partial_outputs(std::move(parts)));

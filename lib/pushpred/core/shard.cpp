@@ -9,7 +9,6 @@
 #include <limits>
 #include <numeric>
 #include <set>
-#include <sstream>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
@@ -45,6 +44,15 @@ bool relative_inside(const std::string& name) {
   for (const auto& part : p)
     if (part == "..") ok = false;
   return ok;
+}
+
+/// Writes `bytes` at `relative` under `folder`, making the subfolders it needs.
+void write_under(const fs::path& folder, const std::string& relative, const char* bytes, std::size_t size) {
+  const fs::path path = folder / relative;
+  std::error_code ec;
+  fs::create_directories(path.parent_path(), ec);
+  if (ec) throw InputError(about(plain_text(path.parent_path().string()), "cannot create folder: " + ec.message()));
+  write_file_atomically(path, [&](std::ostream& out) { out.write(bytes, static_cast<std::streamsize>(size)); });
 }
 
 /// A file an item lists must stay inside the output.
@@ -114,15 +122,8 @@ std::string inputs_fingerprint(const std::vector<fs::path>& inputs) {
 }
 
 void FileSink::write(const std::string& name, const std::string& text) {
-  if (out_) {
-    write_text_atomically(out_->path(name), text);
-  } else {
-    const fs::path path = folder_ / name;
-    std::error_code ec;
-    fs::create_directories(path.parent_path(), ec);
-    if (ec) throw InputError(about(plain_text(path.parent_path().string()), "cannot create folder: " + ec.message()));
-    write_text_atomically(path, text);
-  }
+  if (out_) write_text_atomically(out_->path(name), text);
+  else write_under(folder_, name, text.data(), text.size());
   const std::lock_guard<std::mutex> lock(mutex_);
   names_.insert(name);
 }
@@ -236,11 +237,11 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
     throw InputError(about(plain_text(manifest_path.string()), std::string("not valid JSON: ") + e.what()));
   }
   part.read_file = [folder, name](const std::string& relative) {
-    std::ifstream f(folder / relative, std::ios::binary);
-    if (!f) throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is missing"));
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
+    try {
+      return read_file_bytes(folder / relative);
+    } catch (const InputError&) {
+      throw InputError(about(plain_text(name), "its file " + plain_text(relative) + " is missing"));
+    }
   };
   return part;
 }
@@ -249,54 +250,28 @@ namespace {
 
 constexpr const char* kBundleHeader = "pushpred-bundle 1\n";
 
-void add_to_bundle(std::string& bundle, const std::string& name, const std::string& data) {
-  bundle += std::to_string(name.size()) + " " + std::to_string(data.size()) + "\n";
-  bundle += name;
-  bundle += data;
-}
-
 }  // namespace
 
-std::string partial_bundle(const std::string& manifest, std::map<std::string, std::string> files) {
-  std::size_t size = std::strlen(kBundleHeader) + manifest.size() + 64;
-  for (const auto& [name, bytes] : files) size += name.size() + bytes.size() + 48;
-  std::string bundle;
-  bundle.reserve(size);  // grown by doubling, it would take up to twice its size at its last step
-  bundle += kBundleHeader;
-  add_to_bundle(bundle, kPartialManifestName, manifest);
-  while (!files.empty()) {
-    auto node = files.extract(files.begin());
-    add_to_bundle(bundle, node.key(), node.mapped());
-  }
-  return bundle;
-}
-
 std::string file_bundle(const std::string& name, const std::string& data) {
+  const std::string lengths = std::to_string(name.size()) + " " + std::to_string(data.size()) + "\n";
   std::string bundle;
-  bundle.reserve(std::strlen(kBundleHeader) + name.size() + data.size() + 48);
+  bundle.reserve(std::strlen(kBundleHeader) + lengths.size() + name.size() + data.size());
   bundle += kBundleHeader;
-  add_to_bundle(bundle, name, data);
+  bundle += lengths;
+  bundle += name;
+  bundle += data;
   return bundle;
 }
 
-void unpack_partial_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
-  const std::vector<std::string> written = unpack_bundle(name, bundle, folder);
-  if (std::find(written.begin(), written.end(), kPartialManifestName) == written.end())
-    throw InputError(about(plain_text(name), std::string("its partial output is not readable: it holds no ") +
-                                                 kPartialManifestName));
-}
-
-std::vector<std::string> unpack_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
+std::string unpack_file_bundle(const std::string& name, const std::string& bundle, const fs::path& folder) {
   const auto unreadable = [&](const std::string& why) {
     return InputError(about(plain_text(name), "its partial output is not readable: " + why));
   };
   const std::string header = kBundleHeader;
   if (bundle.compare(0, header.size(), header) != 0) throw unreadable("not a partial bundle");
-  std::error_code ec;
-  fs::create_directories(folder, ec);
-  if (ec) throw InputError(about(plain_text(folder.string()), "cannot create folder: " + ec.message()));
   // A length: decimal digits, at most 15 (a petabyte), ended by `end`.
-  const auto length = [&](std::size_t& at, char end) {
+  std::size_t at = header.size();
+  const auto length = [&](char end) {
     std::size_t value = 0, digits = 0;
     while (at < bundle.size() && bundle[at] >= '0' && bundle[at] <= '9' && digits < 15) {
       value = value * 10 + static_cast<std::size_t>(bundle[at++] - '0');
@@ -306,27 +281,16 @@ std::vector<std::string> unpack_bundle(const std::string& name, const std::strin
     ++at;
     return value;
   };
-  std::vector<std::string> written;
-  for (std::size_t at = header.size(); at < bundle.size();) {
-    const std::size_t name_bytes = length(at, ' ');
-    const std::size_t data_bytes = length(at, '\n');
-    if (name_bytes > bundle.size() - at || data_bytes > bundle.size() - at - name_bytes)
-      throw unreadable("it ends inside a file");
-    const std::string relative = bundle.substr(at, name_bytes);
-    at += name_bytes;
-    if (!relative_inside(relative))
-      throw InputError(
-          about(plain_text(name), "its file '" + plain_text(relative) + "' is not a path inside the output"));
-    const fs::path path = folder / relative;
-    fs::create_directories(path.parent_path(), ec);
-    if (ec) throw InputError(about(plain_text(path.parent_path().string()), "cannot create folder: " + ec.message()));
-    write_file_atomically(path, [&](std::ostream& out) {
-      out.write(bundle.data() + at, static_cast<std::streamsize>(data_bytes));
-    });
-    at += data_bytes;
-    written.push_back(relative);
-  }
-  return written;
+  const std::size_t name_bytes = length(' ');
+  const std::size_t data_bytes = length('\n');
+  if (name_bytes > bundle.size() - at || data_bytes > bundle.size() - at - name_bytes)
+    throw unreadable("it ends inside its file");
+  if (data_bytes < bundle.size() - at - name_bytes) throw unreadable("bytes after its file");
+  const std::string relative = bundle.substr(at, name_bytes);
+  if (!relative_inside(relative))
+    throw InputError(about(plain_text(name), "its file '" + plain_text(relative) + "' is not a path inside the output"));
+  write_under(folder, relative, bundle.data() + at + name_bytes, data_bytes);
+  return relative;
 }
 
 nlohmann::json MergedItem::result() const {

@@ -21,7 +21,6 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
-#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -150,30 +149,19 @@ PartialOutput partial_output(std::string name, nlohmann::json manifest,
 /// asked for (read_file), one at a time. `name` is the part's name in messages; the folder's path when empty.
 PartialOutput read_partial_output(const std::filesystem::path& folder, const std::string& name = "");
 
-/// One byte string holding a partial output, to send to another process: partial.json (`manifest`, partial_manifest's
-/// text) and each of `files` by relative path, as the bytes they are (a plot is binary), each behind a line giving
-/// its name's and its contents' lengths:
+/// One file of a partial output as a byte string, to send to another process (an MPI rank sends its partial.json
+/// and then each of its files so, one at a time): `data` as the bytes it is (a plot is binary) at the relative path
+/// `name`, behind a line giving the two lengths:
 ///
 ///   pushpred-bundle 1\n
-///   NAME_BYTES DATA_BYTES\nNAMEDATA     (partial.json first, then every file)
-///
-/// Each file is dropped from `files` as soon as it is in the bundle.
-std::string partial_bundle(const std::string& manifest, std::map<std::string, std::string> files);
-/// A bundle of the one file `name` (relative path) holding `data`: an MPI rank sends its files one such bundle at
-/// a time.
+///   NAME_BYTES DATA_BYTES\nNAMEDATA
 std::string file_bundle(const std::string& name, const std::string& data);
-/// Writes the files of `bundle` (partial_bundle's or file_bundle's) into `folder` (made if missing), as
-/// unpack_partial_bundle below but without asking for a partial.json among them. Returns the names written.
-std::vector<std::string> unpack_bundle(const std::string& name, const std::string& bundle,
-                                       const std::filesystem::path& folder);
-/// Writes the partial output in `bundle` (partial_bundle's, from another process) into the plain folder `folder`
-/// (made if missing) as a `--shard` run lays one out: partial.json and each file at its relative path, one at a
-/// time. Then read_partial_output reads it back and the bundle can be dropped: MPI rank 0 keeps one rank's bundle in
-/// memory at a time, not every rank's (issue 12). `name` names the part in messages ("rank 1"); throws InputError
-/// when the bundle is not one (its first line, a length line, a length beyond its end, no partial.json) or a file's
-/// name is not a path inside the output (nothing is then written outside `folder`; files read before the problem
-/// may be in it: the caller's scratch folder is removed).
-void unpack_partial_bundle(const std::string& name, const std::string& bundle, const std::filesystem::path& folder);
+/// Writes the file of `bundle` (file_bundle's, from another process) under `folder` at its relative path, making
+/// the folders it needs, and returns that path. `name` names the sender in messages ("rank 1"); throws InputError
+/// when the bundle is not one (its first line, its length line, a length beyond its end, bytes after its file) or
+/// its file's name is not a path inside the output (nothing is then written).
+std::string unpack_file_bundle(const std::string& name, const std::string& bundle,
+                               const std::filesystem::path& folder);
 
 /// The items of every part, checked to be one whole batch, in input order: the same command, version, inputs and
 /// options in every part; shards 1..N each given once; every input's item present exactly once. Each item comes with

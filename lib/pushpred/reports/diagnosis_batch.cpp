@@ -400,7 +400,7 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   listed.emplace_back("");
   listed.insert(listed.end(), names.begin(), names.end());
   std::string manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
-                                                   options_json(run, loaded_count, loaded.failures), std::move(share.items));
+                                          options_json(run, loaded_count, loaded.failures), std::move(share.items));
   if (mpi)
     return merge_at_root(world, std::move(manifest), scratch->path(), share.files,
                          [&](const MergedParts& merged) { return merged_diagnoses(merged, *out, false); });

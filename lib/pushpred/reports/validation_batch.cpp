@@ -179,7 +179,8 @@ BatchRunOutcome run_validation(const ValidateRun& run) {
   // The trials are the inputs: their count is what a merge compares (the options carry the seed and the kinds).
   std::vector<fs::path> trials;
   for (int k = 0; k < count; ++k) trials.emplace_back("trial " + std::to_string(k));
-  std::string manifest = partial_manifest(kValidationCommand, shard, trials, options_json(r.options), std::move(items));
+  std::string manifest =
+      partial_manifest(kValidationCommand, shard, trials, options_json(r.options), std::move(items));
 
   if (mpi) {
     const ScratchFolder part("validate-rank" + std::to_string(world.rank()));  // rank 0's part: no files, a manifest
