@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -104,23 +105,57 @@ struct BatchItem {
   std::optional<BatchFailure> failure;
 };
 
-/// run_batch below, but each input's outcome at the input's place (a sharded batch, shard.hpp, records which input
-/// each result or failure belongs to).
-template <class Job>
-auto run_batch_items(const std::vector<std::filesystem::path>& inputs, Job&& job, int jobs, BatchProgress* progress)
-    -> std::vector<BatchItem<decltype(job(inputs.front()))>> {
-  using Result = decltype(job(inputs.front()));
+/// Runs `job(index, path)` on every input on `jobs` threads (each call as the sequential run_batch makes it: the same
+/// result, the same failure text) and hands each input's outcome to `consume(index, BatchItem&&)` in input order, as
+/// soon as it and every earlier input are done, so that a batch over many inputs need not hold every result until the
+/// end (`predict` keeps a few numbers per push, docs/performance.md). `consume` runs on one worker thread at a time;
+/// an exception from it stops the batch (inputs not yet started are skipped, nothing more is consumed) and is rethrown
+/// here once every worker is done.
+template <class Job, class Consume>
+void run_batch_in_order(const std::vector<std::filesystem::path>& inputs, Job&& job, Consume&& consume, int jobs,
+                        BatchProgress* progress) {
+  using Result = decltype(job(std::size_t{0}, inputs.front()));
   const std::size_t n = inputs.size();
-  std::vector<BatchItem<Result>> items(n);
   std::atomic<std::size_t> next{0};
+  std::mutex ready_mutex;
+  std::map<std::size_t, BatchItem<Result>> ready;  // done, waiting for an earlier input
+  std::size_t next_out = 0;
+  bool draining = false;  // a worker is consuming; it also takes what others finish meanwhile
+  std::exception_ptr consume_error;
+  const auto hand_over = [&](std::size_t i, BatchItem<Result> item) {
+    std::unique_lock<std::mutex> lock(ready_mutex);
+    ready.emplace(i, std::move(item));
+    if (draining) return;
+    draining = true;
+    for (auto at = ready.find(next_out); at != ready.end(); at = ready.find(next_out)) {
+      BatchItem<Result> out = std::move(at->second);
+      ready.erase(at);
+      lock.unlock();
+      try {
+        consume(next_out, std::move(out));
+      } catch (...) {
+        lock.lock();
+        consume_error = std::current_exception();
+        next = n;       // no input is started any more
+        ready.clear();  // and none consumed: `draining` stays set
+        return;
+      }
+      lock.lock();
+      ++next_out;
+    }
+    draining = false;
+  };
   const auto work = [&] {
     for (std::size_t i = next++; i < n; i = next++) {
-      const ForkSafeWork working;  // the HDF5 reader's forks wait for a moment when no other worker is busy
-      // The sequential run_batch on one input: the same results and the same failure text.
-      Batch<Result> one = run_batch(std::vector<std::filesystem::path>{inputs[i]}, job);
-      if (!one.results.empty()) items[i].result.emplace(std::move(one.results.front()));
-      else items[i].failure = std::move(one.failures.front());
+      // The HDF5 reader's forks wait for a moment when no other worker is busy, consuming included (it allocates).
+      const ForkSafeWork working;
+      BatchItem<Result> item;
+      Batch<Result> one = run_batch(std::vector<std::filesystem::path>{inputs[i]},
+                                    [&](const std::filesystem::path& path) { return job(i, path); });
+      if (!one.results.empty()) item.result.emplace(std::move(one.results.front()));
+      else item.failure = std::move(one.failures.front());
       if (progress) progress->item_done();
+      hand_over(i, std::move(item));
     }
   };
   const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(jobs, 1)), n);
@@ -149,6 +184,19 @@ auto run_batch_items(const std::vector<std::filesystem::path>& inputs, Job&& job
     }
   }
   if (progress) progress->finish();
+  if (consume_error) std::rethrow_exception(consume_error);
+}
+
+/// run_batch below, but each input's outcome at the input's place (a sharded batch, shard.hpp, records which input
+/// each result or failure belongs to).
+template <class Job>
+auto run_batch_items(const std::vector<std::filesystem::path>& inputs, Job&& job, int jobs, BatchProgress* progress)
+    -> std::vector<BatchItem<decltype(job(inputs.front()))>> {
+  using Result = decltype(job(inputs.front()));
+  std::vector<BatchItem<Result>> items(inputs.size());
+  run_batch_in_order(
+      inputs, [&](std::size_t, const std::filesystem::path& path) { return job(path); },
+      [&](std::size_t i, BatchItem<Result>&& item) { items[i] = std::move(item); }, jobs, progress);
   return items;
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -89,50 +90,96 @@ TimeInterval interval_from(const nlohmann::json& j) { return {num_from(j.at(0)),
 
 // --- The outputs of one whole run, from its studies (a whole run's, or the merged parts').
 
-/// Writes summary.json and tables.md and commits `out`, unless no input gave a result (then nothing is written).
-BatchRunOutcome write_prediction_outputs(const Batch<PushStudy>& batch, const nlohmann::json& options,
-                                         StagedOutput& out) {
-  BatchRunOutcome outcome;
-  outcome.failures = batch.failures;
-  outcome.used = batch.results.size();
-  if (batch.results.empty()) return outcome;  // nothing written
-  write_file_atomically(out.path("summary.json"),
-                        [&](std::ostream& file) { write_prediction_summary(file, batch, options); });
-  write_text_atomically(out.path("tables.md"),
-                        "Mean over phases of each phase's mean position error [mm] / yaw error [deg]\n\n" +
-                            grouped_errors_markdown(batch.results) + "\n" +
-                            losing_phases_markdown(batch.results, "quasi_static", {"hold", "const_velocity"}));
-  out.commit();
-
-  const std::map<std::string, PredictionErrors> aggregate = aggregate_errors(batch.results);
-  std::ostringstream report;
-  report << "predicted " << batch.results.size() << " pushes (" << options.at("intervals").get<int>()
-         << " intervals over the " << options.at("span").get<std::string>() << " span); summary in "
-         << out.destination().string() << "/summary.json\n";
-  for (const auto& method : options.at("methods")) {
-    const std::string name = method.get<std::string>();
-    const auto e = aggregate.find(name);
-    if (e == aggregate.end()) continue;
-    char line[256];
-    std::snprintf(line, sizeof line, "  %-15s position %6.2f mm (x %6.2f, y %6.2f)  theta %6.2f deg\n", name.c_str(),
-                  e->second.pos_mm_mean, e->second.x_mm_mean, e->second.y_mm_mean, e->second.theta_deg_mean);
-    report << line;
-  }
-  outcome.report = report.str();
-  return outcome;
-}
-
 /// Where a push's predictions wait, by its position among the inputs, until the batch knows what it studied.
 constexpr const char* kPendingFolder = "by-input";
 std::string pending_predictions_file(std::size_t position) {
   return std::string(kPendingFolder) + "/" + std::to_string(position) + ".csv";
 }
 
+/// summary.json and tables.md of a whole run, given one studied push (or failure) at a time in input order. Nothing
+/// of a study is kept but its source: its entry of summary.json goes to a file in the staging folder as it comes,
+/// and its errors into the tables' sums, so that a run holds a few hundred bytes per push rather than its study
+/// (docs/performance.md, memory).
+class PredictionOutputs {
+ public:
+  PredictionOutputs(StagedOutput& out, nlohmann::json options)
+      : out_(out), options_(std::move(options)), tables_("quasi_static", {"hold", "const_velocity"}),
+        entries_path_(out.path(".summary-files")) {}
+  ~PredictionOutputs() {
+    std::error_code ec;
+    std::filesystem::remove(entries_path_, ec);
+  }
+  PredictionOutputs(const PredictionOutputs&) = delete;
+  PredictionOutputs& operator=(const PredictionOutputs&) = delete;
+
+  void add(const PushStudy& study) {
+    if (!entries_.is_open()) {
+      entries_.open(entries_path_, std::ios::binary | std::ios::trunc);
+      if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written"));
+    }
+    entries_ << (sources_.empty() ? "\n    " : ",\n    ") << summary_file_entry(study);
+    if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written (is the disk full?)"));
+    tables_.add(study);
+    sources_.emplace_back(study.source);
+  }
+  void add_failure(BatchFailure failure) { failures_.push_back(std::move(failure)); }
+
+  /// The sources of the pushes studied, in input order.
+  const std::vector<fs::path>& sources() const { return sources_; }
+
+  /// Writes summary.json and tables.md and commits the output, unless no input gave a result (then nothing is
+  /// written); the report printed to the user.
+  BatchRunOutcome finish() {
+    BatchRunOutcome outcome;
+    outcome.failures = failures_;
+    outcome.used = sources_.size();
+    if (sources_.empty()) return outcome;  // nothing written
+    entries_.close();
+    if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written (is the disk full?)"));
+    const std::map<std::string, PredictionErrors> aggregate = tables_.aggregate();
+    write_file_atomically(out_.path("summary.json"), [&](std::ostream& file) {
+      write_prediction_summary(file, aggregate, failures_, options_, sources_.size(), [&](std::ostream& files) {
+        std::ifstream in(entries_path_, std::ios::binary);
+        if (!in || !(files << in.rdbuf()))
+          throw InputError(about(entries_path_.string(), "cannot be read back"));
+      });
+    });
+    std::filesystem::remove(entries_path_);
+    write_text_atomically(out_.path("tables.md"),
+                          "Mean over phases of each phase's mean position error [mm] / yaw error [deg]\n\n" +
+                              tables_.grouped_errors_markdown() + "\n" + tables_.losing_phases_markdown());
+    out_.commit();
+
+    std::ostringstream report;
+    report << "predicted " << sources_.size() << " pushes (" << options_.at("intervals").get<int>()
+           << " intervals over the " << options_.at("span").get<std::string>() << " span); summary in "
+           << out_.destination().string() << "/summary.json\n";
+    for (const auto& method : options_.at("methods")) {
+      const std::string name = method.get<std::string>();
+      const auto e = aggregate.find(name);
+      if (e == aggregate.end()) continue;
+      char line[256];
+      std::snprintf(line, sizeof line, "  %-15s position %6.2f mm (x %6.2f, y %6.2f)  theta %6.2f deg\n", name.c_str(),
+                    e->second.pos_mm_mean, e->second.x_mm_mean, e->second.y_mm_mean, e->second.theta_deg_mean);
+      report << line;
+    }
+    outcome.report = report.str();
+    return outcome;
+  }
+
+ private:
+  StagedOutput& out_;
+  nlohmann::json options_;
+  PredictionTables tables_;
+  std::vector<BatchFailure> failures_;
+  std::vector<fs::path> sources_;
+  fs::path entries_path_;
+  std::ofstream entries_;  ///< summary.json's "files" entries, as they come
+};
+
 /// predictions/NAME.csv for each studied push, in order: its file's stem, made distinct among the studied pushes
 /// (distinct_stems), so that an input that failed takes no name from one that was studied.
-std::vector<std::string> studied_file_names(const std::vector<PushStudy>& studied) {
-  std::vector<fs::path> sources;
-  for (const auto& s : studied) sources.emplace_back(s.source);
+std::vector<std::string> studied_file_names(const std::vector<fs::path>& sources) {
   std::vector<std::string> names;
   for (const auto& stem : distinct_stems(sources)) names.push_back("predictions/" + stem + ".csv");
   return names;
@@ -157,21 +204,23 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
     throw InputError("merge: " + plain_text(merged.items.empty() ? std::string("the parts")
                                                                  : merged.items.front().part->name) +
                      ": its partial.json's options are not those of `predict`");
-  Batch<PushStudy> batch;
+  PredictionOutputs outputs(out, options);
   for (const auto& m : merged.items) {
     if (m.failure) {
-      batch.failures.push_back(*m.failure);
+      outputs.add_failure(*m.failure);
       continue;
     }
+    PushStudy study;
     try {
-      batch.results.push_back(push_study_from_exact_json(m.result()));
+      study = push_study_from_exact_json(m.result());
     } catch (const std::exception& e) {
       throw InputError(about(plain_text(m.part->name), "the result of input " + std::to_string(m.index + 1) +
                                                            " is not readable: " + e.what()));
     }
+    outputs.add(study);
   }
   // The per-push files, named among the pushes studied (as one process names them), each read from its part.
-  const std::vector<std::string> names = studied_file_names(batch.results);
+  const std::vector<std::string> names = studied_file_names(outputs.sources());
   std::size_t studied = 0;
   for (const auto& m : merged.items) {
     if (m.failure) continue;
@@ -180,7 +229,7 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
                                                            " does not hold one predictions file"));
     write_text_atomically(out.path(names[studied++]), m.part->read_file(m.files.front()));
   }
-  return write_prediction_outputs(batch, options, out);
+  return outputs.finish();
 }
 
 namespace {
@@ -302,11 +351,9 @@ BatchRunOutcome run_predict(const PredictRun& run) {
 
   // Each push's predictions are written under its input's position while the batch runs (threads, shards and ranks
   // finish in any order) and named at the end, once it is known which inputs were studied (studied_file_names).
-  std::map<fs::path, std::size_t> position;
-  for (std::size_t k = 0; k < inputs.size(); ++k) position[inputs[k]] = k;
-  const auto job = [&](const fs::path& path) {
+  const auto job = [&](std::size_t position, const fs::path& path) {
     StudiedPush p{run_prediction_study(load_push(path, run.shape, run.preprocess), run.study),
-                  pending_predictions_file(position.at(path))};
+                  pending_predictions_file(position)};
     sink->write(p.file, predictions_csv(p.study));
     drop_samples(p.study);  // the summary and tables need only errors and parameters
     if (partial) {  // a shard or rank keeps the study only as its partial output's text
@@ -317,21 +364,25 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   };
 
   if (!partial) {
+    // Each push goes into the outputs as soon as it and every push before it are done, and is dropped.
     BatchProgress progress(kCommand, "pushes", inputs.size());
-    Batch<PushStudy> batch;
+    PredictionOutputs outputs(*out, prediction_options_json(run.study));
     std::vector<std::string> pending;
-    for (auto& item : run_batch_items(inputs, job, run.jobs, &progress)) {
-      if (item.result) {
-        pending.push_back(item.result->file);
-        batch.results.push_back(std::move(item.result->study));
-      }
-      if (item.failure) batch.failures.push_back(std::move(*item.failure));
-    }
-    const std::vector<std::string> names = studied_file_names(batch.results);
+    run_batch_in_order(
+        inputs, job,
+        [&](std::size_t, BatchItem<StudiedPush>&& item) {
+          if (item.result) {
+            pending.push_back(std::move(item.result->file));
+            outputs.add(item.result->study);
+          }
+          if (item.failure) outputs.add_failure(std::move(*item.failure));
+        },
+        run.jobs, &progress);
+    const std::vector<std::string> names = studied_file_names(outputs.sources());
     for (std::size_t k = 0; k < names.size(); ++k) fs::rename(out->path(pending[k]), out->path(names[k]));
     std::error_code ec;
     fs::remove(out->staging_folder() / kPendingFolder, ec);  // empty now; absent when nothing was studied
-    return write_prediction_outputs(batch, prediction_options_json(run.study), *out);
+    return outputs.finish();
   }
 
   const std::vector<std::size_t> positions = shard_positions(inputs, shard);
@@ -342,7 +393,11 @@ BatchRunOutcome run_predict(const PredictRun& run) {
     const std::string label = mpi ? "predict (rank 0 of " + std::to_string(world.size()) + " ranks)"
                                   : "predict (shard " + shard.text() + ")";
     BatchProgress progress(label, "pushes", mine.size(), world.root());
-    auto outcomes = run_batch_items(mine, job, run.jobs, &progress);
+    std::vector<BatchItem<StudiedPush>> outcomes(mine.size());
+    run_batch_in_order(
+        mine, [&](std::size_t k, const fs::path& path) { return job(positions[k], path); },
+        [&](std::size_t k, BatchItem<StudiedPush>&& outcome) { outcomes[k] = std::move(outcome); }, run.jobs,
+        &progress);
     for (std::size_t k = 0; k < outcomes.size(); ++k) {
       PartialItem item;
       item.index = positions[k];

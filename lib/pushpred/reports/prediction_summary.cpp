@@ -104,11 +104,12 @@ nlohmann::json prediction_options_json(const StudyOptions& o) {
 namespace {
 
 /// The summary without its "files".
-nlohmann::json summary_head(const Batch<PushStudy>& batch, const nlohmann::json& options) {
+nlohmann::json summary_head(const std::map<std::string, PredictionErrors>& aggregate_errors,
+                            const std::vector<BatchFailure>& batch_failures, const nlohmann::json& options) {
   nlohmann::json aggregate = nlohmann::json::object();
-  for (const auto& [name, e] : aggregate_errors(batch.results)) aggregate[name] = errors_json(e);
+  for (const auto& [name, e] : aggregate_errors) aggregate[name] = errors_json(e);
   nlohmann::json failures = nlohmann::json::array();
-  for (const auto& f : batch.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
+  for (const auto& f : batch_failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
   nlohmann::json summary = {{"pushpred_version", kVersion}, {"options", options}};
   summary["aggregate"] = std::move(aggregate);
   summary["failures"] = std::move(failures);
@@ -120,16 +121,31 @@ nlohmann::json summary_head(const Batch<PushStudy>& batch, const nlohmann::json&
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const nlohmann::json& options) {
   nlohmann::json files = nlohmann::json::array();
   for (const auto& s : batch.results) files.push_back(study_json(s));
-  nlohmann::json summary = summary_head(batch, options);
+  nlohmann::json summary = summary_head(aggregate_errors(batch.results), batch.failures, options);
   summary["files"] = std::move(files);
   return summary;
 }
 
-void write_prediction_summary(std::ostream& out, const Batch<PushStudy>& batch, const nlohmann::json& options) {
-  // The document is dumped with a marker where its files go, and the files are dumped one at a time into that
-  // place, each indented as the whole document's dump would indent it (two levels: 4 spaces). Whole, the document
-  // took about 0.1 MB per push (its tree and its text) on top of the studies.
-  nlohmann::json head = summary_head(batch, options);
+std::string summary_file_entry(const PushStudy& study) {
+  const std::string item = study_json(study).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::string out;
+  out.reserve(item.size() + item.size() / 8);
+  for (std::size_t from = 0; from < item.size();) {
+    const std::size_t line_end = std::min(item.find('\n', from), item.size());
+    out.append(item, from, line_end - from);
+    if (line_end < item.size()) out += "\n    ";
+    from = line_end + 1;
+  }
+  return out;
+}
+
+void write_prediction_summary(std::ostream& out, const std::map<std::string, PredictionErrors>& aggregate,
+                              const std::vector<BatchFailure>& failures, const nlohmann::json& options,
+                              std::size_t files, const std::function<void(std::ostream&)>& write_files) {
+  // The document is dumped with a marker where its files go, and the files are written into that place, each
+  // indented as the whole document's dump would indent it (two levels: 4 spaces). Whole, the document took about
+  // 0.1 MB per push (its tree and its text) on top of the studies.
+  nlohmann::json head = summary_head(aggregate, failures, options);
   const std::string marker = "pushpred: the files are written here";
   head["files"] = marker;
   const std::string text = json_file_text(head);
@@ -138,122 +154,172 @@ void write_prediction_summary(std::ostream& out, const Batch<PushStudy>& batch, 
   if (at == std::string::npos) throw std::logic_error("write_prediction_summary: the files' place was not found");
   out.write(text.data(), static_cast<std::streamsize>(at));
   out << "\n  \"files\": [";
-  const char* separator = "\n    ";
-  for (const auto& s : batch.results) {
-    const std::string item = study_json(s).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
-    out << separator;
-    separator = ",\n    ";
-    for (std::size_t from = 0; from < item.size();) {
-      const std::size_t line_end = std::min(item.find('\n', from), item.size());
-      out.write(item.data() + from, static_cast<std::streamsize>(line_end - from));
-      if (line_end < item.size()) out << "\n    ";
-      from = line_end + 1;
-    }
-  }
-  out << (batch.results.empty() ? "]" : "\n  ]");
+  write_files(out);
+  out << (files == 0 ? "]" : "\n  ]");
   const std::size_t rest = at + slot.size();
   out.write(text.data() + rest, static_cast<std::streamsize>(text.size() - rest));
+}
+
+void write_prediction_summary(std::ostream& out, const Batch<PushStudy>& batch, const nlohmann::json& options) {
+  write_prediction_summary(out, aggregate_errors(batch.results), batch.failures, options, batch.results.size(),
+                           [&](std::ostream& files) {
+                             const char* separator = "\n    ";
+                             for (const auto& s : batch.results) {
+                               files << separator << summary_file_entry(s);
+                               separator = ",\n    ";
+                             }
+                           });
 }
 
 nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const StudyOptions& o) {
   return prediction_summary_json(batch, prediction_options_json(o));
 }
 
-std::string grouped_errors_markdown(const std::vector<PushStudy>& studies) {
-  if (studies.empty()) return "";
-  const std::vector<std::string>& methods = studies.front().methods;
-  auto table = [&](const std::string& title, const std::function<std::string(const PushStudy&)>& group_of) {
-    std::map<std::string, std::vector<const PushStudy*>> groups;  // pointers: a study is not copied per table
-    for (const auto& s : studies) groups[group_of(s)].push_back(&s);
+PredictionTables::PredictionTables(std::string losing_method, std::vector<std::string> references, int worst)
+    : losing_method_(std::move(losing_method)), references_(std::move(references)), worst_(worst) {}
+
+void PredictionTables::Group::add(const PushStudy& study) {
+  ++pushes;
+  for (const auto& r : study.phases) {
+    ++phases;
+    for (const auto& [name, e] : r.errors) {
+      PredictionErrors& a = sums[name];
+      a.pos_mm_mean += e.pos_mm_mean;
+      a.x_mm_mean += e.x_mm_mean;
+      a.x_mm_std += e.x_mm_std;
+      a.y_mm_mean += e.y_mm_mean;
+      a.y_mm_std += e.y_mm_std;
+      a.theta_deg_mean += e.theta_deg_mean;
+      a.theta_deg_std += e.theta_deg_std;
+      a.final_pos_mm += e.final_pos_mm;
+      a.final_theta_deg += e.final_theta_deg;
+    }
+  }
+}
+
+std::map<std::string, PredictionErrors> PredictionTables::Group::mean() const {
+  std::map<std::string, PredictionErrors> out = sums;
+  const double count = static_cast<double>(static_cast<int>(phases));  // as aggregate_errors divides
+  for (auto& [name, a] : out)
+    for (double* v : {&a.pos_mm_mean, &a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean,
+                      &a.theta_deg_std, &a.final_pos_mm, &a.final_theta_deg})
+      *v /= count;
+  return out;
+}
+
+double PredictionTables::Loss::excess() const {
+  return std::max(0.0, pos - best_pos) + std::max(0.0, yaw - best_yaw);
+}
+
+void PredictionTables::keep_worst(std::size_t count) {
+  // Worst first; among equal excesses, the earlier push first (a stable sort of pushes in input order), so that
+  // trimming as they come keeps what sorting them all at the end would.
+  std::stable_sort(losses_.begin(), losses_.end(), [](const Loss& a, const Loss& b) { return a.excess() > b.excess(); });
+  if (losses_.size() > count) losses_.resize(count);
+}
+
+void PredictionTables::add(const PushStudy& study) {
+  if (!started_) {
+    started_ = true;
+    methods_ = study.methods;
+    const auto has = [&](const std::string& m) { return std::find(methods_.begin(), methods_.end(), m) != methods_.end(); };
+    losing_table_ = !losing_method_.empty() && has(losing_method_) && std::all_of(references_.begin(), references_.end(), has);
+  }
+  const auto p = parse_push_filename(study.source);
+  const std::string object = p ? p->shape : std::string("unknown");
+  std::string pusher = "unknown";
+  if (p) {
+    char label[64];
+    if (p->speed_m_s > 0) std::snprintf(label, sizeof label, "v = %3.0f mm/s", 1e3 * p->speed_m_s);
+    else std::snprintf(label, sizeof label, "a = %4.0f mm/s^2", 1e3 * p->acceleration_m_s2);
+    pusher = label;
+  }
+  all_.add(study);
+  by_object_[object].add(study);
+  by_pusher_[pusher].add(study);
+  if (!losing_table_) return;
+
+  const std::size_t keep = static_cast<std::size_t>(std::max(worst_, 0));
+  for (const auto& r : study.phases) {
+    ++lost_per_object_[object].second;
+    const auto& e = r.errors.at(losing_method_);
+    double best_pos = 1e300, best_yaw = 1e300;
+    for (const auto& ref : references_) {
+      best_pos = std::min(best_pos, r.errors.at(ref).pos_mm_mean);
+      best_yaw = std::min(best_yaw, r.errors.at(ref).theta_deg_mean);
+    }
+    const bool lost = (e.pos_mm_mean > 1.02 * best_pos && e.pos_mm_mean > best_pos + 0.05) ||
+                      (e.theta_deg_mean > 1.02 * best_yaw && e.theta_deg_mean > best_yaw + 0.05);
+    if (!lost) continue;
+    ++lost_per_object_[object].first;
+    losses_.push_back({std::filesystem::path(study.source).filename().string(), r.phase, e.pos_mm_mean,
+                       e.theta_deg_mean, best_pos, best_yaw});
+    if (losses_.size() >= 4 * keep + 64) keep_worst(keep);
+  }
+}
+
+std::string PredictionTables::grouped_errors_markdown() const {
+  if (!started_) return "";
+  auto table = [&](const std::string& title, const std::map<std::string, Group>& groups) {
     std::ostringstream md;
     md << "| " << title << " | pushes | phases |";
-    for (const auto& m : methods) md << " " << m << " |";
+    for (const auto& m : methods_) md << " " << m << " |";
     md << "\n|---|---|---|";
-    for (size_t k = 0; k < methods.size(); ++k) md << "---|";
+    for (size_t k = 0; k < methods_.size(); ++k) md << "---|";
     md << "\n";
-    for (const auto& [group, members] : groups) {
-      size_t phases = 0;
-      for (const PushStudy* s : members) phases += s->phases.size();
-      const auto agg = aggregate_errors(members);
-      md << "| " << group << " | " << members.size() << " | " << phases << " |";
+    for (const auto& [group, sums] : groups) {
+      const auto agg = sums.mean();
+      md << "| " << group << " | " << sums.pushes << " | " << sums.phases << " |";
       char cell[64];
-      for (const auto& m : methods) {
-        std::snprintf(cell, sizeof cell, " %.2f / %.2f |", agg.at(m).pos_mm_mean, agg.at(m).theta_deg_mean);
+      for (const auto& m : methods_) {
+        const auto e = agg.find(m);
+        if (e == agg.end()) std::snprintf(cell, sizeof cell, " - |");
+        else std::snprintf(cell, sizeof cell, " %.2f / %.2f |", e->second.pos_mm_mean, e->second.theta_deg_mean);
         md << cell;
       }
       md << "\n";
     }
     return md.str();
   };
-  auto parameters = [](const PushStudy& s) { return parse_push_filename(s.source); };
   std::ostringstream out;
-  out << table("object", [&](const PushStudy& s) {
-    const auto p = parameters(s);
-    return p ? p->shape : std::string("unknown");
-  }) << "\n";
-  out << table("pusher", [&](const PushStudy& s) {
-    const auto p = parameters(s);
-    if (!p) return std::string("unknown");
-    char label[64];
-    if (p->speed_m_s > 0) std::snprintf(label, sizeof label, "v = %3.0f mm/s", 1e3 * p->speed_m_s);
-    else std::snprintf(label, sizeof label, "a = %4.0f mm/s^2", 1e3 * p->acceleration_m_s2);
-    return std::string(label);
-  }) << "\n";
-  out << table("all", [](const PushStudy&) { return std::string("all"); });
+  out << table("object", by_object_) << "\n";
+  out << table("pusher", by_pusher_) << "\n";
+  out << table("all", {{"all", all_}});
   return out.str();
 }
 
-std::string losing_phases_markdown(const std::vector<PushStudy>& studies, const std::string& method,
-                                   const std::vector<std::string>& references, int worst) {
-  if (studies.empty()) return "";
-  const auto& methods = studies.front().methods;
-  if (std::find(methods.begin(), methods.end(), method) == methods.end()) return "";
-  for (const auto& r : references)
-    if (std::find(methods.begin(), methods.end(), r) == methods.end()) return "";
-  struct Loss {
-    std::string source;
-    int phase;
-    double pos, yaw, best_pos, best_yaw;
-  };
-  std::vector<Loss> losses;
-  std::map<std::string, std::pair<int, int>> per_object;  // lost, phases
-  for (const auto& s : studies) {
-    const auto p = parse_push_filename(s.source);
-    const std::string object = p ? p->shape : "unknown";
-    for (const auto& r : s.phases) {
-      ++per_object[object].second;
-      const auto& e = r.errors.at(method);
-      double best_pos = 1e300, best_yaw = 1e300;
-      for (const auto& ref : references) {
-        best_pos = std::min(best_pos, r.errors.at(ref).pos_mm_mean);
-        best_yaw = std::min(best_yaw, r.errors.at(ref).theta_deg_mean);
-      }
-      const bool lost = (e.pos_mm_mean > 1.02 * best_pos && e.pos_mm_mean > best_pos + 0.05) ||
-                        (e.theta_deg_mean > 1.02 * best_yaw && e.theta_deg_mean > best_yaw + 0.05);
-      if (!lost) continue;
-      ++per_object[object].first;
-      losses.push_back({std::filesystem::path(s.source).filename().string(), r.phase, e.pos_mm_mean, e.theta_deg_mean,
-                        best_pos, best_yaw});
-    }
-  }
+std::string PredictionTables::losing_phases_markdown() const {
+  if (!started_ || !losing_table_) return "";
   std::ostringstream md;
-  md << "Phases where `" << method << "` loses to the better of";
-  for (const auto& r : references) md << " `" << r << "`";
+  md << "Phases where `" << losing_method_ << "` loses to the better of";
+  for (const auto& r : references_) md << " `" << r << "`";
   md << " (position or yaw more than 2 % and 0.05 mm / 0.05 deg worse):";
-  for (const auto& [object, counts] : per_object) md << " " << object << " " << counts.first << " of " << counts.second << ";";
-  md << "\n\n| push | phase | " << method << " [mm / deg] | better reference [mm / deg] |\n|---|---|---|---|\n";
-  std::sort(losses.begin(), losses.end(), [](const Loss& a, const Loss& b) {
-    return std::max(0.0, a.pos - a.best_pos) + std::max(0.0, a.yaw - a.best_yaw) >
-           std::max(0.0, b.pos - b.best_pos) + std::max(0.0, b.yaw - b.best_yaw);
-  });
+  for (const auto& [object, counts] : lost_per_object_)
+    md << " " << object << " " << counts.first << " of " << counts.second << ";";
+  md << "\n\n| push | phase | " << losing_method_ << " [mm / deg] | better reference [mm / deg] |\n|---|---|---|---|\n";
+  std::vector<Loss> worst = losses_;
+  std::stable_sort(worst.begin(), worst.end(), [](const Loss& a, const Loss& b) { return a.excess() > b.excess(); });
   char row[400];
-  for (size_t k = 0; k < losses.size() && static_cast<int>(k) < worst; ++k) {
-    const Loss& l = losses[k];
-    std::snprintf(row, sizeof row, "| `%s` | %d | %.2f / %.2f | %.2f / %.2f |\n", l.source.c_str(), l.phase, l.pos, l.yaw,
+  for (size_t k = 0; k < worst.size() && static_cast<int>(k) < worst_; ++k) {
+    const Loss& l = worst[k];
+    std::snprintf(row, sizeof row, "| `%s` | %d | %.2f / %.2f | %.2f / %.2f |\n", l.push.c_str(), l.phase, l.pos, l.yaw,
                   l.best_pos, l.best_yaw);
     md << row;
   }
   return md.str();
+}
+
+std::string grouped_errors_markdown(const std::vector<PushStudy>& studies) {
+  PredictionTables tables;
+  for (const auto& s : studies) tables.add(s);
+  return tables.grouped_errors_markdown();
+}
+
+std::string losing_phases_markdown(const std::vector<PushStudy>& studies, const std::string& method,
+                                   const std::vector<std::string>& references, int worst) {
+  PredictionTables tables(method, references, worst);
+  for (const auto& s : studies) tables.add(s);
+  return tables.losing_phases_markdown();
 }
 
 namespace {
