@@ -4,6 +4,7 @@
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -116,7 +117,7 @@ BOOST_AUTO_TEST_CASE(every_shard_once_gives_every_item_in_the_order_given) {
   for (std::size_t k = 0; k < 5; ++k) BOOST_TEST(merged.items[k].index == k);
   BOOST_TEST(merged.items[1].failure.has_value());
   BOOST_TEST(merged.items[1].failure->reason == "cannot read");
-  BOOST_TEST(!merged.items[1].result_json.has_value());
+  BOOST_TEST(!merged.items[1].result_at.has_value());
   BOOST_TEST(contains(input_error([&] { merged.items[1].result(); }), "no result"));
   for (std::size_t k : {0u, 2u, 3u, 4u}) BOOST_TEST(merged.items[k].result() == (nlohmann::json{{"k", k}}));
   BOOST_REQUIRE(merged.parts.size() == 2u);
@@ -221,9 +222,9 @@ BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
   expected["items"][0]["result"] = 0;
   BOOST_TEST(part.manifest == expected);
   BOOST_TEST(part.manifest["options"] == options);
-  BOOST_REQUIRE(part.result_texts.size() == 1u);
-  BOOST_TEST(part.result_texts[0] == result.dump());  // the numbers' exact digits too
-  BOOST_TEST(nlohmann::json::parse(part.result_texts[0]) == result);
+  BOOST_REQUIRE(part.results == 1u);
+  BOOST_TEST(part.result_text(0) == result.dump());  // read again from partial.json: the numbers' exact digits too
+  BOOST_TEST(nlohmann::json::parse(part.result_text(0)) == result);
   for (const auto& [name, bytes] : files) {
     BOOST_TEST(part.read_file(name) == bytes);
     BOOST_TEST(fs::file_size(folder / name) == bytes.size());
@@ -287,3 +288,50 @@ BOOST_AUTO_TEST_CASE(files_sent_one_bundle_at_a_time_unpack_into_one_folder) {
 }
 
 BOOST_AUTO_TEST_SUITE_END()
+
+BOOST_AUTO_TEST_CASE(each_result_is_read_again_from_its_place_in_partial_json_however_the_file_is_laid_out) {
+  // A merge keeps only where each item's result lies in partial.json and reads it again when asked. The results
+  // here are large (past the file stream's buffer), nested, of every JSON kind, and the file is laid out both as
+  // pushpred writes it (compact items) and indented (blanks and line breaks around every value).
+  std::vector<nlohmann::json> results;
+  nlohmann::json big = nlohmann::json::object();
+  for (int k = 0; k < 2000; ++k) big["key" + std::to_string(k)] = {{"x", 1.0 / (k + 3)}, {"s", "a \"quoted\" }{ ]["}};
+  results.push_back(big);
+  results.push_back(nlohmann::json::object());
+  results.push_back(nlohmann::json::array({1, {{"result", {2, 3}}}, "x"}));
+  results.push_back(0.1 + 0.2);  // neither object nor array: kept as text
+  results.push_back("a string");
+  results.push_back(nlohmann::json::array());
+  results.push_back({{"result", {{"result", 1}}}, {"items", {4, 5}}});
+  std::vector<PartialItem> items;
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    PartialItem item;
+    item.index = k;
+    item.result_json = partial_result_text(results[k]);
+    item.files = {"f" + std::to_string(k) + ".csv"};
+    items.push_back(item);
+    if (k == 2) {
+      PartialItem failed;
+      failed.index = results.size() + 1;
+      failed.failure = BatchFailure{"bad.h5", "no pose"};
+      items.push_back(failed);
+    }
+  }
+  std::vector<fs::path> inputs;
+  for (std::size_t k = 0; k < results.size() + 2; ++k) inputs.emplace_back("in" + std::to_string(k) + ".h5");
+  const std::string compact = partial_manifest("predict", {1, 1}, inputs, {{"result", 1}}, items);
+  const std::string indented = nlohmann::json::parse(compact).dump(3);
+  const ScratchFolder scratch("test-shard-spans");
+  for (const std::string& text : {compact, indented}) {
+    std::ofstream(scratch.path() / kPartialManifestName, std::ios::binary) << text;
+    const PartialOutput part = read_partial_output(scratch.path(), "part");
+    BOOST_REQUIRE(part.results == results.size());
+    for (std::size_t k = 0; k < results.size(); ++k) {
+      BOOST_TEST(nlohmann::json::parse(part.result_text(k)) == results[k]);
+      if (text == compact) BOOST_TEST(part.result_text(k) == results[k].dump());
+    }
+    BOOST_TEST(part.manifest["options"] == (nlohmann::json{{"result", 1}}));
+    BOOST_TEST(part.manifest["items"][3]["failure"]["reason"] == "no pose");
+    BOOST_TEST(contains(input_error([&] { part.result_text(results.size()); }), "holds no result"));
+  }
+}

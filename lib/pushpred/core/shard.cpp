@@ -7,8 +7,11 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <memory>
 #include <numeric>
 #include <set>
+#include <sstream>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/output_files.hpp"
@@ -140,9 +143,10 @@ std::string partial_manifest(const std::string& command, const ShardSpec& shard,
   return partial_manifest(command, shard, inputs.size(), inputs_fingerprint(inputs), options, std::move(items));
 }
 
-std::string partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
-                             const std::string& fingerprint, const nlohmann::json& options,
-                             std::vector<PartialItem> items) {
+PartialManifestWriter::PartialManifestWriter(std::ostream& out, const std::string& command, const ShardSpec& shard,
+                                             std::size_t count, const std::string& fingerprint,
+                                             const nlohmann::json& options)
+    : out_(out) {
   // The document is dumped with a marker where its items go; each item is written on a line of its own there, its
   // result's text put in as it is (a tree of every result would take several times the text).
   const std::string marker = "pushpred: the items are written here";
@@ -157,25 +161,41 @@ std::string partial_manifest(const std::string& command, const ShardSpec& shard,
   const std::string slot = "\"items\": \"" + marker + "\"";
   const std::size_t at = text.find(slot);
   if (at == std::string::npos) throw std::logic_error("partial_manifest: the items' place was not found");
-  std::string out = text.substr(0, at) + "\"items\": [";
-  const char* separator = "\n    ";
-  for (auto& item : items) {
-    nlohmann::json entry = {{"index", item.index}};
-    if (item.result_json) entry["files"] = item.files;
-    else if (item.failure) entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
-    std::string line = dump(entry, -1);
-    if (item.result_json) {
-      line.pop_back();  // the closing brace: the result goes last
-      line += ",\"result\":" + *item.result_json + "}";
-      item.result_json.reset();
-    }
-    out += separator;
-    out += line;
-    separator = ",\n    ";
+  out_.write(text.data(), static_cast<std::streamsize>(at));
+  out_ << "\"items\": [";
+  tail_ = text.substr(at + slot.size());
+}
+
+void PartialManifestWriter::add(PartialItem item) {
+  nlohmann::json entry = {{"index", item.index}};
+  if (item.result_json) entry["files"] = item.files;
+  else if (item.failure) entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
+  std::string line = dump(entry, -1);
+  out_ << (first_ ? "\n    " : ",\n    ");
+  first_ = false;
+  if (item.result_json) {
+    line.pop_back();  // the closing brace: the result goes last
+    out_ << line << ",\"result\":" << *item.result_json << '}';
+  } else {
+    out_ << line;
   }
-  out += items.empty() ? "]" : "\n  ]";
-  out.append(text, at + slot.size(), std::string::npos);
-  return out;
+}
+
+void PartialManifestWriter::finish() {
+  out_ << (first_ ? "]" : "\n  ]") << tail_;
+}
+
+std::string partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
+                             const std::string& fingerprint, const nlohmann::json& options,
+                             std::vector<PartialItem> items) {
+  std::ostringstream out;
+  PartialManifestWriter writer(out, command, shard, count, fingerprint, options);
+  for (auto& item : items) {
+    writer.add(std::move(item));
+    item = PartialItem{};
+  }
+  writer.finish();
+  return out.str();
 }
 
 void write_partial_output(StagedOutput& out, const std::string& manifest) {
@@ -196,6 +216,22 @@ void set_result_aside(nlohmann::json& item, std::vector<std::string>& texts) {
   *it = texts.size() - 1;
 }
 
+/// Where an item's result lies in partial.json: from just after its key (then blanks and the colon) to its end.
+struct ResultSpan {
+  std::uint64_t from = 0, to = 0;
+};
+
+/// The text of `span` in the file at `path`, without the colon and blanks before the value.
+std::string read_span(const fs::path& path, const ResultSpan& span) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text(static_cast<std::size_t>(span.to - span.from), '\0');
+  if (!in.seekg(static_cast<std::streamoff>(span.from)) || !in.read(text.data(), static_cast<std::streamsize>(text.size())))
+    throw InputError(about(plain_text(path.string()), "changed or gone while merging"));
+  const std::size_t value = text.find_first_not_of(" \t\r\n:");
+  text.erase(0, value == std::string::npos ? text.size() : value);
+  return text;
+}
+
 }  // namespace
 
 PartialOutput partial_output(std::string name, nlohmann::json manifest,
@@ -204,8 +240,11 @@ PartialOutput partial_output(std::string name, nlohmann::json manifest,
   part.name = std::move(name);
   part.manifest = std::move(manifest);
   part.read_file = std::move(read_file);
+  auto texts = std::make_shared<std::vector<std::string>>();
   if (part.manifest.is_object() && part.manifest.contains("items") && part.manifest["items"].is_array())
-    for (auto& item : part.manifest["items"]) set_result_aside(item, part.result_texts);
+    for (auto& item : part.manifest["items"]) set_result_aside(item, *texts);
+  part.results = texts->size();
+  part.result_text = [texts](std::size_t k) { return texts->at(k); };
   return part;
 }
 
@@ -223,12 +262,49 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
                                                  ": not a partial output of pushpred (make them with --shard I/N)"));
   PartialOutput part;
   part.name = name;
-  // Parsed as a stream: each item's result becomes text as soon as it is complete (set_result_aside).
-  std::string top_key;
-  const auto set_aside = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    if (event == nlohmann::json::parse_event_t::key && depth == kItemsDepth) top_key = parsed.get<std::string>();
-    else if (event == nlohmann::json::parse_event_t::object_end && depth == kItemDepth && top_key == "items")
-      set_result_aside(parsed, part.result_texts);
+  // Parsed as a stream. nlohmann's parser takes one character at a time from the file and reports a key as soon as
+  // its closing quote is read and an object's or array's end as soon as its bracket is, so the file's position at
+  // those events brackets each item's result, which is then dropped from the tree. A result that is neither an
+  // object nor an array (no end event) is kept as text.
+  const auto position = [&] {
+    return static_cast<std::uint64_t>(in.rdbuf()->pubseekoff(0, std::ios::cur, std::ios::in));
+  };
+  auto spans = std::make_shared<std::vector<ResultSpan>>();
+  auto texts = std::make_shared<std::vector<std::string>>();  // results kept as text, by position among all results
+  std::map<std::size_t, std::string> kept_texts;
+  std::string top_key, item_key;
+  ResultSpan span;
+  bool span_closed = false;
+  using event_t = nlohmann::json::parse_event_t;
+  const auto set_aside = [&](int depth, event_t event, nlohmann::json& parsed) {
+    if (event == event_t::key && depth == kItemsDepth) {
+      top_key = parsed.get<std::string>();
+    } else if (top_key != "items") {
+      return true;
+    } else if (event == event_t::key && depth == kItemDepth + 1) {
+      item_key = parsed.get<std::string>();
+      if (item_key == "result") {
+        span = {position(), 0};
+        span_closed = false;
+      }
+    } else if ((event == event_t::object_end || event == event_t::array_end) && depth == kItemDepth + 1 &&
+               item_key == "result") {
+      span.to = position();
+      span_closed = true;
+    } else if (event == event_t::object_end && depth == kItemDepth) {
+      item_key.clear();
+      if (!parsed.is_object()) return true;
+      const auto it = parsed.find("result");
+      if (it == parsed.end()) return true;
+      const std::size_t k = spans->size();
+      if (span_closed) spans->push_back(span);
+      else {
+        spans->push_back({});
+        kept_texts[k] = dump(*it, -1);
+      }
+      *it = k;
+      span_closed = false;
+    }
     return true;
   };
   try {
@@ -236,6 +312,13 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
   } catch (const std::exception& e) {
     throw InputError(about(plain_text(manifest_path.string()), std::string("not valid JSON: ") + e.what()));
   }
+  part.results = spans->size();
+  auto kept = std::make_shared<std::map<std::size_t, std::string>>(std::move(kept_texts));
+  part.result_text = [manifest_path, spans, kept](std::size_t k) {
+    if (k >= spans->size()) throw InputError(about(plain_text(manifest_path.string()), "holds no result " + std::to_string(k)));
+    const auto text = kept->find(k);
+    return text != kept->end() ? text->second : read_span(manifest_path, (*spans)[k]);
+  };
   part.read_file = [folder, name](const std::string& relative) {
     try {
       return read_file_bytes(folder / relative);
@@ -294,8 +377,8 @@ std::string unpack_file_bundle(const std::string& name, const std::string& bundl
 }
 
 nlohmann::json MergedItem::result() const {
-  if (!result_json) throw InputError("it lists no result");
-  return nlohmann::json::parse(*result_json);
+  if (!result_at || !part) throw InputError("it lists no result");
+  return nlohmann::json::parse(part->result_text(*result_at));
 }
 
 MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
@@ -359,8 +442,8 @@ MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
         if (entry.contains("result")) {
           // Its position among the part's result texts (partial_output, read_partial_output).
           const std::size_t at = entry.at("result").get<std::size_t>();
-          if (at >= part.result_texts.size()) throw InputError("its result " + std::to_string(at) + " is not held");
-          mi.result_json = std::move(part.result_texts[at]);
+          if (at >= part.results) throw InputError("its result " + std::to_string(at) + " is not held");
+          mi.result_at = at;
           mi.files = entry.at("files").get<std::vector<std::string>>();
           for (const auto& f : mi.files) require_relative_inside(f);
         } else {

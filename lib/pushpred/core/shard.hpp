@@ -24,6 +24,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <ostream>
 #include <set>
 #include <string>
 #include <vector>
@@ -123,30 +124,51 @@ std::string partial_manifest(const std::string& command, const ShardSpec& shard,
                              const std::string& fingerprint, const nlohmann::json& options,
                              std::vector<PartialItem> items);
 
+/// partial_manifest's text written one item at a time to `out` (which must outlive the writer): the head when made,
+/// each item, in the order of the list, as it is added, the end at finish(). A shard of many pushes then holds no
+/// result after its push is done (`predict --shard`, docs/performance.md).
+class PartialManifestWriter {
+ public:
+  PartialManifestWriter(std::ostream& out, const std::string& command, const ShardSpec& shard, std::size_t count,
+                        const std::string& fingerprint, const nlohmann::json& options);
+  PartialManifestWriter(const PartialManifestWriter&) = delete;
+  PartialManifestWriter& operator=(const PartialManifestWriter&) = delete;
+  void add(PartialItem item);
+  void finish();
+
+ private:
+  std::ostream& out_;
+  std::string tail_;  ///< what follows the items
+  bool first_ = true;
+};
+
 /// Writes `manifest` (partial_manifest's text) as out's partial.json and commits `out` (the items' files are in it
 /// already).
 void write_partial_output(StagedOutput& out, const std::string& manifest);
 
 /// A partial output as a merge reads it: its name (the folder, or "rank R" of an MPI run), its partial.json, and
 /// how to read one of its files by relative path (throws InputError naming the part when it is missing).
-/// The items' results are held as compact JSON text, not as parsed trees (a parsed result takes several times its
-/// text, and a merge of many pushes would hold every one; issue 12): in `manifest`, each item's "result" is replaced
-/// by its position in `result_texts`. Make one with partial_output() or read_partial_output().
+/// The items' results are not held in the manifest (a parsed result takes several times its text, and a merge of many
+/// pushes would hold every one; issue 12): each item's "result" is replaced by its position k, and result_text(k)
+/// gives the result's JSON text, read again from partial.json when asked for (read_partial_output), or from memory
+/// (partial_output). Make one with partial_output() or read_partial_output().
 struct PartialOutput {
   std::string name;
   nlohmann::json manifest;
-  std::vector<std::string> result_texts;
   std::function<std::string(const std::string&)> read_file;
+  std::function<std::string(std::size_t)> result_text;
+  std::size_t results = 0;  ///< how many items hold a result
 };
 
-/// A partial output from a manifest in memory (partial_manifest's), its results set aside as text as above.
+/// A partial output from a manifest in memory (partial_manifest's), its results set aside as compact text.
 PartialOutput partial_output(std::string name, nlohmann::json manifest,
                              std::function<std::string(const std::string&)> read_file);
 
 /// Reads the partial output in `folder`; throws InputError naming the folder when it is not one (no partial.json,
-/// not JSON, not pushpred's partial format). partial.json is parsed as a stream, each item's result set aside as
-/// text as soon as it is read, so no part's whole tree is ever in memory. Its files are read from disk only when
-/// asked for (read_file), one at a time. `name` is the part's name in messages; the folder's path when empty.
+/// not JSON, not pushpred's partial format). partial.json is parsed as a stream, and of each item's result only where
+/// it lies in the file is kept (its text is read again when asked for), so a merge holds a few bytes per item. Its
+/// files are read from disk only when asked for (read_file), one at a time. `name` is the part's name in messages;
+/// the folder's path when empty. The folder must stay as it is until the merge is written.
 PartialOutput read_partial_output(const std::filesystem::path& folder, const std::string& name = "");
 
 /// One file of a partial output as a byte string, to send to another process (an MPI rank sends its partial.json
@@ -167,13 +189,14 @@ std::string unpack_file_bundle(const std::string& name, const std::string& bundl
 /// options in every part; shards 1..N each given once; every input's item present exactly once. Each item comes with
 /// the part that holds it (MergedParts owns the parts). Throws InputError naming the part and the problem otherwise.
 struct MergedItem {
-  std::size_t index = 0;                   ///< position among all inputs
-  std::optional<std::string> result_json;  ///< the item's result, compact JSON text (taken from its part)
-  std::vector<std::string> files;          ///< relative paths in its part
+  std::size_t index = 0;                ///< position among all inputs
+  std::optional<std::size_t> result_at;  ///< the item's result: its position among its part's (result_text)
+  std::vector<std::string> files;        ///< relative paths in its part
   std::optional<BatchFailure> failure;
   const PartialOutput* part = nullptr;
-  /// result_json parsed (one item at a time, so a merge never holds every result as a tree); throws InputError when
-  /// the item has no result, nlohmann's exception when its text is not JSON.
+  /// The item's result, read from its part and parsed (one item at a time, so a merge never holds every result);
+  /// throws InputError when the item has no result or its part cannot give it, nlohmann's exception when its text is
+  /// not JSON.
   nlohmann::json result() const;
 };
 struct MergedParts {

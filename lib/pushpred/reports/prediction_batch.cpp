@@ -388,42 +388,47 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   const std::vector<std::size_t> positions = shard_positions(inputs, shard);
   std::vector<fs::path> mine;
   for (std::size_t k : positions) mine.push_back(inputs[k]);
-  std::vector<PartialItem> items;
+  // partial.json is written as the pushes finish (in their order), so that a shard holds no result once its push is
+  // done: into the staged output of a shard, or into the rank's scratch folder (read back whole at the end, to be sent
+  // to rank 0).
+  const fs::path manifest_path = mpi ? scratch->path() / kPartialManifestName : out->path(kPartialManifestName);
+  std::ofstream manifest_file(manifest_path, std::ios::binary | std::ios::trunc);
+  if (!manifest_file) throw InputError(about(manifest_path.string(), "cannot be written"));
+  PartialManifestWriter manifest(manifest_file, kCommand, shard, inputs.size(), inputs_fingerprint(inputs),
+                                 predict_options_json(run));
+  BatchRunOutcome outcome;
+  outcome.partial = true;
   {
     const std::string label = mpi ? "predict (rank 0 of " + std::to_string(world.size()) + " ranks)"
                                   : "predict (shard " + shard.text() + ")";
     BatchProgress progress(label, "pushes", mine.size(), world.root());
-    std::vector<BatchItem<StudiedPush>> outcomes(mine.size());
     run_batch_in_order(
         mine, [&](std::size_t k, const fs::path& path) { return job(positions[k], path); },
-        [&](std::size_t k, BatchItem<StudiedPush>&& outcome) { outcomes[k] = std::move(outcome); }, run.jobs,
-        &progress);
-    for (std::size_t k = 0; k < outcomes.size(); ++k) {
-      PartialItem item;
-      item.index = positions[k];
-      if (outcomes[k].result) {
-        item.result_json = std::move(outcomes[k].result->result_json);
-        item.files = {outcomes[k].result->file};
-      } else {
-        item.failure = outcomes[k].failure;
-      }
-      items.push_back(std::move(item));
-    }
+        [&](std::size_t k, BatchItem<StudiedPush>&& outcome_k) {
+          PartialItem item;
+          item.index = positions[k];
+          if (outcome_k.result) {
+            item.result_json = std::move(outcome_k.result->result_json);
+            item.files = {std::move(outcome_k.result->file)};
+            ++outcome.used;
+          } else {
+            item.failure = outcome_k.failure;
+            outcome.failures.push_back(std::move(*outcome_k.failure));
+          }
+          manifest.add(std::move(item));
+          if (!manifest_file) throw InputError(about(manifest_path.string(), "cannot be written (is the disk full?)"));
+        },
+        run.jobs, &progress);
   }
-  BatchRunOutcome outcome;
-  outcome.partial = true;
-  for (const auto& item : items) {
-    if (item.failure) outcome.failures.push_back(*item.failure);
-    else ++outcome.used;
-  }
-  std::string manifest =
-      partial_manifest(kCommand, shard, inputs, predict_options_json(run), std::move(items));
+  manifest.finish();
+  manifest_file.close();
+  if (!manifest_file) throw InputError(about(manifest_path.string(), "cannot be written (is the disk full?)"));
 
   if (mpi)
-    return merge_at_root(world, std::move(manifest), scratch->path(), sink->names(),
+    return merge_at_root(world, read_file_bytes(manifest_path), scratch->path(), sink->names(),
                          [&](const MergedParts& merged) { return write_merged_predictions(merged, *out); });
 
-  write_partial_output(*out, manifest);
+  out->commit();
   outcome.report = "predicted " + std::to_string(outcome.used) + " of the " + std::to_string(mine.size()) +
                    " pushes of shard " + shard.text() + " (" + std::to_string(inputs.size()) +
                    " inputs in all); partial output in " + out->destination().string() +
