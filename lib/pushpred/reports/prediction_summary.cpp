@@ -65,30 +65,40 @@ std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<PushS
   return aggregate_errors(all);
 }
 
+namespace {
+
+/// Adds `e` to `sum`, key by key.
+void add_errors(PredictionErrors& sum, const PredictionErrors& e) {
+  sum.pos_mm_mean += e.pos_mm_mean;
+  sum.x_mm_mean += e.x_mm_mean;
+  sum.x_mm_std += e.x_mm_std;
+  sum.y_mm_mean += e.y_mm_mean;
+  sum.y_mm_std += e.y_mm_std;
+  sum.theta_deg_mean += e.theta_deg_mean;
+  sum.theta_deg_std += e.theta_deg_std;
+  sum.final_pos_mm += e.final_pos_mm;
+  sum.final_theta_deg += e.final_theta_deg;
+}
+
+/// Each key of each method's sum divided by `count`.
+void divide_errors(std::map<std::string, PredictionErrors>& sums, int count) {
+  for (auto& [name, a] : sums)
+    for (double* v : {&a.pos_mm_mean, &a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean,
+                      &a.theta_deg_std, &a.final_pos_mm, &a.final_theta_deg})
+      *v /= count;
+}
+
+}  // namespace
+
 std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<const PushStudy*>& studies) {
   std::map<std::string, PredictionErrors> sum;
   int count = 0;
   for (const PushStudy* s : studies)
     for (const auto& r : s->phases) {
       ++count;
-      for (const auto& [name, e] : r.errors) {
-        PredictionErrors& a = sum[name];
-        a.pos_mm_mean += e.pos_mm_mean;
-        a.x_mm_mean += e.x_mm_mean;
-        a.x_mm_std += e.x_mm_std;
-        a.y_mm_mean += e.y_mm_mean;
-        a.y_mm_std += e.y_mm_std;
-        a.theta_deg_mean += e.theta_deg_mean;
-        a.theta_deg_std += e.theta_deg_std;
-        a.final_pos_mm += e.final_pos_mm;
-        a.final_theta_deg += e.final_theta_deg;
-      }
+      for (const auto& [name, e] : r.errors) add_errors(sum[name], e);
     }
-  for (auto& [name, a] : sum) {
-    for (double* v : {&a.pos_mm_mean, &a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean, &a.theta_deg_std,
-                      &a.final_pos_mm, &a.final_theta_deg})
-      *v /= count;
-  }
+  divide_errors(sum, count);
   return sum;
 }
 
@@ -182,28 +192,13 @@ void PredictionTables::Group::add(const PushStudy& study) {
   ++pushes;
   for (const auto& r : study.phases) {
     ++phases;
-    for (const auto& [name, e] : r.errors) {
-      PredictionErrors& a = sums[name];
-      a.pos_mm_mean += e.pos_mm_mean;
-      a.x_mm_mean += e.x_mm_mean;
-      a.x_mm_std += e.x_mm_std;
-      a.y_mm_mean += e.y_mm_mean;
-      a.y_mm_std += e.y_mm_std;
-      a.theta_deg_mean += e.theta_deg_mean;
-      a.theta_deg_std += e.theta_deg_std;
-      a.final_pos_mm += e.final_pos_mm;
-      a.final_theta_deg += e.final_theta_deg;
-    }
+    for (const auto& [name, e] : r.errors) add_errors(sums[name], e);
   }
 }
 
 std::map<std::string, PredictionErrors> PredictionTables::Group::mean() const {
   std::map<std::string, PredictionErrors> out = sums;
-  const double count = static_cast<double>(static_cast<int>(phases));  // as aggregate_errors divides
-  for (auto& [name, a] : out)
-    for (double* v : {&a.pos_mm_mean, &a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean,
-                      &a.theta_deg_std, &a.final_pos_mm, &a.final_theta_deg})
-      *v /= count;
+  divide_errors(out, static_cast<int>(phases));  // as aggregate_errors divides
   return out;
 }
 
