@@ -335,3 +335,16 @@ BOOST_AUTO_TEST_CASE(each_result_is_read_again_from_its_place_in_partial_json_ho
     BOOST_TEST(contains(input_error([&] { part.result_text(results.size()); }), "holds no result"));
   }
 }
+
+BOOST_AUTO_TEST_CASE(a_bundle_of_a_file_on_disk_is_the_bundle_of_its_bytes) {
+  // An MPI rank sends its partial.json and its files as read from disk, straight into the bundle.
+  const ScratchFolder scratch("test-shard-bundle-of");
+  std::string bytes(70000, '\0');
+  for (std::size_t k = 0; k < bytes.size(); ++k) bytes[k] = static_cast<char>(k * 131 % 256);
+  std::ofstream(scratch.path() / "data.bin", std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(scratch.path() / "empty.csv", std::ios::binary);
+  BOOST_TEST(file_bundle_of("plots/data.bin", scratch.path() / "data.bin") == file_bundle("plots/data.bin", bytes));
+  BOOST_TEST(file_bundle_of("empty.csv", scratch.path() / "empty.csv") == file_bundle("empty.csv", ""));
+  BOOST_TEST(contains(input_error([&] { file_bundle_of("x", scratch.path() / "missing.csv"); }),
+                      "missing.csv: cannot be read"));
+}

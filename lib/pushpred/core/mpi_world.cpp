@@ -141,8 +141,22 @@ void open_output_at_root(const MpiWorld& world, const std::string& out, std::opt
 BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const std::filesystem::path& files_folder,
                               const std::vector<std::string>& files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
+  try {
+    write_text_atomically(files_folder / kPartialManifestName, manifest);
+  } catch (const std::exception& e) {
+    // Rank 0 waits for this rank's messages (or the others for rank 0's merge): only stopping the job ends the wait.
+    std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
+    world.abort(2);
+  }
+  std::string().swap(manifest);
+  return merge_at_root(world, files_folder, files, write_merged);
+}
+
+BatchRunOutcome merge_at_root(const MpiWorld& world, const std::filesystem::path& files_folder,
+                              const std::vector<std::string>& files,
+                              const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
   if (!world.root()) {
-    // The manifest first, then each file as it is read: one file in memory at a time.
+    // partial.json first, then each file, each read from disk as it is sent: one file in memory at a time.
     std::size_t sent = 0;
     bool manifest_sent = false;
     try {
@@ -150,13 +164,11 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const
           [&]() -> std::optional<std::string> {
             if (!manifest_sent) {
               manifest_sent = true;
-              std::string bundle = file_bundle(kPartialManifestName, manifest);
-              std::string().swap(manifest);
-              return bundle;
+              return file_bundle_of(kPartialManifestName, files_folder / kPartialManifestName);
             }
             if (sent == files.size()) return std::nullopt;
             const std::string& name = files[sent++];
-            return file_bundle(name, read_file_bytes(files_folder / name));
+            return file_bundle_of(name, files_folder / name);
           },
           nullptr);
     } catch (const std::exception& e) {
@@ -173,8 +185,6 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const
     const ScratchFolder scratch("merge");
     const auto folder_of = [&](int r) { return r == 0 ? files_folder : scratch.path() / ("rank" + std::to_string(r)); };
     const auto name_of = [](int r) { return "rank " + std::to_string(r); };
-    write_text_atomically(files_folder / kPartialManifestName, manifest);  // rank 0's part is its own folder
-    std::string().swap(manifest);
     world.send_to_root([] { return std::optional<std::string>(); },
                        [&](int r, const std::string& text) { unpack_file_bundle(name_of(r), text, folder_of(r)); });
     std::vector<PartialOutput> parts;

@@ -335,14 +335,36 @@ constexpr const char* kBundleHeader = "pushpred-bundle 1\n";
 
 }  // namespace
 
-std::string file_bundle(const std::string& name, const std::string& data) {
-  const std::string lengths = std::to_string(name.size()) + " " + std::to_string(data.size()) + "\n";
+namespace {
+
+/// A bundle's header and name, with room reserved for `data_bytes` more.
+std::string bundle_head(const std::string& name, std::size_t data_bytes) {
+  const std::string lengths = std::to_string(name.size()) + " " + std::to_string(data_bytes) + "\n";
   std::string bundle;
-  bundle.reserve(std::strlen(kBundleHeader) + lengths.size() + name.size() + data.size());
+  bundle.reserve(std::strlen(kBundleHeader) + lengths.size() + name.size() + data_bytes);
   bundle += kBundleHeader;
   bundle += lengths;
   bundle += name;
+  return bundle;
+}
+
+}  // namespace
+
+std::string file_bundle(const std::string& name, const std::string& data) {
+  std::string bundle = bundle_head(name, data.size());
   bundle += data;
+  return bundle;
+}
+
+std::string file_bundle_of(const std::string& name, const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+  if (size < 0) throw InputError(about(plain_text(path.string()), "cannot be read"));
+  std::string bundle = bundle_head(name, static_cast<std::size_t>(size));
+  const std::size_t at = bundle.size();
+  bundle.resize(at + static_cast<std::size_t>(size));
+  if (!in.seekg(0) || !in.read(bundle.data() + at, size))
+    throw InputError(about(plain_text(path.string()), "cannot be read"));
   return bundle;
 }
 

@@ -178,6 +178,9 @@ PartialOutput read_partial_output(const std::filesystem::path& folder, const std
 ///   pushpred-bundle 1\n
 ///   NAME_BYTES DATA_BYTES\nNAMEDATA
 std::string file_bundle(const std::string& name, const std::string& data);
+/// file_bundle of the file at `path`, read straight into the bundle (a large partial.json is not held twice); throws
+/// InputError naming the file when it cannot be read.
+std::string file_bundle_of(const std::string& name, const std::filesystem::path& path);
 /// Writes the file of `bundle` (file_bundle's, from another process) under `folder` at its relative path, making
 /// the folders it needs, and returns that path. `name` names the sender in messages ("rank 1"); throws InputError
 /// when the bundle is not one (its first line, its length line, a length beyond its end, bytes after its file) or

@@ -425,7 +425,7 @@ BatchRunOutcome run_predict(const PredictRun& run) {
   if (!manifest_file) throw InputError(about(manifest_path.string(), "cannot be written (is the disk full?)"));
 
   if (mpi)
-    return merge_at_root(world, read_file_bytes(manifest_path), scratch->path(), sink->names(),
+    return merge_at_root(world, scratch->path(), sink->names(),
                          [&](const MergedParts& merged) { return write_merged_predictions(merged, *out); });
 
   out->commit();
