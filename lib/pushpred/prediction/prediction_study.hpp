@@ -169,7 +169,8 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
 
 /// `study` without its per-sample arrays (the observer's output, each phase's grid times and measured and predicted
 /// poses), keeping what summaries and tables read (errors, parameters, notes, intervals). A batch that writes each
-/// push's trajectories as it goes keeps only this (`predict`: 0.2 -> 0.12 MB per push held, docs/performance.md).
+/// push's trajectories as it goes keeps only this, and `predict` only until the push is in its summary and tables
+/// (docs/performance.md, memory).
 void drop_samples(PushStudy& study);
 
 }  // namespace pushpred
