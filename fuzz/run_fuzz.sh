@@ -22,8 +22,9 @@ fi
 cmake --build "$build" -j2 >/dev/null
 
 corpus=$build/corpus
-mkdir -p "$corpus/json" "$corpus/hdf5" "$corpus/filename"
+mkdir -p "$corpus/json" "$corpus/hdf5" "$corpus/filename" "$corpus/partial_output"
 cp "$here"/seeds/json/* "$corpus/json/"
+cp "$here"/seeds/partial_output/* "$corpus/partial_output/"
 # A few real files of each kind as seeds; their names seed the name parser. `head` ends these pipelines early, so
 # find may die of SIGPIPE: with pipefail that would end the script, hence `|| true` (the seeds are still copied).
 find "$data" -name '*.json' | head -2 | while read -r f; do cp "$f" "$corpus/json/real-$(basename "$f" | md5sum | cut -c1-8).json"; done || true
@@ -35,10 +36,10 @@ find "$data" -name '*.h5' -o -name '*.json' | head -20 | while read -r f; do
 # outside the fuzzer, and libhdf5 reports an error, which pushpred turns into an InputError. So a huge single
 # request is not a finding (allocator_may_return_null, malloc_limit_mb); a process growing past 2 GB still is.
 status=0
-for target in fuzz_json_reader fuzz_hdf5_reader fuzz_filename; do
+for target in fuzz_json_reader fuzz_hdf5_reader fuzz_filename fuzz_partial_output; do
   kind=${target#fuzz_}
   kind=${kind%_reader}
-  [ "$kind" = hdf5 ] || [ "$kind" = json ] || kind=filename
+  [ "$kind" = hdf5 ] || [ "$kind" = json ] || [ "$kind" = partial_output ] || kind=filename
   echo "fuzz: $target for $seconds s"
   (cd "$build" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 LSAN_OPTIONS=suppressions=$here/../scripts/lsan.supp:print_suppressions=0 UBSAN_OPTIONS=print_stacktrace=1 \
      "./$target" "$corpus/$kind" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1000000 -print_final_stats=1 \
