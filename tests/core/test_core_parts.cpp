@@ -171,6 +171,8 @@ BOOST_AUTO_TEST_CASE(inputs_that_share_a_stem_get_distinct_output_names_in_input
   // "p-2" is a real stem here, so the second "p" skips it.
   const std::vector<std::string> want{"p", "p-3", "p-2", "q", "p-4"};
   BOOST_TEST(distinct_stems(inputs) == want, boost::test_tools::per_element());
+  // The same from the stems alone (predict keeps a stem per push, not its path).
+  BOOST_TEST(distinct_names({"p", "p", "p-2", "q", "p"}) == want, boost::test_tools::per_element());
 }
 
 BOOST_AUTO_TEST_CASE(each_failure_is_one_named_plain_line_and_the_batch_goes_on) {

@@ -73,14 +73,14 @@ inline std::string repeated_inputs_note(const std::vector<std::string>& inputs) 
 
 /// A name per input for its own output file, unique within the batch: the file's stem, and where two inputs from
 /// different folders share a stem, the later ones "STEM-2", "STEM-3", ... in input order (so that one push's output
-/// does not overwrite another's, and the names do not depend on which thread finished first).
-inline std::vector<std::string> distinct_stems(const std::vector<std::filesystem::path>& inputs) {
+/// does not overwrite another's, and the names do not depend on which thread finished first). distinct_names takes
+/// the stems themselves (a batch that keeps a name per input rather than its path).
+inline std::vector<std::string> distinct_names(const std::vector<std::string>& stems) {
   std::vector<std::string> names;
-  std::set<std::string> taken;
-  for (const auto& p : inputs) taken.insert(p.stem().string());
+  std::set<std::string> taken(stems.begin(), stems.end());
   std::set<std::string> used;
-  for (const auto& p : inputs) {
-    std::string name = p.stem().string();
+  for (const auto& stem : stems) {
+    std::string name = stem;
     if (used.count(name)) {
       for (int k = 2;; ++k) {
         const std::string candidate = name + "-" + std::to_string(k);
@@ -94,6 +94,13 @@ inline std::vector<std::string> distinct_stems(const std::vector<std::filesystem
     names.push_back(std::move(name));
   }
   return names;
+}
+
+inline std::vector<std::string> distinct_stems(const std::vector<std::filesystem::path>& inputs) {
+  std::vector<std::string> stems;
+  stems.reserve(inputs.size());
+  for (const auto& p : inputs) stems.push_back(p.stem().string());
+  return distinct_names(stems);
 }
 
 /// Calls `job(path)` for every input; any exception becomes a BatchFailure naming the file, with a reason in

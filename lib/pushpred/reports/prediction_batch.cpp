@@ -97,7 +97,7 @@ std::string pending_predictions_file(std::size_t position) {
 }
 
 /// summary.json and tables.md of a whole run, given one studied push (or failure) at a time in input order. Nothing
-/// of a study is kept but its source: its entry of summary.json goes to a file in the staging folder as it comes,
+/// of a study is kept but its file's stem (to name its predictions): its entry of summary.json goes to a file in the staging folder as it comes,
 /// and its errors into the tables' sums, so that a run holds a few hundred bytes per push rather than its study
 /// (docs/performance.md, memory).
 class PredictionOutputs {
@@ -117,28 +117,28 @@ class PredictionOutputs {
       entries_.open(entries_path_, std::ios::binary | std::ios::trunc);
       if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written"));
     }
-    entries_ << (sources_.empty() ? "\n    " : ",\n    ") << summary_file_entry(study);
+    entries_ << (stems_.empty() ? "\n    " : ",\n    ") << summary_file_entry(study);
     if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written (is the disk full?)"));
     tables_.add(study);
-    sources_.emplace_back(study.source);
+    stems_.push_back(fs::path(study.source).stem().string());
   }
   void add_failure(BatchFailure failure) { failures_.push_back(std::move(failure)); }
 
-  /// The sources of the pushes studied, in input order.
-  const std::vector<fs::path>& sources() const { return sources_; }
+  /// The stems of the pushes' files studied, in input order.
+  const std::vector<std::string>& stems() const { return stems_; }
 
   /// Writes summary.json and tables.md and commits the output, unless no input gave a result (then nothing is
   /// written); the report printed to the user.
   BatchRunOutcome finish() {
     BatchRunOutcome outcome;
     outcome.failures = failures_;
-    outcome.used = sources_.size();
-    if (sources_.empty()) return outcome;  // nothing written
+    outcome.used = stems_.size();
+    if (stems_.empty()) return outcome;  // nothing written
     entries_.close();
     if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written (is the disk full?)"));
     const std::map<std::string, PredictionErrors> aggregate = tables_.aggregate();
     write_file_atomically(out_.path("summary.json"), [&](std::ostream& file) {
-      write_prediction_summary(file, aggregate, failures_, options_, sources_.size(), [&](std::ostream& files) {
+      write_prediction_summary(file, aggregate, failures_, options_, stems_.size(), [&](std::ostream& files) {
         std::ifstream in(entries_path_, std::ios::binary);
         if (!in || !(files << in.rdbuf()))
           throw InputError(about(entries_path_.string(), "cannot be read back"));
@@ -151,7 +151,7 @@ class PredictionOutputs {
     out_.commit();
 
     std::ostringstream report;
-    report << "predicted " << sources_.size() << " pushes (" << options_.at("intervals").get<int>()
+    report << "predicted " << stems_.size() << " pushes (" << options_.at("intervals").get<int>()
            << " intervals over the " << options_.at("span").get<std::string>() << " span); summary in "
            << out_.destination().string() << "/summary.json\n";
     for (const auto& method : options_.at("methods")) {
@@ -172,16 +172,16 @@ class PredictionOutputs {
   nlohmann::json options_;
   PredictionTables tables_;
   std::vector<BatchFailure> failures_;
-  std::vector<fs::path> sources_;
+  std::vector<std::string> stems_;
   fs::path entries_path_;
   std::ofstream entries_;  ///< summary.json's "files" entries, as they come
 };
 
 /// predictions/NAME.csv for each studied push, in order: its file's stem, made distinct among the studied pushes
-/// (distinct_stems), so that an input that failed takes no name from one that was studied.
-std::vector<std::string> studied_file_names(const std::vector<fs::path>& sources) {
+/// (distinct_names), so that an input that failed takes no name from one that was studied.
+std::vector<std::string> studied_file_names(const std::vector<std::string>& stems) {
   std::vector<std::string> names;
-  for (const auto& stem : distinct_stems(sources)) names.push_back("predictions/" + stem + ".csv");
+  for (const auto& stem : distinct_names(stems)) names.push_back("predictions/" + stem + ".csv");
   return names;
 }
 
@@ -220,7 +220,7 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
     outputs.add(study);
   }
   // The per-push files, named among the pushes studied (as one process names them), each read from its part.
-  const std::vector<std::string> names = studied_file_names(outputs.sources());
+  const std::vector<std::string> names = studied_file_names(outputs.stems());
   std::size_t studied = 0;
   for (const auto& m : merged.items) {
     if (m.failure) continue;
@@ -378,7 +378,7 @@ BatchRunOutcome run_predict(const PredictRun& run) {
           if (item.failure) outputs.add_failure(std::move(*item.failure));
         },
         run.jobs, &progress);
-    const std::vector<std::string> names = studied_file_names(outputs.sources());
+    const std::vector<std::string> names = studied_file_names(outputs.stems());
     for (std::size_t k = 0; k < names.size(); ++k) fs::rename(out->path(pending[k]), out->path(names[k]));
     std::error_code ec;
     fs::remove(out->staging_folder() / kPendingFolder, ec);  // empty now; absent when nothing was studied
