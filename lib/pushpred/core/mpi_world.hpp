@@ -66,8 +66,9 @@ void open_output_at_root(const MpiWorld& world, const std::string& out, std::opt
 
 /// Ends a batch run under mpirun: every rank's partial output (its partial.json in its own folder `files_folder`,
 /// and the `files` it wrote there, relative paths) goes to rank 0. Rank 0's folder is its part; every other rank
-/// sends its partial.json and then its files one at a time (file_bundle_of), each read from disk when sent, and rank 0 writes each as it arrives into a scratch folder under the temporary folder (ScratchFolder,
-/// laid out as `--shard` writes a partial output), so that no rank holds more than one file at a time. Rank 0 then
+/// sends its partial.json and then its files one at a time (file_bundle_of), each read from disk when sent, and rank
+/// 0 writes each as it arrives into a scratch folder under the temporary folder (ScratchFolder, laid out as `--shard`
+/// writes a partial output), so that no rank holds more than one file at a time. Rank 0 then
 /// reads the parts back from disk (read_partial_output, files read when written), checks them as one batch
 /// (check_partial_outputs) and writes them with `write_merged`; the other ranks return a quiet outcome. The scratch
 /// folder is removed on every way out. A failure of the check or the write is printed and stops every rank with

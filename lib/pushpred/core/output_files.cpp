@@ -170,6 +170,19 @@ std::string json_file_text(const nlohmann::json& doc) {
   return doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
+JsonTextAround json_file_text_around(nlohmann::json doc, const std::string& key) {
+  // The document is dumped with a marker as the key's value, and split where the marker stands.
+  if (!doc.is_object()) throw std::logic_error("json_file_text_around: not an object");
+  const std::string marker = "pushpred: this value is written here";
+  doc[key] = marker;
+  const std::string text = json_file_text(doc);
+  const std::string name = nlohmann::json(key).dump() + ": ";
+  const std::string slot = name + nlohmann::json(marker).dump();
+  const std::size_t at = text.find(slot);
+  if (at == std::string::npos) throw std::logic_error("json_file_text_around: the value's place was not found");
+  return {text.substr(0, at + name.size()), text.substr(at + slot.size())};
+}
+
 void write_text_atomically(const fs::path& path, const std::string& text) {
   write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }

@@ -31,6 +31,14 @@ std::string read_file_bytes(const std::filesystem::path& path);
 /// rather than aborting the run.
 std::string json_file_text(const nlohmann::json& doc);
 
+/// json_file_text of `doc` around the value of its top-level `key`, for a caller that writes that value itself (a
+/// long list, streamed one entry at a time): the text up to and including `"key": ` and the text after the value.
+/// Throws std::logic_error when `doc` is not an object.
+struct JsonTextAround {
+  std::string before, after;
+};
+JsonTextAround json_file_text_around(nlohmann::json doc, const std::string& key);
+
 /// The name of the marker file every StagedOutput folder holds.
 inline constexpr const char* kOutputMarker = ".pushpred-output";
 

@@ -147,23 +147,17 @@ PartialManifestWriter::PartialManifestWriter(std::ostream& out, const std::strin
                                              std::size_t count, const std::string& fingerprint,
                                              const nlohmann::json& options)
     : out_(out) {
-  // The document is dumped with a marker where its items go; each item is written on a line of its own there, its
-  // result's text put in as it is (a tree of every result would take several times the text).
-  const std::string marker = "pushpred: the items are written here";
-  const nlohmann::json head = {{"pushpred_partial", kPartialFormat},
-                               {"pushpred_version", kVersion},
-                               {"command", command},
-                               {"shard", {{"index", shard.index}, {"count", shard.count}}},
-                               {"inputs", {{"count", count}, {"fingerprint", fingerprint}}},
-                               {"options", options},
-                               {"items", marker}};
-  const std::string text = json_file_text(head);
-  const std::string slot = "\"items\": \"" + marker + "\"";
-  const std::size_t at = text.find(slot);
-  if (at == std::string::npos) throw std::logic_error("partial_manifest: the items' place was not found");
-  out_.write(text.data(), static_cast<std::streamsize>(at));
-  out_ << "\"items\": [";
-  tail_ = text.substr(at + slot.size());
+  // Each item is written on a line of its own in the items' place, its result's text put in as it is (a tree of
+  // every result would take several times the text).
+  JsonTextAround text = json_file_text_around({{"pushpred_partial", kPartialFormat},
+                                               {"pushpred_version", kVersion},
+                                               {"command", command},
+                                               {"shard", {{"index", shard.index}, {"count", shard.count}}},
+                                               {"inputs", {{"count", count}, {"fingerprint", fingerprint}}},
+                                               {"options", options}},
+                                              "items");
+  out_ << text.before << '[';
+  tail_ = std::move(text.after);
 }
 
 void PartialManifestWriter::add(PartialItem item) {
@@ -270,8 +264,7 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
     return static_cast<std::uint64_t>(in.rdbuf()->pubseekoff(0, std::ios::cur, std::ios::in));
   };
   auto spans = std::make_shared<std::vector<ResultSpan>>();
-  auto texts = std::make_shared<std::vector<std::string>>();  // results kept as text, by position among all results
-  std::map<std::size_t, std::string> kept_texts;
+  auto kept = std::make_shared<std::map<std::size_t, std::string>>();  // results kept as text, by position
   std::string top_key, item_key;
   ResultSpan span;
   bool span_closed = false;
@@ -300,7 +293,7 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
       if (span_closed) spans->push_back(span);
       else {
         spans->push_back({});
-        kept_texts[k] = dump(*it, -1);
+        (*kept)[k] = dump(*it, -1);
       }
       *it = k;
       span_closed = false;
@@ -313,7 +306,6 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
     throw InputError(about(plain_text(manifest_path.string()), std::string("not valid JSON: ") + e.what()));
   }
   part.results = spans->size();
-  auto kept = std::make_shared<std::map<std::size_t, std::string>>(std::move(kept_texts));
   part.result_text = [manifest_path, spans, kept](std::size_t k) {
     if (k >= spans->size()) throw InputError(about(plain_text(manifest_path.string()), "holds no result " + std::to_string(k)));
     const auto text = kept->find(k);
@@ -332,10 +324,6 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
 namespace {
 
 constexpr const char* kBundleHeader = "pushpred-bundle 1\n";
-
-}  // namespace
-
-namespace {
 
 /// A bundle's header and name, with room reserved for `data_bytes` more.
 std::string bundle_head(const std::string& name, std::size_t data_bytes) {

@@ -96,6 +96,11 @@ std::string pending_predictions_file(std::size_t position) {
   return std::string(kPendingFolder) + "/" + std::to_string(position) + ".csv";
 }
 
+/// Throws InputError naming `path` when a write to `stream` (its file) failed.
+void require_written(const std::ostream& stream, const fs::path& path) {
+  if (!stream) throw InputError(about(path.string(), "cannot be written (is the disk full?)"));
+}
+
 /// summary.json and tables.md of a whole run, given one studied push (or failure) at a time in input order. Nothing
 /// of a study is kept but its file's stem (to name its predictions): its entry of summary.json goes to a file in the staging folder as it comes,
 /// and its errors into the tables' sums, so that a run holds a few hundred bytes per push rather than its study
@@ -117,8 +122,8 @@ class PredictionOutputs {
       entries_.open(entries_path_, std::ios::binary | std::ios::trunc);
       if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written"));
     }
-    entries_ << (stems_.empty() ? "\n    " : ",\n    ") << summary_file_entry(study);
-    if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written (is the disk full?)"));
+    entries_ << summary_file_entry(study, stems_.empty());
+    require_written(entries_, entries_path_);
     tables_.add(study);
     stems_.push_back(fs::path(study.source).stem().string());
   }
@@ -135,7 +140,7 @@ class PredictionOutputs {
     outcome.used = stems_.size();
     if (stems_.empty()) return outcome;  // nothing written
     entries_.close();
-    if (!entries_) throw InputError(about(entries_path_.string(), "cannot be written (is the disk full?)"));
+    require_written(entries_, entries_path_);
     const std::map<std::string, PredictionErrors> aggregate = tables_.aggregate();
     write_file_atomically(out_.path("summary.json"), [&](std::ostream& file) {
       write_prediction_summary(file, aggregate, failures_, options_, stems_.size(), [&](std::ostream& files) {
@@ -416,13 +421,13 @@ BatchRunOutcome run_predict(const PredictRun& run) {
             outcome.failures.push_back(std::move(*outcome_k.failure));
           }
           manifest.add(std::move(item));
-          if (!manifest_file) throw InputError(about(manifest_path.string(), "cannot be written (is the disk full?)"));
+          require_written(manifest_file, manifest_path);
         },
         run.jobs, &progress);
   }
   manifest.finish();
   manifest_file.close();
-  if (!manifest_file) throw InputError(about(manifest_path.string(), "cannot be written (is the disk full?)"));
+  require_written(manifest_file, manifest_path);
 
   if (mpi)
     return merge_at_root(world, scratch->path(), sink->names(),

@@ -136,10 +136,10 @@ nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const nloh
   return summary;
 }
 
-std::string summary_file_entry(const PushStudy& study) {
+std::string summary_file_entry(const PushStudy& study, bool first) {
   const std::string item = study_json(study).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
-  std::string out;
-  out.reserve(item.size() + item.size() / 8);
+  std::string out = first ? "\n    " : ",\n    ";
+  out.reserve(out.size() + item.size() + item.size() / 8);
   for (std::size_t from = 0; from < item.size();) {
     const std::size_t line_end = std::min(item.find('\n', from), item.size());
     out.append(item, from, line_end - from);
@@ -152,32 +152,18 @@ std::string summary_file_entry(const PushStudy& study) {
 void write_prediction_summary(std::ostream& out, const std::map<std::string, PredictionErrors>& aggregate,
                               const std::vector<BatchFailure>& failures, const nlohmann::json& options,
                               std::size_t files, const std::function<void(std::ostream&)>& write_files) {
-  // The document is dumped with a marker where its files go, and the files are written into that place, each
-  // indented as the whole document's dump would indent it (two levels: 4 spaces). Whole, the document took about
-  // 0.1 MB per push (its tree and its text) on top of the studies.
-  nlohmann::json head = summary_head(aggregate, failures, options);
-  const std::string marker = "pushpred: the files are written here";
-  head["files"] = marker;
-  const std::string text = json_file_text(head);
-  const std::string slot = "\n  \"files\": \"" + marker + "\"";
-  const std::size_t at = text.find(slot);
-  if (at == std::string::npos) throw std::logic_error("write_prediction_summary: the files' place was not found");
-  out.write(text.data(), static_cast<std::streamsize>(at));
-  out << "\n  \"files\": [";
+  // The files are written in their place, each indented as the whole document's dump would indent it (two levels:
+  // 4 spaces). Whole, the document took about 0.1 MB per push (its tree and its text) on top of the studies.
+  const JsonTextAround text = json_file_text_around(summary_head(aggregate, failures, options), "files");
+  out << text.before << '[';
   write_files(out);
-  out << (files == 0 ? "]" : "\n  ]");
-  const std::size_t rest = at + slot.size();
-  out.write(text.data() + rest, static_cast<std::streamsize>(text.size() - rest));
+  out << (files == 0 ? "]" : "\n  ]") << text.after;
 }
 
 void write_prediction_summary(std::ostream& out, const Batch<PushStudy>& batch, const nlohmann::json& options) {
   write_prediction_summary(out, aggregate_errors(batch.results), batch.failures, options, batch.results.size(),
                            [&](std::ostream& files) {
-                             const char* separator = "\n    ";
-                             for (const auto& s : batch.results) {
-                               files << separator << summary_file_entry(s);
-                               separator = ",\n    ";
-                             }
+                             for (const auto& s : batch.results) files << summary_file_entry(s, &s == &batch.results.front());
                            });
 }
 
@@ -206,11 +192,11 @@ double PredictionTables::Loss::excess() const {
   return std::max(0.0, pos - best_pos) + std::max(0.0, yaw - best_yaw);
 }
 
-void PredictionTables::keep_worst(std::size_t count) {
+void PredictionTables::keep_worst(std::vector<Loss>& losses, std::size_t count) {
   // Worst first; among equal excesses, the earlier push first (a stable sort of pushes in input order), so that
   // trimming as they come keeps what sorting them all at the end would.
-  std::stable_sort(losses_.begin(), losses_.end(), [](const Loss& a, const Loss& b) { return a.excess() > b.excess(); });
-  if (losses_.size() > count) losses_.resize(count);
+  std::stable_sort(losses.begin(), losses.end(), [](const Loss& a, const Loss& b) { return a.excess() > b.excess(); });
+  if (losses.size() > count) losses.resize(count);
 }
 
 void PredictionTables::add(const PushStudy& study) {
@@ -249,7 +235,7 @@ void PredictionTables::add(const PushStudy& study) {
     ++lost_per_object_[object].first;
     losses_.push_back({std::filesystem::path(study.source).filename().string(), r.phase, e.pos_mm_mean,
                        e.theta_deg_mean, best_pos, best_yaw});
-    if (losses_.size() >= 4 * keep + 64) keep_worst(keep);
+    if (losses_.size() >= 4 * keep + 64) keep_worst(losses_, keep);
   }
 }
 
@@ -293,9 +279,9 @@ std::string PredictionTables::losing_phases_markdown() const {
     md << " " << object << " " << counts.first << " of " << counts.second << ";";
   md << "\n\n| push | phase | " << losing_method_ << " [mm / deg] | better reference [mm / deg] |\n|---|---|---|---|\n";
   std::vector<Loss> worst = losses_;
-  std::stable_sort(worst.begin(), worst.end(), [](const Loss& a, const Loss& b) { return a.excess() > b.excess(); });
+  keep_worst(worst, static_cast<std::size_t>(std::max(worst_, 0)));
   char row[400];
-  for (size_t k = 0; k < worst.size() && static_cast<int>(k) < worst_; ++k) {
+  for (size_t k = 0; k < worst.size(); ++k) {
     const Loss& l = worst[k];
     std::snprintf(row, sizeof row, "| `%s` | %d | %.2f / %.2f | %.2f / %.2f |\n", l.push.c_str(), l.phase, l.pos, l.yaw,
                   l.best_pos, l.best_yaw);

@@ -30,13 +30,13 @@ nlohmann::json prediction_summary_json(const Batch<PushStudy>& batch, const nloh
 /// a time, without building the whole document: memory stays that of the studies, whatever the number of pushes.
 void write_prediction_summary(std::ostream& out, const Batch<PushStudy>& batch, const nlohmann::json& options);
 /// The same text, for a batch whose studies are no longer held: `aggregate` is aggregate_errors of the `files`
-/// studies, and `write_files` writes their entries (summary_file_entry of each, in order, after "\n    " for the
-/// first and ",\n    " for the others).
+/// studies, and `write_files` writes their entries (summary_file_entry of each, in order).
 void write_prediction_summary(std::ostream& out, const std::map<std::string, PredictionErrors>& aggregate,
                               const std::vector<BatchFailure>& failures, const nlohmann::json& options,
                               std::size_t files, const std::function<void(std::ostream&)>& write_files);
-/// One study's entry in summary.json's "files", indented as the whole document's dump indents it.
-std::string summary_file_entry(const PushStudy& study);
+/// One study's entry in summary.json's "files", indented as the whole document's dump indents it, after its
+/// separator from the entry before (none when `first`).
+std::string summary_file_entry(const PushStudy& study, bool first);
 
 /// Markdown tables of the mean over phases of each method's per-phase mean position error [mm] / yaw error [deg]:
 /// per object, per pusher speed (or acceleration), and over all phases, for `studies` (shape and speed from the
@@ -75,7 +75,8 @@ class PredictionTables {
     double pos, yaw, best_pos, best_yaw;
     double excess() const;
   };
-  void keep_worst(std::size_t count);
+  /// Sorts `losses` worst first and keeps the first `count`.
+  static void keep_worst(std::vector<Loss>& losses, std::size_t count);
 
   bool started_ = false;
   std::vector<std::string> methods_;  ///< the first study's: the tables' columns
