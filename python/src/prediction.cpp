@@ -141,14 +141,18 @@ below coulomb_speed_scale_m_s). With beta = eps = 0 and no friction it is Newton
           times = push.t_s.segment(first, last - first + 1);
         }
         const Eigen::Vector3d start = pose0 ? *pose0 : Eigen::Vector3d(push.pose.row(first).transpose());
-        return array(without_gil([&] { return predict_poses(model, plan, start, velocity0, times); }));
+        return array(without_gil([&] {
+          return is_linear(model) ? predict_poses_exactly(model, plan, start, velocity0, times)
+                                  : predict_poses(model, plan, start, velocity0, times);
+        }));
       },
       py::arg("model"), py::arg("push"), py::arg("t0_s"), py::arg("t1_s"), py::arg("plan_rate_hz") = 10.0,
       py::arg("pose0") = py::none(), py::arg("velocity0") = Eigen::Vector3d::Zero().eval(),
       py::arg("output_times_s") = py::none(), R"doc(
 Predicts the pose under `model` from t0_s to t1_s [s] with the push's measured input planned at plan_rate_hz
 (plan_from_measurement). pose0 (x [m], y [m], yaw [rad]) defaults to the measured pose at t0_s, velocity0
-[m/s, m/s, rad/s] to rest; output_times_s to the push's grid times in [t0_s, t1_s]. Returns n x 3 poses.)doc");
+[m/s, m/s, rad/s] to rest; output_times_s to the push's grid times in [t0_s, t1_s]. Returns n x 3 poses. The
+relation model alone (no friction) is predicted exactly, as the study's dob methods are; with friction, by CVODE.)doc");
 }
 
 }  // namespace pushpred::python

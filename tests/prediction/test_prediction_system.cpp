@@ -92,4 +92,66 @@ BOOST_AUTO_TEST_CASE(a_bad_model_is_a_clear_error) {
                     InputError);
 }
 
+BOOST_AUTO_TEST_CASE(the_exact_path_reproduces_newtons_law) {
+  const PlannedForce plan = staircase_plan(2.0, 8);
+  PredictionModel model;
+  model.mass_kg = 1.045;
+  model.inertia_kgm2 = 0.001808;
+  const Eigen::Vector3d pose0(0.3, -0.02, 0.5), vel0(0.01, 0.0, -0.2);
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(41, 2.0, 2.8);  // every fifth one on a plan sample
+  const Eigen::MatrixX3d poses = predict_poses_exactly(model, plan, pose0, vel0, times);
+  const Eigen::Vector3d mass(model.mass_kg, model.mass_kg, model.inertia_kgm2);
+  for (Eigen::Index j = 0; j < times.size(); ++j) {
+    const Eigen::Vector3d exact = newton_closed_form(plan, mass, pose0, vel0, times(j));
+    BOOST_TEST_REQUIRE((poses.row(j).transpose() - exact).norm() < 1e-12 * (1.0 + exact.norm()));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(the_exact_path_of_the_relation_model_equals_cvode) {
+  // beta and eps on every channel, an initial velocity, output times on, between and past the plan's samples, and a
+  // start between two samples (the sample before the start is held from it): CVODE at tight tolerances agrees.
+  PredictionModel model;
+  model.mass_kg = 0.837;
+  model.inertia_kgm2 = 0.0011;
+  model.beta = Eigen::Vector3d(-0.45, -0.8, 0.3);
+  model.eps = Eigen::Vector3d(-0.2, 0.15, -0.004);
+  for (const double start : {0.0, 0.037}) {
+    PlannedForce plan = staircase_plan(0.0, 7);
+    plan.t0_s = start;
+    plan.t1_s = 0.9;  // past the last sample (0.6): its value is held
+    const Eigen::Vector3d pose0(0.05, 0.1, -0.3), vel0(0.02, -0.01, 0.4);
+    Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(226, start, 0.9);
+    times(3) = times(2);  // a repeated output time
+    IntegratorOptions tight;
+    tight.relative_tolerance = 1e-12;
+    tight.absolute_tolerance = 1e-14;
+    const Eigen::MatrixX3d exact = predict_poses_exactly(model, plan, pose0, vel0, times);
+    const Eigen::MatrixX3d cvode = predict_poses(model, plan, pose0, vel0, times, tight);
+    const double scale = exact.cwiseAbs().maxCoeff();
+    BOOST_TEST((exact - cvode).cwiseAbs().maxCoeff() < 1e-9 * scale, "start " << start);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(the_exact_path_refuses_what_it_cannot_predict_exactly) {
+  PredictionModel model;
+  model.mass_kg = 1.0;
+  model.inertia_kgm2 = 0.002;
+  const PlannedForce plan = staircase_plan(0.0, 3);
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  BOOST_TEST(is_linear(model));
+  PredictionModel friction = model;
+  friction.coulomb_force_N = 1.0;
+  BOOST_TEST(!is_linear(friction));
+  BOOST_CHECK_THROW(predict_poses_exactly(friction, plan, zero, zero, Eigen::VectorXd::Constant(1, 0.1)), InputError);
+  Eigen::VectorXd decreasing(2);
+  decreasing << 0.2, 0.1;
+  BOOST_CHECK_THROW(predict_poses_exactly(model, plan, zero, zero, decreasing), InputError);
+  BOOST_CHECK_THROW(predict_poses_exactly(model, plan, zero, zero, Eigen::VectorXd::Constant(1, -0.1)), InputError);
+  BOOST_CHECK_THROW(predict_poses_exactly(model, plan, zero, zero, Eigen::VectorXd::Constant(1, std::nan(""))),
+                    InputError);
+  BOOST_CHECK_THROW(predict_poses_exactly(model, plan, Eigen::Vector3d::Constant(std::nan("")), zero,
+                                          Eigen::VectorXd::Constant(1, 0.1)),
+                    InputError);
+}
+
 BOOST_AUTO_TEST_SUITE_END()

@@ -110,9 +110,11 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
   }
   correction_->adjust_phase_model(push_, identification_, c.phase, c.plan_rate_hz, corrected);
   const PlannedForce plan = plan_from_measurement(push_, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
-  return {predict_poses(corrected, plan, c.pose0,
-                        correction_->initial_velocity_from_observer() ? velocity0_ : Eigen::Vector3d::Zero(), c.t_s,
-                        c.options.integrator),
+  const Eigen::Vector3d velocity0 =
+      correction_->initial_velocity_from_observer() ? velocity0_ : Eigen::Vector3d::Zero().eval();
+  // A correction that adds no term leaves the relation model, which the dob methods predict exactly: so must this.
+  return {is_linear(corrected) ? predict_poses_exactly(corrected, plan, c.pose0, velocity0, c.t_s)
+                               : predict_poses(corrected, plan, c.pose0, velocity0, c.t_s, c.options.integrator),
           fallback_note,
           {}};
 }

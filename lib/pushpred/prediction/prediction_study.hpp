@@ -91,7 +91,8 @@ struct StudyOptions {
   std::string observer = "dob";   ///< a disturbance estimator name
   std::string estimator = "rls";  ///< a relation estimator name
   double friction_coefficient = -1;  ///< for `simple`; < 0: from the surface; not finite: InputError
-  /// The observer's CVODE path (when asked for) and the relation and friction models.
+  /// The observer's CVODE path (when asked for), the friction model (`simple`) and a corrected model with extra
+  /// terms; the relation model alone is linear and predicted exactly (predict_poses_exactly).
   IntegratorOptions integrator;
   /// The quasi-static pushing model, its own and the corrected model's (quasi_static_integrator_options says why).
   IntegratorOptions pushing_model_integrator = quasi_static_integrator_options();

@@ -72,4 +72,53 @@ Eigen::MatrixX3d predict_poses(const PredictionModel& model, const PlannedForce&
   return states.leftCols<3>();
 }
 
+bool is_linear(const PredictionModel& model) { return model.coulomb_force_N == 0 && model.extra_terms.empty(); }
+
+Eigen::MatrixX3d predict_poses_exactly(const PredictionModel& model, const PlannedForce& plan,
+                                       const Eigen::Vector3d& pose0, const Eigen::Vector3d& velocity0,
+                                       const Eigen::VectorXd& output_times) {
+  model.validate();
+  if (!is_linear(model))
+    throw InputError("prediction model: the exact path takes the relation model alone (no friction, no extra terms)");
+  if (plan.signal.channels() != 3) throw InputError("planned force must have 3 channels");
+  if (plan.signal.hold() != Hold::Zero) throw InputError("planned force: the exact path needs a zero-order hold");
+  if (!pose0.allFinite() || !velocity0.allFinite())
+    throw InputError("prediction: initial pose or velocity holds NaN or infinity");
+  const Eigen::VectorXd& t = plan.signal.times();
+  const Eigen::MatrixXd& u = plan.signal.values();
+  const Eigen::Array3d mass(model.mass_kg, model.mass_kg, model.inertia_kgm2);
+  // The acceleration held from plan sample k on (before the first sample the first value is held, as
+  // SampledSignal does, so the segment index starts at 0 whatever plan.t0_s is).
+  const auto acceleration = [&](Eigen::Index k) -> Eigen::Vector3d {
+    const Eigen::Array3d uk = u.row(k).transpose().array();
+    return ((uk + model.beta.array() * uk + model.eps.array()) / mass).matrix();
+  };
+  Eigen::MatrixX3d poses(output_times.size(), 3);
+  Eigen::Index k = 0;  // the plan segment the state below starts in
+  double tk = plan.t0_s;
+  Eigen::Vector3d pk = pose0, vk = velocity0, ak = acceleration(0);
+  double previous = plan.t0_s;
+  for (Eigen::Index j = 0; j < output_times.size(); ++j) {
+    const double tj = output_times(j);
+    if (!std::isfinite(tj)) throw InputError("prediction: output time " + std::to_string(j) + " is not finite");
+    if (tj < plan.t0_s) throw InputError("prediction: an output time precedes the plan's start");
+    if (tj < previous) throw InputError("prediction: output times must be non-decreasing");
+    previous = tj;
+    // Step over every plan sample at or before tj: the held value changes there.
+    while (k + 1 < t.size() && t(k + 1) <= tj) {
+      const double dt = t(k + 1) - tk;
+      if (dt > 0) {
+        pk += vk * dt + 0.5 * dt * dt * ak;
+        vk += dt * ak;
+        tk = t(k + 1);
+      }
+      ++k;
+      ak = acceleration(k);
+    }
+    const double dt = tj - tk;
+    poses.row(j) = (pk + vk * dt + 0.5 * dt * dt * ak).transpose();
+  }
+  return poses;
+}
+
 }  // namespace pushpred

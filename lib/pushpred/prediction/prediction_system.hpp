@@ -71,9 +71,23 @@ class PredictionSystem final : public ContinuousSystem {
   PlannedForce plan_;
 };
 
-/// Predicted poses (n x 3: x, y, theta) at `output_times_s` from `pose0` and `velocity0` at plan.t0_s.
+/// Predicted poses (n x 3: x, y, theta) at `output_times_s` from `pose0` and `velocity0` at plan.t0_s, by CVODE.
 Eigen::MatrixX3d predict_poses(const PredictionModel& model, const PlannedForce& plan, const Eigen::Vector3d& pose0,
                                const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
                                const IntegratorOptions& integrator = {});
+
+/// True when `model` is the paper's relation model alone (no Coulomb friction, no extra terms): linear, a double
+/// integrator per channel under the held plan, so predict_poses_exactly applies.
+bool is_linear(const PredictionModel& model);
+
+/// The same poses as predict_poses for a linear model (is_linear), by its exact discretisation: under a
+/// zero-order-held input a double integrator's step is exp([[A, B], [0, 0]] dt), i.e. pose + v dt + a dt^2 / 2 and
+/// v + a dt with a = (u + beta u + eps) / M, taken from plan sample to plan sample and to each output time. The
+/// fast path of the relation methods (dob, dob_velinit); predict_poses stays the cross-check (tests/prediction).
+/// No CVODE, one allocation (the result). Throws InputError for a model that is not linear or not valid, a plan
+/// without 3 channels, or output times that are not finite, precede plan.t0_s or decrease.
+Eigen::MatrixX3d predict_poses_exactly(const PredictionModel& model, const PlannedForce& plan,
+                                       const Eigen::Vector3d& pose0, const Eigen::Vector3d& velocity0,
+                                       const Eigen::VectorXd& output_times_s);
 
 }  // namespace pushpred

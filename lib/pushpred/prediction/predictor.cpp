@@ -24,8 +24,9 @@ class RelationPredictor final : public Predictor {
       model.eps = c.relation.eps;
     }
     const PlannedForce plan = plan_from_measurement(c.push, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
-    return {predict_poses(model, plan, c.pose0, velocity_from_observer_ ? c.velocity0 : Eigen::Vector3d::Zero(), c.t_s,
-                          c.options.integrator),
+    // Linear: its exact discretisation, not CVODE (predict_poses_exactly says why).
+    return {predict_poses_exactly(model, plan, c.pose0,
+                                  velocity_from_observer_ ? c.velocity0 : Eigen::Vector3d::Zero().eval(), c.t_s),
             {},
             {}};
   }
