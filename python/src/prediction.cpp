@@ -90,8 +90,9 @@ Returns t_s (sample times [s]) and u (n x 3: f_x [N], f_y [N], torque about the 
 
   py::class_<PredictionModel>(m, "PredictionModel", R"doc(
 The prediction phase's model of a planar rigid body, per channel c (x, y, rotation), M = (m, m, I):
-M_c accel_c = u_c + beta_c u_c + eps_c - Coulomb friction (coulomb_force_N opposing the velocity, regularised
-below coulomb_speed_scale_m_s). With beta = eps = 0 and no friction it is Newton's law under the planned force.)doc")
+M_c accel_c = u_c + beta_c u_c + eps_c - Coulomb friction (coulomb_force_N opposing the translational velocity;
+holding a body at rest against a smaller force; regularised below coulomb_speed_scale_m_s only when CVODE integrates
+it). With beta = eps = 0 and no friction it is Newton's law under the planned force.)doc")
       .def(py::init([](double mass_kg, double inertia_kgm2, const Eigen::Vector3d& beta, const Eigen::Vector3d& eps,
                        double coulomb_force_N, double coulomb_speed_scale_m_s) {
              PredictionModel model;
@@ -130,7 +131,9 @@ below coulomb_speed_scale_m_s). With beta = eps = 0 and no friction it is Newton
       "predict_poses",
       [](const PredictionModel& model, const SynchronisedPush& push, double t0_s, double t1_s, double plan_rate_hz,
          std::optional<Eigen::Vector3d> pose0, const Eigen::Vector3d& velocity0,
-         std::optional<Eigen::VectorXd> output_times_s) {
+         std::optional<Eigen::VectorXd> output_times_s, const std::string& integrator) {
+        if (integrator != "closed_form" && integrator != "cvode")
+          throw InputError("predict_poses: integrator must be 'closed_form' or 'cvode', not '" + integrator + "'");
         const PlannedForce plan = plan_from_measurement(push, t0_s, t1_s, plan_rate_hz);
         const Eigen::Index first = push.index_at(t0_s);
         Eigen::VectorXd times;
@@ -142,17 +145,19 @@ below coulomb_speed_scale_m_s). With beta = eps = 0 and no friction it is Newton
         }
         const Eigen::Vector3d start = pose0 ? *pose0 : Eigen::Vector3d(push.pose.row(first).transpose());
         return array(without_gil([&] {
-          return is_linear(model) ? predict_poses_exactly(model, plan, start, velocity0, times)
-                                  : predict_poses(model, plan, start, velocity0, times);
+          return integrator == "closed_form" ? predict_poses_exactly(model, plan, start, velocity0, times)
+                                             : predict_poses(model, plan, start, velocity0, times);
         }));
       },
       py::arg("model"), py::arg("push"), py::arg("t0_s"), py::arg("t1_s"), py::arg("plan_rate_hz") = 10.0,
       py::arg("pose0") = py::none(), py::arg("velocity0") = Eigen::Vector3d::Zero().eval(),
-      py::arg("output_times_s") = py::none(), R"doc(
+      py::arg("output_times_s") = py::none(), py::arg("integrator") = "closed_form", R"doc(
 Predicts the pose under `model` from t0_s to t1_s [s] with the push's measured input planned at plan_rate_hz
 (plan_from_measurement). pose0 (x [m], y [m], yaw [rad]) defaults to the measured pose at t0_s, velocity0
-[m/s, m/s, rad/s] to rest; output_times_s to the push's grid times in [t0_s, t1_s]. Returns n x 3 poses. The
-relation model alone (no friction) is predicted exactly, as the study's dob methods are; with friction, by CVODE.)doc");
+[m/s, m/s, rad/s] to rest; output_times_s to the push's grid times in [t0_s, t1_s]. Returns n x 3 poses.
+integrator "closed_form" (the default, what the study's dob, dob_velinit and simple methods use) solves the model
+per plan step in closed form, Coulomb friction unregularised; "cvode" integrates it with CVODE, the friction
+regularised below coulomb_speed_scale_m_s (predict_poses_exactly in prediction_system.hpp).)doc");
 }
 
 }  // namespace pushpred::python

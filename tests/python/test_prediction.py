@@ -61,3 +61,21 @@ def test_prediction_model_reproduces_the_studys_dob_method(hex_file):
     assert np.abs(free - measured)[:, :2].mean() > np.abs(predicted - measured)[:, :2].mean()
     with pytest.raises(pushpred.InputError):
         pushpred.PredictionModel(mass_kg=-1.0, inertia_kgm2=0.01)
+
+
+def test_the_simple_model_in_closed_form_is_the_studys_and_cvode_regularised_comes_close(hex_file):
+    push = pushpred.load_push(hex_file)
+    study = pushpred.run_prediction_study(push)
+    phase = study["phases"][-1]
+    friction = 0.14 * push.shape["mass_kg"] * 9.81
+    model = pushpred.PredictionModel(push.shape["mass_kg"], push.shape["inertia_kgm2"], coulomb_force_N=friction,
+                                     coulomb_speed_scale_m_s=1e-6)
+    closed = pushpred.predict_poses(model, push, phase["t0_s"], phase["t1_s"], output_times_s=phase["t_s"])
+    np.testing.assert_allclose(closed, phase["predicted"]["simple"], rtol=0, atol=1e-12)
+    cvode = pushpred.predict_poses(model, push, phase["t0_s"], phase["t1_s"], output_times_s=phase["t_s"],
+                                   integrator="cvode")
+    travel = np.abs(closed[-1, :2] - closed[0, :2]).max()
+    assert travel > 0.01  # the planned force exceeds mu m g: the simple model slides away
+    assert np.abs(cvode - closed)[:, :2].max() < 1e-6 * max(1.0, travel / 0.01)
+    with pytest.raises(pushpred.InputError):
+        pushpred.predict_poses(model, push, phase["t0_s"], phase["t1_s"], integrator="rk4")

@@ -112,8 +112,9 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
   const PlannedForce plan = plan_from_measurement(push_, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
   const Eigen::Vector3d velocity0 =
       correction_->initial_velocity_from_observer() ? velocity0_ : Eigen::Vector3d::Zero().eval();
-  // A correction that adds no term leaves the relation model, which the dob methods predict exactly: so must this.
-  return {is_linear(corrected) ? predict_poses_exactly(corrected, plan, c.pose0, velocity0, c.t_s)
+  // A correction that adds no term leaves the relation model, which the dob methods predict in closed form: so must
+  // this.
+  return {has_closed_form(corrected) ? predict_poses_exactly(corrected, plan, c.pose0, velocity0, c.t_s)
                                : predict_poses(corrected, plan, c.pose0, velocity0, c.t_s, c.options.integrator),
           fallback_note,
           {}};

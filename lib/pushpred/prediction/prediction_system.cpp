@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/mechanics/coulomb_slide.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
@@ -72,31 +73,44 @@ Eigen::MatrixX3d predict_poses(const PredictionModel& model, const PlannedForce&
   return states.leftCols<3>();
 }
 
-bool is_linear(const PredictionModel& model) { return model.coulomb_force_N == 0 && model.extra_terms.empty(); }
+bool has_closed_form(const PredictionModel& model) { return model.extra_terms.empty(); }
 
 Eigen::MatrixX3d predict_poses_exactly(const PredictionModel& model, const PlannedForce& plan,
                                        const Eigen::Vector3d& pose0, const Eigen::Vector3d& velocity0,
                                        const Eigen::VectorXd& output_times) {
   model.validate();
-  if (!is_linear(model))
-    throw InputError("prediction model: the exact path takes the relation model alone (no friction, no extra terms)");
+  if (!has_closed_form(model))
+    throw InputError("prediction model: the closed-form path takes no extra terms (CVODE integrates those)");
   if (plan.signal.channels() != 3) throw InputError("planned force must have 3 channels");
-  if (plan.signal.hold() != Hold::Zero) throw InputError("planned force: the exact path needs a zero-order hold");
+  if (plan.signal.hold() != Hold::Zero) throw InputError("planned force: the closed-form path needs a zero-order hold");
   if (!pose0.allFinite() || !velocity0.allFinite())
     throw InputError("prediction: initial pose or velocity holds NaN or infinity");
   const Eigen::VectorXd& t = plan.signal.times();
   const Eigen::MatrixXd& u = plan.signal.values();
-  const Eigen::Array3d mass(model.mass_kg, model.mass_kg, model.inertia_kgm2);
-  // The acceleration held from plan sample k on (before the first sample the first value is held, as
-  // SampledSignal does, so the segment index starts at 0 whatever plan.t0_s is).
-  const auto acceleration = [&](Eigen::Index k) -> Eigen::Vector3d {
-    const Eigen::Array3d uk = u.row(k).transpose().array();
-    return ((uk + model.beta.array() * uk + model.eps.array()) / mass).matrix();
+  // The generalized force held from plan sample k on; Coulomb friction, if any, acts on its translational part
+  // (before the first sample the first value is held, as SampledSignal does).
+  const auto force = [&](Eigen::Index k) -> Eigen::Vector3d {
+    const Eigen::Vector3d uk = u.row(k).transpose();
+    return uk + model.beta.cwiseProduct(uk) + model.eps;
+  };
+  // The state dt after one with generalized force g: translation by the Coulomb slide (with zero friction, the
+  // double integrator), rotation by the double integrator.
+  const auto advance = [&](const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity, const Eigen::Vector3d& g,
+                           double dt, Eigen::Vector3d& pose_out, Eigen::Vector3d& velocity_out) {
+    const Eigen::Vector3d a(g(0) / model.mass_kg, g(1) / model.mass_kg, g(2) / model.inertia_kgm2);
+    pose_out = pose + velocity * dt + 0.5 * dt * dt * a;
+    velocity_out = velocity + dt * a;
+    if (model.coulomb_force_N > 0) {
+      const PlanarSlide slide = slide_under_coulomb_friction({pose.head<2>(), velocity.head<2>()}, g.head<2>(),
+                                                             model.coulomb_force_N, model.mass_kg, dt);
+      pose_out.head<2>() = slide.position_m;
+      velocity_out.head<2>() = slide.velocity_m_s;
+    }
   };
   Eigen::MatrixX3d poses(output_times.size(), 3);
   Eigen::Index k = 0;  // the plan segment the state below starts in
   double tk = plan.t0_s;
-  Eigen::Vector3d pk = pose0, vk = velocity0, ak = acceleration(0);
+  Eigen::Vector3d pk = pose0, vk = velocity0, gk = force(0), pose, velocity;
   double previous = plan.t0_s;
   for (Eigen::Index j = 0; j < output_times.size(); ++j) {
     const double tj = output_times(j);
@@ -106,17 +120,17 @@ Eigen::MatrixX3d predict_poses_exactly(const PredictionModel& model, const Plann
     previous = tj;
     // Step over every plan sample at or before tj: the held value changes there.
     while (k + 1 < t.size() && t(k + 1) <= tj) {
-      const double dt = t(k + 1) - tk;
-      if (dt > 0) {
-        pk += vk * dt + 0.5 * dt * dt * ak;
-        vk += dt * ak;
+      if (t(k + 1) > tk) {
+        advance(pk, vk, gk, t(k + 1) - tk, pose, velocity);
+        pk = pose;
+        vk = velocity;
         tk = t(k + 1);
       }
       ++k;
-      ak = acceleration(k);
+      gk = force(k);
     }
-    const double dt = tj - tk;
-    poses.row(j) = (pk + vk * dt + 0.5 * dt * dt * ak).transpose();
+    advance(pk, vk, gk, tj - tk, pose, velocity);
+    poses.row(j) = pose.transpose();
   }
   return poses;
 }

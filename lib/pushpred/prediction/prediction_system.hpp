@@ -39,9 +39,10 @@ struct PredictionModel {
   double inertia_kgm2 = 0;
   Eigen::Vector3d beta = Eigen::Vector3d::Zero();  ///< per channel [-]
   Eigen::Vector3d eps = Eigen::Vector3d::Zero();   ///< per channel [N, N, N m]
-  /// Coulomb friction of magnitude coulomb_force_N opposing the translational velocity (0: none). Regularised
-  /// as v / sqrt(|v|^2 + coulomb_speed_scale^2) (ellipsoidal_limit_surface_wrench with c = 0,
-  /// mechanics/support_friction.hpp) so the dynamics stay smooth; at rest it vanishes and the object starts moving only where the applied force points.
+  /// Coulomb friction of magnitude coulomb_force_N opposing the translational velocity (0: none). CVODE
+  /// (PredictionSystem) integrates it regularised as v / sqrt(|v|^2 + coulomb_speed_scale^2)
+  /// (ellipsoidal_limit_surface_wrench with c = 0, mechanics/support_friction.hpp) so the dynamics stay smooth, which
+  /// lets a body at rest creep under any force; predict_poses_exactly solves the law itself, static friction included.
   double coulomb_force_N = 0;
   double coulomb_speed_scale_m_s = 1e-3;
   std::vector<std::shared_ptr<const GeneralizedForceTerm>> extra_terms;
@@ -76,16 +77,22 @@ Eigen::MatrixX3d predict_poses(const PredictionModel& model, const PlannedForce&
                                const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
                                const IntegratorOptions& integrator = {});
 
-/// True when `model` is the paper's relation model alone (no Coulomb friction, no extra terms): linear, a double
-/// integrator per channel under the held plan, so predict_poses_exactly applies.
-bool is_linear(const PredictionModel& model);
+/// True when `model` has no extra terms: the paper's relation model, with or without Coulomb friction, which
+/// predict_poses_exactly solves in closed form.
+bool has_closed_form(const PredictionModel& model);
 
-/// The same poses as predict_poses for a linear model (is_linear), by its exact discretisation: under a
-/// zero-order-held input a double integrator's step is exp([[A, B], [0, 0]] dt), i.e. pose + v dt + a dt^2 / 2 and
-/// v + a dt with a = (u + beta u + eps) / M, taken from plan sample to plan sample and to each output time. The
-/// fast path of the relation methods (dob, dob_velinit); predict_poses stays the cross-check (tests/prediction).
-/// No CVODE, one allocation (the result). Throws InputError for a model that is not linear or not valid, a plan
-/// without 3 channels, or output times that are not finite, precede plan.t0_s or decrease.
+/// The poses of predict_poses for a model without extra terms (has_closed_form), in closed form from plan sample to
+/// plan sample and to each output time: the fast path of the study's dob, dob_velinit and simple methods, with
+/// predict_poses (CVODE) as the cross-check (tests/prediction). Per plan step the input is constant, so
+/// - the relation model alone is a double integrator, whose exact discretisation exp([[A, B], [0, 0]] dt) is
+///   pose + v dt + a dt^2 / 2 and v + a dt with a = (u + beta u + eps) / M: the same poses as CVODE to rounding;
+/// - with Coulomb friction the translation is slide_under_coulomb_friction (mechanics/coulomb_slide.hpp), the law
+///   itself rather than its regularisation over coulomb_speed_scale_m_s, which CVODE needs: the two agree as that
+///   scale goes to zero, and differ where the regularised body creeps (a force below the friction moves a body at
+///   rest in CVODE's model, not in this one). Rotation stays the double integrator.
+/// One allocation (the result). Throws InputError for a model with extra terms or not valid, a plan without 3
+/// channels or not zero-order held, a non-finite start, or output times that are not finite, precede plan.t0_s or
+/// decrease.
 Eigen::MatrixX3d predict_poses_exactly(const PredictionModel& model, const PlannedForce& plan,
                                        const Eigen::Vector3d& pose0, const Eigen::Vector3d& velocity0,
                                        const Eigen::VectorXd& output_times_s);

@@ -24,7 +24,7 @@ class RelationPredictor final : public Predictor {
       model.eps = c.relation.eps;
     }
     const PlannedForce plan = plan_from_measurement(c.push, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
-    // Linear: its exact discretisation, not CVODE (predict_poses_exactly says why).
+    // The double integrator's exact discretisation, not CVODE (predict_poses_exactly says why).
     return {predict_poses_exactly(model, plan, c.pose0,
                                   velocity_from_observer_ ? c.velocity0 : Eigen::Vector3d::Zero().eval(), c.t_s),
             {},
@@ -48,7 +48,8 @@ class SimplePredictor final : public Predictor {
     model.inertia_kgm2 = c.push.shape.inertia_kgm2;
     model.coulomb_force_N = mu_ * c.push.shape.mass_kg * kGravity_m_s2;
     const PlannedForce plan = plan_from_measurement(c.push, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
-    return {predict_poses(model, plan, c.pose0, Eigen::Vector3d::Zero(), c.t_s, c.options.integrator), {}, {}};
+    // Coulomb friction solved in closed form, not CVODE on its regularisation (predict_poses_exactly says why).
+    return {predict_poses_exactly(model, plan, c.pose0, Eigen::Vector3d::Zero(), c.t_s), {}, {}};
   }
 
  private:
