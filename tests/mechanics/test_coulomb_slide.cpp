@@ -38,9 +38,8 @@ BOOST_AUTO_TEST_SUITE(coulomb_slide)
 
 BOOST_AUTO_TEST_CASE(static_friction_holds_a_body_at_rest_under_a_force_below_it) {
   const PlanarSlide start{Eigen::Vector2d(0.1, -0.2), Eigen::Vector2d::Zero()};
-  const PlanarSlide end =
-      slide_under_coulomb_friction(start, Eigen::Vector2d(0.6, -0.7) * kFriction / std::hypot(0.6, 0.7) * 0.999,
-                                   kFriction, kMass, 0.1);
+  const PlanarSlide end = slide_under_coulomb_friction(
+      start, Eigen::Vector2d(0.6, -0.7) * kFriction / std::hypot(0.6, 0.7) * 0.999, kFriction, kMass, 0.1);
   BOOST_TEST((end.position_m - start.position_m).norm() == 0.0);
   BOOST_TEST(end.velocity_m_s.norm() == 0.0);
 }
@@ -56,7 +55,8 @@ BOOST_AUTO_TEST_CASE(a_force_above_friction_starts_a_resting_body_along_it_at_th
 BOOST_AUTO_TEST_CASE(a_coasting_body_stops_after_v_squared_over_2_mu_g_and_stays) {
   const double v0 = 0.1, mu_g = kFriction / kMass;
   const PlanarSlide start{Eigen::Vector2d::Zero(), Eigen::Vector2d(0.0, -v0)};
-  const PlanarSlide half = slide_under_coulomb_friction(start, Eigen::Vector2d::Zero(), kFriction, kMass, 0.5 * v0 / mu_g);
+  const PlanarSlide half =
+      slide_under_coulomb_friction(start, Eigen::Vector2d::Zero(), kFriction, kMass, 0.5 * v0 / mu_g);
   BOOST_TEST(half.position_m.y() == -0.75 * v0 * v0 / (2 * mu_g), boost::test_tools::tolerance(1e-14));
   const PlanarSlide end = slide_under_coulomb_friction(start, Eigen::Vector2d::Zero(), kFriction, kMass, 1.0);
   BOOST_TEST(end.position_m.y() == -v0 * v0 / (2 * mu_g), boost::test_tools::tolerance(1e-14));
@@ -108,8 +108,8 @@ BOOST_AUTO_TEST_CASE(sliding_dt1_then_dt2_is_sliding_dt1_plus_dt2) {
     const PlanarSlide start{Eigen::Vector2d(-0.3, 0.4), speed(random) * Eigen::Vector2d(std::cos(va), std::sin(va))};
     const double dt1 = duration(random), dt2 = duration(random);
     const PlanarSlide once = slide_under_coulomb_friction(start, f, kFriction, kMass, dt1 + dt2);
-    const PlanarSlide twice = slide_under_coulomb_friction(slide_under_coulomb_friction(start, f, kFriction, kMass, dt1),
-                                                           f, kFriction, kMass, dt2);
+    const PlanarSlide twice = slide_under_coulomb_friction(
+        slide_under_coulomb_friction(start, f, kFriction, kMass, dt1), f, kFriction, kMass, dt2);
     const double scale = 1e-12 * (1 + once.velocity_m_s.norm() + start.velocity_m_s.norm());
     BOOST_TEST_REQUIRE((once.position_m - twice.position_m).norm() < scale, "trial " << trial << ", k " << k);
     BOOST_TEST_REQUIRE((once.velocity_m_s - twice.velocity_m_s).norm() < 10 * scale, "trial " << trial << ", k " << k);
@@ -159,9 +159,9 @@ BOOST_AUTO_TEST_CASE(bad_inputs_are_clear_errors) {
   BOOST_CHECK_THROW(slide_under_coulomb_friction(start, f, kFriction, 0.0, 0.1), InputError);
   BOOST_CHECK_THROW(slide_under_coulomb_friction(start, Eigen::Vector2d(std::nan(""), 0), kFriction, kMass, 0.1),
                     InputError);
-  BOOST_CHECK_THROW(slide_under_coulomb_friction({Eigen::Vector2d::Zero(), Eigen::Vector2d(INFINITY, 0)}, f, kFriction,
-                                                 kMass, 0.1),
-                    InputError);
+  BOOST_CHECK_THROW(
+      slide_under_coulomb_friction({Eigen::Vector2d::Zero(), Eigen::Vector2d(INFINITY, 0)}, f, kFriction, kMass, 0.1),
+      InputError);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -32,7 +32,8 @@ PlanarSlide slide_along(const PlanarSlide& start, const Eigen::Vector2d& axis, d
   if (v != 0) {
     // Friction opposes the motion until the body stops (if it does within dt).
     const double a = (f1 - std::copysign(friction, v)) / mass;
-    const double t_stop = (a != 0 && std::signbit(a) != std::signbit(v)) ? -v / a : std::numeric_limits<double>::infinity();
+    const double t_stop =
+        (a != 0 && std::signbit(a) != std::signbit(v)) ? -v / a : std::numeric_limits<double>::infinity();
     if (t >= t_stop) {
       x = -0.5 * v * v / a;
       v = 0;
@@ -57,7 +58,8 @@ PlanarSlide slide_under_coulomb_friction(const PlanarSlide& start, const Eigen::
   if (!(mass_kg > 0) || !std::isfinite(mass_kg)) throw InputError("Coulomb slide: mass must be positive and finite");
   if (!(friction_N >= 0) || !std::isfinite(friction_N))
     throw InputError("Coulomb slide: friction must be non-negative and finite");
-  if (!(dt_s >= 0) || !std::isfinite(dt_s)) throw InputError("Coulomb slide: time step must be non-negative and finite");
+  if (!(dt_s >= 0) || !std::isfinite(dt_s))
+    throw InputError("Coulomb slide: time step must be non-negative and finite");
   if (!start.position_m.allFinite() || !start.velocity_m_s.allFinite() || !force_N.allFinite())
     throw InputError("Coulomb slide: position, velocity or force holds NaN or infinity");
 
@@ -111,7 +113,10 @@ PlanarSlide slide_under_coulomb_friction(const PlanarSlide& start, const Eigen::
   double lo = rho_min, hi = 0, rho = 0;  // T(lo) > tau >= T(hi)
   for (int iteration = 0; iteration < 200; ++iteration) {
     const double residual = T(rho) - tau;
-    if (residual > 0) lo = rho; else hi = rho;
+    if (residual > 0)
+      lo = rho;
+    else
+      hi = rho;
     double next = rho - residual / dT(rho);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
     const double step = std::abs(next - rho);
