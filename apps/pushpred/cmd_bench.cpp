@@ -18,6 +18,7 @@
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/push_groups.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
+#include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/recording.hpp"
 #include "study_arguments.hpp"
@@ -33,6 +34,7 @@ struct BenchArgs {
   int repeat = 1;
   int diagnose_pushes = 0;
   bool cvode_observer = false;
+  bool cvode_prediction = false;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -44,10 +46,15 @@ struct Stage {
   double samples = 0;  ///< synchronised samples the stage processed
 };
 
+/// The largest differences between the two paths of the prediction model, per model: position [mm], yaw [deg].
+struct PathDifference {
+  double position_mm = 0, yaw_deg = 0;
+};
+
 /// One pass over every input; stage times summed over the pushes.
 std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesystem::path>& inputs,
                             const StudyOptions& o, std::size_t& used, std::size_t& skipped,
-                            double& worst_cvode_difference) {
+                            double& worst_cvode_difference, std::map<std::string, PathDifference>& path_differences) {
   PreprocessOptions pre;
   pre.rate_hz = a.rate_hz;
   std::map<std::string, Stage> by_name;
@@ -97,6 +104,43 @@ std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesyste
                                     reference.d_hat.col(c).cwiseAbs().maxCoeff());
       worst_cvode_difference = std::max(worst_cvode_difference, worst);
     }
+    if (a.cvode_prediction) {
+      // The models of dob and simple on every phase, as the study builds them, by both paths: the closed form the
+      // study uses and CVODE (simple's friction regularised over coulomb_speed_scale_m_s there).
+      const double mu =
+          o.friction_coefficient >= 0 ? o.friction_coefficient : surface_friction_coefficient(push.push.surface);
+      for (const PhaseResult& phase : study.phases) {
+        PredictionModel relation;
+        relation.mass_kg = push.shape.mass_kg;
+        relation.inertia_kgm2 = push.shape.inertia_kgm2;
+        relation.beta = phase.relation.beta;
+        relation.eps = phase.relation.eps;
+        PredictionModel friction;
+        friction.mass_kg = push.shape.mass_kg;
+        friction.inertia_kgm2 = push.shape.inertia_kgm2;
+        friction.coulomb_force_N = mu * push.shape.mass_kg * kGravity_m_s2;
+        const Eigen::Vector3d pose0 = push.pose.row(push.index_at(phase.interval.t0_s)).transpose();
+        const auto phase_samples = static_cast<double>(phase.t_s.size());
+        for (const auto& [name, model] : {std::pair<std::string, const PredictionModel&>{"dob model", relation},
+                                          std::pair<std::string, const PredictionModel&>{"simple model", friction}}) {
+          start = Clock::now();
+          const PlannedForce plan = plan_from_measurement(push, phase.interval.t0_s, phase.interval.t1_s, o.plan_rate_hz);
+          const Eigen::MatrixX3d closed = predict_poses_exactly(model, plan, pose0, Eigen::Vector3d::Zero(), phase.t_s);
+          add(name + ", closed form", since(start), phase_samples);
+          start = Clock::now();
+          const PlannedForce plan_again =
+              plan_from_measurement(push, phase.interval.t0_s, phase.interval.t1_s, o.plan_rate_hz);
+          const Eigen::MatrixX3d cvode =
+              predict_poses(model, plan_again, pose0, Eigen::Vector3d::Zero(), phase.t_s, o.integrator);
+          add(name + ", CVODE", since(start), phase_samples);
+          PathDifference& d = path_differences[name];
+          for (Eigen::Index j = 0; j < phase.t_s.size(); ++j) {
+            d.position_mm = std::max(d.position_mm, 1e3 * (closed.row(j).head<2>() - cvode.row(j).head<2>()).norm());
+            d.yaw_deg = std::max(d.yaw_deg, std::abs(closed(j, 2) - cvode(j, 2)) * 180.0 / M_PI);
+          }
+        }
+      }
+    }
 
     add("read", read_s, n);
     add("preprocess", preprocess_s, n);
@@ -138,8 +182,9 @@ int run_bench(const BenchArgs& a) {
   std::vector<Stage> best;
   std::size_t used = 0, skipped = 0;
   double worst_cvode_difference = 0;
+  std::map<std::string, PathDifference> path_differences;
   for (int r = 0; r < a.repeat; ++r) {
-    std::vector<Stage> pass = one_pass(a, inputs, o, used, skipped, worst_cvode_difference);
+    std::vector<Stage> pass = one_pass(a, inputs, o, used, skipped, worst_cvode_difference, path_differences);
     if (best.empty()) {
       best = std::move(pass);
       continue;
@@ -155,6 +200,7 @@ int run_bench(const BenchArgs& a) {
     const auto it = std::find(order.begin(), order.end(), name);
     if (it != order.end()) return static_cast<int>(it - order.begin());
     if (name.rfind("method ", 0) == 0) return 10;
+    if (name.find(" model, ") != std::string::npos) return 15;
     if (name == "study, other") return 20;
     if (name.rfind("diagnose", 0) == 0) return 30;
     if (name == "total") return 40;
@@ -186,6 +232,11 @@ int run_bench(const BenchArgs& a) {
                 worst_cvode_difference);
     doc["cvode_observer_worst_relative_difference"] = worst_cvode_difference;
   }
+  for (const auto& [name, d] : path_differences) {
+    std::printf("%s, CVODE against the closed form: largest difference %.2g mm, %.2g deg\n", name.c_str(),
+                d.position_mm, d.yaw_deg);
+    doc["cvode_prediction_largest_difference"][name] = {{"position_mm", d.position_mm}, {"yaw_deg", d.yaw_deg}};
+  }
   if (!a.json.empty()) {
     std::ofstream f(a.json);
     f << json_text(doc);
@@ -210,6 +261,9 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--json", a->json, "Also write the table as JSON to this file");
   sub->add_flag("--cvode-observer", a->cvode_observer,
                 "Also time the observer's CVODE path over every push, and its largest difference from the reference");
+  sub->add_flag("--cvode-prediction", a->cvode_prediction,
+                "Also time the dob and simple prediction models by their closed form and by CVODE on every phase, and "
+                "their largest difference");
   sub->callback([a, &run] { run = [a] { return run_bench(*a); }; });
 });
 

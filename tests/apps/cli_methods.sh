@@ -21,6 +21,21 @@ expect_in "$tmp/err" "unknown prediction method 'magic'" "reproduce names the un
 expect_absent "$tmp/bad_reproduce" "reproduce with an unknown method"
 expect_exit 2 "bench: an unknown method" -- "$bin" bench "$hex" --methods magic
 expect_in "$tmp/err" "unknown prediction method 'magic'" "bench names the unknown method"
+# bench --cvode-prediction: both paths of the dob and simple models timed, and the dob model's two paths (the
+# double integrator in closed form and by CVODE at rtol 1e-8) agreeing to well under a micrometre.
+expect_exit 0 "bench with both prediction paths" -- "$bin" bench "$hex" --methods dob,simple --cvode-prediction \
+  --json "$tmp/bench.json"
+check "bench times both paths of both models and only the chosen methods, the dob model's paths within 1e-3 mm" \
+  python3 -c '
+import json, sys
+doc = json.load(open(sys.argv[1]))
+stages = {s["stage"] for s in doc["stages"]}
+want = {"method dob", "method simple", "dob model, closed form", "dob model, CVODE", "simple model, closed form",
+        "simple model, CVODE"}
+missing, extra = want - stages, {s for s in stages if s.startswith("method ")} - want
+difference = doc["cvode_prediction_largest_difference"]["dob model"]["position_mm"]
+print("missing", sorted(missing), "extra", sorted(extra), "dob difference", difference, "mm")
+sys.exit(0 if not missing and not extra and difference < 1e-3 else 1)' "$tmp/bench.json"
 expect_exit 2 "a method listed twice" -- "$bin" compare "$hex" --out "$tmp/twice" --methods hold,hold
 expect_in "$tmp/err" "method 'hold' listed twice" "the repeated method is named"
 expect_absent "$tmp/twice" "compare with a repeated method"

@@ -5,8 +5,9 @@
 // the last measured pose of the previous interval:
 // - `dob`: m r'' = u + beta u + eps with the fitted relation, initial velocity zero (as in the paper);
 // - `dob_velinit`: the same, initial velocity from the observer's estimate at the phase start;
-// - `simple`: m r'' = u - mu m g v/|v| (Coulomb friction opposing the velocity, regularised near rest; starting
-//   at rest, the object moves only where the plan pushes it), I theta'' = T, initial velocity zero;
+// - `simple`: m r'' = u - mu m g v/|v| (Coulomb friction opposing the velocity and holding the object at rest
+//   against a smaller force; starting at rest, it moves only where the plan pushes harder than mu m g),
+//   I theta'' = T, initial velocity zero;
 // - `hold`: the object stays where it was;
 // - `const_velocity`: it keeps the observer's velocity estimate at the phase start.
 // Errors are reported in mm and degrees.
