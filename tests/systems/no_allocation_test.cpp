@@ -17,6 +17,7 @@
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/corrected_prediction.hpp"
+#include "pushpred/mechanics/coulomb_slide.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/prediction/quasi_static_pushing.hpp"
@@ -235,6 +236,26 @@ BOOST_AUTO_TEST_CASE(prediction_systems_do_not_allocate) {
   pushed.extra_terms.push_back(std::make_shared<QuasiStaticPushTerm>(
       1.5, laws, s, Eigen::Vector3d(0.1, 0.2, 0.3), PusherStopCriterion{tip_plan(1, 2), 2e-3}));
   check_no_allocation("quasi-static push law", PredictionSystem(pushed, plan(1, 2)), 1, 2, x0);
+}
+
+BOOST_AUTO_TEST_CASE(the_closed_form_coulomb_slide_does_not_allocate) {
+  // Not a right-hand side, but the hot loop of `simple`'s closed form (predict_poses_exactly): one call per plan step
+  // and output time. Every branch: at rest held and started, collinear with and against the force, turning with the
+  // force below, at and above the friction, stopping within the step, no force.
+  const double friction = 1.15, mass = 0.837;
+  double sum = 0;
+  const long count = allocations_in([&] {
+    for (int k = 0; k < 400; ++k) {
+      const double ratio = (k % 8) * 0.3, angle = 0.37 * k, speed = (k % 5) * 0.02;
+      const Eigen::Vector2d force = ratio * friction * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      const double heading = k % 7 == 0 ? angle + M_PI : (k % 11 == 0 ? angle : 1.3 * k);
+      const PlanarSlide start{Eigen::Vector2d(0.1, -0.2), speed * Eigen::Vector2d(std::cos(heading), std::sin(heading))};
+      const PlanarSlide end = slide_under_coulomb_friction(start, force, friction, mass, 0.004 * (k % 50));
+      sum += end.position_m.sum() + end.velocity_m_s.sum();
+    }
+  });
+  BOOST_TEST(std::isfinite(sum));
+  BOOST_TEST(count == 0);
 }
 
 BOOST_AUTO_TEST_CASE(the_quasi_static_pushing_model_does_not_allocate) {
