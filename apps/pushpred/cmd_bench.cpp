@@ -105,33 +105,24 @@ std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesyste
       worst_cvode_difference = std::max(worst_cvode_difference, worst);
     }
     if (a.cvode_prediction) {
-      // The models of dob and simple on every phase, as the study builds them, by both paths: the closed form the
-      // study uses and CVODE (simple's friction regularised over coulomb_speed_scale_m_s there).
-      const double mu =
-          o.friction_coefficient >= 0 ? o.friction_coefficient : surface_friction_coefficient(push.push.surface);
+      // The models of dob and simple on every phase, as the study builds them (dob's relation zero where it was not
+      // identifiable yet), by both paths on the same plan, built outside the timing: the closed form the study uses
+      // and CVODE (simple's friction regularised over coulomb_speed_scale_m_s there).
+      const PredictionModel friction = simple_prediction_model(push.shape, simple_friction_coefficient(push, o));
       for (const PhaseResult& phase : study.phases) {
-        PredictionModel relation;
-        relation.mass_kg = push.shape.mass_kg;
-        relation.inertia_kgm2 = push.shape.inertia_kgm2;
-        relation.beta = phase.relation.beta;
-        relation.eps = phase.relation.eps;
-        PredictionModel friction;
-        friction.mass_kg = push.shape.mass_kg;
-        friction.inertia_kgm2 = push.shape.inertia_kgm2;
-        friction.coulomb_force_N = mu * push.shape.mass_kg * kGravity_m_s2;
+        const PredictionModel relation =
+            relation_prediction_model(push.shape, phase.relation.beta, phase.relation.eps);
         const Eigen::Vector3d pose0 = push.pose.row(push.index_at(phase.interval.t0_s)).transpose();
+        const PlannedForce plan = plan_from_measurement(push, phase.interval.t0_s, phase.interval.t1_s, o.plan_rate_hz);
         const auto phase_samples = static_cast<double>(phase.t_s.size());
         for (const auto& [name, model] : {std::pair<std::string, const PredictionModel&>{"dob model", relation},
                                           std::pair<std::string, const PredictionModel&>{"simple model", friction}}) {
           start = Clock::now();
-          const PlannedForce plan = plan_from_measurement(push, phase.interval.t0_s, phase.interval.t1_s, o.plan_rate_hz);
           const Eigen::MatrixX3d closed = predict_poses_exactly(model, plan, pose0, Eigen::Vector3d::Zero(), phase.t_s);
           add(name + ", closed form", since(start), phase_samples);
           start = Clock::now();
-          const PlannedForce plan_again =
-              plan_from_measurement(push, phase.interval.t0_s, phase.interval.t1_s, o.plan_rate_hz);
           const Eigen::MatrixX3d cvode =
-              predict_poses(model, plan_again, pose0, Eigen::Vector3d::Zero(), phase.t_s, o.integrator);
+              predict_poses(model, plan, pose0, Eigen::Vector3d::Zero(), phase.t_s, o.integrator);
           add(name + ", CVODE", since(start), phase_samples);
           PathDifference& d = path_differences[name];
           for (Eigen::Index j = 0; j < phase.t_s.size(); ++j) {

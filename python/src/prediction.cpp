@@ -116,11 +116,8 @@ it). With beta = eps = 0 and no friction it is Newton's law under the planned fo
       .def_static(
           "from_relation",
           [](const SynchronisedPush& push, const py::dict& relation) {
-            PredictionModel model;
-            model.mass_kg = push.shape.mass_kg;
-            model.inertia_kgm2 = push.shape.inertia_kgm2;
-            model.beta = relation["beta"].cast<Eigen::Vector3d>();
-            model.eps = relation["eps"].cast<Eigen::Vector3d>();
+            PredictionModel model = relation_prediction_model(push.shape, relation["beta"].cast<Eigen::Vector3d>(),
+                                                              relation["eps"].cast<Eigen::Vector3d>());
             model.validate();
             return model;
           },

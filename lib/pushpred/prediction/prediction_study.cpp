@@ -22,6 +22,17 @@ double surface_friction_coefficient(const std::string& surface) {
   throw InputError("no friction coefficient known for surface '" + surface + "' (give --mu)");
 }
 
+double simple_friction_coefficient(const SynchronisedPush& push, const StudyOptions& options) {
+  return options.friction_coefficient >= 0 ? options.friction_coefficient
+                                           : surface_friction_coefficient(push.push.surface);
+}
+
+PredictionModel simple_prediction_model(const ShapeInfo& shape, double friction_coefficient) {
+  PredictionModel model = relation_prediction_model(shape, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  model.coulomb_force_N = friction_coefficient * shape.mass_kg * kGravity_m_s2;
+  return model;
+}
+
 const std::vector<std::string>& prediction_method_names() {
   static const std::vector<std::string> names{"dob", "dob_velinit", "simple", "hold", "const_velocity",
                                                   "quasi_static"};
@@ -99,15 +110,8 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
       fallback_note = std::string("the pushing model failed (") + e.what() + "): the relation model predicted";
     }
   }
-  PredictionModel corrected;
-  corrected.mass_kg = push_.shape.mass_kg;
-  corrected.inertia_kgm2 = push_.shape.inertia_kgm2;
-  relation_ = RelationParameters();
-  if (estimator_->ready()) {
-    relation_ = estimator_->parameters();
-    corrected.beta = relation_.beta;
-    corrected.eps = relation_.eps;
-  }
+  relation_ = estimator_->ready() ? estimator_->parameters() : RelationParameters();
+  PredictionModel corrected = relation_prediction_model(push_.shape, relation_.beta, relation_.eps);
   correction_->adjust_phase_model(push_, identification_, c.phase, c.plan_rate_hz, corrected);
   const PlannedForce plan = plan_from_measurement(push_, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
   const Eigen::Vector3d velocity0 =

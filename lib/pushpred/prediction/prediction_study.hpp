@@ -101,6 +101,14 @@ struct StudyOptions {
   std::shared_ptr<const PredictionCorrection> correction;
 };
 
+/// mu of the `simple` baseline for `push`: options.friction_coefficient where set (>= 0), otherwise the push's
+/// surface's (surface_friction_coefficient, which throws InputError for a surface without one).
+double simple_friction_coefficient(const SynchronisedPush& push, const StudyOptions& options);
+
+/// The `simple` baseline's model for an object of `shape`: Newton's law with Coulomb friction mu m g
+/// (mu = `friction_coefficient`), no relation.
+PredictionModel simple_prediction_model(const ShapeInfo& shape, double friction_coefficient);
+
 /// The corrected model of a PredictionCorrection as a Predictor (named kCorrectedMethod): the paper's
 /// identification and prediction on the corrected push, with the corrected observer, the explained part of the
 /// disturbance removed before its own relation estimator sees it, and the corrected model; see PredictionCorrection.

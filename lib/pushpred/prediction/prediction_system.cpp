@@ -17,6 +17,16 @@ void PredictionModel::validate() const {
     throw InputError("prediction model: Coulomb force must be >= 0 and its speed scale > 0");
 }
 
+PredictionModel relation_prediction_model(const ShapeInfo& shape, const Eigen::Vector3d& beta,
+                                          const Eigen::Vector3d& eps) {
+  PredictionModel model;
+  model.mass_kg = shape.mass_kg;
+  model.inertia_kgm2 = shape.inertia_kgm2;
+  model.beta = beta;
+  model.eps = eps;
+  return model;
+}
+
 PredictionSystem::PredictionSystem(PredictionModel model, PlannedForce plan)
     : model_(std::move(model)), plan_(std::move(plan)) {
   model_.validate();

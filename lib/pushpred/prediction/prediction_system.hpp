@@ -51,6 +51,11 @@ struct PredictionModel {
   void validate() const;
 };
 
+/// The paper's relation model for an object of `shape` (its mass and inertia) with the relation beta, eps: what
+/// `dob` and `dob_velinit` predict with (beta = eps = 0: Newton's law under the planned force).
+PredictionModel relation_prediction_model(const ShapeInfo& shape, const Eigen::Vector3d& beta,
+                                          const Eigen::Vector3d& eps);
+
 class PredictionSystem final : public ContinuousSystem {
  public:
   PredictionSystem(PredictionModel model, PlannedForce plan);

@@ -16,13 +16,9 @@ class RelationPredictor final : public Predictor {
   explicit RelationPredictor(bool velocity_from_observer) : velocity_from_observer_(velocity_from_observer) {}
   std::string name() const override { return velocity_from_observer_ ? "dob_velinit" : "dob"; }
   PhasePrediction predict(const PhaseContext& c) override {
-    PredictionModel model;
-    model.mass_kg = c.push.shape.mass_kg;
-    model.inertia_kgm2 = c.push.shape.inertia_kgm2;
-    if (c.relation_ready) {
-      model.beta = c.relation.beta;
-      model.eps = c.relation.eps;
-    }
+    const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+    const PredictionModel model = relation_prediction_model(c.push.shape, c.relation_ready ? c.relation.beta : zero,
+                                                            c.relation_ready ? c.relation.eps : zero);
     const PlannedForce plan = plan_from_measurement(c.push, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
     // The double integrator's exact discretisation, not CVODE (predict_poses_exactly says why).
     return {predict_poses_exactly(model, plan, c.pose0,
@@ -40,13 +36,10 @@ class SimplePredictor final : public Predictor {
  public:
   std::string name() const override { return "simple"; }
   void start_push(const SynchronisedPush& push, const StudyOptions& o) override {
-    mu_ = o.friction_coefficient >= 0 ? o.friction_coefficient : surface_friction_coefficient(push.push.surface);
+    mu_ = simple_friction_coefficient(push, o);
   }
   PhasePrediction predict(const PhaseContext& c) override {
-    PredictionModel model;
-    model.mass_kg = c.push.shape.mass_kg;
-    model.inertia_kgm2 = c.push.shape.inertia_kgm2;
-    model.coulomb_force_N = mu_ * c.push.shape.mass_kg * kGravity_m_s2;
+    const PredictionModel model = simple_prediction_model(c.push.shape, mu_);
     const PlannedForce plan = plan_from_measurement(c.push, c.phase.t0_s, c.phase.t1_s, c.plan_rate_hz);
     // Coulomb friction solved in closed form, not CVODE on its regularisation (predict_poses_exactly says why).
     return {predict_poses_exactly(model, plan, c.pose0, Eigen::Vector3d::Zero(), c.t_s), {}, {}};
