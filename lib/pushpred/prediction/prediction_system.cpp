@@ -95,6 +95,7 @@ Eigen::MatrixX3d predict_poses_exactly(const PredictionModel& model, const Plann
   if (plan.signal.hold() != Hold::Zero) throw InputError("planned force: the closed-form path needs a zero-order hold");
   if (!pose0.allFinite() || !velocity0.allFinite())
     throw InputError("prediction: initial pose or velocity holds NaN or infinity");
+  check_output_times("prediction", plan.t0_s, output_times);
   const Eigen::VectorXd& t = plan.signal.times();
   const Eigen::MatrixXd& u = plan.signal.values();
   // The generalized force held from plan sample k on; Coulomb friction, if any, acts on its translational part
@@ -121,13 +122,8 @@ Eigen::MatrixX3d predict_poses_exactly(const PredictionModel& model, const Plann
   Eigen::Index k = 0;  // the plan segment the state below starts in
   double tk = plan.t0_s;
   Eigen::Vector3d pk = pose0, vk = velocity0, gk = force(0), pose, velocity;
-  double previous = plan.t0_s;
   for (Eigen::Index j = 0; j < output_times.size(); ++j) {
     const double tj = output_times(j);
-    if (!std::isfinite(tj)) throw InputError("prediction: output time " + std::to_string(j) + " is not finite");
-    if (tj < plan.t0_s) throw InputError("prediction: an output time precedes the plan's start");
-    if (tj < previous) throw InputError("prediction: output times must be non-decreasing");
-    previous = tj;
     // Step over every plan sample at or before tj: the held value changes there.
     while (k + 1 < t.size() && t(k + 1) <= tj) {
       if (t(k + 1) > tk) {

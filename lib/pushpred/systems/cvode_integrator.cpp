@@ -198,6 +198,17 @@ CvodeIntegrator::CvodeIntegrator(int state_size, IntegratorOptions::Method metho
 
 CvodeIntegrator::~CvodeIntegrator() = default;
 
+void check_output_times(const std::string& who, double t0, const Eigen::VectorXd& out_t) {
+  if (!std::isfinite(t0)) throw InputError(who + ": start time is not finite");
+  for (Eigen::Index k = 0; k < out_t.size(); ++k) {
+    if (!std::isfinite(out_t(k))) throw InputError(who + ": output time " + std::to_string(k) + " is not finite");
+    if (out_t(k) < t0)
+      throw InputError(who + ": output time " + format_time(out_t(k)) + " s precedes the start time " +
+                       format_time(t0) + " s");
+    if (k > 0 && out_t(k) < out_t(k - 1)) throw InputError(who + ": output times must be non-decreasing");
+  }
+}
+
 CvodeIntegrator::Stats CvodeIntegrator::stats() const { return impl_->stats; }
 
 Eigen::MatrixXd CvodeIntegrator::solve(double t0, const Eigen::VectorXd& x0, const Eigen::VectorXd& out_t) {
@@ -219,14 +230,7 @@ Eigen::MatrixXd CvodeIntegrator::solve(const ContinuousSystem& system, const Int
     throw InputError("integrator: initial state has " + std::to_string(x0.size()) + " entries, the system " +
                      std::to_string(m.n));
   if (!x0.allFinite()) throw InputError("integrator: initial state holds NaN or infinity");
-  if (!std::isfinite(t0)) throw InputError("integrator: start time is not finite");
-  for (Eigen::Index k = 0; k < out_t.size(); ++k) {
-    if (!std::isfinite(out_t(k))) throw InputError("integrator: output time " + std::to_string(k) + " is not finite");
-    if (out_t(k) < t0)
-      throw InputError("integrator: output time " + format_time(out_t(k)) + " s precedes the start time " +
-                       format_time(t0) + " s");
-    if (k > 0 && out_t(k) < out_t(k - 1)) throw InputError("integrator: output times must be non-decreasing");
-  }
+  check_output_times("integrator", t0, out_t);
   m.stats = {};
   m.last_message.clear();
   // Options may differ from the previous solve's: CVODE keeps them across CVodeReInit, so they are set each time.

@@ -13,6 +13,7 @@
 // one, with the system's analytic Jacobian where it has one (ContinuousSystem::stiff says which systems are which).
 #include <Eigen/Core>
 #include <memory>
+#include <string>
 
 #include "pushpred/systems/continuous_system.hpp"
 
@@ -61,6 +62,10 @@ class CvodeIntegrator {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Throws InputError, its message starting with `who`, unless every output time is finite, at or after `t0_s`
+/// (itself finite) and no earlier than the one before: what a solve from t0 to those times needs, by any path.
+void check_output_times(const std::string& who, double t0_s, const Eigen::VectorXd& output_times_s);
 
 /// Solves `system` from x0 at t0 to `output_times_s` as CvodeIntegrator::solve does, on the calling thread's
 /// integrator for the system's size and method (made on first use, re-used after). `stats`, when given, receives
