@@ -249,7 +249,8 @@ BOOST_AUTO_TEST_CASE(the_closed_form_coulomb_slide_does_not_allocate) {
       const double ratio = (k % 8) * 0.3, angle = 0.37 * k, speed = (k % 5) * 0.02;
       const Eigen::Vector2d force = ratio * friction * Eigen::Vector2d(std::cos(angle), std::sin(angle));
       const double heading = k % 7 == 0 ? angle + M_PI : (k % 11 == 0 ? angle : 1.3 * k);
-      const PlanarSlide start{Eigen::Vector2d(0.1, -0.2), speed * Eigen::Vector2d(std::cos(heading), std::sin(heading))};
+      const PlanarSlide start{Eigen::Vector2d(0.1, -0.2),
+                              speed * Eigen::Vector2d(std::cos(heading), std::sin(heading))};
       const PlanarSlide end = slide_under_coulomb_friction(start, force, friction, mass, 0.004 * (k % 50));
       sum += end.position_m.sum() + end.velocity_m_s.sum();
     }

@@ -102,9 +102,9 @@ void require_written(const std::ostream& stream, const fs::path& path) {
 }
 
 /// summary.json and tables.md of a whole run, given one studied push (or failure) at a time in input order. Nothing
-/// of a study is kept but its file's stem (to name its predictions): its entry of summary.json goes to a file in the staging folder as it comes,
-/// and its errors into the tables' sums, so that a run holds a few hundred bytes per push rather than its study
-/// (docs/performance.md, memory).
+/// of a study is kept but its file's stem (to name its predictions): its entry of summary.json goes to a file in the
+/// staging folder as it comes, and its errors into the tables' sums, so that a run holds a few hundred bytes per
+/// push rather than its study (docs/performance.md, memory).
 class PredictionOutputs {
  public:
   PredictionOutputs(StagedOutput& out, nlohmann::json options)

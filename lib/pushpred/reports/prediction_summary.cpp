@@ -163,7 +163,8 @@ void write_prediction_summary(std::ostream& out, const std::map<std::string, Pre
 void write_prediction_summary(std::ostream& out, const Batch<PushStudy>& batch, const nlohmann::json& options) {
   write_prediction_summary(out, aggregate_errors(batch.results), batch.failures, options, batch.results.size(),
                            [&](std::ostream& files) {
-                             for (const auto& s : batch.results) files << summary_file_entry(s, &s == &batch.results.front());
+                             for (const auto& s : batch.results)
+                               files << summary_file_entry(s, &s == &batch.results.front());
                            });
 }
 
