@@ -13,7 +13,21 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
   sub.add_option("--span", span, "Split the whole recording or only the contact span")
       ->check(CLI::IsMember({"whole", "contact"}));
   sub.add_option("--plan-rate", plan_rate_hz, "Planned-force sampling rate [Hz]")->check(kPositiveNumber);
-  if (flags.observer) sub.add_option("--observer", observer, "Disturbance estimator: dob or pid");
+  if (flags.observer) {
+    sub.add_option("--observer", observer, "Disturbance estimator: dob or pid")->capture_default_str();
+    sub.add_option("--observer-run", observer_run,
+                   "One observer run per identification interval, or one over the whole schedule "
+                   "(docs/reproduction.md)")
+        ->check(CLI::IsMember({"per-interval", "continuous"}))
+        ->capture_default_str();
+    sub.add_option("--observer-start", observer_start, "The dob observer's initial state: steady or rest")
+        ->check(CLI::IsMember({"steady", "rest"}))
+        ->capture_default_str();
+    sub.add_option("--observer-output", observer_output,
+                   "What the dob observer reports per sample: interval-mean or point")
+        ->check(CLI::IsMember({"interval-mean", "point"}))
+        ->capture_default_str();
+  }
   if (flags.estimator) {
     std::string names;
     for (const auto& n : relation_estimator_names()) names += (names.empty() ? "" : ", ") + n;
@@ -38,6 +52,9 @@ StudyOptions StudyArguments::options() const {
   o.schedule.span = parse_schedule_span(span);
   o.plan_rate_hz = plan_rate_hz;
   o.observer = observer;
+  o.observer_run = parse_observer_run(observer_run);
+  o.observer_options.start = parse_observer_start(observer_start);
+  o.observer_options.output = parse_observer_output(observer_output);
   o.estimator = estimator;
   o.friction_coefficient = mu;
   o.methods = parse_predictor_list(methods);

@@ -14,6 +14,9 @@ struct StudyArguments {
   double plan_rate_hz = 10.0;
   std::string observer = "dob";
   std::string estimator = "rls";
+  std::string observer_run = "per-interval";
+  std::string observer_start = "steady";
+  std::string observer_output = "interval-mean";
   double mu = -1.0;  ///< < 0: from the surface table
   std::string methods;  ///< comma-separated prediction method names; empty: the built-ins (a subcommand may preset it)
   std::string methods_note;  ///< what a subcommand adds to the --methods help (e.g. the methods it always runs)

@@ -13,9 +13,18 @@
 namespace pushpred::python {
 namespace {
 
+/// How the observer meets the schedule (StudyOptions::observer_run, QFilterObserverOptions::start and ::output), by
+/// the names the CLI takes.
+struct ObserverReading {
+  std::string run = "per-interval", start = "steady", output = "interval-mean";
+};
+
 StudyOptions study_options(int intervals, const std::string& span, double plan_rate_hz, const std::string& observer,
-                           const std::string& estimator, double friction_coefficient) {
+                           const std::string& estimator, double friction_coefficient, const ObserverReading& reading) {
   StudyOptions o;
+  o.observer_run = parse_observer_run(reading.run);
+  o.observer_options.start = parse_observer_start(reading.start);
+  o.observer_options.output = parse_observer_output(reading.output);
   o.schedule.intervals = intervals;
   o.schedule.span = parse_schedule_span(span);
   o.plan_rate_hz = plan_rate_hz;
@@ -34,17 +43,23 @@ void bind_prediction(py::module_& m) {
   m.def(
       "run_prediction_study",
       [](const SynchronisedPush& push, int intervals, const std::string& span, double plan_rate_hz,
-         const std::string& observer, const std::string& estimator, double friction_coefficient) {
-        const StudyOptions o = study_options(intervals, span, plan_rate_hz, observer, estimator, friction_coefficient);
+         const std::string& observer, const std::string& estimator, double friction_coefficient,
+         const std::string& observer_run, const std::string& observer_start, const std::string& observer_output) {
+        const StudyOptions o = study_options(intervals, span, plan_rate_hz, observer, estimator, friction_coefficient,
+                                             {observer_run, observer_start, observer_output});
         return study_dict(without_gil([&] { return run_prediction_study(push, o); }));
       },
       py::arg("push"), py::arg("intervals") = 4, py::arg("span") = "whole", py::arg("plan_rate_hz") = 10.0,
-      py::arg("observer") = "dob", py::arg("estimator") = "rls", py::arg("friction_coefficient") = -1.0, R"doc(
+      py::arg("observer") = "dob", py::arg("estimator") = "rls", py::arg("friction_coefficient") = -1.0,
+      py::arg("observer_run") = "per-interval", py::arg("observer_start") = "steady",
+      py::arg("observer_output") = "interval-mean", R"doc(
 The paper's prediction study on one push, as `pushpred predict` runs it. The push (span "whole" or "contact") is
 split into `intervals` equal intervals; identify on the first, predict the second from the last measured pose,
 add its data, predict the third, and so on. The planned force is the measured input sampled at plan_rate_hz
 and held. observer: "dob" or "pid"; estimator: a relation_estimator_names() entry; friction_coefficient for the
-`simple` baseline (< 0: the surface's value).
+`simple` baseline (< 0: the surface's value). observer_run ("per-interval" or "continuous"), observer_start ("steady"
+or "rest") and observer_output ("interval-mean" or "point"): how the dob observer meets the schedule, as the CLI's
+--observer-run, --observer-start, --observer-output (docs/reproduction.md).
 
 Returns a dict: source, span, intervals_s [(t0, t1) in s], phases (one dict per prediction phase: phase, t0_s,
 t1_s, relation (the fitted beta, eps used by `dob`), note, t_s [s], measured (n x 3: x [m], y [m], yaw [rad]),
@@ -55,8 +70,10 @@ identification (the observer's estimate on every identified interval) and estima
   m.def(
       "study_summary",
       [](const std::vector<SynchronisedPush>& pushes, int intervals, const std::string& span, double plan_rate_hz,
-         const std::string& observer, const std::string& estimator, double friction_coefficient) {
-        const StudyOptions o = study_options(intervals, span, plan_rate_hz, observer, estimator, friction_coefficient);
+         const std::string& observer, const std::string& estimator, double friction_coefficient,
+         const std::string& observer_run, const std::string& observer_start, const std::string& observer_output) {
+        const StudyOptions o = study_options(intervals, span, plan_rate_hz, observer, estimator, friction_coefficient,
+                                             {observer_run, observer_start, observer_output});
         const nlohmann::json summary = without_gil([&] {
           Batch<PushStudy> batch;
           for (const auto& p : pushes) batch.results.push_back(run_prediction_study(p, o));
@@ -66,6 +83,8 @@ identification (the observer's estimate on every identified interval) and estima
       },
       py::arg("pushes"), py::arg("intervals") = 4, py::arg("span") = "whole", py::arg("plan_rate_hz") = 10.0,
       py::arg("observer") = "dob", py::arg("estimator") = "rls", py::arg("friction_coefficient") = -1.0,
+      py::arg("observer_run") = "per-interval", py::arg("observer_start") = "steady",
+      py::arg("observer_output") = "interval-mean",
       "The summary.json of `pushpred predict` over `pushes`, as a dict (errors in mm and degrees).");
 
   m.def(

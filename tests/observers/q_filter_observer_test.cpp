@@ -13,6 +13,7 @@
 #include "pushpred/systems/cvode_integrator.hpp"
 #include "pushpred/systems/exact_discretisation.hpp"
 #include "synthetic_push.hpp"
+#include "test_support.hpp"
 
 using namespace pushpred;
 using pushpred::testing::SyntheticPushSpec;
@@ -332,6 +333,64 @@ BOOST_AUTO_TEST_CASE(bad_options_and_empty_spans_are_clear_errors) {
   } catch (const InputError& e) {
     BOOST_TEST(std::string(e.what()).find("span") != std::string::npos);
   }
+}
+
+BOOST_AUTO_TEST_CASE(point_values_from_rest_show_q_filters_impulse_response_times_the_initial_momentum) {
+  // An object already moving at v when the observer starts at rest (q = (y0, 0)): for y = y0 + v t, exact under
+  // first-order hold, the observer's point value is d_hat(t) = M v h_Q(t) - u0 with h_Q Q's impulse response,
+  //   h_Q(t) = wn / sqrt(1 - zeta^2) exp(-zeta wn t) sin(wn sqrt(1 - zeta^2) t),
+  // written out here by hand, not by the code under test.
+  const Eigen::Index n = 60;
+  SynchronisedPush push = pushpred::testing::synthetic_push_shell("rect2", 250.0, n);
+  const double v = 0.05, u0 = 2.0;  // [m/s], [N]
+  push.pose.setZero();
+  push.pose.col(0) = v * push.t_s;
+  push.force_N.setZero();
+  push.force_N.col(0).setConstant(u0);
+  push.torque_about_centre_Nm.setZero();
+  QFilterObserverOptions o;
+  o.start = QFilterObserverOptions::Start::AtRest;
+  o.output = QFilterObserverOptions::Output::Point;
+  const DisturbanceEstimate e = QFilterObserver(o).estimate_exactly(push, 0.0, push.duration_s());
+  const double m = push.shape.mass_kg, wd = o.wn_rad_s * std::sqrt(1 - o.zeta * o.zeta);
+  double worst = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double t = push.t_s(k);
+    const double h = o.wn_rad_s * o.wn_rad_s / wd * std::exp(-o.zeta * o.wn_rad_s * t) * std::sin(wd * t);
+    worst = std::max(worst, std::abs(e.d_hat(k, 0) - (m * v * h - u0)));
+    BOOST_TEST(std::abs(e.d_hat(k, 1)) < 1e-9);
+  }
+  BOOST_TEST(worst < 1e-6 * m * v * o.wn_rad_s);
+  BOOST_TEST(std::abs(e.d_hat(0, 0) + u0) < 1e-9);  // d_hat(t0) = -u0
+}
+
+BOOST_AUTO_TEST_CASE(the_steady_start_leaves_no_transient_on_a_constant_velocity_push_in_either_output) {
+  // The same moving object with the default start: the initial-motion fit reads v exactly from the linear pose, so
+  // the filters start in their steady state and d_hat = M y'' - u0 = -u0 at every sample, in both outputs.
+  const Eigen::Index n = 60;
+  SynchronisedPush push = pushpred::testing::synthetic_push_shell("rect2", 250.0, n);
+  const double v = 0.05, u0 = 2.0;
+  push.pose.setZero();
+  push.pose.col(0) = v * push.t_s;
+  push.force_N.setZero();
+  push.force_N.col(0).setConstant(u0);
+  push.torque_about_centre_Nm.setZero();
+  for (const auto output : {QFilterObserverOptions::Output::IntervalMean, QFilterObserverOptions::Output::Point}) {
+    QFilterObserverOptions o;
+    o.output = output;
+    const DisturbanceEstimate e = QFilterObserver(o).estimate_exactly(push, 0.0, push.duration_s());
+    BOOST_TEST((e.d_hat.col(0).array() + u0).abs().maxCoeff() < 1e-6, observer_output_name(output));
+    BOOST_TEST((e.velocity.col(0).array() - v).abs().maxCoeff() < 1e-9, observer_output_name(output));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(observer_start_and_output_names_parse_and_unknown_ones_are_refused) {
+  BOOST_TEST(observer_start_name(parse_observer_start("rest")) == std::string("rest"));
+  BOOST_TEST(observer_start_name(parse_observer_start("steady")) == std::string("steady"));
+  BOOST_TEST(observer_output_name(parse_observer_output("point")) == std::string("point"));
+  BOOST_TEST(observer_output_name(parse_observer_output("interval-mean")) == std::string("interval-mean"));
+  BOOST_CHECK_THROW(parse_observer_start("Rest"), InputError);
+  BOOST_CHECK_THROW(parse_observer_output("mean"), InputError);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

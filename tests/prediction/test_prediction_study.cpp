@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 #include "test_support.hpp"
 
@@ -92,6 +93,55 @@ BOOST_AUTO_TEST_CASE(a_friction_coefficient_that_is_not_finite_is_refused_not_re
     o.friction_coefficient = mu;
     BOOST_CHECK_THROW(run_prediction_study(push, o), InputError);
   }
+}
+
+BOOST_AUTO_TEST_CASE(a_continuous_observer_run_feeds_every_sample_once_and_reads_no_sample_after_its_interval) {
+  // One observer run over the schedule, sliced per identification interval: the slices tile the identified span,
+  // each grid sample once, and each slice equals the rows of a run over the whole recording (the observer is
+  // causal, so the run that identifies an interval reads nothing after it).
+  const Eigen::Index n = 400;
+  SynchronisedPush push = pushpred::testing::synthetic_push_shell("rect2", 250.0, n);
+  push.push.surface = "abs";
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double t = push.t_s(k);
+    push.pose.row(k) << 0.02 * t * t, -0.01 * t, 0.05 * std::sin(3 * t);
+    push.force_N.row(k) << 1.0 + 0.5 * std::sin(5 * t), 0.3 * std::cos(4 * t);
+    push.torque_about_centre_Nm(k) = 0.01 * std::sin(2 * t);
+  }
+  StudyOptions o;
+  o.methods = {"dob", "hold"};
+  o.observer_run = StudyOptions::ObserverRun::Continuous;
+  const PushStudy study = run_prediction_study(push, o);
+  BOOST_REQUIRE_EQUAL(study.identification.size(), 3u);
+  const DisturbanceEstimate whole = make_exact_q_filter_observer()->estimate(push, 0.0, push.duration_s());
+  Eigen::Index row = 0;
+  for (const auto& slice : study.identification) {
+    for (Eigen::Index k = 0; k < slice.t_s.size(); ++k, ++row) {
+      BOOST_TEST(slice.t_s(k) == push.t_s(row));
+      BOOST_TEST((slice.d_hat.row(k) - whole.d_hat.row(row)).norm() < 1e-9);
+    }
+  }
+  BOOST_TEST(push.t_s(row - 1) <= study.intervals[2].t1_s + 1e-9);
+  BOOST_TEST(push.t_s(row) > study.intervals[2].t1_s);
+
+  // Per interval (the default), each interval's own run starts at its first grid sample and ends at its last.
+  o.observer_run = StudyOptions::ObserverRun::PerInterval;
+  const PushStudy per_interval = run_prediction_study(push, o);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const TimeInterval& i = per_interval.intervals[k];
+    const auto& id = per_interval.identification[k];
+    BOOST_TEST(id.t_s(0) == push.t_s(push.index_at(i.t0_s)));
+    BOOST_TEST(id.t_s(id.t_s.size() - 1) <= i.t1_s + 1e-9);
+  }
+  // The grid samples of the identified span are fed at least once, none skipped.
+  BOOST_TEST(per_interval.identification[1].t_s(0) <=
+             per_interval.identification[0].t_s(per_interval.identification[0].t_s.size() - 1) + 1.5 / push.rate_hz);
+}
+
+BOOST_AUTO_TEST_CASE(observer_run_names_parse_and_unknown_ones_are_refused) {
+  BOOST_TEST(observer_run_name(parse_observer_run("continuous")) == std::string("continuous"));
+  BOOST_TEST(observer_run_name(parse_observer_run("per-interval")) == std::string("per-interval"));
+  BOOST_CHECK_THROW(parse_observer_run("whole"), InputError);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

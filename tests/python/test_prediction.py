@@ -29,6 +29,20 @@ def test_study_matches_the_cli(executable, hex_file, ellip_file, tmp_path, estim
             assert mine["aggregate"][method][key] == pytest.approx(value, rel=1e-9, abs=1e-12)
 
 
+def test_the_observers_reading_is_the_clis(executable, hex_file, tmp_path):
+    reading = ["--observer-run", "continuous", "--observer-start", "rest", "--observer-output", "point"]
+    run_cli(executable, "predict", hex_file, "--out", tmp_path / "p", "--methods", "dob", *reading)
+    cli = read_json(tmp_path / "p" / "summary.json")["files"][0]
+    study = pushpred.run_prediction_study(pushpred.load_push(hex_file), observer_run="continuous",
+                                          observer_start="rest", observer_output="point")
+    default = pushpred.run_prediction_study(pushpred.load_push(hex_file))
+    for mine, theirs, other in zip(study["phases"], cli["phases"], default["phases"]):
+        assert mine["errors"]["dob"]["x_mm_mean"] == pytest.approx(theirs["methods"]["dob"]["x_mm_mean"], rel=1e-9)
+        assert mine["relation"]["beta"][0] != pytest.approx(other["relation"]["beta"][0], rel=1e-6)
+    with pytest.raises(pushpred.InputError, match="observer output"):
+        pushpred.run_prediction_study(pushpred.load_push(hex_file), observer_output="mean")
+
+
 def test_errors_are_what_the_arrays_say(hex_file):
     study = pushpred.run_prediction_study(pushpred.load_push(hex_file))
     for phase in study["phases"]:

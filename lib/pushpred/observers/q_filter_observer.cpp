@@ -61,6 +61,17 @@ DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, 
   e.d_hat.resize(n, 3);
   e.total.resize(n, 3);
   e.velocity.resize(n, 3);
+  for (int c = 0; c < 3; ++c) e.velocity.col(c) = X.col(4 * c + 1);
+  if (o.output == QFilterObserverOptions::Output::Point) {
+    // d_hat = C x + D [y; u] at each sample; the total M z'' = M q2' = M (wn^2 (y - q1) - 2 zeta wn q2).
+    const Eigen::MatrixXd inputs = p.input.values();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Eigen::VectorXd x = X.row(k).transpose();
+      e.d_hat.row(k) = (p.model.C * x + p.model.D * inputs.row(k).transpose()).transpose();
+      for (int c = 0; c < 3; ++c) e.total(k, c) = e.d_hat(k, c) + x(4 * c + 2);
+    }
+    return e;
+  }
   for (Eigen::Index k = 1; k < n; ++k) {
     const double h = e.t_s(k) - e.t_s(k - 1);
     for (int c = 0; c < 3; ++c) {
@@ -74,11 +85,30 @@ DisturbanceEstimate outputs(const Prepared& p, const QFilterObserverOptions& o, 
   // The first sample has no interval of the span before it: it reports the first interval's means.
   e.d_hat.row(0) = e.d_hat.row(1);
   e.total.row(0) = e.total.row(1);
-  for (int c = 0; c < 3; ++c) e.velocity.col(c) = X.col(4 * c + 1);
   return e;
 }
 
 }  // namespace
+
+const char* observer_start_name(QFilterObserverOptions::Start start) {
+  return start == QFilterObserverOptions::Start::AtRest ? "rest" : "steady";
+}
+
+QFilterObserverOptions::Start parse_observer_start(const std::string& name) {
+  if (name == "steady") return QFilterObserverOptions::Start::Steady;
+  if (name == "rest") return QFilterObserverOptions::Start::AtRest;
+  throw InputError("unknown observer start '" + name + "' (known: steady, rest)");
+}
+
+const char* observer_output_name(QFilterObserverOptions::Output output) {
+  return output == QFilterObserverOptions::Output::Point ? "point" : "interval-mean";
+}
+
+QFilterObserverOptions::Output parse_observer_output(const std::string& name) {
+  if (name == "interval-mean") return QFilterObserverOptions::Output::IntervalMean;
+  if (name == "point") return QFilterObserverOptions::Output::Point;
+  throw InputError("unknown observer output '" + name + "' (known: interval-mean, point)");
+}
 
 void QFilterObserverOptions::validate() const {
   require_positive_finite(zeta, "disturbance observer: zeta");

@@ -37,6 +37,7 @@
 // 1.3 kg at 0.1 m/s); it is kept to show what the initialisation avoids.
 #include <Eigen/Core>
 #include <cmath>
+#include <string>
 
 #include "pushpred/observers/disturbance_estimator.hpp"
 #include "pushpred/systems/cvode_integrator.hpp"
@@ -51,7 +52,14 @@ struct QFilterObserverOptions {
   double inertia_kgm2 = 0;             ///< nominal moment of inertia; 0: from the push's shape
   Hold hold = Hold::First;             ///< how y and u are held between grid samples
   enum class Start { Steady, AtRest };
-  Start start = Start::Steady;         ///< AtRest exists to show the impulse Steady avoids
+  /// Steady avoids the start-up impulse; AtRest (q = (y0, 0), p = (u(t0), 0), so d_hat(t0) = -u(t0)) is right for a
+  /// span that starts with the object at rest, and is the choice of implementations that run one observer over the
+  /// whole recording (docs/reproduction.md).
+  Start start = Start::Steady;
+  /// What d_hat and the total force report at each sample (see above): the mean over the interval that ends there
+  /// (IntervalMean, free of the hold's ripple, half a sample late) or the point value C x + D [y; u] (Point).
+  enum class Output { IntervalMean, Point };
+  Output output = Output::IntervalMean;
   /// Forward window of the initial motion fit (see above): 30 ms, 8 samples at 250 Hz. Longer windows average
   /// more pose noise but fit a parabola to motion that is no longer one; on the real pushes, 40 and 60 ms left
   /// more mid-push starts outside their noise band (docs/observer.md).
@@ -60,6 +68,12 @@ struct QFilterObserverOptions {
   /// Throws InputError naming the first bad value (negative mass, zeta <= 0, wn <= 0, bad tolerance, ...).
   void validate() const;
 };
+
+/// "steady", "rest" and "interval-mean", "point"; the parsers throw InputError for other names.
+const char* observer_start_name(QFilterObserverOptions::Start start);
+QFilterObserverOptions::Start parse_observer_start(const std::string& name);
+const char* observer_output_name(QFilterObserverOptions::Output output);
+QFilterObserverOptions::Output parse_observer_output(const std::string& name);
 
 /// The mean over one sample interval of length h_s [s] of a Q filter's output z = Q x (Q as above), from the
 /// change of the filter's states over the interval, dz = z(t_k) - z(t_{k-1}) and dz_rate = z'(t_k) - z'(t_{k-1}),

@@ -10,8 +10,8 @@ namespace pushpred {
 namespace {
 
 /// The study's observer: the linear Q-filter observer on its fast path, any other (the PID reconstruction) by name.
-std::unique_ptr<DisturbanceEstimator> study_observer(const std::string& name) {
-  if (name == "dob") return make_exact_q_filter_observer();
+std::unique_ptr<DisturbanceEstimator> study_observer(const std::string& name, const QFilterObserverOptions& options) {
+  if (name == "dob") return make_exact_q_filter_observer(options);
   return make_disturbance_estimator(name);
 }
 
@@ -130,7 +130,7 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
   // A nan here would fail every "< 0" test and silently mean "from the surface".
   if (!std::isfinite(o.friction_coefficient))
     throw InputError("friction coefficient of the simple baseline must be finite (negative: from the surface)");
-  const auto observer = study_observer(o.observer);
+  const auto observer = study_observer(o.observer, o.observer_options);
   const auto estimator = make_relation_estimator(o.estimator);
 
   PushStudy study;
@@ -160,7 +160,11 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     // Identification: the observer, initialised from the data at the interval's start, over the interval just
     // measured; its output joins the estimator.
     const auto observer_start = std::chrono::steady_clock::now();
-    study.identification.push_back(observer->estimate(push, previous.t0_s, previous.t1_s));
+    if (o.observer_run == StudyOptions::ObserverRun::Continuous)
+      study.identification.push_back(estimate_rows_within(
+          observer->estimate(push, study.intervals.front().t0_s, previous.t1_s), previous.t0_s, previous.t1_s, k == 1));
+    else
+      study.identification.push_back(observer->estimate(push, previous.t0_s, previous.t1_s));
     const DisturbanceEstimate& id = study.identification.back();
     const auto fit_start = std::chrono::steady_clock::now();
     study.observer_seconds += std::chrono::duration<double>(fit_start - observer_start).count();
@@ -208,6 +212,37 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     study.phases.push_back(std::move(r));
   }
   return study;
+}
+
+const char* observer_run_name(StudyOptions::ObserverRun run) {
+  return run == StudyOptions::ObserverRun::Continuous ? "continuous" : "per-interval";
+}
+
+StudyOptions::ObserverRun parse_observer_run(const std::string& name) {
+  if (name == "per-interval") return StudyOptions::ObserverRun::PerInterval;
+  if (name == "continuous") return StudyOptions::ObserverRun::Continuous;
+  throw InputError("unknown observer run '" + name + "' (known: per-interval, continuous)");
+}
+
+DisturbanceEstimate estimate_rows_within(const DisturbanceEstimate& estimate, double t0_s, double t1_s,
+                                         bool from_start) {
+  constexpr double tolerance_s = 1e-9;
+  Eigen::Index first = 0, last = estimate.t_s.size() - 1;
+  while (first <= last && (estimate.t_s(first) < t0_s - tolerance_s ||
+                           (!from_start && estimate.t_s(first) <= t0_s + tolerance_s)))
+    ++first;
+  while (last >= first && estimate.t_s(last) > t1_s + tolerance_s) --last;
+  if (first > last) throw InputError("the observer's output holds no sample of an identification interval");
+  const Eigen::Index n = last - first + 1;
+  DisturbanceEstimate slice;
+  slice.estimator = estimate.estimator;
+  slice.t_s = estimate.t_s.segment(first, n);
+  slice.u = estimate.u.middleRows(first, n);
+  slice.d_hat = estimate.d_hat.middleRows(first, n);
+  slice.velocity = estimate.velocity.middleRows(first, n);
+  slice.total = estimate.total.middleRows(first, n);
+  slice.nominal_inertia = estimate.nominal_inertia;
+  return slice;
 }
 
 void drop_samples(PushStudy& study) {

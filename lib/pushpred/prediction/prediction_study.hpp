@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "pushpred/estimators/relation_estimator.hpp"
+#include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/prediction/predictor.hpp"
 #include "pushpred/prediction/quasi_static_identification.hpp"
@@ -90,6 +91,16 @@ struct StudyOptions {
   std::vector<std::string> methods;
   double plan_rate_hz = 10.0;
   std::string observer = "dob";   ///< a disturbance estimator name
+  /// The Q-filter observer's start and output, when `observer` is "dob" (q_filter_observer.hpp).
+  QFilterObserverOptions observer_options;
+  /// How the observer meets the schedule. PerInterval (default): one observer run per identification interval,
+  /// started in the steady state of the data at the interval's start (the paper's "Implementation" paragraph:
+  /// initialise the observer's state at each switching instant); each interval's grid samples join the estimator,
+  /// a boundary that falls on a grid sample with both intervals. Continuous: one observer run from the schedule's start, whose output on each interval joins the
+  /// estimator, a boundary sample only once (with the interval it ends). Both are causal: the run that identifies
+  /// an interval reads no sample after it. docs/reproduction.md compares them.
+  enum class ObserverRun { PerInterval, Continuous };
+  ObserverRun observer_run = ObserverRun::PerInterval;
   std::string estimator = "rls";  ///< a relation estimator name
   double friction_coefficient = -1;  ///< for `simple`; < 0: from the surface; not finite: InputError
   /// The observer's CVODE path (when asked for), the friction model (`simple`) and a corrected model with extra
@@ -176,6 +187,13 @@ struct PushStudy {
 };
 
 PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions& options = {});
+
+/// "per-interval", "continuous"; parse_observer_run throws InputError for other names.
+const char* observer_run_name(StudyOptions::ObserverRun run);
+StudyOptions::ObserverRun parse_observer_run(const std::string& name);
+/// The rows of `estimate` with t in [t0_s, t1_s] (from_start) or (t0_s, t1_s], as an estimate of their own.
+DisturbanceEstimate estimate_rows_within(const DisturbanceEstimate& estimate, double t0_s, double t1_s,
+                                         bool from_start);
 
 /// `study` without its per-sample arrays (the observer's output, each phase's grid times and measured and predicted
 /// poses), keeping what summaries and tables read (errors, parameters, notes, intervals). A batch that writes each

@@ -131,8 +131,12 @@ void write_introduction(std::ostream& md, const StudyOptions& study_options, boo
      << "Made by `pushpred reproduce` (pushpred " << kVersion << "). Schedule: " << study_options.schedule.intervals
      << " equal intervals over the **" << schedule_span_name(study_options.schedule.span)
      << "** span of each recording, identification on the first, then alternating; planned force sampled at "
-     << study_options.plan_rate_hz << " Hz and held; observer `" << study_options.observer << "`, relation estimator `"
-     << study_options.estimator
+     << study_options.plan_rate_hz << " Hz and held; observer `" << study_options.observer << "`";
+  if (study_options.observer == "dob")
+    md << " (run " << observer_run_name(study_options.observer_run) << ", start "
+       << observer_start_name(study_options.observer_options.start) << ", output "
+       << observer_output_name(study_options.observer_options.output) << "; docs/reproduction.md)";
+  md << ", relation estimator `" << study_options.estimator
      << "`; the simple algorithm uses mu = 0.14 on abs. Prediction methods: "
      << markdown_method_list(study_options.methods)
      << ".\n\n";

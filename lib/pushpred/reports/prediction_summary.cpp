@@ -107,6 +107,9 @@ nlohmann::json prediction_options_json(const StudyOptions& o) {
           {"span", schedule_span_name(o.schedule.span)},
           {"plan_rate_hz", o.plan_rate_hz},
           {"observer", o.observer},
+          {"observer_run", observer_run_name(o.observer_run)},
+          {"observer_start", observer_start_name(o.observer_options.start)},
+          {"observer_output", observer_output_name(o.observer_options.output)},
           {"methods", o.methods.empty() ? prediction_method_names() : o.methods},
           {"estimator", o.estimator}};
 }
