@@ -228,8 +228,8 @@ DisturbanceEstimate estimate_rows_within(const DisturbanceEstimate& estimate, do
                                          bool from_start) {
   constexpr double tolerance_s = 1e-9;
   Eigen::Index first = 0, last = estimate.t_s.size() - 1;
-  while (first <= last && (estimate.t_s(first) < t0_s - tolerance_s ||
-                           (!from_start && estimate.t_s(first) <= t0_s + tolerance_s)))
+  while (first <= last &&
+         (estimate.t_s(first) < t0_s - tolerance_s || (!from_start && estimate.t_s(first) <= t0_s + tolerance_s)))
     ++first;
   while (last >= first && estimate.t_s(last) > t1_s + tolerance_s) --last;
   if (first > last) throw InputError("the observer's output holds no sample of an identification interval");

@@ -96,9 +96,9 @@ struct StudyOptions {
   /// How the observer meets the schedule. PerInterval (default): one observer run per identification interval,
   /// started in the steady state of the data at the interval's start (the paper's "Implementation" paragraph:
   /// initialise the observer's state at each switching instant); each interval's grid samples join the estimator,
-  /// a boundary that falls on a grid sample with both intervals. Continuous: one observer run from the schedule's start, whose output on each interval joins the
-  /// estimator, a boundary sample only once (with the interval it ends). Both are causal: the run that identifies
-  /// an interval reads no sample after it. docs/reproduction.md compares them.
+  /// a boundary that falls on a grid sample with both intervals. Continuous: one observer run from the schedule's
+  /// start, whose output on each interval joins the estimator, a boundary sample only once (with the interval it ends).
+  /// Both are causal: the run that identifies an interval reads no sample after it. docs/reproduction.md compares them.
   enum class ObserverRun { PerInterval, Continuous };
   ObserverRun observer_run = ObserverRun::PerInterval;
   std::string estimator = "rls";  ///< a relation estimator name

@@ -138,8 +138,7 @@ void write_introduction(std::ostream& md, const StudyOptions& study_options, boo
        << observer_output_name(study_options.observer_options.output) << "; docs/reproduction.md)";
   md << ", relation estimator `" << study_options.estimator
      << "`; the simple algorithm uses mu = 0.14 on abs. Prediction methods: "
-     << markdown_method_list(study_options.methods)
-     << ".\n\n";
+     << markdown_method_list(study_options.methods) << ".\n\n";
   if (simulated)
     md << "**The six rect2 cases are simulated.** The paper's rect2 recordings are not among the real files in the "
           "data folder, so each case of its Table I is simulated from `data/paper/case<n>.json` (`pushpred simulate "
