@@ -2,8 +2,11 @@
 // The flags several subcommands share, declared once each: the same name, check and (unless a subcommand says what
 // is special about it there) help text everywhere.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace pushpred::app {
@@ -44,9 +47,22 @@ inline CLI::Option* add_rate(CLI::App& sub, double& rate_hz) {
   return sub.add_option("--rate", rate_hz, "Resampling rate [Hz]")->check(kPositiveNumber);
 }
 
-/// `--jobs N` (positive); `help` says what runs in parallel.
+/// `--jobs N` (positive); `help` says what runs in parallel. More jobs than cores only add threads that wait for
+/// each other (2000 threads ran 26 times slower than 2 on a 2-core machine): N above the core count is capped to it,
+/// and the program says so once, on stderr.
 inline CLI::Option* add_jobs(CLI::App& sub, int& jobs, const std::string& help) {
-  return sub.add_option("--jobs", jobs, help)->check(kPositiveNumber);
+  return sub
+      .add_option_function<int>(
+          "--jobs",
+          [&jobs](int requested) {
+            const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+            jobs = std::min(requested, cores);
+            if (requested > cores)
+              std::cerr << "note: --jobs " << requested << " is more than the " << cores << " cores; " << cores
+                        << " jobs run\n";
+          },
+          help)
+      ->check(kPositiveNumber);
 }
 
 /// `--floor-margin K` (>= 0): how many standard errors an effect's amount must exceed its floor by to be found.

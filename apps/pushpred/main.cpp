@@ -5,8 +5,27 @@
 
 #include "commands.hpp"
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/mpi_world.hpp"
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/core/version.hpp"
+
+namespace {
+
+/// Prints an error that ended the run and returns its exit code. Under mpirun with several ranks, the other ranks
+/// may be waiting for this one's results, so the error names the rank and stops the whole job (exit 2); the scratch
+/// folders of the ranks stopped so are removed by their signal handlers, this rank's by the unwinding that led here.
+int report_error(const std::exception& e, int code) {
+  const int ranks = pushpred::mpi_launch_size();
+  if (ranks > 1) {
+    std::cerr << "pushpred: error on rank " << pushpred::mpi_launch_rank() << " of " << ranks << ": "
+              << pushpred::plain_text(e.what()) << "; stopping every rank\n";
+    pushpred::MpiWorld::get().abort(pushpred::app::kExitNothingDone);
+  }
+  std::cerr << "pushpred: error: " << pushpred::plain_text(e.what()) << "\n";
+  return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"pushpred: predict where a pushed object goes, and explain why predictions miss"};
@@ -26,10 +45,8 @@ int main(int argc, char** argv) {
   try {
     return pushpred::app::run_selected(app);
   } catch (const pushpred::InputError& e) {
-    std::cerr << "pushpred: error: " << pushpred::plain_text(e.what()) << "\n";
-    return pushpred::app::kExitNothingDone;
+    return report_error(e, pushpred::app::kExitNothingDone);
   } catch (const std::exception& e) {
-    std::cerr << "pushpred: error: " << pushpred::plain_text(e.what()) << "\n";
-    return 1;
+    return report_error(e, 1);
   }
 }

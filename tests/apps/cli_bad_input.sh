@@ -50,6 +50,20 @@ check_class declared_rows .h5 "array 'tip_pose' declares 100000000 rows"
 check_class integer_pose .h5 "array 'object_pose' holds 64-bit integers; the format stores 64-bit floats"
 check_class huge_force .h5 "stream 'ft_wrench' has fx 1e+300 N at row 0, beyond the plausible 1e+03 N"
 check_class far_away .h5 "stream 'object_pose' has x 1e+03 m at row"
+check_class object_spike .h5 "object_pose moves at"
+check_class object_step .h5 "object_pose moves at"
+check_class yaw_turns .h5 "object_pose turns at"
+check_class object_at_tip .h5 "the rod's surface lies 57.1 mm inside hex's outline"
+check_class float32_unix .h5 "array 'tip_pose' stores its time stamps as 32-bit floats"
+
+# Files other tools write that hold a usable push: HDF5 behind a user block, and 32-bit floats with time stamps from
+# the push's start (converted, and said so).
+expect_exit 0 "inspect an HDF5 file with a user block" -- limit "$bin" inspect "$bad/user_block/$stem.h5"
+expect_exit 0 "inspect 32-bit float arrays" -- limit "$bin" inspect --json "$bad/float32/$stem.h5"
+expect_in "$tmp/out" "tip_pose: stored as 32-bit floats: converted to 64-bit" "inspect says the arrays were converted"
+expect_exit 0 "predict on both" -- limit "$bin" predict "$bad/user_block/$stem.h5" "$bad/float32/$stem.h5" \
+  --out "$tmp/converted" --methods dob,hold
+expect_in "$tmp/out" "predicted 2 pushes" "both are predicted"
 
 # Good data behind a byte-order mark, and the same data as JSON and HDF5 under the real name, are read.
 for f in "$bad/bom_good/$stem.json" "$bad/good/$stem.json" "$bad/good/$stem.h5"; do
@@ -124,10 +138,10 @@ expect_in "$tmp/err" "exists and is not a folder" "the output file is named"
 # stopped at 20 moments from 0.45 to 1.4 s (reading, predicting, writing) must all leave nothing.
 mkdir -p "$tmp/sig"
 # Enough work to be still running when stopped: one pass over abs/ takes about a second since issue 12. A file given
-# twice is studied once, so the 20 passes are over 20 copies (one copy, then hard links to it: distinct files).
+# twice is studied once, and so is a file reached through hard links, so the 20 passes are over 20 copies.
 mkdir -p "$tmp/slow" && cp -r "$data/abs" "$tmp/slow/1"
 slow=("$tmp/slow/1")
-for k in $(seq 2 20); do cp -al "$tmp/slow/1" "$tmp/slow/$k" && slow+=("$tmp/slow/$k"); done
+for k in $(seq 2 20); do cp -r "$tmp/slow/1" "$tmp/slow/$k" && slow+=("$tmp/slow/$k"); done
 stopped_ok=0
 for i in $(seq 1 20); do
   if [ $((i % 2)) -eq 0 ]; then signal=TERM; else signal=INT; fi

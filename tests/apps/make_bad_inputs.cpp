@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -36,9 +37,15 @@ std::map<std::string, Rows> arrays_of(const Recording& r) {
 
 /// Writes arrays with the raw HDF5 API; `integer_arrays` are stored as 64-bit integers (truncated, as a careless
 /// writer would), and `declared_rows` > 0 declares that many rows in a chunked, unwritten tip_pose.
+/// `float_bits` 32 stores every array as 32-bit floats; `user_block` > 0 puts a user block of that many bytes (a
+/// power of two from 512) before the HDF5 data, as h5py's userblock_size does.
 void write_h5(const fs::path& path, const std::map<std::string, Rows>& arrays,
-              const std::vector<std::string>& integer_arrays = {}, hsize_t declared_rows = 0) {
-  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+              const std::vector<std::string>& integer_arrays = {}, hsize_t declared_rows = 0, int float_bits = 64,
+              hsize_t user_block = 0) {
+  const hid_t create = H5Pcreate(H5P_FILE_CREATE);
+  if (user_block > 0) H5Pset_userblock(create, user_block);
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create, H5P_DEFAULT);
+  H5Pclose(create);
   for (const auto& [name, m] : arrays) {
     const bool as_int = std::find(integer_arrays.begin(), integer_arrays.end(), name) != integer_arrays.end();
     if (declared_rows > 0 && name == "tip_pose") {
@@ -54,8 +61,9 @@ void write_h5(const fs::path& path, const std::map<std::string, Rows>& arrays,
     }
     const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), 4};
     const hid_t s = H5Screate_simple(2, dims, nullptr);
-    const hid_t d = H5Dcreate2(f, name.c_str(), as_int ? H5T_STD_I64LE : H5T_IEEE_F64LE, s, H5P_DEFAULT, H5P_DEFAULT,
-                               H5P_DEFAULT);
+    const hid_t d =
+        H5Dcreate2(f, name.c_str(), as_int ? H5T_STD_I64LE : (float_bits == 32 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE), s,
+                   H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (as_int) {
       Eigen::Matrix<long long, Eigen::Dynamic, 4, Eigen::RowMajor> ints = m.cast<long long>();
       H5Dwrite(d, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, ints.data());
@@ -152,6 +160,48 @@ int main(int argc, char** argv) {
     a["object_pose"].col(1).array() += 1e3;  // x
     write_h5(file("far_away", ".h5"), a);
   }
+  // Motion no pushed object makes (docs/robustness.md, plausibility of the motion): the object 1 m away for two
+  // samples, a permanent 1 m step, twenty turns of yaw (stored wrapped), the object's pose equal to the tip's.
+  {
+    auto a = good;
+    Rows& object = a["object_pose"];
+    const Eigen::Index mid = object.rows() / 2;
+    object(mid, 1) += 1.0;
+    object(mid + 1, 1) += 1.0;
+    write_h5(file("object_spike", ".h5"), a);
+  }
+  {
+    auto a = good;
+    Rows& object = a["object_pose"];
+    object.col(1).tail(object.rows() / 2).array() += 1.0;
+    write_h5(file("object_step", ".h5"), a);
+  }
+  {
+    auto a = good;
+    Rows& object = a["object_pose"];
+    const Eigen::Index n = object.rows();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double turned = object(k, 3) + 20 * 2 * M_PI * static_cast<double>(k) / static_cast<double>(n - 1);
+      object(k, 3) = std::remainder(turned, 2 * M_PI);
+    }
+    write_h5(file("yaw_turns", ".h5"), a);
+  }
+  {
+    auto a = good;
+    // The object's pose replaced by the tip's at the tip's time stamps (its own stream's length and clock).
+    a["object_pose"] = a["tip_pose"];
+    write_h5(file("object_at_tip", ".h5"), a);
+  }
+  // Files a user has, written by other tools: HDF5 behind a user block; arrays as 32-bit floats with time stamps
+  // from the push's start (read, converted, said) or as Unix time (refused: 32-bit floats keep 128 s of it).
+  write_h5(file("user_block", ".h5"), good, {}, 0, 64, 512);
+  {
+    auto a = good;
+    const double t0 = a["object_pose"](0, 0);
+    for (auto& [n, m] : a) m.col(0).array() -= t0;
+    write_h5(file("float32", ".h5"), a, {}, 0, 32);
+  }
+  write_h5(file("float32_unix", ".h5"), good, {}, 0, 32);
   // Good data in JSON behind a UTF-8 byte-order mark: must be read, not refused.
   write_bytes(file("bom_good", ".json"), "\xEF\xBB\xBF" + json_of(good));
   // The same data in plain JSON and HDF5 (good files with a new name, made at test time).

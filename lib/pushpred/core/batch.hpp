@@ -32,13 +32,12 @@ struct Batch {
 inline std::vector<std::filesystem::path> expand_inputs(const std::vector<std::string>& inputs,
                                                         std::vector<std::filesystem::path>* repeated = nullptr) {
   std::vector<std::filesystem::path> out;
-  std::set<std::filesystem::path> seen;
+  std::set<std::string> seen;
   const auto add = [&](std::filesystem::path p) {
-    std::error_code ec;
-    std::filesystem::path identity = std::filesystem::weakly_canonical(p, ec);
-    if (ec) identity = p.lexically_normal();
-    if (seen.insert(identity).second) out.push_back(std::move(p));
-    else if (repeated) repeated->push_back(std::move(p));
+    if (seen.insert(file_identity(p)).second)
+      out.push_back(std::move(p));
+    else if (repeated)
+      repeated->push_back(std::move(p));
   };
   for (const auto& in : inputs) {
     std::error_code ec;

@@ -1,6 +1,9 @@
 #include "pushpred/core/data_folder.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 
 #include "pushpred/core/error.hpp"
@@ -30,6 +33,21 @@ fs::path resolve_data_folder(const std::optional<std::string>& explicit_folder) 
   throw InputError("no data folder found (tried " + list + "); give one with --data or PUSHPRED_DATA");
 }
 
+bool has_recording_extension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".h5" || ext == ".json";
+}
+
+std::string file_identity(const fs::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+  std::error_code ec;
+  fs::path identity = fs::weakly_canonical(path, ec);
+  if (ec) identity = path.lexically_normal();
+  return "path " + identity.string();
+}
+
 namespace {
 
 /// Recordings below `folder`, by hand rather than by recursive_directory_iterator so that one unreadable
@@ -50,9 +68,9 @@ void collect_recordings(const fs::path& folder, std::vector<fs::path>& files, in
     }
     std::error_code ec_status;
     const fs::file_status link = it->symlink_status(ec_status);
-    const auto ext = it->path().extension();
     if (fs::is_directory(link)) collect_recordings(it->path(), files, depth + 1);
-    else if (ext == ".h5" || ext == ".json") files.push_back(it->path());
+    else if (has_recording_extension(it->path()))
+      files.push_back(it->path());
   }
 }
 

@@ -8,11 +8,16 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <random>
+#include <set>
+#include <sstream>
 #include <system_error>
 
 #include "pushpred/core/error.hpp"
@@ -136,7 +141,7 @@ bool process_alive(long pid) { return pid > 0 && (kill(static_cast<pid_t>(pid), 
 /// Removes `.NAME.staging-PID-*` and `.NAME.replaced-PID-*` folders beside `target` whose process is gone and that
 /// hold the marker (so only folders pushpred made).
 void remove_stale_staging(const fs::path& target) {
-  const std::string name = target.filename().string();
+  const std::string name = bounded_file_name(target.filename().string());
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(target.parent_path(), ec)) {
     const std::string other = entry.path().filename().string();
@@ -150,12 +155,88 @@ void remove_stale_staging(const fs::path& target) {
   }
 }
 
+/// Removes `pushpred-NAME-PID` scratch folders in `temp` (ScratchFolder) of this user whose process is gone: a rank
+/// killed outright (kill -9) leaves its scratch folder, and the next run on the machine removes it.
+void remove_stale_scratch(const fs::path& temp) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(temp, ec)) {
+    const std::string name = entry.path().filename().string();
+    const std::size_t dash = name.rfind('-');
+    if (name.rfind("pushpred-", 0) != 0 || dash == std::string::npos || dash + 1 >= name.size()) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(name.c_str() + dash + 1, &end, 10);
+    struct stat st {};
+    if (*end != '\0' || pid <= 0 || process_alive(pid) || ::lstat(entry.path().c_str(), &st) != 0 ||
+        !S_ISDIR(st.st_mode) || st.st_uid != ::geteuid())
+      continue;
+    std::error_code ignored;
+    fs::remove_all(entry.path(), ignored);
+  }
+}
+
 bool is_empty_folder(const fs::path& p) {
   std::error_code ec;
   return fs::directory_iterator(p, ec) == fs::directory_iterator() && !ec;
 }
 
+// The marker's first line; the lines after kMarkerList list what the run wrote, one relative path a line.
+constexpr const char* kMarkerHeading = "written by pushpred; replaced as a whole by the next run into it\n";
+constexpr const char* kMarkerList = "files and folders written:\n";
+
+/// Every file and folder below `folder`, as relative paths (sorted), the marker itself left out. A link is listed
+/// as itself and not followed.
+std::vector<std::string> entries_below(const fs::path& folder) {
+  std::vector<std::string> entries;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(folder, fs::directory_options::none, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const std::string relative = it->path().lexically_relative(folder).generic_string();
+    if (relative != kOutputMarker) entries.push_back(relative);
+  }
+  std::sort(entries.begin(), entries.end());
+  return entries;
+}
+
+std::string marker_text(const fs::path& staging) {
+  std::string text = std::string(kMarkerHeading) + kMarkerList;
+  for (const auto& entry : entries_below(staging)) {
+    // A name holding a line break cannot be listed one a line: its first line is listed, so the check below finds
+    // the entry unlisted and refuses the folder rather than deleting something it cannot name.
+    text += entry.substr(0, entry.find('\n')) + "\n";
+  }
+  return text;
+}
+
+/// The first entry of a pushpred output folder its marker does not list, or "" when there is none. A marker without
+/// a list (written before markers listed their files) lists nothing, and its folder is taken as pushpred's whole.
+std::string entry_not_written_by_pushpred(const fs::path& folder) {
+  std::string marker;
+  try {
+    marker = read_file_bytes(folder / kOutputMarker);
+  } catch (const std::exception&) {
+    return kOutputMarker;
+  }
+  const std::size_t list = marker.find(kMarkerList);
+  if (list == std::string::npos) return "";
+  std::set<std::string> written;
+  std::istringstream lines(marker.substr(list + std::strlen(kMarkerList)));
+  for (std::string line; std::getline(lines, line);) written.insert(line);
+  for (const auto& entry : entries_below(folder))
+    if (!written.count(entry)) return entry;
+  return "";
+}
+
 }  // namespace
+
+std::string bounded_file_name(const std::string& name, std::size_t max_bytes) {
+  if (name.size() <= max_bytes) return name;
+  std::uint64_t hash = 14695981039346656037ull;  // FNV-1a, 64 bits: stable across runs and builds
+  for (unsigned char c : name) hash = (hash ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  const std::size_t keep = max_bytes > 17 ? max_bytes - 17 : 0;
+  return name.substr(0, keep) + "-" + hex;
+}
 
 std::string read_file_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -195,7 +276,7 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   // staging folder come from StagedOutput::path, one level at a time.
   if (!fs::is_directory(folder, ec))
     throw InputError(about(path.string(), "cannot be written: its folder " + folder.string() + " does not exist"));
-  const fs::path tmp = folder / ("." + path.filename().string() + ".tmp-" + unique_suffix());
+  const fs::path tmp = folder / ("." + bounded_file_name(path.filename().string()) + ".tmp-" + unique_suffix());
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw InputError(about(path.string(), "cannot open for writing"));
@@ -233,17 +314,27 @@ StagedOutput::StagedOutput(fs::path destination) : destination_(std::move(destin
   const fs::file_status status = fs::status(target_, ec);
   if (fs::exists(status)) {
     if (!fs::is_directory(status)) throw InputError(about(shown, "exists and is not a folder"));
-    if (!fs::exists(target_ / kOutputMarker, ec) && !is_empty_folder(target_))
-      throw InputError(about(shown, "exists, is not empty and was not written by pushpred (no " +
-                                        std::string(kOutputMarker) +
-                                        " in it): its contents would be replaced; give a new or empty folder"));
+    struct stat owner {};
+    if (::stat(target_.c_str(), &owner) == 0 && owner.st_uid != ::geteuid())
+      throw InputError(about(shown, "is owned by another user (uid " + std::to_string(owner.st_uid) +
+                                        "): pushpred replaces only its own output folders; give another folder"));
+    if (!is_empty_folder(target_)) {
+      if (!fs::exists(target_ / kOutputMarker, ec))
+        throw InputError(about(shown, "exists, is not empty and was not written by pushpred (no " +
+                                          std::string(kOutputMarker) +
+                                          " in it): its contents would be replaced; give a new or empty folder"));
+      if (const std::string foreign = entry_not_written_by_pushpred(target_); !foreign.empty())
+        throw InputError(about(shown, "holds '" + plain_text(foreign) +
+                                          "', which pushpred did not write there: replacing the folder would delete "
+                                          "it; move it out or give another folder"));
+    }
   }
   const fs::path parent = target_.parent_path();
   fs::create_directories(parent, ec);
   if (ec) throw InputError(about(parent.string(), "cannot create folder: " + ec.message()));
   remove_stale_staging(target_);
-  staging_ = parent / ("." + target_.filename().string() + ".staging-" + std::to_string(getpid()) + "-" +
-                       unique_suffix());
+  staging_ = parent / ("." + bounded_file_name(target_.filename().string()) + ".staging-" + std::to_string(getpid()) +
+                       "-" + unique_suffix());
   // Registered before it exists, so that a stop signal at any moment after this finds it (removing a folder that
   // is not there yet is harmless).
   slot_ = claim_slot(staging_);
@@ -253,7 +344,7 @@ StagedOutput::StagedOutput(fs::path destination) : destination_(std::move(destin
     slot_ = -1;
     throw InputError(about(shown, "cannot create a staging folder beside it: " + ec.message()));
   }
-  std::ofstream(staging_ / kOutputMarker) << "written by pushpred; replaced as a whole by the next run into it\n";
+  std::ofstream(staging_ / kOutputMarker) << kMarkerHeading;
 }
 
 StagedOutput::~StagedOutput() {
@@ -280,6 +371,7 @@ void StagedOutput::commit() {
   if (committed_) return;
   const std::string shown = destination_.string();
   std::error_code ec;
+  write_text_atomically(staging_ / kOutputMarker, marker_text(staging_));
   if (!fs::exists(target_, ec)) {
     fs::rename(staging_, target_, ec);
     if (ec) throw InputError(about(shown, "cannot move output into place: " + ec.message()));
@@ -288,7 +380,7 @@ void StagedOutput::commit() {
     fs::remove_all(staging_, ec);
   } else {
     // A file system without RENAME_EXCHANGE: move the old folder aside, the new one in, then remove the old.
-    const fs::path old = target_.parent_path() / ("." + target_.filename().string() + ".replaced-" +
+    const fs::path old = target_.parent_path() / ("." + bounded_file_name(target_.filename().string()) + ".replaced-" +
                                                   std::to_string(getpid()) + "-" + unique_suffix());
     fs::rename(target_, old, ec);
     if (ec) throw InputError(about(shown, "cannot replace the earlier output: " + ec.message()));
@@ -309,6 +401,7 @@ ScratchFolder::ScratchFolder(const std::string& name) {
   std::error_code ec;
   const fs::path temp = fs::temp_directory_path(ec);
   if (ec) throw InputError("no temporary folder for scratch files (TMPDIR): " + ec.message());
+  remove_stale_scratch(temp);
   path_ = temp / ("pushpred-" + name + "-" + std::to_string(getpid()));
   fs::remove_all(path_, ec);  // a dead process's, whose id this one has now
   slot_ = claim_slot(path_);  // before it exists, as a staging folder

@@ -6,8 +6,12 @@
 // was. A run stopped by SIGINT, SIGTERM or SIGHUP removes its staging folders (install_output_cleanup_on_signals);
 // a run killed outright leaves one, which the next run into the same destination removes.
 //
-// An existing destination is replaced only when it is empty or was written by pushpred (it holds the marker file
-// `.pushpred-output`), so that `--out .` or `--out ~` can never wipe a user's folder.
+// An existing destination is replaced only when it is empty, or was written by pushpred and holds nothing else: its
+// marker file `.pushpred-output` lists every file and folder the run wrote, and anything in it the list does not
+// name (a recording a user copied there, a note) makes the run refuse the folder, touching nothing. `--out .` or
+// `--out ~` can never wipe a user's folder. A folder owned by another user is refused too: its files could not all
+// be removed, and the old output would be left behind in a hidden folder. Names made from a destination's or an
+// input's name stay within the file system's limit (bounded_file_name).
 #include <filesystem>
 #include <functional>
 #include <ostream>
@@ -41,6 +45,12 @@ JsonTextAround json_file_text_around(nlohmann::json doc, const std::string& key)
 
 /// The name of the marker file every StagedOutput folder holds.
 inline constexpr const char* kOutputMarker = ".pushpred-output";
+
+/// `name` when it has at most `max_bytes` bytes; otherwise its first bytes and a hash of the whole name
+/// ("PREFIX-0123456789abcdef"), `max_bytes` long, the same for the same name on every run. File names derived from
+/// inputs and destinations go through it so that a name near the file system's 255-byte limit, with a prefix or
+/// suffix added, stays below it.
+std::string bounded_file_name(const std::string& name, std::size_t max_bytes = 200);
 
 /// A folder of outputs that appear together or not at all.
 ///

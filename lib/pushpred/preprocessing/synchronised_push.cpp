@@ -186,6 +186,7 @@ SynchronisedPush synchronise(const Recording& r, const ShapeInfo& shape, const P
     p.contact_start_s = p.t_s(first - p.in_contact.begin());
     p.contact_end_s = p.t_s(static_cast<Eigen::Index>(p.in_contact.rend() - last) - 1);
   }
+  check_plausible_motion(p, o.limits);
   return p;
 }
 

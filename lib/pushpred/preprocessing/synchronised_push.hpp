@@ -84,6 +84,11 @@ struct SynchronisedPush {
 /// is shorter than two grid samples.
 SynchronisedPush synchronise(const Recording& recording, const ShapeInfo& shape, const PreprocessOptions& options = {});
 
+/// Throws InputError naming the push, the sample (time and index) and the value when the object's motion on the grid
+/// is beyond what a pushed object can do (PlausibilityLimits: speed, yaw rate, acceleration over a window, and the
+/// rod's surface deep inside the outline). synchronise() calls it last.
+void check_plausible_motion(const SynchronisedPush& push, const PlausibilityLimits& limits = {});
+
 /// The shape named by the file name, or `shape_override` when given; throws InputError when neither
 /// exists or the name is not in `table`.
 const ShapeInfo& shape_for(const Recording& recording, const std::string& shape_override,

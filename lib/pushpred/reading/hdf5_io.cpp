@@ -4,7 +4,9 @@
 
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <random>
 
@@ -55,7 +57,9 @@ std::string type_description(hid_t type) {
   }
 }
 
-Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* name, long long max_rows) {
+/// The array `name` as n x 4 doubles; `stored_bits` receives the width the file stores it in (64, or 32 converted).
+Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* name, long long max_rows,
+                          std::int64_t& stored_bits) {
   const std::string where = std::string("array '") + name + "'";
   if (H5Lexists(file, name, H5P_DEFAULT) <= 0) throw InputError(about(source, where + " is missing"));
   // Only a dataset stored in this file: a soft or external link, or external or virtual storage, would make the
@@ -73,10 +77,13 @@ Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* nam
     throw InputError(about(source, where + " is stored outside the file (external or virtual storage)"));
   Handle type(H5Dget_type(dataset.get()), H5Tclose);
   // The format stores 64-bit floats. Integers would be converted exactly but a pose in metres stored as integers
-  // has already lost everything below a metre, and 32-bit floats cannot hold Unix time to the millisecond.
-  if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT || H5Tget_size(type.get()) != 8)
+  // has already lost everything below a metre. 32-bit floats are converted (and the conversion is reported): they
+  // hold poses and forces well, and time stamps only where they are small (checked after decoding).
+  const std::size_t bytes = type.valid() ? H5Tget_size(type.get()) : 0;
+  if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT || (bytes != 8 && bytes != 4))
     throw InputError(about(source, where + " holds " + (type.valid() ? type_description(type.get()) : "unreadable data") +
                                        "; the format stores 64-bit floats"));
+  stored_bits = static_cast<std::int64_t>(8 * bytes);
   Handle space(H5Dget_space(dataset.get()), H5Sclose);
   const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
   if (rank != 2)
@@ -110,35 +117,52 @@ void write_rows(hid_t file, const std::string& target, const char* name, const T
     throw InputError(about(target, std::string("cannot write array '") + name + "'"));
 }
 
+/// Time stamps stored as 32-bit floats are refused where they are further apart than this [s].
+constexpr double kLargestTimeSpacing_s = 1e-3;
+
+/// The three arrays as doubles, and the width each is stored in.
+struct StoredArrays {
+  std::array<Eigen::MatrixXd, 3> values;
+  std::array<std::int64_t, 3> stored_bits{64, 64, 64};
+};
+
 /// The three arrays, as read by libhdf5 (in the child process of run_isolated).
-std::array<Eigen::MatrixXd, 3> read_arrays(const std::string& source, long long max_rows) {
+StoredArrays read_arrays(const std::string& source, long long max_rows) {
   silence_hdf5_errors();
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw InputError(about(source, "cannot open HDF5 file"));
-  std::array<Eigen::MatrixXd, 3> arrays;
-  for (std::size_t k = 0; k < kArrayNames.size(); ++k) arrays[k] = read_rows(file.get(), source, kArrayNames[k], max_rows);
+  StoredArrays arrays;
+  for (std::size_t k = 0; k < kArrayNames.size(); ++k)
+    arrays.values[k] = read_rows(file.get(), source, kArrayNames[k], max_rows, arrays.stored_bits[k]);
   return arrays;
 }
 
-/// Arrays to bytes and back, to cross the pipe from the child: per array its row count, then its values.
-std::string encode(const std::array<Eigen::MatrixXd, 3>& arrays) {
+/// Arrays to bytes and back, to cross the pipe from the child: per array its row count, its stored width in bits,
+/// then its values.
+std::string encode(const StoredArrays& arrays) {
   std::string bytes;
-  for (const auto& m : arrays) {
+  for (std::size_t k = 0; k < arrays.values.size(); ++k) {
+    const Eigen::MatrixXd& m = arrays.values[k];
     const std::int64_t rows = m.rows();
     bytes.append(reinterpret_cast<const char*>(&rows), sizeof rows);
+    bytes.append(reinterpret_cast<const char*>(&arrays.stored_bits[k]), sizeof arrays.stored_bits[k]);
     bytes.append(reinterpret_cast<const char*>(m.data()), sizeof(double) * static_cast<std::size_t>(m.size()));
   }
   return bytes;
 }
 
-std::array<Eigen::MatrixXd, 3> decode(const std::string& source, const std::string& bytes) {
-  std::array<Eigen::MatrixXd, 3> arrays;
+StoredArrays decode(const std::string& source, const std::string& bytes) {
+  StoredArrays arrays;
   std::size_t at = 0;
-  for (auto& m : arrays) {
+  for (std::size_t k = 0; k < arrays.values.size(); ++k) {
+    Eigen::MatrixXd& m = arrays.values[k];
     std::int64_t rows = 0;
-    if (bytes.size() < at + sizeof rows) throw InputError(about(source, "reading the HDF5 file gave a short result"));
+    if (bytes.size() < at + 2 * sizeof rows)
+      throw InputError(about(source, "reading the HDF5 file gave a short result"));
     std::memcpy(&rows, bytes.data() + at, sizeof rows);
+    at += sizeof rows;
+    std::memcpy(&arrays.stored_bits[k], bytes.data() + at, sizeof rows);
     at += sizeof rows;
     const std::size_t n = sizeof(double) * 4 * static_cast<std::size_t>(rows);
     if (rows < 0 || bytes.size() < at + n) throw InputError(about(source, "reading the HDF5 file gave a short result"));
@@ -169,13 +193,28 @@ Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptio
   std::memcpy(request.data(), &max_rows, sizeof max_rows);
   request += source;
   const std::string bytes = reader.call(source, request, options.hdf5_timeout_s);
-  const std::array<Eigen::MatrixXd, 3> arrays = decode(source, bytes);
+  const StoredArrays arrays = decode(source, bytes);
   Recording r;
   r.source = source;
   r.push = parse_push_filename(source);
-  r.tip_pose = condition_stream(source, "tip_pose", arrays[0], options, r.repairs);
-  r.object_pose = condition_stream(source, "object_pose", arrays[1], options, r.repairs);
-  r.ft_wrench = condition_stream(source, "ft_wrench", arrays[2], options, r.repairs);
+  for (std::size_t k = 0; k < kArrayNames.size(); ++k) {
+    if (arrays.stored_bits[k] == 64) continue;
+    // A float's spacing at t is about t 2^-23: Unix time (1.6e9 s) in 32 bits keeps 128 s, nothing of a push.
+    const Eigen::MatrixXd& m = arrays.values[k];
+    const double largest_time_s = m.rows() ? m.col(0).cwiseAbs().maxCoeff() : 0.0;
+    const double spacing_s = largest_time_s * std::ldexp(1.0, -23);
+    if (spacing_s > kLargestTimeSpacing_s) {
+      char text[160];
+      std::snprintf(text, sizeof text, "%.3g s; 32-bit floats there are %.3g s apart, coarser than %.0f ms",
+                    largest_time_s, spacing_s, 1e3 * kLargestTimeSpacing_s);
+      throw InputError(about(source, std::string("array '") + kArrayNames[k] +
+                                         "' stores its time stamps as 32-bit floats, up to " + text));
+    }
+    r.repairs.push_back({kArrayNames[k], "stored as 32-bit floats: converted to 64-bit"});
+  }
+  r.tip_pose = condition_stream(source, "tip_pose", arrays.values[0], options, r.repairs);
+  r.object_pose = condition_stream(source, "object_pose", arrays.values[1], options, r.repairs);
+  r.ft_wrench = condition_stream(source, "ft_wrench", arrays.values[2], options, r.repairs);
   return r;
 }
 

@@ -12,7 +12,7 @@ std::optional<PushParameters> parse_push_filename(std::string_view filename) {
   // No file system allows longer names (NAME_MAX), and std::regex recurses per character.
   if (name.size() > 255) return std::nullopt;
   static const std::regex pattern(
-      R"(^motion_surface=([A-Za-z0-9]+)_shape=([A-Za-z0-9]+)_a=(-?[0-9.]+)_v=(-?[0-9.]+)_i=(-?[0-9.]+)_s=(-?[0-9.]+)_t=(-?[0-9.]+)\.(h5|json)$)");
+      R"(^motion_surface=([A-Za-z0-9]+)_shape=([A-Za-z0-9]+)_a=(-?[0-9.]+)_v=(-?[0-9.]+)_i=(-?[0-9.]+)_s=(-?[0-9.]+)_t=(-?[0-9.]+)\.([hH]5|[jJ][sS][oO][nN])$)");
   std::smatch m;
   if (!std::regex_match(name, m, pattern)) return std::nullopt;
   try {

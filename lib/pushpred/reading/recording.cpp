@@ -129,6 +129,15 @@ Recording read_recording(const std::filesystem::path& path, const ReadOptions& o
   const std::streamsize got = in.gcount();
   static const char kHdf5Signature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
   if (got >= 8 && std::equal(head, head + 8, kHdf5Signature)) return read_recording_hdf5(path, options);
+  // A file with a user block (h5py's userblock_size, h5jam) carries the signature at 512, 1024, 2048, ... bytes:
+  // where the HDF5 library itself looks for it.
+  for (std::streamoff at = 512; got == static_cast<std::streamsize>(sizeof head); at *= 2) {
+    char signature[8] = {};
+    in.clear();
+    in.seekg(at);
+    if (!in.read(signature, sizeof signature)) break;
+    if (std::equal(signature, signature + 8, kHdf5Signature)) return read_recording_hdf5(path, options);
+  }
   std::streamsize i = 0;
   if (got >= 3 && head[0] == '\xEF' && head[1] == '\xBB' && head[2] == '\xBF') i = 3;  // UTF-8 byte-order mark
   for (; i < got; ++i) {

@@ -183,10 +183,11 @@ class PredictionOutputs {
 };
 
 /// predictions/NAME.csv for each studied push, in order: its file's stem, made distinct among the studied pushes
-/// (distinct_names), so that an input that failed takes no name from one that was studied.
+/// (distinct_names), so that an input that failed takes no name from one that was studied, and bounded in length
+/// (bounded_file_name) so that a stem near the 255-byte limit still makes a file name.
 std::vector<std::string> studied_file_names(const std::vector<std::string>& stems) {
   std::vector<std::string> names;
-  for (const auto& stem : distinct_names(stems)) names.push_back("predictions/" + stem + ".csv");
+  for (const auto& stem : distinct_names(stems)) names.push_back("predictions/" + bounded_file_name(stem) + ".csv");
   return names;
 }
 
@@ -384,7 +385,11 @@ BatchRunOutcome run_predict(const PredictRun& run) {
         },
         run.jobs, &progress);
     const std::vector<std::string> names = studied_file_names(outputs.stems());
-    for (std::size_t k = 0; k < names.size(); ++k) fs::rename(out->path(pending[k]), out->path(names[k]));
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      std::error_code ec;
+      fs::rename(out->path(pending[k]), out->path(names[k]), ec);
+      if (ec) throw InputError(about(names[k], "cannot be written: " + ec.message()));
+    }
     std::error_code ec;
     fs::remove(out->staging_folder() / kPendingFolder, ec);  // empty now; absent when nothing was studied
     return outputs.finish();
