@@ -280,6 +280,16 @@ BOOST_AUTO_TEST_CASE(only_floats_and_bounded_sizes_are_read_from_hdf5) {
   expect_read_error(tmp / "huge.h5", "array 'object_pose' declares 100000000 rows, more than the 2000000");
 }
 
+BOOST_AUTO_TEST_CASE(a_stream_spanning_longer_than_a_push_is_refused_by_the_reader_from_its_time_column) {
+  // 200,000 rows at 250 Hz span 800 s: read_recording (no plausibility checks after it) refuses the file from the time
+  // column, before the other columns are read, so refusing a huge file costs one column of it.
+  TempFolder tmp;
+  auto arrays = good_arrays();
+  arrays["object_pose"] = good_rows(200'000);
+  write_h5(tmp / "long.h5", arrays);
+  expect_read_error(tmp / "long.h5", "stream 'object_pose' spans 800 s, longer than the 600 s a push may last");
+}
+
 BOOST_AUTO_TEST_CASE(thirty_two_bit_floats_are_converted_and_said_so_where_they_can_hold_the_time) {
   // Times from the push's start (0 to 0.2 s): 32-bit floats keep them to a few tenths of a microsecond.
   TempFolder tmp;

@@ -59,7 +59,7 @@ std::string type_description(hid_t type) {
 
 /// The array `name` as n x 4 doubles; `stored_bits` receives the width the file stores it in (64, or 32 converted).
 Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* name, long long max_rows,
-                          std::int64_t& stored_bits) {
+                          double max_span_s, std::int64_t& stored_bits) {
   const std::string where = std::string("array '") + name + "'";
   if (H5Lexists(file, name, H5P_DEFAULT) <= 0) throw InputError(about(source, where + " is missing"));
   // Only a dataset stored in this file: a soft or external link, or external or virtual storage, would make the
@@ -97,6 +97,22 @@ Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* nam
   if (dims[0] > static_cast<hsize_t>(max_rows))
     throw InputError(about(source, where + " declares " + std::to_string(dims[0]) + " rows, more than the " +
                                        std::to_string(max_rows) + " a recording may hold"));
+  // The time column first (a hyperslab of column 0): a stream spanning hours is refused before the rest is read.
+  if (dims[0] > 1) {
+    Eigen::VectorXd time(static_cast<Eigen::Index>(dims[0]));
+    const hsize_t start[2] = {0, 0}, count[2] = {dims[0], 1};
+    Handle memory(H5Screate_simple(2, count, nullptr), H5Sclose);
+    if (H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 || !memory.valid() ||
+        H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, memory.get(), space.get(), H5P_DEFAULT, time.data()) < 0)
+      throw InputError(about(source, where + " cannot be read"));
+    H5Sselect_all(space.get());
+    const double span = time.maxCoeff() - time.minCoeff();
+    if (span > max_span_s) {
+      char text[96];
+      std::snprintf(text, sizeof text, " spans %.3g s, longer than the %.3g s a push may last", span, max_span_s);
+      throw InputError(about(source, std::string("stream '") + name + "'" + text));
+    }
+  }
   // HDF5 stores row-major; read into a row-major buffer and copy into Eigen's column-major matrix.
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> buffer(static_cast<Eigen::Index>(dims[0]), 4);
   if (dims[0] > 0 && H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
@@ -127,14 +143,14 @@ struct StoredArrays {
 };
 
 /// The three arrays, as read by libhdf5 (in the child process of run_isolated).
-StoredArrays read_arrays(const std::string& source, long long max_rows) {
+StoredArrays read_arrays(const std::string& source, long long max_rows, double max_span_s) {
   silence_hdf5_errors();
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw InputError(about(source, "cannot open HDF5 file"));
   StoredArrays arrays;
   for (std::size_t k = 0; k < kArrayNames.size(); ++k)
-    arrays.values[k] = read_rows(file.get(), source, kArrayNames[k], max_rows, arrays.stored_bits[k]);
+    arrays.values[k] = read_rows(file.get(), source, kArrayNames[k], max_rows, max_span_s, arrays.stored_bits[k]);
   return arrays;
 }
 
@@ -173,11 +189,13 @@ StoredArrays decode(const std::string& source, const std::string& bytes) {
   return arrays;
 }
 
-/// The reader child's job: the request is max_rows (8 bytes) and the file's path.
+/// The reader child's job: the request is max_rows (8 bytes), max_span_s (8 bytes) and the file's path.
 std::string read_request(const std::string& request) {
   std::int64_t max_rows = 0;
+  double max_span_s = 0;
   std::memcpy(&max_rows, request.data(), sizeof max_rows);
-  return encode(read_arrays(request.substr(sizeof max_rows), max_rows));
+  std::memcpy(&max_span_s, request.data() + sizeof max_rows, sizeof max_span_s);
+  return encode(read_arrays(request.substr(sizeof max_rows + sizeof max_span_s), max_rows, max_span_s));
 }
 
 }  // namespace
@@ -188,9 +206,10 @@ Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptio
   // libhdf5 (1.10.8) dereferences NULL on some corrupt files: it runs in a child process, so that such a file is one
   // failure of the batch, not the end of it. One child per thread serves every file (core/isolated_call.hpp).
   thread_local IsolatedServer reader("reading the HDF5 file", &read_request);
-  std::string request(sizeof(std::int64_t), '\0');
+  std::string request(sizeof(std::int64_t) + sizeof(double), '\0');
   const std::int64_t max_rows = options.max_rows;
   std::memcpy(request.data(), &max_rows, sizeof max_rows);
+  std::memcpy(request.data() + sizeof max_rows, &options.max_span_s, sizeof options.max_span_s);
   request += source;
   const std::string bytes = reader.call(source, request, options.hdf5_timeout_s);
   const StoredArrays arrays = decode(source, bytes);

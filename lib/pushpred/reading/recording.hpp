@@ -65,6 +65,10 @@ struct ReadOptions {
   /// real push holds about 1,500 rows per stream; 2e6 rows is over two hours at 250 Hz.
   long long max_rows = 2'000'000;
   long long max_json_bytes = 256LL << 20;  ///< the real JSON file is 94 kB
+  /// An HDF5 array whose time stamps span more than this is refused from its time column alone, before its other
+  /// columns are read, so that refusing a huge file costs a column, not the file (the bound of
+  /// PlausibilityLimits::max_span_s, which checks every recording again after reading).
+  double max_span_s = 600.0;
   /// libhdf5 runs in a child process (core/isolated_call.hpp) that is stopped after this long; a real file takes
   /// milliseconds.
   double hdf5_timeout_s = 60.0;
