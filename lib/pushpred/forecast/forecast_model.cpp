@@ -130,6 +130,26 @@ Outline::Closest ForecastOutline::closest(const Eigen::Vector2d& p, int& hint) c
   return c;
 }
 
+Outline::Closest ForecastOutline::point_at_perimeter_fraction(double fraction) const {
+  if (!(fraction >= 0 && fraction <= 1)) throw InputError("outline: perimeter fraction must lie in [0, 1]");
+  const std::vector<Eigen::Vector2d> v = drawing_m();
+  const std::size_t n = v.size();
+  std::vector<double> arc(n + 1, 0.0);
+  for (std::size_t i = 0; i < n; ++i) arc[i + 1] = arc[i] + (v[(i + 1) % n] - v[i]).norm();
+  const double total = arc[n];
+  auto at = [&](double s_m, Eigen::Vector2d* normal) {
+    s_m = std::fmod(std::fmod(s_m, total) + total, total);
+    const std::size_t i = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), s_m) - arc.begin()) - 1;
+    const std::size_t k = std::min(i, n - 1);
+    const Eigen::Vector2d edge = v[(k + 1) % n] - v[k];
+    if (normal) *normal = Eigen::Vector2d(edge.y(), -edge.x()).normalized();
+    return Eigen::Vector2d(v[k] + (s_m - arc[k]) / edge.norm() * edge);
+  };
+  Outline::Closest c;
+  c.point_m = at(fraction * total, &c.normal);
+  return c;
+}
+
 std::vector<Eigen::Vector2d> ForecastOutline::drawing_m() const {
   if (!ellipse_) return vertices_;
   std::vector<Eigen::Vector2d> v;
@@ -304,6 +324,10 @@ Eigen::Vector2d dataset_push_direction_body(const ShapeInfo& shape, int side, do
   const Outline outline(shape);
   const Outline::Closest c = outline.point_on_side(side, position);
   return Eigen::Rotation2Dd(angle) * Eigen::Vector2d(-c.normal);
+}
+
+Eigen::Vector2d perimeter_push_direction_body(const ForecastOutline& outline, double position, double angle) {
+  return Eigen::Rotation2Dd(angle) * Eigen::Vector2d(-outline.point_at_perimeter_fraction(position).normal);
 }
 
 Eigen::Vector2d closest_normal_push_direction_body(const ForecastOutline& outline, const Eigen::Vector2d& tip_body,

@@ -48,6 +48,10 @@ class ForecastOutline {
   double semi_axis_a_m() const { return a_; }
   double semi_axis_b_m() const { return b_; }
   const std::string& description() const { return description_; }
+  /// The outline point at fraction `fraction` (0..1) of the perimeter, counter-clockwise from vertex 0 (a polygon) or
+  /// from (a, 0) (an ellipse), with the outward normal of the edge it lies on (the edge that starts there at a vertex),
+  /// as the dataset's files use it. InputError for a fraction outside [0, 1].
+  Outline::Closest point_at_perimeter_fraction(double fraction) const;
   /// Vertices for drawing (an ellipse sampled at 96 points).
   std::vector<Eigen::Vector2d> drawing_m() const;
   /// The ratio c = max torque / max force of the support under uniform pressure about `centre_m` [m].
@@ -134,8 +138,11 @@ class TipPlan {
 /// The push direction of a dataset file: the outline's inward normal at contact side `side`, position `position`
 /// (outline.hpp's convention) rotated counter-clockwise by `angle_rad`, in the body frame.
 Eigen::Vector2d dataset_push_direction_body(const ShapeInfo& shape, int side, double position, double angle_rad);
-/// For an outline without the dataset's side convention (butter, a user's own): the inward normal at the outline
-/// point closest to `tip_body_m`, rotated by `angle_rad`.
+/// For an outline the shape table does not list (butter): the inward normal at fraction `position` of the perimeter
+/// (ForecastOutline::point_at_perimeter_fraction), rotated by `angle_rad`; butter's files follow this convention
+/// (side 0; the recorded first 5 mm of tip motion agree with it to about a degree).
+Eigen::Vector2d perimeter_push_direction_body(const ForecastOutline& outline, double position, double angle_rad);
+/// For a plan of one's own: the inward normal at the outline point closest to `tip_body_m`, rotated by `angle_rad`.
 Eigen::Vector2d closest_normal_push_direction_body(const ForecastOutline& outline, const Eigen::Vector2d& tip_body_m,
                                                    double angle_rad);
 

@@ -74,37 +74,84 @@ double weighted_quantile(std::vector<std::pair<double, double>> value_weight, do
   return value_weight.back().first;
 }
 
-ForecastParameters median_parameters(const std::vector<const ForecastParameters*>& set) {
+/// The weights of `members` for a plan described by `d` under bandwidth h (all 1 for h = 0; members far beyond the
+/// bandwidth get 0 so that they cost no forecast).
+void member_weights(const std::vector<const PushFit*>& members, double h, const PushDescriptor& d,
+                    std::vector<double>& w) {
+  w.assign(members.size(), 1.0);
+  if (!(h > 0)) return;
+  double best = 0;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    w[i] = std::exp(-0.5 * descriptor_distance2(members[i]->descriptor, d) / (h * h));
+    best = std::max(best, w[i]);
+  }
+  // No member near: all alike, as for h = 0.
+  if (!(best > 1e-6)) w.assign(members.size(), 1.0);
+  for (double& x : w)
+    if (x < 1e-3 * best) x = 0;
+}
+
+ForecastParameters weighted_median_parameters(const std::vector<const PushFit*>& members, const std::vector<double>& w) {
+  thread_local std::vector<std::pair<double, double>> value_weight;
   Eigen::Vector3d out;
   for (int i = 0; i < 3; ++i) {
-    std::vector<double> logs;
-    for (const auto* p : set) logs.push_back(std::log(p->vector()(i)));
-    out(i) = std::exp(median(logs));
+    value_weight.clear();
+    for (std::size_t m = 0; m < members.size(); ++m)
+      if (w[m] > 0) value_weight.emplace_back(std::log(members[m]->parameters.vector()(i)), w[m]);
+    std::sort(value_weight.begin(), value_weight.end());
+    double total = 0, acc = 0;
+    for (const auto& vw : value_weight) total += vw.second;
+    // The weighted median: the mean of the values where the cumulative weight crosses half from below and above.
+    double lower = value_weight.back().first, upper = value_weight.back().first;
+    for (std::size_t k = 0; k < value_weight.size(); ++k) {
+      acc += value_weight[k].second;
+      if (acc >= 0.5 * total - 1e-12 * total) {
+        lower = value_weight[k].first;
+        upper = (acc <= 0.5 * total + 1e-12 * total && k + 1 < value_weight.size()) ? value_weight[k + 1].first : lower;
+        break;
+      }
+    }
+    out(i) = std::exp(0.5 * (lower + upper));
   }
   return ForecastParameters::from_vector(out);
 }
 
-/// The ensemble's spread about the central forecast at `times`, and the central forecast (model-free core of
-/// forecast_distribution_into).
-void central_and_spread(const ForecastObject& object, const ForecastParameters& central,
-                        const std::vector<const ForecastParameters*>& ensemble, const TipPlan& plan,
-                        const Eigen::Vector3d& pose0, const Eigen::VectorXd& times, const ForecastSettings& settings,
-                        Eigen::Ref<Eigen::MatrixX3d> mean, Eigen::Ref<Eigen::VectorXd> pos_spread,
-                        Eigen::Ref<Eigen::VectorXd> yaw_spread, Eigen::MatrixX3d& member, ForecastRun& run) {
-  run = forecast_into(object, central, plan, pose0, times, mean, settings);
+/// The central forecast of a plan from `members` (weighted by bandwidth h) and, when `spread` is set, the members'
+/// weighted RMS spread about it: the core of forecast_distribution_into and of the calibration.
+void central_and_spread(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
+                        const TipPlan& plan, const Eigen::Vector3d& pose0, const Eigen::VectorXd& times,
+                        const ForecastSettings& settings, Eigen::Ref<Eigen::MatrixX3d> mean,
+                        Eigen::Ref<Eigen::VectorXd> pos_spread, Eigen::Ref<Eigen::VectorXd> yaw_spread,
+                        Eigen::MatrixX3d& member, ForecastRun& run, bool spread = true) {
+  thread_local std::vector<double> w;
+  member_weights(members, h, describe_push(object, plan, pose0), w);
+  run = forecast_into(object, weighted_median_parameters(members, w), plan, pose0, times, mean, settings);
+  if (!spread) return;
   pos_spread.setZero();
   yaw_spread.setZero();
   if (member.rows() != times.size()) member.resize(times.size(), 3);
-  for (const auto* p : ensemble) {
-    forecast_into(object, *p, plan, pose0, times, member, settings);
+  double total = 0;
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    if (!(w[m] > 0)) continue;
+    total += w[m];
+    forecast_into(object, members[m]->parameters, plan, pose0, times, member, settings);
     for (Eigen::Index k = 0; k < times.size(); ++k) {
-      pos_spread(k) += (member.row(k).head<2>() - mean.row(k).head<2>()).squaredNorm();
-      yaw_spread(k) += (member(k, 2) - mean(k, 2)) * (member(k, 2) - mean(k, 2));
+      pos_spread(k) += w[m] * (member.row(k).head<2>() - mean.row(k).head<2>()).squaredNorm();
+      yaw_spread(k) += w[m] * (member(k, 2) - mean(k, 2)) * (member(k, 2) - mean(k, 2));
     }
   }
-  const double n = std::max<double>(1, static_cast<double>(ensemble.size()));
-  pos_spread = (pos_spread / n).cwiseSqrt();
-  yaw_spread = (yaw_spread / n).cwiseSqrt();
+  if (total > 0) {
+    pos_spread = (pos_spread / total).cwiseSqrt();
+    yaw_spread = (yaw_spread / total).cwiseSqrt();
+  }
+}
+
+/// The recorded times of a case used for scoring and calibration: at most 60, evenly spread.
+Eigen::VectorXd scoring_times(const RecordedForecastCase& c, std::vector<Eigen::Index>& idx) {
+  idx = spread_indices(c.times_s.size(), 60);
+  Eigen::VectorXd times(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) times(static_cast<Eigen::Index>(k)) = c.times_s(idx[k]);
+  return times;
 }
 
 double number_at(const nlohmann::json& j, const char* key, const std::string& where) {
@@ -199,9 +246,8 @@ RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const 
     direction_body = dataset_push_direction_body(push.shape, side, push.push.contact_position, push.push.angle_rad);
     c.direction_source = "inward normal at the file name's side and position, turned by its angle";
   } else {
-    direction_body = closest_normal_push_direction_body(*object.outline, R.inverse() * (tip0 - c.start_pose.head<2>()),
-                                                        push.push.angle_rad);
-    c.direction_source = "inward normal nearest the tip at the start, turned by the file name's angle";
+    direction_body = perimeter_push_direction_body(*object.outline, push.push.contact_position, push.push.angle_rad);
+    c.direction_source = "inward normal at the file name's position along the perimeter, turned by its angle";
   }
   c.plan = TipPlan::straight(tip0, R * direction_body, push.push.speed_m_s, push_length_m);
   const Eigen::Index n = push.size() - i0;
@@ -264,6 +310,7 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
 
   PushFit fit;
   fit.name = c.name;
+  fit.descriptor = describe_push(c.forecast_object, c.plan, c.start_pose);
   fit.parameters = ForecastParameters{std::exp(theta[0]), std::exp(theta[1]), std::exp(theta[2])};
   // Standard errors: Ceres' covariance of the logarithms, scaled by the residuals' own variance.
   ceres::Covariance::Options cov_options;
@@ -294,19 +341,21 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
 
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
-                               const std::vector<PushFit>& fits, const ForecastSettings& settings) {
+                               const std::vector<PushFit>& fits, const ForecastSettings& settings,
+                               std::vector<double> bandwidths) {
   if (fits.empty()) throw InputError("learn: no push to learn '" + object.name + "' from");
   if (cases.size() != fits.size()) throw std::logic_error("learn_object_model: one case per fit");
   object.validate();
+  if (bandwidths.empty()) bandwidths = {0.0, 2.0, 1.0, 0.5};
   ObjectModel model;
   model.surface = surface;
   model.object = object;
   model.outline_source = outline_source;
   model.pushes = fits;
   model.settings = settings;
-  std::vector<const ForecastParameters*> all;
-  for (const auto& f : fits) all.push_back(&f.parameters);
-  model.parameters = median_parameters(all);
+  std::vector<const PushFit*> all;
+  for (const auto& f : fits) all.push_back(&f);
+  model.parameters = weighted_median_parameters(all, std::vector<double>(all.size(), 1.0));
   for (int i = 0; i < 3; ++i) {
     std::vector<double> values;
     for (const auto& f : fits) values.push_back(f.parameters.vector()(i));
@@ -318,22 +367,58 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     model.standard_error(i) =
         std::sqrt(1.2533 * 1.2533 * model.push_to_push_sd(i) * model.push_to_push_sd(i) / n + identification / (n * n));
   }
+  auto others_of = [&](std::size_t q) {
+    std::vector<const PushFit*> others;
+    for (std::size_t i = 0; i < fits.size(); ++i)
+      if (i != q) others.push_back(&fits[i]);
+    return others;
+  };
+  Eigen::MatrixX3d member;
+  Eigen::VectorXd no_spread;
+  // The bandwidth: the candidate whose leave-one-out forecasts of the learned pushes err least (final and trajectory
+  // mean, mm and degrees alike).
+  if (fits.size() >= 4 && bandwidths.size() > 1) {
+    double best = std::numeric_limits<double>::infinity();
+    for (double h : bandwidths) {
+      double score = 0;
+      for (std::size_t q = 0; q < fits.size(); ++q) {
+        const RecordedForecastCase& c = cases[q];
+        std::vector<Eigen::Index> idx;
+        const Eigen::VectorXd times = scoring_times(c, idx);
+        Eigen::MatrixX3d mean(times.size(), 3);
+        Eigen::VectorXd ps(times.size()), ys(times.size());
+        ForecastRun run;
+        central_and_spread(object, others_of(q), h, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run,
+                           false);
+        double pos = 0, yaw = 0;
+        for (std::size_t k = 0; k < idx.size(); ++k) {
+          pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
+          yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
+        }
+        const Eigen::Index last = times.size() - 1;
+        score += 1e3 * (pos / static_cast<double>(idx.size()) +
+                        (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
+                 180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
+      }
+      if (score < best - 1e-9) {
+        best = score;
+        model.similarity_bandwidth = h;
+      }
+    }
+  } else {
+    model.similarity_bandwidth = bandwidths.size() == 1 ? bandwidths.front() : 0.0;
+  }
   if (fits.size() >= 3) {
     std::vector<std::pair<double, double>> pos_ratio, yaw_ratio;
-    Eigen::MatrixX3d member;
     for (std::size_t q = 0; q < fits.size(); ++q) {
-      std::vector<const ForecastParameters*> others;
-      for (std::size_t i = 0; i < fits.size(); ++i)
-        if (i != q) others.push_back(&fits[i].parameters);
-      const ForecastParameters central = median_parameters(others);
       const RecordedForecastCase& c = cases[q];
-      const std::vector<Eigen::Index> idx = spread_indices(c.times_s.size(), 60);
-      Eigen::VectorXd times(static_cast<Eigen::Index>(idx.size()));
-      for (std::size_t k = 0; k < idx.size(); ++k) times(static_cast<Eigen::Index>(k)) = c.times_s(idx[k]);
+      std::vector<Eigen::Index> idx;
+      const Eigen::VectorXd times = scoring_times(c, idx);
       Eigen::MatrixX3d mean(times.size(), 3);
       Eigen::VectorXd ps(times.size()), ys(times.size());
       ForecastRun run;
-      central_and_spread(object, central, others, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run);
+      central_and_spread(object, others_of(q), model.similarity_bandwidth, c.plan, c.start_pose, times, settings, mean,
+                         ps, ys, member, run);
       const double weight = 1.0 / static_cast<double>(idx.size());
       for (std::size_t k = 0; k < idx.size(); ++k) {
         const Eigen::Index e = static_cast<Eigen::Index>(k);
@@ -350,6 +435,35 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     model.regions.method = "not calibrated (fewer than 3 pushes): the normal 90 % quantile on the ensemble's spread";
   }
   return model;
+}
+
+ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor) {
+  std::vector<const PushFit*> members;
+  for (const auto& f : model.pushes) members.push_back(&f);
+  if (members.empty()) return model.parameters;
+  std::vector<double> w;
+  member_weights(members, model.similarity_bandwidth, descriptor, w);
+  return weighted_median_parameters(members, w);
+}
+
+PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0) {
+  PushDescriptor d;
+  const Eigen::Rotation2Dd R(pose0(2));
+  int hint = -1;
+  const Outline::Closest c = object.outline->closest(R.inverse() * (plan.start_m() - pose0.head<2>()), hint);
+  d.contact_body_m = c.point_m;
+  const Eigen::Vector2d direction = R.inverse() * plan.direction();
+  const Eigen::Vector2d inward = -c.normal;
+  d.angle_rad = std::atan2(inward.x() * direction.y() - inward.y() * direction.x(), inward.dot(direction));
+  d.log_speed = std::log(std::max(plan.speed_m_s(), 1e-6));
+  return d;
+}
+
+double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b) {
+  constexpr double kAngle_rad = 20 * M_PI / 180, kContact_m = 0.015, kLogSpeed = 1.0;
+  const double da = (a.angle_rad - b.angle_rad) / kAngle_rad, dc = (a.contact_body_m - b.contact_body_m).norm() / kContact_m,
+               dv = (a.log_speed - b.log_speed) / kLogSpeed;
+  return da * da + dc * dc + dv * dv;
 }
 
 nlohmann::json object_model_to_json(const ObjectModel& m) {
@@ -394,11 +508,15 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
       p[ForecastParameters::name(i)] = f.parameters.vector()(i);
       p[std::string(ForecastParameters::name(i)) + "_standard_error"] = f.standard_error(i);
     }
+    p["descriptor"] = {{"contact_body_m", {f.descriptor.contact_body_m.x(), f.descriptor.contact_body_m.y()}},
+                       {"angle_rad", f.descriptor.angle_rad},
+                       {"speed_m_s", std::exp(f.descriptor.log_speed)}};
     p["fit_rms_position_m"] = f.rms_position_m;
     p["fit_rms_yaw_rad"] = f.rms_yaw_rad;
     pushes.push_back(p);
   }
   j["pushes"] = pushes;
+  j["similarity_bandwidth"] = m.similarity_bandwidth;
   j["regions"] = {{"level", 0.9},
                   {"position_scale", m.regions.position_scale},
                   {"yaw_scale", m.regions.yaw_scale},
@@ -495,8 +613,23 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
         for (int i = 0; i < 3; ++i) v(i) = number_at(p, ForecastParameters::name(i), "pushes: " + f.name);
         f.parameters = ForecastParameters::from_vector(v);
         f.parameters.validate();
+        if (p.contains("descriptor")) {
+          const auto& d = p.at("descriptor");
+          const auto& cp = d.contains("contact_body_m") ? d.at("contact_body_m") : nlohmann::json();
+          if (!cp.is_array() || cp.size() != 2 || !cp[0].is_number() || !cp[1].is_number())
+            throw InputError("pushes: " + f.name + ": descriptor 'contact_body_m' must be [x, y]");
+          f.descriptor.contact_body_m << cp[0].get<double>(), cp[1].get<double>();
+          f.descriptor.angle_rad = number_at(d, "angle_rad", "pushes: " + f.name + ": descriptor");
+          const double speed = number_at(d, "speed_m_s", "pushes: " + f.name + ": descriptor");
+          require_positive_finite(speed, "pushes: " + f.name + ": descriptor speed_m_s");
+          f.descriptor.log_speed = std::log(speed);
+        }
         m.pushes.push_back(f);
       }
+    }
+    if (j.contains("similarity_bandwidth")) {
+      m.similarity_bandwidth = number_at(j, "similarity_bandwidth", "model");
+      if (m.similarity_bandwidth < 0) throw InputError("'similarity_bandwidth' must not be negative");
     }
     if (j.contains("regions")) {
       const auto& r = j.at("regions");
@@ -545,11 +678,17 @@ void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, c
     out.position_radius_m.resize(n);
     out.yaw_halfwidth_rad.resize(n);
   }
-  thread_local std::vector<const ForecastParameters*> ensemble;
-  ensemble.clear();
-  for (const auto& f : model.pushes) ensemble.push_back(&f.parameters);
-  central_and_spread(model.object, model.parameters, ensemble, plan, pose0, times, model.settings, out.mean,
-                     out.position_spread_m, out.yaw_spread_rad, work.member, out.run);
+  thread_local std::vector<const PushFit*> members;
+  members.clear();
+  for (const auto& f : model.pushes) members.push_back(&f);
+  if (members.empty()) {
+    out.run = forecast_into(model.object, model.parameters, plan, pose0, times, out.mean, model.settings);
+    out.position_spread_m.setZero();
+    out.yaw_spread_rad.setZero();
+  } else {
+    central_and_spread(model.object, members, model.similarity_bandwidth, plan, pose0, times, model.settings, out.mean,
+                       out.position_spread_m, out.yaw_spread_rad, work.member, out.run);
+  }
   const RegionCalibration& r = model.regions;
   for (Eigen::Index k = 0; k < n; ++k) {
     out.position_radius_m(k) = r.position_scale * std::hypot(out.position_spread_m(k), r.position_floor_m);

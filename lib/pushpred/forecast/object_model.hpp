@@ -50,16 +50,29 @@ ForecastOutline read_outline_csv(const std::filesystem::path& path, const std::s
 
 /// The case of a recorded push. The plan: straight, 50 mm (`push_length_m`) at the file name's speed, from the tip's
 /// rest position, along the inward normal at the file name's contact side and position rotated by its angle
-/// (dataset_push_direction_body; for an outline without sides, the normal nearest the tip), in the object's frame
+/// (dataset_push_direction_body; butter: perimeter_push_direction_body), in the object's frame
 /// at the start. The one thing taken from the push's own motion is when the tip starts moving: the first time it is
 /// 0.5 mm from its rest position, less the time the plan takes to cover 0.5 mm. InputError when the push has no
 /// file-name parameters, an acceleration push, or a tip that never moves.
 RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const ForecastObject& object,
                                             double push_length_m = 0.05);
 
+/// Where and how a plan pushes, in the object's frame at its start: what the push-to-push variation of the parameters
+/// is modelled on (learned pushes that push alike weigh more in a forecast, see ObjectModel::similarity_bandwidth).
+struct PushDescriptor {
+  Eigen::Vector2d contact_body_m = Eigen::Vector2d::Zero();  ///< the outline point nearest the tip's start
+  double angle_rad = 0;  ///< the push direction's angle from the inward normal there, counter-clockwise
+  double log_speed = 0;  ///< ln(mean speed of the plan [m/s])
+};
+PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0);
+/// The squared distance of two descriptors in units of their fixed scales: 20 degrees of angle (the dataset's step in
+/// push angle), 15 mm of contact point, a factor e of speed. The scales are set by physics, not fitted.
+double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b);
+
 /// One push's own parameters: the best fit of the forecast to its recorded trajectory.
 struct PushFit {
   std::string name;
+  PushDescriptor descriptor;
   ForecastParameters parameters;
   Eigen::Vector3d standard_error = Eigen::Vector3d::Zero();  ///< of mu_p, c [m], mu_s
   double rms_position_m = 0, rms_yaw_rad = 0;                ///< of the fitted forecast against the recording
@@ -97,15 +110,25 @@ struct ObjectModel {
   Eigen::Vector3d standard_error = Eigen::Vector3d::Zero();  ///< of the central values
   Eigen::Vector3d push_to_push_sd = Eigen::Vector3d::Zero();
   std::vector<PushFit> pushes;  ///< the ensemble
+  /// h: a forecast weighs learned push i by exp(-d_i^2 / (2 h^2)), d_i its descriptor's distance to the plan's; its
+  /// central parameters are the weighted median (in logarithms) and its regions the weighted spread. 0: all alike
+  /// (the central parameters are `parameters`). Chosen by learn among 0, 2, 1 and 0.5 by the learned pushes' own
+  /// leave-one-out error.
+  double similarity_bandwidth = 0;
   RegionCalibration regions;
   ForecastSettings settings;
 };
 
 /// Learns the object from the fits of its pushes (at least one; with three or more the regions are calibrated,
-/// leaving each push out, which forecasts `cases`, the same pushes in the same order).
+/// leaving each push out, which forecasts `cases`, the same pushes in the same order; with four or more the
+/// similarity bandwidth is chosen the same way). `bandwidths`: the candidates (empty: 0, 2, 1, 0.5).
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
-                               const std::vector<PushFit>& fits, const ForecastSettings& settings = {});
+                               const std::vector<PushFit>& fits, const ForecastSettings& settings = {},
+                               std::vector<double> bandwidths = {});
+
+/// The central parameters of a forecast of a plan described by `descriptor` (see similarity_bandwidth).
+ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor);
 
 /// The object file's JSON, and back. from_json throws InputError prefixed by `source` for a missing or bad field,
 /// another format or a newer version; an outline {"kind": "shape_table", "shape": NAME} is resolved from the shape
