@@ -19,6 +19,7 @@ struct StudyArgs {
   std::vector<std::string> files;
   std::string out, data;
   int jobs = default_jobs();
+  std::string central = "ensemble_mean";
 };
 
 int run_study(const StudyArgs& a) {
@@ -27,6 +28,7 @@ int run_study(const StudyArgs& a) {
   const ForecastInputs in = load_forecast_inputs(a.files, data, a.jobs);
   ForecastStudyOptions options;
   options.jobs = a.jobs;
+  options.learn.central = central_forecast_named(a.central);
   std::vector<std::pair<std::string, std::string>> excluded = in.excluded;
   const std::vector<ForecastStudyPush> pushes = run_forecast_study(in.cases, in.fits, options, &excluded);
   if (pushes.empty()) {
@@ -69,6 +71,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_recordings(*sub, a->files);
   add_out_folder(*sub, a->out);
   sub->add_option("--data", a->data, "Data folder (butter's outline); default: PUSHPRED_DATA or ../shared/data/mcube");
+  sub->add_option("--central", a->central,
+                  "The central forecast: ensemble_mean (the learned pushes' own forecasts averaged, default) or median "
+                  "(the forecast of their parameters' median)")
+      ->check(CLI::IsMember({"ensemble_mean", "median"}));
   add_jobs(*sub, a->jobs,
            "Pushes fitted and forecast in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_study(*a); }; });

@@ -24,6 +24,7 @@ struct LearnArgs {
   std::string out, data, outline_file, ellipse, name;
   double circle_m = 0, mass_kg = 0, inertia_kgm2 = 0;
   int jobs = default_jobs();
+  std::string central = "ensemble_mean";
 };
 
 /// The user's own object, or null for the dataset's.
@@ -89,15 +90,17 @@ int run_learn(const LearnArgs& a) {
       own ? first.forecast_object.outline->description()
           : (ShapeTable::published().find(first.object).has_outline() ? "shape table: " + first.object
                                                                       : "data folder: butter_outline.csv");
-  const ObjectModel model = learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits);
+  LearnOptions options;
+  options.central = central_forecast_named(a.central);
+  const ObjectModel model = learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
   write_text_atomically(out, json_text(object_model_to_json(model)));
   std::printf(
       "learned %s on %s from %zu pushes: mu_p %.3f (push-to-push sd %.3f), c %.1f mm (sd %.1f), mu_s %.3f "
-      "(sd %.3f); 90 %% regions: k_pos %.2f, k_yaw %.2f (%d pushes)\n",
+      "(sd %.3f); 90 %% regions at the end: k_pos %.2f, k_yaw %.2f (%d pushes)\n",
       model.object.name.c_str(), model.surface.c_str(), model.pushes.size(), model.parameters.pusher_friction,
       model.push_to_push_sd(0), 1e3 * model.parameters.torque_ratio_m, 1e3 * model.push_to_push_sd(1),
-      model.parameters.support_friction, model.push_to_push_sd(2), model.regions.position_scale,
-      model.regions.yaw_scale, model.regions.pushes);
+      model.parameters.support_friction, model.push_to_push_sd(2), model.regions.position_scale[2],
+      model.regions.yaw_scale[2], model.regions.pushes);
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }
@@ -116,6 +119,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--inertia", a->inertia_kgm2, "Moment of inertia of one's own object about its mass centre [kg m^2]")
       ->check(kPositiveNumber);
   sub->add_option("--name", a->name, "Name of one's own object");
+  sub->add_option("--central", a->central,
+                  "The central forecast: ensemble_mean (the learned pushes' own forecasts averaged, default) or median "
+                  "(the forecast of their parameters' median)")
+      ->check(CLI::IsMember({"ensemble_mean", "median"}));
   add_jobs(*sub, a->jobs, "Pushes fitted in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_learn(*a); }; });
 });

@@ -68,9 +68,14 @@ BOOST_AUTO_TEST_CASE(a_forecast_of_simulated_pushes_recovers_their_final_pose_wi
   ForecastStudyOptions options;
   const std::vector<ForecastStudyPush> study = run_forecast_study(set.cases, set.fits, options);
   BOOST_TEST_REQUIRE(study.size() == 8u);
-  int inside = 0;
+  int inside = 0, inside_position = 0, inside_yaw = 0;
   double mean_error = 0, mean_still = 0;
   for (const auto& p : study) {
+    BOOST_TEST_MESSAGE(p.name << ": final error " << 1e3 * p.errors[0].final_position_m << " mm (90 % radius "
+                              << 1e3 * p.errors[0].final_radius_m << "), " << p.errors[0].final_yaw_rad * 180 / M_PI
+                              << " deg (+-" << p.errors[0].final_yaw_halfwidth_rad * 180 / M_PI << ")");
+    inside_position += p.errors[0].final_inside_position;
+    inside_yaw += p.errors[0].final_inside_yaw;
     inside += p.errors[0].final_inside_position && p.errors[0].final_inside_yaw;
     mean_error += p.errors[0].final_position_m / 8;
     mean_still += p.errors[1].final_position_m / 8;

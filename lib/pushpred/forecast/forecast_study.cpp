@@ -128,7 +128,8 @@ std::vector<ForecastStudyPush> run_forecast_study(const std::vector<RecordedFore
             train_cases.push_back(cases[j]);
             train_fits.push_back(fits[j]);
           }
-        const ObjectModel model = learn_object_model(c.forecast_object, c.surface, "study", train_cases, train_fits);
+        const ObjectModel model =
+            learn_object_model(c.forecast_object, c.surface, "study", train_cases, train_fits, options.learn);
         const ForecastDistribution d = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
         ForecastStudyPush r;
         r.name = c.name;

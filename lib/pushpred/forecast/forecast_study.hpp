@@ -42,7 +42,8 @@ struct ForecastStudyPush {
 
 struct ForecastStudyOptions {
   int jobs = 1;
-  int min_training_pushes = 2;  ///< fewer other pushes of the same object and surface: the push is not forecast
+  int min_training_pushes = 2;
+  LearnOptions learn;  ///< fewer other pushes of the same object and surface: the push is not forecast
 };
 
 /// Leave-one-push-out over `cases` (with `fits[i]` the own fit of `cases[i]`), grouped by object and surface. Pushes

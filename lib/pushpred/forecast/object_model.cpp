@@ -46,6 +46,7 @@ struct TrajectoryResidual {
   Eigen::MatrixX3d truth;
   mutable Eigen::MatrixX3d poses;
   FitOptions options;
+  double weight = 1;
   mutable int evaluations = 0;
 
   bool operator()(const double* log_theta, double* r) const {
@@ -53,9 +54,9 @@ struct TrajectoryResidual {
     forecast_into(c->forecast_object, p, c->plan, c->start_pose, times, poses, options.settings);
     ++evaluations;
     for (Eigen::Index k = 0; k < times.size(); ++k) {
-      r[3 * k] = (poses(k, 0) - truth(k, 0)) / options.position_scale_m;
-      r[3 * k + 1] = (poses(k, 1) - truth(k, 1)) / options.position_scale_m;
-      r[3 * k + 2] = (poses(k, 2) - truth(k, 2)) / options.yaw_scale_rad;
+      r[3 * k] = weight * (poses(k, 0) - truth(k, 0)) / options.position_scale_m;
+      r[3 * k + 1] = weight * (poses(k, 1) - truth(k, 1)) / options.position_scale_m;
+      r[3 * k + 2] = weight * (poses(k, 2) - truth(k, 2)) / options.yaw_scale_rad;
     }
     return true;
   }
@@ -122,28 +123,47 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
                         const TipPlan& plan, const Eigen::Vector3d& pose0, const Eigen::VectorXd& times,
                         const ForecastSettings& settings, Eigen::Ref<Eigen::MatrixX3d> mean,
                         Eigen::Ref<Eigen::VectorXd> pos_spread, Eigen::Ref<Eigen::VectorXd> yaw_spread,
-                        Eigen::MatrixX3d& member, ForecastRun& run, bool spread = true) {
+                        Eigen::MatrixX3d& member, ForecastRun& run, CentralForecast mode, bool spread = true) {
   thread_local std::vector<double> w;
   member_weights(members, h, describe_push(object, plan, pose0), w);
   run = forecast_into(object, weighted_median_parameters(members, w), plan, pose0, times, mean, settings);
-  if (!spread) return;
+  const bool ensemble_mean = mode == CentralForecast::EnsembleMean;
+  if (!spread && !ensemble_mean) return;
+  if (member.rows() != times.size()) member.resize(times.size(), 3);
+  thread_local Eigen::MatrixX3d sum;
+  thread_local Eigen::VectorXd sum_pos2, sum_yaw2;
+  if (ensemble_mean) {
+    sum.setZero(times.size(), 3);
+    sum_pos2.setZero(times.size());
+    sum_yaw2.setZero(times.size());
+  }
   pos_spread.setZero();
   yaw_spread.setZero();
-  if (member.rows() != times.size()) member.resize(times.size(), 3);
   double total = 0;
   for (std::size_t m = 0; m < members.size(); ++m) {
     if (!(w[m] > 0)) continue;
     total += w[m];
     forecast_into(object, members[m]->parameters, plan, pose0, times, member, settings);
+    if (ensemble_mean) {
+      sum += w[m] * member;
+      sum_pos2 += w[m] * member.leftCols<2>().rowwise().squaredNorm();
+      sum_yaw2 += w[m] * member.col(2).cwiseAbs2();
+      continue;
+    }
     for (Eigen::Index k = 0; k < times.size(); ++k) {
       pos_spread(k) += w[m] * (member.row(k).head<2>() - mean.row(k).head<2>()).squaredNorm();
       yaw_spread(k) += w[m] * (member(k, 2) - mean(k, 2)) * (member(k, 2) - mean(k, 2));
     }
   }
-  if (total > 0) {
-    pos_spread = (pos_spread / total).cwiseSqrt();
-    yaw_spread = (yaw_spread / total).cwiseSqrt();
+  if (!(total > 0)) return;
+  if (ensemble_mean) {
+    mean = sum / total;
+    pos_spread = (sum_pos2 / total - mean.leftCols<2>().rowwise().squaredNorm()).cwiseMax(0.0).cwiseSqrt();
+    yaw_spread = (sum_yaw2 / total - mean.col(2).cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+    return;
   }
+  pos_spread = (pos_spread / total).cwiseSqrt();
+  yaw_spread = (yaw_spread / total).cwiseSqrt();
 }
 
 /// The recorded times of a case used for scoring and calibration: at most 60, evenly spread.
@@ -339,14 +359,25 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   return fit;
 }
 
+CentralForecast central_forecast_named(const std::string& name) {
+  if (name == "ensemble_mean") return CentralForecast::EnsembleMean;
+  if (name == "median") return CentralForecast::MedianParameters;
+  throw InputError("central forecast: 'ensemble_mean' or 'median', not '" + name + "'");
+}
+
+const char* central_forecast_name(CentralForecast c) {
+  return c == CentralForecast::EnsembleMean ? "ensemble_mean" : "median";
+}
+
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
-                               const std::vector<PushFit>& fits, const ForecastSettings& settings,
-                               std::vector<double> bandwidths) {
+                               const std::vector<PushFit>& fits, const LearnOptions& options) {
+  const ForecastSettings& settings = options.settings;
+  std::vector<double> bandwidths = options.bandwidths;
   if (fits.empty()) throw InputError("learn: no push to learn '" + object.name + "' from");
   if (cases.size() != fits.size()) throw std::logic_error("learn_object_model: one case per fit");
   object.validate();
-  if (bandwidths.empty()) bandwidths = {0.0, 2.0, 1.0, 0.5};
+  if (bandwidths.empty()) bandwidths = {0.0};
   ObjectModel model;
   model.surface = surface;
   model.object = object;
@@ -356,6 +387,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   std::vector<const PushFit*> all;
   for (const auto& f : fits) all.push_back(&f);
   model.parameters = weighted_median_parameters(all, std::vector<double>(all.size(), 1.0));
+  model.central = options.central;
   for (int i = 0; i < 3; ++i) {
     std::vector<double> values;
     for (const auto& f : fits) values.push_back(f.parameters.vector()(i));
@@ -389,7 +421,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
         Eigen::VectorXd ps(times.size()), ys(times.size());
         ForecastRun run;
         central_and_spread(object, others_of(q), h, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run,
-                           false);
+                           options.central, false);
         double pos = 0, yaw = 0;
         for (std::size_t k = 0; k < idx.size(); ++k) {
           pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
@@ -409,7 +441,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     model.similarity_bandwidth = bandwidths.size() == 1 ? bandwidths.front() : 0.0;
   }
   if (fits.size() >= 3) {
-    std::vector<std::pair<double, double>> pos_ratio, yaw_ratio;
+    std::vector<std::pair<double, double>> pos_ratio[3], yaw_ratio[3];
     for (std::size_t q = 0; q < fits.size(); ++q) {
       const RecordedForecastCase& c = cases[q];
       std::vector<Eigen::Index> idx;
@@ -418,18 +450,22 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       Eigen::VectorXd ps(times.size()), ys(times.size());
       ForecastRun run;
       central_and_spread(object, others_of(q), model.similarity_bandwidth, c.plan, c.start_pose, times, settings, mean,
-                         ps, ys, member, run);
+                         ps, ys, member, run, options.central);
       const double weight = 1.0 / static_cast<double>(idx.size());
       for (std::size_t k = 0; k < idx.size(); ++k) {
         const Eigen::Index e = static_cast<Eigen::Index>(k);
         const double pos_err = (mean.row(e).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
         const double yaw_err = std::abs(mean(e, 2) - c.truth(idx[k], 2));
-        pos_ratio.emplace_back(pos_err / std::hypot(ps(e), model.regions.position_floor_m), weight);
-        yaw_ratio.emplace_back(yaw_err / std::hypot(ys(e), model.regions.yaw_floor_rad), weight);
+        const int stage = RegionCalibration::stage(times(e), c.plan.end_time_s());
+        pos_ratio[stage].emplace_back(pos_err / std::hypot(ps(e), model.regions.position_floor_m), weight);
+        yaw_ratio[stage].emplace_back(yaw_err / std::hypot(ys(e), model.regions.yaw_floor_rad), weight);
       }
     }
-    model.regions.position_scale = weighted_quantile(pos_ratio, 0.9);
-    model.regions.yaw_scale = weighted_quantile(yaw_ratio, 0.9);
+    for (int stage = 0; stage < 3; ++stage) {
+      if (pos_ratio[stage].empty()) continue;
+      model.regions.position_scale[static_cast<std::size_t>(stage)] = weighted_quantile(pos_ratio[stage], 0.9);
+      model.regions.yaw_scale[static_cast<std::size_t>(stage)] = weighted_quantile(yaw_ratio[stage], 0.9);
+    }
     model.regions.pushes = static_cast<int>(fits.size());
   } else {
     model.regions.method = "not calibrated (fewer than 3 pushes): the normal 90 % quantile on the ensemble's spread";
@@ -517,9 +553,11 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
   }
   j["pushes"] = pushes;
   j["similarity_bandwidth"] = m.similarity_bandwidth;
+  j["central"] = central_forecast_name(m.central);
   j["regions"] = {{"level", 0.9},
                   {"position_scale", m.regions.position_scale},
                   {"yaw_scale", m.regions.yaw_scale},
+                  {"scale_stages", "thirds of the planned push by plan time; the last holds the slide and the rest"},
                   {"position_floor_m", m.regions.position_floor_m},
                   {"yaw_floor_rad", m.regions.yaw_floor_rad},
                   {"calibration_pushes", m.regions.pushes},
@@ -631,17 +669,29 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       m.similarity_bandwidth = number_at(j, "similarity_bandwidth", "model");
       if (m.similarity_bandwidth < 0) throw InputError("'similarity_bandwidth' must not be negative");
     }
+    if (j.contains("central")) {
+      if (!j.at("central").is_string()) throw InputError("'central' must be \"ensemble_mean\" or \"median\"");
+      m.central = central_forecast_named(j.at("central").get<std::string>());
+    }
     if (j.contains("regions")) {
       const auto& r = j.at("regions");
-      m.regions.position_scale = number_at(r, "position_scale", "regions");
-      m.regions.yaw_scale = number_at(r, "yaw_scale", "regions");
+      for (const char* key : {"position_scale", "yaw_scale"}) {
+        const auto& v = r.contains(key) ? r.at(key) : nlohmann::json();
+        if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+          throw InputError(std::string("regions: '") + key + "' must be three numbers (one per third of the push)");
+        auto& target = std::string(key) == "position_scale" ? m.regions.position_scale : m.regions.yaw_scale;
+        for (std::size_t i = 0; i < 3; ++i) {
+          target[i] = v[i].get<double>();
+          if (!std::isfinite(target[i]) || target[i] < 0)
+            throw InputError(std::string("regions: '") + key + "' must be finite and not negative");
+        }
+      }
       m.regions.position_floor_m = number_at(r, "position_floor_m", "regions");
       m.regions.yaw_floor_rad = number_at(r, "yaw_floor_rad", "regions");
       m.regions.pushes = r.value("calibration_pushes", 0);
       m.regions.method = r.value("method", m.regions.method);
-      if (!(m.regions.position_scale >= 0) || !(m.regions.yaw_scale >= 0) || !(m.regions.position_floor_m >= 0) ||
-          !(m.regions.yaw_floor_rad >= 0))
-        throw InputError("regions: scales and floors must not be negative");
+      if (!(m.regions.position_floor_m >= 0) || !(m.regions.yaw_floor_rad >= 0))
+        throw InputError("regions: floors must not be negative");
     }
     if (j.contains("settings")) {
       const auto& s = j.at("settings");
@@ -687,12 +737,13 @@ void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, c
     out.yaw_spread_rad.setZero();
   } else {
     central_and_spread(model.object, members, model.similarity_bandwidth, plan, pose0, times, model.settings, out.mean,
-                       out.position_spread_m, out.yaw_spread_rad, work.member, out.run);
+                       out.position_spread_m, out.yaw_spread_rad, work.member, out.run, model.central);
   }
   const RegionCalibration& r = model.regions;
   for (Eigen::Index k = 0; k < n; ++k) {
-    out.position_radius_m(k) = r.position_scale * std::hypot(out.position_spread_m(k), r.position_floor_m);
-    out.yaw_halfwidth_rad(k) = r.yaw_scale * std::hypot(out.yaw_spread_rad(k), r.yaw_floor_rad);
+    const std::size_t stage = static_cast<std::size_t>(RegionCalibration::stage(times(k), plan.end_time_s()));
+    out.position_radius_m(k) = r.position_scale[stage] * std::hypot(out.position_spread_m(k), r.position_floor_m);
+    out.yaw_halfwidth_rad(k) = r.yaw_scale[stage] * std::hypot(out.yaw_spread_rad(k), r.yaw_floor_rad);
   }
 }
 

@@ -11,8 +11,10 @@
 //   own (the ensemble); the 90 % region at each time is a disc of radius k_pos sqrt(s_pos^2 + floor_pos^2) about the
 //   central position and k_yaw sqrt(s_yaw^2 + floor_yaw^2) about its yaw, with s the ensemble's RMS spread about the
 //   central forecast. k is calibrated on the learned pushes alone, leaving each out in turn: k is the 90 % quantile
-//   of its held-out error over the spread the others predict (each push weighted equally).
+//   of its held-out error over the spread the others predict (each push weighted equally), one k per third of the
+//   planned push.
 #include <Eigen/Core>
+#include <array>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -90,10 +92,22 @@ struct FitOptions {
 /// Fits the case's own parameters (bounded: mu_p 0.02-2, c 0.15-2.5 times the uniform-pressure value, mu_s 0.05-1.5).
 PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& options = {});
 
+/// What a forecast's central trajectory is: the learned pushes' own forecasts averaged (weighted by similarity; with
+/// their spread about it), or the forecast of their parameters' (weighted) median. The mean of the ensemble errs
+/// less on the real pushes (docs/forecast.md): the trajectory bends nonlinearly with the parameters.
+enum class CentralForecast { EnsembleMean, MedianParameters };
+CentralForecast central_forecast_named(const std::string& name);  ///< "ensemble_mean", "median"; InputError otherwise
+const char* central_forecast_name(CentralForecast central);
+
 /// How the 90 % regions are sized (see the header's comment).
 struct RegionCalibration {
-  double position_scale = 1.645;   ///< k_pos
-  double yaw_scale = 1.645;        ///< k_yaw
+  /// k_pos and k_yaw in each third of the planned push (by plan time; the last third holds the slide and the rest
+  /// after it, so the final pose): errors grow over a push faster than the ensemble's spread does.
+  std::array<double, 3> position_scale{{1.645, 1.645, 1.645}};
+  std::array<double, 3> yaw_scale{{1.645, 1.645, 1.645}};
+  static int stage(double t_s, double plan_end_s) {
+    return t_s < plan_end_s / 3 ? 0 : (t_s < 2 * plan_end_s / 3 ? 1 : 2);
+  }
   double position_floor_m = 5e-4;  ///< the pose measurement's and model's floor
   double yaw_floor_rad = 0.5 * M_PI / 180;
   int pushes = 0;  ///< held-out pushes it was calibrated on (0: not calibrated, k a normal quantile)
@@ -115,7 +129,14 @@ struct ObjectModel {
   /// (the central parameters are `parameters`). Chosen by learn among 0, 2, 1 and 0.5 by the learned pushes' own
   /// leave-one-out error.
   double similarity_bandwidth = 0;
+  CentralForecast central = CentralForecast::EnsembleMean;
   RegionCalibration regions;
+  ForecastSettings settings;
+};
+
+struct LearnOptions {
+  CentralForecast central = CentralForecast::EnsembleMean;
+  std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates
   ForecastSettings settings;
 };
 
@@ -124,10 +145,10 @@ struct ObjectModel {
 /// similarity bandwidth is chosen the same way). `bandwidths`: the candidates (empty: 0, 2, 1, 0.5).
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
-                               const std::vector<PushFit>& fits, const ForecastSettings& settings = {},
-                               std::vector<double> bandwidths = {});
+                               const std::vector<PushFit>& fits, const LearnOptions& options = {});
 
-/// The central parameters of a forecast of a plan described by `descriptor` (see similarity_bandwidth).
+/// The parameters of a plan described by `descriptor`: the learned pushes' median, weighted by similarity (see
+/// similarity_bandwidth); the central trajectory under CentralForecast::MedianParameters.
 ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor);
 
 /// The object file's JSON, and back. from_json throws InputError prefixed by `source` for a missing or bad field,

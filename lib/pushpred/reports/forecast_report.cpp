@@ -143,7 +143,7 @@ nlohmann::json forecast_json(const ObjectModel& model, const TipPlan& plan, cons
 std::string forecast_outline_data(const ObjectModel& model, const ForecastDistribution& d, int count) {
   std::ostringstream out;
   out.precision(8);
-  out << "# outline snapshots (x_mm y_mm), one block each, then the region disc's centre and radius in a comment\n";
+  out << "# outline snapshots (x_mm,y_mm), one block per time (its plan time in the comment above it)\n";
   const std::vector<Eigen::Vector2d> outline = model.object.outline->drawing_m();
   const Eigen::Index n = d.times_s.size();
   if (n == 0) return out.str();
@@ -157,7 +157,7 @@ std::string forecast_outline_data(const ObjectModel& model, const ForecastDistri
     out << "# t_s " << d.times_s(k) << "\n";
     for (std::size_t i = 0; i <= outline.size(); ++i) {
       const Eigen::Vector2d p = origin + R * outline[i % outline.size()];
-      out << kMm * p.x() << " " << kMm * p.y() << "\n";
+      out << kMm * p.x() << "," << kMm * p.y() << "\n";
     }
     out << "\n\n";
   }
@@ -176,7 +176,7 @@ std::string forecast_figure_script(const std::string& data_file, const std::stri
      << "noborder title '90 % region (position)', \\\n"
      << "  '" << csv_file << "' every ::1 using 2:3 with lines lw 2 lc rgb '#08519c' title 'centre (forecast)', \\\n"
      << "  '" << csv_file << "' every ::1 using 7:8 with lines lw 2 dt 2 lc rgb '#cb181d' title 'tip (plan)', \\\n"
-     << "  '" << data_file << "' using 1:2 with lines lw 1 lc rgb '#252525' title 'outline' datafile separator ' '\n";
+     << "  '" << data_file << "' using 1:2 with lines lw 1 lc rgb '#252525' title 'outline'\n";
   return gp.str();
 }
 
