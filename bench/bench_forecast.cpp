@@ -3,7 +3,7 @@
 // integrated by CVODE over the second) measured in the same run. Read as ratios:
 //   BUILD/bench/bench_forecast --benchmark_format=json | python3 bench/ratios.py /quasi_static_phase
 // and as forecasts per second from the items_per_second counter (one core: the benchmark runs on one thread).
-// The real push: rect1 at 75 mm/s, 20 degrees off the normal, from the data folder.
+// The real push: hex at 50 mm/s, 20 degrees off the normal, from the data folder.
 #include <benchmark/benchmark.h>
 
 #include "pushpred/core/data_folder.hpp"
@@ -14,7 +14,7 @@
 namespace {
 
 struct Fixture {
-  SynchronisedPush push;
+  pushpred::SynchronisedPush push;
   pushpred::RecordedForecastCase c;
   pushpred::ObjectModel model;
 };
@@ -24,15 +24,15 @@ const Fixture& fixture() {
     Fixture x;
     const auto data = pushpred::resolve_data_folder();
     for (const auto& p : pushpred::list_recordings(data, "abs"))
-      if (p.filename().string().find("shape=rect1_a=0_v=75_i=2.000_s=0.800_t=-0.349") != std::string::npos) {
+      if (p.filename().string().find("shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.349") != std::string::npos) {
         x.push = pushpred::load_push(p);
         break;
       }
-    if (x.push.size() == 0) throw std::runtime_error("bench_forecast: the rect1 push is not in the data folder");
+    if (x.push.size() == 0) throw std::runtime_error("bench_forecast: the hex push is not in the data folder");
     x.c = pushpred::recorded_forecast_case(x.push, pushpred::dataset_forecast_object(x.push.shape, data));
     const pushpred::PushFit fit = pushpred::fit_push_parameters(x.c);
     // A model of 16 ensemble members (the size of the real objects' models), all this push's own fit.
-    x.model = pushpred::learn_object_model(x.c.forecast_object, "abs", "shape table: rect1", {x.c}, {fit});
+    x.model = pushpred::learn_object_model(x.c.forecast_object, "abs", "shape table: hex", {x.c}, {fit});
     x.model.pushes.assign(16, fit);
     return x;
   }();
@@ -40,8 +40,6 @@ const Fixture& fixture() {
 }
 
 }  // namespace
-
-using SynchronisedPush = pushpred::SynchronisedPush;
 
 static void BM_forecast_whole_push(benchmark::State& state) {
   const Fixture& f = fixture();
