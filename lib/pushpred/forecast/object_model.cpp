@@ -62,6 +62,17 @@ struct TrajectoryResidual {
   }
 };
 
+/// (theta_i - centre) / width: a Gaussian prior on one log-parameter.
+struct LogPrior {
+  int index = 0;
+  double centre = 0, width = 1;
+  template <class T>
+  bool operator()(const T* theta, T* r) const {
+    r[0] = (theta[index] - T(centre)) / T(width);
+    return true;
+  }
+};
+
 double weighted_quantile(std::vector<std::pair<double, double>> value_weight, double q) {
   if (value_weight.empty()) return std::nan("");
   std::sort(value_weight.begin(), value_weight.end());
@@ -314,6 +325,13 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
       residual, ceres::TAKE_OWNERSHIP, m, diff);
   ceres::Problem problem;
   problem.AddResidualBlock(cost, new ceres::HuberLoss(3.0), theta);
+  if (options.prior_width_log > 0) {
+    const double centre[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
+    for (int i = 0; i < 3; ++i)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(
+                                   new LogPrior{i, centre[i], options.prior_width_log}),
+                               nullptr, theta);
+  }
   const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
   const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
   for (int i = 0; i < 3; ++i) {

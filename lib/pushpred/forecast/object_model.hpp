@@ -86,10 +86,15 @@ struct FitOptions {
   double position_scale_m = 1e-3;     ///< a residual of 1 mm ...
   double yaw_scale_rad = M_PI / 180;  ///< ... weighs as 1 degree
   int residual_times = 60;            ///< recorded poses used, evenly spread over the push
+  /// A weak prior on the logarithms of (mu_p, c / c_uniform, mu_s) about (ln 0.25, 0, ln 0.4), this many e-folds wide
+  /// per standard deviation (0: none), so that a parameter a push barely informs stays near physics rather than at
+  /// a bound. The width 1 was chosen on simulated pushes (seeds 271000-271015, docs/forecast.md), not on real ones.
+  double prior_width_log = 1.0;
   ForecastSettings settings;
 };
 
-/// Fits the case's own parameters (bounded: mu_p 0.02-2, c 0.15-2.5 times the uniform-pressure value, mu_s 0.05-1.5).
+/// Fits the case's own parameters (bounded: mu_p 0.02-2, c 0.15-2.5 times the uniform-pressure value, mu_s 0.05-1.5;
+/// with the weak prior of FitOptions::prior_width_log).
 PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& options = {});
 
 /// What a forecast's central trajectory is: the learned pushes' own forecasts averaged (weighted by similarity; with
