@@ -27,6 +27,25 @@ expect_exit 2 "an own outline without mass" -- "$bin" learn $hex --circle 0.05 -
 expect_in "$tmp/err" "--mass" "the missing mass is named"
 expect_absent "$tmp/disc.json" "no object file without a mass"
 
+# One's own outline: the hexagon given as a polygon file with its mass and inertia learns what the shape table's does.
+python3 -c "
+import math
+print('x_m,y_m')
+for k in range(6): print(f'{0.0605 * math.cos(k * math.pi / 3):.9f},{0.0605 * math.sin(k * math.pi / 3):.9f}')
+" >"$tmp/myhex.csv"
+# shellcheck disable=SC2086
+expect_exit 0 "learn with one's own polygon" -- "$bin" learn $hex --outline "$tmp/myhex.csv" --mass 0.9827 \
+  --inertia 0.001497 --name myhex --out "$tmp/myhex.json"
+expect_in "$tmp/myhex.json" '"kind": "polygon"' "the own outline is kept as a polygon"
+expect_in "$tmp/myhex.json" '"name": "myhex"' "the own object's name"
+check "the own polygon learns the shape table's mu_p (to 1 %)" python3 -c "
+import json, sys
+a = json.load(open('$tmp/hex.json'))['parameters']['pusher_friction']['value']
+b = json.load(open('$tmp/myhex.json'))['parameters']['pusher_friction']['value']
+sys.exit(0 if abs(a - b) < 0.01 * a else 1)"
+expect_exit 0 "forecast with one's own polygon" -- "$bin" forecast --model "$tmp/myhex.json" --object-pose 0,0,0 \
+  --tip -66,10 --direction 10 --speed 50 --out "$tmp/f0"
+
 # forecast: a straight push and a path file; outputs all together.
 expect_exit 0 "forecast a straight push" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --tip -66,10 --direction 10 --speed 50 --out "$tmp/f1" --samples
