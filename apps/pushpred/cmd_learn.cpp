@@ -92,7 +92,8 @@ int run_learn(const LearnArgs& a) {
                                                                       : "data folder: butter_outline.csv");
   LearnOptions options;
   options.central = central_forecast_named(a.central);
-  const ObjectModel model = learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
+  const ObjectModel model =
+      learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
   write_text_atomically(out, json_text(object_model_to_json(model)));
   std::printf(
       "learned %s on %s from %zu pushes: mu_p %.3f (push-to-push sd %.3f), c %.1f mm (sd %.1f), mu_s %.3f "

@@ -195,8 +195,8 @@ BOOST_AUTO_TEST_CASE(the_fits_weak_prior_helps_on_the_simulated_pushes_it_was_ch
       s.push_angle_rad = -1.0 + 2.0 * unit(rng);
       s.seed = 271000 + static_cast<std::uint64_t>(k);
       const SimulatedPush sim = simulate_push(s);
-      cases.push_back(recorded_forecast_case(synchronise(as_read(sim.recording), shape),
-                                             dataset_forecast_object(shape, "")));
+      cases.push_back(
+          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
       cases.back().name = std::to_string(k);
     }
     for (const double width : {1.0, 0.0}) {

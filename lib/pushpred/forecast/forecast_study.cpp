@@ -22,7 +22,8 @@ std::string forecast_study_inputs_note() {
   return "Each push is forecast from its start only: the object's and the tip's pose when the tip starts moving (the "
          "one thing read from the push's motion: the first time the tip is 0.5 mm from its rest position, less the "
          "plan's time for 0.5 mm), and a straight 50 mm plan at the file name's speed along the inward normal at the "
-         "file name's contact side and position turned by its angle (butter: at that fraction of its perimeter). The object "
+         "file name's contact side and position turned by its angle (butter: at that fraction of its perimeter). The "
+         "object "
          "model (parameters and region calibration) is learned from the same object's other pushes only. "
          "oracle_own_fit uses the push's own recording (its best-fitting parameters) and is no forecast.";
 }

@@ -103,7 +103,8 @@ void member_weights(const std::vector<const PushFit*>& members, double h, const 
     if (x < 1e-3 * best) x = 0;
 }
 
-ForecastParameters weighted_median_parameters(const std::vector<const PushFit*>& members, const std::vector<double>& w) {
+ForecastParameters weighted_median_parameters(const std::vector<const PushFit*>& members,
+                                              const std::vector<double>& w) {
   thread_local std::vector<std::pair<double, double>> value_weight;
   Eigen::Vector3d out;
   for (int i = 0; i < 3; ++i) {
@@ -328,9 +329,9 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   if (options.prior_width_log > 0) {
     const double centre[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
     for (int i = 0; i < 3; ++i)
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(
-                                   new LogPrior{i, centre[i], options.prior_width_log}),
-                               nullptr, theta);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(new LogPrior{i, centre[i], options.prior_width_log}), nullptr,
+          theta);
   }
   const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
   const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
@@ -446,9 +447,10 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
           yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
         }
         const Eigen::Index last = times.size() - 1;
-        score += 1e3 * (pos / static_cast<double>(idx.size()) +
-                        (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
-                 180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
+        score +=
+            1e3 * (pos / static_cast<double>(idx.size()) +
+                   (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
+            180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
       }
       if (score < best - 1e-9) {
         best = score;
@@ -515,7 +517,8 @@ PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, 
 
 double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b) {
   constexpr double kAngle_rad = 20 * M_PI / 180, kContact_m = 0.015, kLogSpeed = 1.0;
-  const double da = (a.angle_rad - b.angle_rad) / kAngle_rad, dc = (a.contact_body_m - b.contact_body_m).norm() / kContact_m,
+  const double da = (a.angle_rad - b.angle_rad) / kAngle_rad,
+               dc = (a.contact_body_m - b.contact_body_m).norm() / kContact_m,
                dv = (a.log_speed - b.log_speed) / kLogSpeed;
   return da * da + dc * dc + dv * dv;
 }
