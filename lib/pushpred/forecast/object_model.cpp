@@ -237,6 +237,9 @@ ForecastObject dataset_forecast_object(const ShapeInfo& shape, const std::filesy
   if (shape.has_outline()) {
     o.outline = std::make_shared<const ForecastOutline>(ForecastOutline::of_shape(shape));
   } else if (shape.name == "butter") {
+    if (data_folder.empty())
+      throw InputError("butter's outline is read from the data folder's butter_outline.csv, and no data folder was "
+                       "found: give --data DIR or set PUSHPRED_DATA");
     o.outline = std::make_shared<const ForecastOutline>(
         read_outline_csv(data_folder / "butter_outline.csv", "data folder: butter_outline.csv"));
   } else {
