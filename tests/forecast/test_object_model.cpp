@@ -171,11 +171,12 @@ BOOST_AUTO_TEST_CASE(butters_outline_comes_from_the_data_folder) {
   BOOST_CHECK_THROW(dataset_forecast_object(ShapeTable::published().find("butter"), data / "nowhere"), InputError);
 }
 
-BOOST_AUTO_TEST_CASE(the_fits_weak_prior_helps_on_the_simulated_pushes_it_was_chosen_on) {
-  // The tuning set of FitOptions::prior_width_log (seeds 271000-271015): rect1, ellip2 and hex pushed 16 times each
-  // with friction and pressure varying from push to push, forecast leaving one out with and without the prior.
-  // `--log_level=message` prints the errors the width was chosen by.
-  double with_prior = 0, without_prior = 0;
+BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_pushes_they_were_chosen_on) {
+  // The tuning set of FitOptions::prior_width_log and of the central forecast (seeds 271000-271015): rect1, ellip2 and
+  // hex pushed 16 times each with friction and pressure varying from push to push, forecast leaving one out with and
+  // without the prior, and with the prior by the median parameters' forecast instead of the ensemble's mean.
+  // `--log_level=message` prints the errors the choices were made by.
+  double with_prior = 0, without_prior = 0, median_central = 0;
   for (const char* name : {"rect1", "ellip2", "hex"}) {
     const ShapeInfo& shape = ShapeTable::published().find(name);
     const Outline outline(shape);
@@ -204,15 +205,23 @@ BOOST_AUTO_TEST_CASE(the_fits_weak_prior_helps_on_the_simulated_pushes_it_was_ch
       fit.prior_width_log = width;
       std::vector<PushFit> fits;
       for (const auto& c : cases) fits.push_back(fit_push_parameters(c, fit));
-      const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, {});
-      double position = 0, yaw = 0;
-      for (const auto& p : study) {
-        position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
-        yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+      for (const CentralForecast central : {CentralForecast::EnsembleMean, CentralForecast::MedianParameters}) {
+        if (width == 0 && central != CentralForecast::EnsembleMean) continue;
+        ForecastStudyOptions options;
+        options.learn.central = central;
+        const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
+        double position = 0, yaw = 0;
+        for (const auto& p : study) {
+          position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+          yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+        }
+        BOOST_TEST_MESSAGE(name << ", prior width " << width << ", central " << central_forecast_name(central)
+                                << ": final " << position << " mm, " << yaw << " deg");
+        (central == CentralForecast::MedianParameters ? median_central
+                                                      : (width > 0 ? with_prior : without_prior)) += position + yaw;
       }
-      BOOST_TEST_MESSAGE(name << ", prior width " << width << ": final " << position << " mm, " << yaw << " deg");
-      (width > 0 ? with_prior : without_prior) += position + yaw;
     }
   }
   BOOST_TEST(with_prior < without_prior);
+  BOOST_TEST(with_prior < median_central);
 }
