@@ -484,10 +484,13 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
         yaw_ratio[stage].emplace_back(yaw_err / std::hypot(ys(e), model.regions.yaw_floor_rad), weight);
       }
     }
+    // The split-conformal level for n held-out pushes, 0.9 (1 + 1/n): a quantile of n pushes' errors falls short of
+    // the population's by about one push (the pushes, not their correlated samples, are the independent draws).
+    const double level = std::min(1.0, 0.9 * (1.0 + 1.0 / static_cast<double>(fits.size())));
     for (int stage = 0; stage < 3; ++stage) {
       if (pos_ratio[stage].empty()) continue;
-      model.regions.position_scale[static_cast<std::size_t>(stage)] = weighted_quantile(pos_ratio[stage], 0.9);
-      model.regions.yaw_scale[static_cast<std::size_t>(stage)] = weighted_quantile(yaw_ratio[stage], 0.9);
+      model.regions.position_scale[static_cast<std::size_t>(stage)] = weighted_quantile(pos_ratio[stage], level);
+      model.regions.yaw_scale[static_cast<std::size_t>(stage)] = weighted_quantile(yaw_ratio[stage], level);
     }
     model.regions.pushes = static_cast<int>(fits.size());
   } else {

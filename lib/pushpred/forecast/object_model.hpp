@@ -10,9 +10,9 @@
 // - the predictive regions: a forecast runs the object's parameters (the central forecast) and every learned push's
 //   own (the ensemble); the 90 % region at each time is a disc of radius k_pos sqrt(s_pos^2 + floor_pos^2) about the
 //   central position and k_yaw sqrt(s_yaw^2 + floor_yaw^2) about its yaw, with s the ensemble's RMS spread about the
-//   central forecast. k is calibrated on the learned pushes alone, leaving each out in turn: k is the 90 % quantile
-//   of its held-out error over the spread the others predict (each push weighted equally), one k per third of the
-//   planned push.
+//   central forecast. k is calibrated on the learned pushes alone, leaving each out in turn: k is the quantile, at
+//   the split-conformal level 0.9 (1 + 1/n) for n pushes, of its held-out error over the spread the others predict
+//   (each push weighted equally), one k per third of the planned push.
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
@@ -116,7 +116,8 @@ struct RegionCalibration {
   double position_floor_m = 5e-4;  ///< the pose measurement's and model's floor
   double yaw_floor_rad = 0.5 * M_PI / 180;
   int pushes = 0;  ///< held-out pushes it was calibrated on (0: not calibrated, k a normal quantile)
-  std::string method = "held-out error over ensemble spread, 90 % quantile, leave-one-push-out over the learned pushes";
+  std::string method =
+      "held-out error over ensemble spread, split-conformal 90 % quantile, leave-one-push-out over the learned pushes";
 };
 
 /// The learned object: what the object file holds.
