@@ -54,6 +54,7 @@ void bind_reading(py::module_& m);
 void bind_observers(py::module_& m);
 void bind_estimators(py::module_& m);
 void bind_prediction(py::module_& m);
+void bind_forecast(py::module_& m);
 void bind_simulation(py::module_& m);
 void bind_diagnosis(py::module_& m);
 

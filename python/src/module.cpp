@@ -18,4 +18,5 @@ PYBIND11_MODULE(_core, m) {
   pushpred::python::bind_prediction(m);
   pushpred::python::bind_simulation(m);
   pushpred::python::bind_diagnosis(m);
+  pushpred::python::bind_forecast(m);
 }

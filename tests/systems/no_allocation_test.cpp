@@ -17,6 +17,7 @@
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/corrected_prediction.hpp"
+#include "pushpred/forecast/object_model.hpp"
 #include "pushpred/mechanics/coulomb_slide.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
@@ -283,3 +284,43 @@ BOOST_AUTO_TEST_CASE(the_simulated_object_does_not_allocate) {
 }
 
 BOOST_AUTO_TEST_SUITE_END()
+
+BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
+  // forecast_into's fixed-step loop (forecast/forecast_model.hpp) on a 600-vertex polygon and on an ellipse, and a
+  // forecast with its regions into reused storage after a first call of that size (a planner's loop).
+  std::vector<Eigen::Vector2d> v;
+  for (int k = 0; k < 600; ++k) {
+    const double u = 2 * M_PI * k / 600;
+    v.emplace_back(0.05 * std::cos(u) * (1 + 0.1 * std::cos(3 * u)), 0.04 * std::sin(u));
+  }
+  ForecastObject polygon;
+  polygon.outline = std::make_shared<const ForecastOutline>(ForecastOutline::polygon(v));
+  ForecastObject ellipse = polygon;
+  ellipse.outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(0.05, 0.07));
+  const TipPlan plan = TipPlan::straight({-0.06, 0.01}, {1, 0.1}, 0.08, 0.05);
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(300, 0.0, 1.5);
+  Eigen::MatrixX3d poses(times.size(), 3);
+  ObjectModel model;
+  model.object = polygon;
+  for (int k = 0; k < 8; ++k) {
+    PushFit f;
+    f.parameters = {0.1 + 0.05 * k, 0.02 + 0.002 * k, 0.3 + 0.02 * k};
+    f.descriptor.angle_rad = 0.1 * k;
+    model.pushes.push_back(f);
+  }
+  model.similarity_bandwidth = 1.0;
+  ForecastDistribution d;
+  ForecastWorkspace work;
+  forecast_distribution_into(model, plan, Eigen::Vector3d::Zero(), times, d, work);
+  double sum = 0;
+  const long count = allocations_in([&] {
+    for (const ForecastObject* o : {&polygon, &ellipse}) {
+      forecast_into(*o, {0.3, 0.03, 0.4}, plan, Eigen::Vector3d::Zero(), times, poses);
+      sum += poses.sum();
+    }
+    forecast_distribution_into(model, plan, Eigen::Vector3d::Zero(), times, d, work);
+    sum += d.position_radius_m.sum();
+  });
+  BOOST_TEST(std::isfinite(sum));
+  BOOST_TEST(count == 0);
+}

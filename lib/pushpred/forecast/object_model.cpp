@@ -1,0 +1,827 @@
+#include "pushpred/forecast/object_model.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
+
+namespace pushpred {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+/// Indices of at most `count` entries spread evenly over [0, n), always with the last.
+std::vector<Eigen::Index> spread_indices(Eigen::Index n, int count) {
+  std::vector<Eigen::Index> idx;
+  if (n <= 0) return idx;
+  const Eigen::Index m = std::min<Eigen::Index>(n, std::max(2, count));
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const Eigen::Index i = m == 1 ? n - 1 : (k * (n - 1)) / (m - 1);
+    if (idx.empty() || idx.back() != i) idx.push_back(i);
+  }
+  return idx;
+}
+
+/// The plan time at which the tip has covered `distance_m` (bisection on the monotone path).
+double time_to_cover(const TipPlan& plan, double distance_m) {
+  double lo = 0, hi = plan.end_time_s();
+  Eigen::Vector2d p, v;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    plan.evaluate(mid, p, v);
+    ((p - plan.start_m()).norm() < distance_m ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+struct TrajectoryResidual {
+  const RecordedForecastCase* c = nullptr;
+  Eigen::VectorXd times;
+  Eigen::MatrixX3d truth;
+  mutable Eigen::MatrixX3d poses;
+  FitOptions options;
+  double weight = 1;
+  mutable int evaluations = 0;
+
+  bool operator()(const double* log_theta, double* r) const {
+    ForecastParameters p{std::exp(log_theta[0]), std::exp(log_theta[1]), std::exp(log_theta[2])};
+    forecast_into(c->forecast_object, p, c->plan, c->start_pose, times, poses, options.settings);
+    ++evaluations;
+    for (Eigen::Index k = 0; k < times.size(); ++k) {
+      r[3 * k] = weight * (poses(k, 0) - truth(k, 0)) / options.position_scale_m;
+      r[3 * k + 1] = weight * (poses(k, 1) - truth(k, 1)) / options.position_scale_m;
+      r[3 * k + 2] = weight * (poses(k, 2) - truth(k, 2)) / options.yaw_scale_rad;
+    }
+    return true;
+  }
+};
+
+/// (theta_i - centre) / width: a Gaussian prior on one log-parameter.
+struct LogPrior {
+  int index = 0;
+  double centre = 0, width = 1;
+  template <class T>
+  bool operator()(const T* theta, T* r) const {
+    r[0] = (theta[index] - T(centre)) / T(width);
+    return true;
+  }
+};
+
+double weighted_quantile(std::vector<std::pair<double, double>> value_weight, double q) {
+  if (value_weight.empty()) return std::nan("");
+  std::sort(value_weight.begin(), value_weight.end());
+  double total = 0;
+  for (const auto& vw : value_weight) total += vw.second;
+  double acc = 0;
+  for (const auto& vw : value_weight) {
+    acc += vw.second;
+    if (acc >= q * total) return vw.first;
+  }
+  return value_weight.back().first;
+}
+
+/// The weights of `members` for a plan described by `d` under bandwidth h (all 1 for h = 0; members far beyond the
+/// bandwidth get 0 so that they cost no forecast).
+void member_weights(const std::vector<const PushFit*>& members, double h, const PushDescriptor& d,
+                    std::vector<double>& w) {
+  w.assign(members.size(), 1.0);
+  if (!(h > 0)) return;
+  double best = 0;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    w[i] = std::exp(-0.5 * descriptor_distance2(members[i]->descriptor, d) / (h * h));
+    best = std::max(best, w[i]);
+  }
+  // No member near: all alike, as for h = 0.
+  if (!(best > 1e-6)) w.assign(members.size(), 1.0);
+  for (double& x : w)
+    if (x < 1e-3 * best) x = 0;
+}
+
+ForecastParameters weighted_median_parameters(const std::vector<const PushFit*>& members,
+                                              const std::vector<double>& w) {
+  thread_local std::vector<std::pair<double, double>> value_weight;
+  Eigen::Vector3d out;
+  for (int i = 0; i < 3; ++i) {
+    value_weight.clear();
+    for (std::size_t m = 0; m < members.size(); ++m)
+      if (w[m] > 0) value_weight.emplace_back(std::log(members[m]->parameters.vector()(i)), w[m]);
+    std::sort(value_weight.begin(), value_weight.end());
+    double total = 0, acc = 0;
+    for (const auto& vw : value_weight) total += vw.second;
+    // The weighted median: the mean of the values where the cumulative weight crosses half from below and above.
+    double lower = value_weight.back().first, upper = value_weight.back().first;
+    for (std::size_t k = 0; k < value_weight.size(); ++k) {
+      acc += value_weight[k].second;
+      if (acc >= 0.5 * total - 1e-12 * total) {
+        lower = value_weight[k].first;
+        upper = (acc <= 0.5 * total + 1e-12 * total && k + 1 < value_weight.size()) ? value_weight[k + 1].first : lower;
+        break;
+      }
+    }
+    out(i) = std::exp(0.5 * (lower + upper));
+  }
+  return ForecastParameters::from_vector(out);
+}
+
+/// The central forecast of a plan from `members` (weighted by bandwidth h) and, when `spread` is set, the members'
+/// weighted RMS spread about it: the core of forecast_distribution_into and of the calibration.
+void central_and_spread(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
+                        const TipPlan& plan, const Eigen::Vector3d& pose0, const Eigen::VectorXd& times,
+                        const ForecastSettings& settings, Eigen::Ref<Eigen::MatrixX3d> mean,
+                        Eigen::Ref<Eigen::VectorXd> pos_spread, Eigen::Ref<Eigen::VectorXd> yaw_spread,
+                        Eigen::MatrixX3d& member, ForecastRun& run, CentralForecast mode, bool spread = true) {
+  thread_local std::vector<double> w;
+  member_weights(members, h, describe_push(object, plan, pose0), w);
+  run = forecast_into(object, weighted_median_parameters(members, w), plan, pose0, times, mean, settings);
+  const bool ensemble_mean = mode == CentralForecast::EnsembleMean;
+  if (!spread && !ensemble_mean) return;
+  if (member.rows() != times.size()) member.resize(times.size(), 3);
+  thread_local Eigen::MatrixX3d sum;
+  thread_local Eigen::VectorXd sum_pos2, sum_yaw2;
+  if (ensemble_mean) {
+    sum.setZero(times.size(), 3);
+    sum_pos2.setZero(times.size());
+    sum_yaw2.setZero(times.size());
+  }
+  pos_spread.setZero();
+  yaw_spread.setZero();
+  double total = 0;
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    if (!(w[m] > 0)) continue;
+    total += w[m];
+    forecast_into(object, members[m]->parameters, plan, pose0, times, member, settings);
+    if (ensemble_mean) {
+      sum += w[m] * member;
+      sum_pos2 += w[m] * member.leftCols<2>().rowwise().squaredNorm();
+      sum_yaw2 += w[m] * member.col(2).cwiseAbs2();
+      continue;
+    }
+    for (Eigen::Index k = 0; k < times.size(); ++k) {
+      pos_spread(k) += w[m] * (member.row(k).head<2>() - mean.row(k).head<2>()).squaredNorm();
+      yaw_spread(k) += w[m] * (member(k, 2) - mean(k, 2)) * (member(k, 2) - mean(k, 2));
+    }
+  }
+  if (!(total > 0)) return;
+  if (ensemble_mean) {
+    mean = sum / total;
+    pos_spread = (sum_pos2 / total - mean.leftCols<2>().rowwise().squaredNorm()).cwiseMax(0.0).cwiseSqrt();
+    yaw_spread = (sum_yaw2 / total - mean.col(2).cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+    return;
+  }
+  pos_spread = (pos_spread / total).cwiseSqrt();
+  yaw_spread = (yaw_spread / total).cwiseSqrt();
+}
+
+/// The recorded times of a case used for scoring and calibration: at most 60, evenly spread.
+Eigen::VectorXd scoring_times(const RecordedForecastCase& c, std::vector<Eigen::Index>& idx) {
+  idx = spread_indices(c.times_s.size(), 60);
+  Eigen::VectorXd times(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) times(static_cast<Eigen::Index>(k)) = c.times_s(idx[k]);
+  return times;
+}
+
+double number_at(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key) || !j.at(key).is_number())
+    throw InputError(where + ": '" + key + "' must be a number");
+  const double v = j.at(key).get<double>();
+  if (!std::isfinite(v)) throw InputError(where + ": '" + key + "' must be finite");
+  return v;
+}
+
+}  // namespace
+
+ForecastOutline read_outline_csv(const std::filesystem::path& path, const std::string& description) {
+  std::ifstream in(path);
+  if (!in) throw InputError(about(path.string(), "cannot read the outline file"));
+  std::vector<Eigen::Vector2d> v;
+  std::string line;
+  int number = 0;
+  bool header_seen = false;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    double x = 0, y = 0;
+    if (!(fields >> x >> y)) {
+      if (!header_seen && v.empty()) {
+        header_seen = true;
+        continue;
+      }
+      throw InputError(about(path.string(), "line " + std::to_string(number) + ": expected two numbers x_m,y_m"));
+    }
+    if (!std::isfinite(x) || !std::isfinite(y))
+      throw InputError(about(path.string(), "line " + std::to_string(number) + ": not finite"));
+    v.emplace_back(x, y);
+  }
+  try {
+    return ForecastOutline::polygon(std::move(v), description);
+  } catch (const InputError& e) {
+    throw InputError(about(path.string(), e.what()));
+  }
+}
+
+ForecastObject dataset_forecast_object(const ShapeInfo& shape, const std::filesystem::path& data_folder) {
+  ForecastObject o;
+  o.name = shape.name;
+  o.mass_kg = shape.mass_kg;
+  o.inertia_kgm2 = shape.inertia_kgm2;
+  o.centre_of_friction_m = shape.centroid_m;
+  if (shape.has_outline()) {
+    o.outline = std::make_shared<const ForecastOutline>(ForecastOutline::of_shape(shape));
+  } else if (shape.name == "butter") {
+    if (data_folder.empty())
+      throw InputError("butter's outline is read from the data folder's butter_outline.csv, and no data folder was "
+                       "found: give --data DIR or set PUSHPRED_DATA");
+    o.outline = std::make_shared<const ForecastOutline>(
+        read_outline_csv(data_folder / "butter_outline.csv", "data folder: butter_outline.csv"));
+  } else {
+    throw InputError("shape '" + shape.name + "' has no outline: give one (a polygon file, a circle or an ellipse)");
+  }
+  o.validate();
+  return o;
+}
+
+RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const ForecastObject& object,
+                                            double push_length_m) {
+  if (push.push.shape.empty()) throw InputError(about(push.source, "the file name carries no push parameters"));
+  if (!(push.push.speed_m_s > 0))
+    throw InputError(about(push.source, "not a constant-speed push (the forecast's study plans those only)"));
+  RecordedForecastCase c;
+  c.name = std::filesystem::path(push.source).stem().string();
+  c.object = push.push.shape;
+  c.surface = push.push.surface;
+  c.forecast_object = object;
+  // When the tip starts moving: it first leaves its rest position by 0.5 mm, less the plan's time for 0.5 mm.
+  constexpr double kMoved_m = 5e-4;
+  const Eigen::Vector2d rest = push.tip_m.row(0).transpose();
+  Eigen::Index j = 1;
+  while (j < push.size() && (push.tip_m.row(j).transpose() - rest).norm() < kMoved_m) ++j;
+  if (j >= push.size()) throw InputError(about(push.source, "the tip never moves 0.5 mm"));
+  const double d0 = (push.tip_m.row(j - 1).transpose() - rest).norm(),
+               d1 = (push.tip_m.row(j).transpose() - rest).norm();
+  const double t_cross = push.t_s(j - 1) + (kMoved_m - d0) / std::max(d1 - d0, 1e-12) * (push.t_s(j) - push.t_s(j - 1));
+  const TipPlan probe =
+      TipPlan::straight(Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitX(), push.push.speed_m_s, push_length_m);
+  c.start_time_s = std::max(0.0, t_cross - time_to_cover(probe, kMoved_m));
+  const Eigen::Index i0 = push.index_at(c.start_time_s);
+  c.start_pose = push.pose.row(i0).transpose();
+  const Eigen::Vector2d tip0 = push.tip_m.row(i0).transpose();
+  const Eigen::Rotation2Dd R(c.start_pose(2));
+  Eigen::Vector2d direction_body;
+  const int side = static_cast<int>(std::lround(push.push.contact_side));
+  if (push.shape.has_outline()) {
+    direction_body = dataset_push_direction_body(push.shape, side, push.push.contact_position, push.push.angle_rad);
+    c.direction_source = "inward normal at the file name's side and position, turned by its angle";
+  } else {
+    direction_body = perimeter_push_direction_body(*object.outline, push.push.contact_position, push.push.angle_rad);
+    c.direction_source = "inward normal at the file name's position along the perimeter, turned by its angle";
+  }
+  c.plan = TipPlan::straight(tip0, R * direction_body, push.push.speed_m_s, push_length_m);
+  const Eigen::Index n = push.size() - i0;
+  c.times_s = push.t_s.tail(n).array() - c.start_time_s;
+  c.truth = push.pose.bottomRows(n);
+  return c;
+}
+
+PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& options) {
+  c.forecast_object.validate();
+  const std::vector<Eigen::Index> idx = spread_indices(c.times_s.size(), options.residual_times);
+  auto* residual = new TrajectoryResidual;
+  residual->c = &c;
+  residual->options = options;
+  residual->times.resize(static_cast<Eigen::Index>(idx.size()));
+  residual->truth.resize(static_cast<Eigen::Index>(idx.size()), 3);
+  for (std::size_t k = 0; k < idx.size(); ++k) {
+    residual->times(static_cast<Eigen::Index>(k)) = c.times_s(idx[k]);
+    residual->truth.row(static_cast<Eigen::Index>(k)) = c.truth.row(idx[k]);
+  }
+  residual->poses.resize(residual->times.size(), 3);
+  const int m = static_cast<int>(3 * idx.size());
+  const double c_uniform =
+      c.forecast_object.outline->uniform_pressure_torque_ratio_m(c.forecast_object.centre_of_friction_m);
+  // A coarse grid first: the trajectory error has several valleys (stick against slide).
+  std::vector<double> r(static_cast<std::size_t>(m));
+  double theta[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
+  double best = std::numeric_limits<double>::infinity();
+  for (double mu_p : {0.05, 0.1, 0.18, 0.28, 0.4, 0.55, 0.75, 1.0, 1.4})
+    for (double ratio : {0.35, 0.5, 0.65, 0.8, 0.95, 1.15, 1.4, 1.8})
+      for (double mu_s : {0.25, 0.5}) {
+        const double t[3] = {std::log(mu_p), std::log(ratio * c_uniform), std::log(mu_s)};
+        (*residual)(t, r.data());
+        double cost = 0;
+        for (double x : r) cost += x * x;
+        if (cost < best) {
+          best = cost;
+          std::copy(t, t + 3, theta);
+        }
+      }
+  ceres::NumericDiffOptions diff;
+  diff.relative_step_size = 1e-2;  // the fixed-step forecast is piecewise smooth: a step that spans its kinks
+  auto* cost = new ceres::NumericDiffCostFunction<TrajectoryResidual, ceres::CENTRAL, ceres::DYNAMIC, 3>(
+      residual, ceres::TAKE_OWNERSHIP, m, diff);
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, new ceres::HuberLoss(3.0), theta);
+  if (options.prior_width_log > 0) {
+    const double centre[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
+    for (int i = 0; i < 3; ++i)
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(new LogPrior{i, centre[i], options.prior_width_log}), nullptr,
+          theta);
+  }
+  const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
+  const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
+  for (int i = 0; i < 3; ++i) {
+    theta[i] = std::clamp(theta[i], lower[i], upper[i]);
+    problem.SetParameterLowerBound(theta, i, lower[i]);
+    problem.SetParameterUpperBound(theta, i, upper[i]);
+  }
+  ceres::Solver::Options solver;
+  solver.max_num_iterations = 40;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+
+  PushFit fit;
+  fit.name = c.name;
+  fit.descriptor = describe_push(c.forecast_object, c.plan, c.start_pose);
+  fit.parameters = ForecastParameters{std::exp(theta[0]), std::exp(theta[1]), std::exp(theta[2])};
+  // Standard errors: Ceres' covariance of the logarithms, scaled by the residuals' own variance.
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  cov_options.null_space_rank = -1;
+  cov_options.min_reciprocal_condition_number = 1e-12;
+  ceres::Covariance covariance(cov_options);
+  std::vector<std::pair<const double*, const double*>> blocks{{theta, theta}};
+  double cov[9] = {0};
+  if (covariance.Compute(blocks, &problem) && covariance.GetCovarianceBlock(theta, theta, cov)) {
+    const double dof = std::max(1, m - 3);
+    const double variance = 2 * summary.final_cost / dof;
+    for (int i = 0; i < 3; ++i)
+      fit.standard_error(i) = fit.parameters.vector()(i) * std::sqrt(std::max(0.0, cov[4 * i] * variance));
+  }
+  // The fitted forecast's errors over the whole recording.
+  ForecastRun run;
+  const Eigen::MatrixX3d poses =
+      forecast_poses(c.forecast_object, fit.parameters, c.plan, c.start_pose, c.times_s, options.settings, &run);
+  const Eigen::Index n = c.times_s.size();
+  fit.rms_position_m = std::sqrt((poses.leftCols<2>() - c.truth.leftCols<2>()).rowwise().squaredNorm().mean());
+  fit.rms_yaw_rad = std::sqrt((poses.col(2) - c.truth.col(2)).array().square().mean());
+  fit.final_position_m = (poses.row(n - 1).head<2>() - c.truth.row(n - 1).head<2>()).norm();
+  fit.final_yaw_rad = std::abs(poses(n - 1, 2) - c.truth(n - 1, 2));
+  fit.evaluations = residual->evaluations;
+  return fit;
+}
+
+CentralForecast central_forecast_named(const std::string& name) {
+  if (name == "ensemble_mean") return CentralForecast::EnsembleMean;
+  if (name == "median") return CentralForecast::MedianParameters;
+  throw InputError("central forecast: 'ensemble_mean' or 'median', not '" + name + "'");
+}
+
+const char* central_forecast_name(CentralForecast c) {
+  return c == CentralForecast::EnsembleMean ? "ensemble_mean" : "median";
+}
+
+ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
+                               const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
+                               const std::vector<PushFit>& fits, const LearnOptions& options) {
+  const ForecastSettings& settings = options.settings;
+  std::vector<double> bandwidths = options.bandwidths;
+  if (fits.empty()) throw InputError("learn: no push to learn '" + object.name + "' from");
+  if (cases.size() != fits.size()) throw std::logic_error("learn_object_model: one case per fit");
+  object.validate();
+  if (bandwidths.empty()) bandwidths = {0.0};
+  ObjectModel model;
+  model.surface = surface;
+  model.object = object;
+  model.outline_source = outline_source;
+  model.pushes = fits;
+  model.settings = settings;
+  std::vector<const PushFit*> all;
+  for (const auto& f : fits) all.push_back(&f);
+  model.parameters = weighted_median_parameters(all, std::vector<double>(all.size(), 1.0));
+  model.central = options.central;
+  for (int i = 0; i < 3; ++i) {
+    std::vector<double> values;
+    for (const auto& f : fits) values.push_back(f.parameters.vector()(i));
+    model.push_to_push_sd(i) = values.size() > 1 ? robust_spread(values) : 0.0;
+    // The median's standard error under push-to-push scatter, with each push's own identification error added.
+    double identification = 0;
+    for (const auto& f : fits) identification += f.standard_error(i) * f.standard_error(i);
+    const double n = static_cast<double>(values.size());
+    model.standard_error(i) =
+        std::sqrt(1.2533 * 1.2533 * model.push_to_push_sd(i) * model.push_to_push_sd(i) / n + identification / (n * n));
+  }
+  auto others_of = [&](std::size_t q) {
+    std::vector<const PushFit*> others;
+    for (std::size_t i = 0; i < fits.size(); ++i)
+      if (i != q) others.push_back(&fits[i]);
+    return others;
+  };
+  Eigen::MatrixX3d member;
+  Eigen::VectorXd no_spread;
+  // The bandwidth: the candidate whose leave-one-out forecasts of the learned pushes err least (final and trajectory
+  // mean, mm and degrees alike).
+  if (fits.size() >= 4 && bandwidths.size() > 1) {
+    double best = std::numeric_limits<double>::infinity();
+    for (double h : bandwidths) {
+      double score = 0;
+      for (std::size_t q = 0; q < fits.size(); ++q) {
+        const RecordedForecastCase& c = cases[q];
+        std::vector<Eigen::Index> idx;
+        const Eigen::VectorXd times = scoring_times(c, idx);
+        Eigen::MatrixX3d mean(times.size(), 3);
+        Eigen::VectorXd ps(times.size()), ys(times.size());
+        ForecastRun run;
+        central_and_spread(object, others_of(q), h, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run,
+                           options.central, false);
+        double pos = 0, yaw = 0;
+        for (std::size_t k = 0; k < idx.size(); ++k) {
+          pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
+          yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
+        }
+        const Eigen::Index last = times.size() - 1;
+        score +=
+            1e3 * (pos / static_cast<double>(idx.size()) +
+                   (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
+            180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
+      }
+      if (score < best - 1e-9) {
+        best = score;
+        model.similarity_bandwidth = h;
+      }
+    }
+  } else {
+    model.similarity_bandwidth = bandwidths.size() == 1 ? bandwidths.front() : 0.0;
+  }
+  if (fits.size() >= 3) {
+    std::vector<std::pair<double, double>> pos_ratio[3], yaw_ratio[3];
+    for (std::size_t q = 0; q < fits.size(); ++q) {
+      const RecordedForecastCase& c = cases[q];
+      std::vector<Eigen::Index> idx;
+      const Eigen::VectorXd times = scoring_times(c, idx);
+      Eigen::MatrixX3d mean(times.size(), 3);
+      Eigen::VectorXd ps(times.size()), ys(times.size());
+      ForecastRun run;
+      central_and_spread(object, others_of(q), model.similarity_bandwidth, c.plan, c.start_pose, times, settings, mean,
+                         ps, ys, member, run, options.central);
+      const double weight = 1.0 / static_cast<double>(idx.size());
+      for (std::size_t k = 0; k < idx.size(); ++k) {
+        const Eigen::Index e = static_cast<Eigen::Index>(k);
+        const double pos_err = (mean.row(e).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
+        const double yaw_err = std::abs(mean(e, 2) - c.truth(idx[k], 2));
+        const int stage = RegionCalibration::stage(times(e), c.plan.end_time_s());
+        pos_ratio[stage].emplace_back(pos_err / std::hypot(ps(e), model.regions.position_floor_m), weight);
+        yaw_ratio[stage].emplace_back(yaw_err / std::hypot(ys(e), model.regions.yaw_floor_rad), weight);
+      }
+    }
+    // The split-conformal level for n held-out pushes, 0.9 (1 + 1/n): a quantile of n pushes' errors falls short of
+    // the population's by about one push (the pushes, not their correlated samples, are the independent draws).
+    const double level = std::min(1.0, 0.9 * (1.0 + 1.0 / static_cast<double>(fits.size())));
+    for (int stage = 0; stage < 3; ++stage) {
+      if (pos_ratio[stage].empty()) continue;
+      model.regions.position_scale[static_cast<std::size_t>(stage)] = weighted_quantile(pos_ratio[stage], level);
+      model.regions.yaw_scale[static_cast<std::size_t>(stage)] = weighted_quantile(yaw_ratio[stage], level);
+    }
+    model.regions.pushes = static_cast<int>(fits.size());
+  } else {
+    model.regions.method = "not calibrated (fewer than 3 pushes): the normal 90 % quantile on the ensemble's spread";
+  }
+  return model;
+}
+
+ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor) {
+  std::vector<const PushFit*> members;
+  for (const auto& f : model.pushes) members.push_back(&f);
+  if (members.empty()) return model.parameters;
+  std::vector<double> w;
+  member_weights(members, model.similarity_bandwidth, descriptor, w);
+  return weighted_median_parameters(members, w);
+}
+
+PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0) {
+  PushDescriptor d;
+  const Eigen::Rotation2Dd R(pose0(2));
+  int hint = -1;
+  const Outline::Closest c = object.outline->closest(R.inverse() * (plan.start_m() - pose0.head<2>()), hint);
+  d.contact_body_m = c.point_m;
+  const Eigen::Vector2d direction = R.inverse() * plan.direction();
+  const Eigen::Vector2d inward = -c.normal;
+  d.angle_rad = std::atan2(inward.x() * direction.y() - inward.y() * direction.x(), inward.dot(direction));
+  d.log_speed = std::log(std::max(plan.speed_m_s(), 1e-6));
+  return d;
+}
+
+double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b) {
+  constexpr double kAngle_rad = 20 * M_PI / 180, kContact_m = 0.015, kLogSpeed = 1.0;
+  const double da = (a.angle_rad - b.angle_rad) / kAngle_rad,
+               dc = (a.contact_body_m - b.contact_body_m).norm() / kContact_m,
+               dv = (a.log_speed - b.log_speed) / kLogSpeed;
+  return da * da + dc * dc + dv * dv;
+}
+
+nlohmann::json object_model_to_json(const ObjectModel& m) {
+  nlohmann::json j;
+  j["format"] = "pushpred-object-model";
+  j["version"] = m.version;
+  j["units"] = "SI: metres, radians, kilograms; body frame of the outline (origin at the tracked centre)";
+  nlohmann::json outline;
+  const ForecastOutline& o = *m.object.outline;
+  if (m.outline_source.rfind("shape table: ", 0) == 0 || m.outline_source.rfind("data folder: ", 0) == 0) {
+    outline["kind"] = "shape_table";
+    outline["shape"] = m.object.name;
+  } else if (!o.is_polygon()) {
+    outline["kind"] = o.semi_axis_a_m() == o.semi_axis_b_m() ? "circle" : "ellipse";
+    if (o.semi_axis_a_m() == o.semi_axis_b_m())
+      outline["radius_m"] = o.semi_axis_a_m();
+    else
+      outline["semi_axes_m"] = {o.semi_axis_a_m(), o.semi_axis_b_m()};
+  } else {
+    outline["kind"] = "polygon";
+    nlohmann::json v = nlohmann::json::array();
+    for (const auto& p : o.vertices_m()) v.push_back({p.x(), p.y()});
+    outline["vertices_m"] = v;
+  }
+  outline["source"] = m.outline_source;
+  j["object"] = {{"name", m.object.name},
+                 {"surface", m.surface},
+                 {"mass_kg", m.object.mass_kg},
+                 {"inertia_kgm2", m.object.inertia_kgm2},
+                 {"centre_of_friction_m", {m.object.centre_of_friction_m.x(), m.object.centre_of_friction_m.y()}},
+                 {"outline", outline}};
+  nlohmann::json params;
+  for (int i = 0; i < 3; ++i)
+    params[ForecastParameters::name(i)] = {{"value", m.parameters.vector()(i)},
+                                           {"standard_error", m.standard_error(i)},
+                                           {"push_to_push_sd", m.push_to_push_sd(i)}};
+  j["parameters"] = params;
+  nlohmann::json pushes = nlohmann::json::array();
+  for (const auto& f : m.pushes) {
+    nlohmann::json p{{"name", f.name}};
+    for (int i = 0; i < 3; ++i) {
+      p[ForecastParameters::name(i)] = f.parameters.vector()(i);
+      p[std::string(ForecastParameters::name(i)) + "_standard_error"] = f.standard_error(i);
+    }
+    p["descriptor"] = {{"contact_body_m", {f.descriptor.contact_body_m.x(), f.descriptor.contact_body_m.y()}},
+                       {"angle_rad", f.descriptor.angle_rad},
+                       {"speed_m_s", std::exp(f.descriptor.log_speed)}};
+    p["fit_rms_position_m"] = f.rms_position_m;
+    p["fit_rms_yaw_rad"] = f.rms_yaw_rad;
+    pushes.push_back(p);
+  }
+  j["pushes"] = pushes;
+  j["similarity_bandwidth"] = m.similarity_bandwidth;
+  j["central"] = central_forecast_name(m.central);
+  j["regions"] = {{"level", 0.9},
+                  {"position_scale", m.regions.position_scale},
+                  {"yaw_scale", m.regions.yaw_scale},
+                  {"scale_stages", "thirds of the planned push by plan time; the last holds the slide and the rest"},
+                  {"position_floor_m", m.regions.position_floor_m},
+                  {"yaw_floor_rad", m.regions.yaw_floor_rad},
+                  {"calibration_pushes", m.regions.pushes},
+                  {"method", m.regions.method}};
+  j["settings"] = {{"rod_radius_m", m.settings.rod_radius_m},
+                   {"max_tip_step_m", m.settings.max_tip_step_m},
+                   {"slide_step_s", m.settings.slide_step_s}};
+  return j;
+}
+
+ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& source,
+                                   const std::filesystem::path& data_folder) {
+  auto fail = [&](const std::string& what) { return InputError(about(source, what)); };
+  if (!j.is_object()) throw fail("not a JSON object");
+  if (!j.contains("format") || j.at("format") != "pushpred-object-model")
+    throw fail("not a pushpred object model ('format' must be \"pushpred-object-model\")");
+  if (!j.contains("version") || !j.at("version").is_number_integer()) throw fail("'version' must be an integer");
+  ObjectModel m;
+  m.version = j.at("version").get<int>();
+  if (m.version < 1 || m.version > kObjectModelVersion)
+    throw fail("version " + std::to_string(m.version) + " is not one this pushpred reads (1 to " +
+               std::to_string(kObjectModelVersion) + ")");
+  if (!j.contains("object") || !j.at("object").is_object()) throw fail("'object' must be an object");
+  const nlohmann::json& o = j.at("object");
+  try {
+    m.object.name = o.value("name", std::string("object"));
+    m.surface = o.value("surface", std::string("unknown"));
+    m.object.mass_kg = number_at(o, "mass_kg", "object");
+    m.object.inertia_kgm2 = number_at(o, "inertia_kgm2", "object");
+    if (o.contains("centre_of_friction_m")) {
+      const auto& cof = o.at("centre_of_friction_m");
+      if (!cof.is_array() || cof.size() != 2 || !cof[0].is_number() || !cof[1].is_number())
+        throw InputError("object: 'centre_of_friction_m' must be [x, y]");
+      m.object.centre_of_friction_m << cof[0].get<double>(), cof[1].get<double>();
+    }
+    if (!o.contains("outline") || !o.at("outline").is_object()) throw InputError("object: 'outline' must be an object");
+    const nlohmann::json& ol = o.at("outline");
+    const std::string kind = ol.value("kind", std::string());
+    if (kind == "shape_table") {
+      const std::string shape = ol.value("shape", std::string());
+      const ShapeInfo& info = ShapeTable::published().find(shape);
+      m.object.outline = dataset_forecast_object(info, data_folder).outline;
+      m.outline_source = info.has_outline() ? "shape table: " + shape : "data folder: butter_outline.csv";
+    } else if (kind == "circle") {
+      const double r = number_at(ol, "radius_m", "object outline");
+      m.object.outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(r, r));
+      m.outline_source = "circle";
+    } else if (kind == "ellipse") {
+      const auto& ax = ol.contains("semi_axes_m") ? ol.at("semi_axes_m") : nlohmann::json();
+      if (!ax.is_array() || ax.size() != 2 || !ax[0].is_number() || !ax[1].is_number())
+        throw InputError("object outline: 'semi_axes_m' must be [a, b]");
+      m.object.outline =
+          std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(ax[0].get<double>(), ax[1].get<double>()));
+      m.outline_source = "ellipse";
+    } else if (kind == "polygon") {
+      const auto& vs = ol.contains("vertices_m") ? ol.at("vertices_m") : nlohmann::json();
+      if (!vs.is_array()) throw InputError("object outline: 'vertices_m' must be a list of [x, y]");
+      std::vector<Eigen::Vector2d> v;
+      for (const auto& p : vs) {
+        if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+          throw InputError("object outline: every vertex must be [x, y]");
+        v.emplace_back(p[0].get<double>(), p[1].get<double>());
+      }
+      m.object.outline = std::make_shared<const ForecastOutline>(ForecastOutline::polygon(std::move(v)));
+      m.outline_source = ol.value("source", std::string("polygon"));
+    } else {
+      throw InputError("object outline: 'kind' must be shape_table, polygon, circle or ellipse, got '" + kind + "'");
+    }
+    m.object.validate();
+    if (!j.contains("parameters") || !j.at("parameters").is_object())
+      throw InputError("'parameters' must be an object");
+    Eigen::Vector3d value, se, sd;
+    for (int i = 0; i < 3; ++i) {
+      const char* name = ForecastParameters::name(i);
+      const auto& p = j.at("parameters");
+      if (!p.contains(name)) throw InputError(std::string("parameters: '") + name + "' is missing");
+      value(i) = number_at(p.at(name), "value", std::string("parameters: ") + name);
+      se(i) = p.at(name).contains("standard_error") ? number_at(p.at(name), "standard_error", name) : 0.0;
+      sd(i) = p.at(name).contains("push_to_push_sd") ? number_at(p.at(name), "push_to_push_sd", name) : 0.0;
+    }
+    m.parameters = ForecastParameters::from_vector(value);
+    m.parameters.validate();
+    m.standard_error = se;
+    m.push_to_push_sd = sd;
+    if (j.contains("pushes")) {
+      if (!j.at("pushes").is_array()) throw InputError("'pushes' must be a list");
+      for (const auto& p : j.at("pushes")) {
+        PushFit f;
+        f.name = p.value("name", std::string());
+        Eigen::Vector3d v;
+        for (int i = 0; i < 3; ++i) v(i) = number_at(p, ForecastParameters::name(i), "pushes: " + f.name);
+        f.parameters = ForecastParameters::from_vector(v);
+        f.parameters.validate();
+        if (p.contains("descriptor")) {
+          const auto& d = p.at("descriptor");
+          const auto& cp = d.contains("contact_body_m") ? d.at("contact_body_m") : nlohmann::json();
+          if (!cp.is_array() || cp.size() != 2 || !cp[0].is_number() || !cp[1].is_number())
+            throw InputError("pushes: " + f.name + ": descriptor 'contact_body_m' must be [x, y]");
+          f.descriptor.contact_body_m << cp[0].get<double>(), cp[1].get<double>();
+          f.descriptor.angle_rad = number_at(d, "angle_rad", "pushes: " + f.name + ": descriptor");
+          const double speed = number_at(d, "speed_m_s", "pushes: " + f.name + ": descriptor");
+          require_positive_finite(speed, "pushes: " + f.name + ": descriptor speed_m_s");
+          f.descriptor.log_speed = std::log(speed);
+        }
+        m.pushes.push_back(f);
+      }
+    }
+    if (j.contains("similarity_bandwidth")) {
+      m.similarity_bandwidth = number_at(j, "similarity_bandwidth", "model");
+      if (m.similarity_bandwidth < 0) throw InputError("'similarity_bandwidth' must not be negative");
+    }
+    if (j.contains("central")) {
+      if (!j.at("central").is_string()) throw InputError("'central' must be \"ensemble_mean\" or \"median\"");
+      m.central = central_forecast_named(j.at("central").get<std::string>());
+    }
+    if (j.contains("regions")) {
+      const auto& r = j.at("regions");
+      for (const char* key : {"position_scale", "yaw_scale"}) {
+        const auto& v = r.contains(key) ? r.at(key) : nlohmann::json();
+        if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+          throw InputError(std::string("regions: '") + key + "' must be three numbers (one per third of the push)");
+        auto& target = std::string(key) == "position_scale" ? m.regions.position_scale : m.regions.yaw_scale;
+        for (std::size_t i = 0; i < 3; ++i) {
+          target[i] = v[i].get<double>();
+          if (!std::isfinite(target[i]) || target[i] < 0)
+            throw InputError(std::string("regions: '") + key + "' must be finite and not negative");
+        }
+      }
+      m.regions.position_floor_m = number_at(r, "position_floor_m", "regions");
+      m.regions.yaw_floor_rad = number_at(r, "yaw_floor_rad", "regions");
+      m.regions.pushes = r.value("calibration_pushes", 0);
+      m.regions.method = r.value("method", m.regions.method);
+      if (!(m.regions.position_floor_m >= 0) || !(m.regions.yaw_floor_rad >= 0))
+        throw InputError("regions: floors must not be negative");
+    }
+    if (j.contains("settings")) {
+      const auto& s = j.at("settings");
+      if (s.contains("rod_radius_m")) m.settings.rod_radius_m = number_at(s, "rod_radius_m", "settings");
+      require_positive_finite(m.settings.rod_radius_m, "settings: rod_radius_m");
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw fail(std::string("malformed: ") + e.what());
+  } catch (const InputError& e) {
+    throw fail(e.what());
+  }
+  return m;
+}
+
+ObjectModel read_object_model(const std::filesystem::path& path, const std::filesystem::path& data_folder) {
+  std::ifstream in(path);
+  if (!in) throw InputError(about(path.string(), "cannot read the object model (missing or unreadable)"));
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(about(path.string(), std::string("not valid JSON: ") + e.what()));
+  }
+  return object_model_from_json(j, path.string(), data_folder);
+}
+
+void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                                const Eigen::VectorXd& times, ForecastDistribution& out, ForecastWorkspace& work) {
+  const Eigen::Index n = times.size();
+  if (out.mean.rows() != n) out.mean.resize(n, 3);
+  if (out.position_spread_m.size() != n) {
+    out.position_spread_m.resize(n);
+    out.yaw_spread_rad.resize(n);
+    out.position_radius_m.resize(n);
+    out.yaw_halfwidth_rad.resize(n);
+  }
+  thread_local std::vector<const PushFit*> members;
+  members.clear();
+  for (const auto& f : model.pushes) members.push_back(&f);
+  if (members.empty()) {
+    out.run = forecast_into(model.object, model.parameters, plan, pose0, times, out.mean, model.settings);
+    out.position_spread_m.setZero();
+    out.yaw_spread_rad.setZero();
+  } else {
+    central_and_spread(model.object, members, model.similarity_bandwidth, plan, pose0, times, model.settings, out.mean,
+                       out.position_spread_m, out.yaw_spread_rad, work.member, out.run, model.central);
+  }
+  const RegionCalibration& r = model.regions;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::size_t stage = static_cast<std::size_t>(RegionCalibration::stage(times(k), plan.end_time_s()));
+    out.position_radius_m(k) = r.position_scale[stage] * std::hypot(out.position_spread_m(k), r.position_floor_m);
+    out.yaw_halfwidth_rad(k) = r.yaw_scale[stage] * std::hypot(out.yaw_spread_rad(k), r.yaw_floor_rad);
+  }
+}
+
+ForecastDistribution forecast_distribution(const ObjectModel& model, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                                           const Eigen::VectorXd& times, bool keep_members) {
+  model.object.validate();
+  model.parameters.validate();
+  if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
+  for (Eigen::Index k = 1; k < times.size(); ++k)
+    if (!(times(k) >= times(k - 1))) throw InputError("forecast: output times must not decrease");
+  ForecastDistribution d;
+  d.times_s = times;
+  ForecastWorkspace work;
+  forecast_distribution_into(model, plan, pose0, times, d, work);
+  if (keep_members)
+    for (const auto& f : model.pushes)
+      d.members.push_back(forecast_poses(model.object, f.parameters, plan, pose0, times, model.settings));
+  return d;
+}
+
+BatchForecast forecast_batch(const ObjectModel& model, const std::vector<TipPlan>& plans,
+                             const Eigen::Vector3d& pose0) {
+  model.object.validate();
+  if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
+  BatchForecast b;
+  const Eigen::Index n = static_cast<Eigen::Index>(plans.size());
+  b.final_pose.resize(n, 3);
+  b.final_position_radius_m.resize(n);
+  b.final_yaw_halfwidth_rad.resize(n);
+  b.rest_time_s.resize(n);
+  const Eigen::VectorXd final_time = Eigen::VectorXd::Constant(1, std::numeric_limits<double>::infinity());
+  ForecastDistribution d;
+  ForecastWorkspace work;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    forecast_distribution_into(model, plans[static_cast<std::size_t>(i)], pose0, final_time, d, work);
+    b.final_pose.row(i) = d.mean.row(0);
+    b.final_position_radius_m(i) = d.position_radius_m(0);
+    b.final_yaw_halfwidth_rad(i) = d.yaw_halfwidth_rad(0);
+    b.rest_time_s(i) = d.run.rest_time_s;
+  }
+  return b;
+}
+
+Eigen::VectorXd forecast_output_times(const ObjectModel& model, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                                      double step_s, double after_s) {
+  require_positive_finite(step_s, "forecast: output step");
+  const double end = forecast_rest_time_s(model.object, model.parameters, plan, pose0, model.settings) + after_s;
+  const Eigen::Index n = static_cast<Eigen::Index>(std::floor(end / step_s)) + 1;
+  Eigen::VectorXd t(n);
+  for (Eigen::Index k = 0; k < n; ++k) t(k) = static_cast<double>(k) * step_s;
+  return t;
+}
+
+}  // namespace pushpred

@@ -1,0 +1,204 @@
+#pragma once
+// A learned object: what `pushpred learn` identifies from recorded pushes of one object on one surface and keeps in
+// a versioned JSON file (docs/forecast.md, "The object file"), and the forecast with its predictive distribution.
+//
+// Learning (units SI, frames as forecast_model.hpp):
+// - per push: the parameters (mu_p, c, mu_s) that make the forecast of that push from its start best follow its
+//   recorded trajectory (Ceres, numeric derivatives, from the best of a coarse grid), with their standard errors;
+// - the object's parameters: the per-push values' median (in logarithms), the push-to-push spread (the per-push
+//   values' robust standard deviation) and the median's standard error;
+// - the predictive regions: a forecast runs the object's parameters (the central forecast) and every learned push's
+//   own (the ensemble); the 90 % region at each time is a disc of radius k_pos sqrt(s_pos^2 + floor_pos^2) about the
+//   central position and k_yaw sqrt(s_yaw^2 + floor_yaw^2) about its yaw, with s the ensemble's RMS spread about the
+//   central forecast. k is calibrated on the learned pushes alone, leaving each out in turn: k is the quantile, at
+//   the split-conformal level 0.9 (1 + 1/n) for n pushes, of its held-out error over the spread the others predict
+//   (each push weighted equally), one k per third of the planned push.
+#include <Eigen/Core>
+#include <array>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pushpred/forecast/forecast_model.hpp"
+#include "pushpred/preprocessing/synchronised_push.hpp"
+
+namespace pushpred {
+
+/// The version of the object file this library writes and reads.
+inline constexpr int kObjectModelVersion = 1;
+
+/// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
+/// made from the file name and the start alone, and the recorded trajectory after it.
+struct RecordedForecastCase {
+  std::string name;  ///< the file's stem
+  std::string object, surface;
+  ForecastObject forecast_object;
+  TipPlan plan;
+  Eigen::Vector3d start_pose = Eigen::Vector3d::Zero();
+  double start_time_s = 0;       ///< the plan's start on the push's clock (SynchronisedPush::t_s)
+  Eigen::VectorXd times_s;       ///< plan time of each recorded pose, from 0 to the recording's end
+  Eigen::MatrixX3d truth;        ///< the recorded poses there
+  std::string direction_source;  ///< how the push direction was found
+};
+
+/// The forecast object of a dataset shape: the shape table's mass, inertia, centroid and outline, or for `butter` the
+/// outline in `data_folder`/butter_outline.csv (read at run time). InputError naming the file when it is unreadable.
+ForecastObject dataset_forecast_object(const ShapeInfo& shape, const std::filesystem::path& data_folder);
+
+/// Reads an outline polygon from a CSV file of x_m,y_m rows (a header line and # comments allowed), counter-clockwise.
+/// InputError naming the file and line for bad content.
+ForecastOutline read_outline_csv(const std::filesystem::path& path, const std::string& description);
+
+/// The case of a recorded push. The plan: straight, 50 mm (`push_length_m`) at the file name's speed, from the tip's
+/// rest position, along the inward normal at the file name's contact side and position rotated by its angle
+/// (dataset_push_direction_body; butter: perimeter_push_direction_body), in the object's frame
+/// at the start. The one thing taken from the push's own motion is when the tip starts moving: the first time it is
+/// 0.5 mm from its rest position, less the time the plan takes to cover 0.5 mm. InputError when the push has no
+/// file-name parameters, an acceleration push, or a tip that never moves.
+RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const ForecastObject& object,
+                                            double push_length_m = 0.05);
+
+/// Where and how a plan pushes, in the object's frame at its start: what the push-to-push variation of the parameters
+/// is modelled on (learned pushes that push alike weigh more in a forecast, see ObjectModel::similarity_bandwidth).
+struct PushDescriptor {
+  Eigen::Vector2d contact_body_m = Eigen::Vector2d::Zero();  ///< the outline point nearest the tip's start
+  double angle_rad = 0;  ///< the push direction's angle from the inward normal there, counter-clockwise
+  double log_speed = 0;  ///< ln(mean speed of the plan [m/s])
+};
+PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0);
+/// The squared distance of two descriptors in units of their fixed scales: 20 degrees of angle (the dataset's step in
+/// push angle), 15 mm of contact point, a factor e of speed. The scales are set by physics, not fitted.
+double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b);
+
+/// One push's own parameters: the best fit of the forecast to its recorded trajectory.
+struct PushFit {
+  std::string name;
+  PushDescriptor descriptor;
+  ForecastParameters parameters;
+  Eigen::Vector3d standard_error = Eigen::Vector3d::Zero();  ///< of mu_p, c [m], mu_s
+  double rms_position_m = 0, rms_yaw_rad = 0;                ///< of the fitted forecast against the recording
+  double final_position_m = 0, final_yaw_rad = 0;
+  int evaluations = 0;
+};
+
+struct FitOptions {
+  double position_scale_m = 1e-3;     ///< a residual of 1 mm ...
+  double yaw_scale_rad = M_PI / 180;  ///< ... weighs as 1 degree
+  int residual_times = 60;            ///< recorded poses used, evenly spread over the push
+  /// A weak prior on the logarithms of (mu_p, c / c_uniform, mu_s) about (ln 0.25, 0, ln 0.4), this many e-folds wide
+  /// per standard deviation (0: none), so that a parameter a push barely informs stays near physics rather than at
+  /// a bound. The width 1 was chosen on simulated pushes (seeds 271000-271015, docs/forecast.md), not on real ones.
+  double prior_width_log = 1.0;
+  ForecastSettings settings;
+};
+
+/// Fits the case's own parameters (bounded: mu_p 0.02-2, c 0.15-2.5 times the uniform-pressure value, mu_s 0.05-1.5;
+/// with the weak prior of FitOptions::prior_width_log).
+PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& options = {});
+
+/// What a forecast's central trajectory is: the learned pushes' own forecasts averaged (weighted by similarity; with
+/// their spread about it), or the forecast of their parameters' (weighted) median. The mean of the ensemble errs
+/// less on the real pushes (docs/forecast.md): the trajectory bends nonlinearly with the parameters.
+enum class CentralForecast { EnsembleMean, MedianParameters };
+CentralForecast central_forecast_named(const std::string& name);  ///< "ensemble_mean", "median"; InputError otherwise
+const char* central_forecast_name(CentralForecast central);
+
+/// How the 90 % regions are sized (see the header's comment).
+struct RegionCalibration {
+  /// k_pos and k_yaw in each third of the planned push (by plan time; the last third holds the slide and the rest
+  /// after it, so the final pose): errors grow over a push faster than the ensemble's spread does.
+  std::array<double, 3> position_scale{{1.645, 1.645, 1.645}};
+  std::array<double, 3> yaw_scale{{1.645, 1.645, 1.645}};
+  static int stage(double t_s, double plan_end_s) {
+    return t_s < plan_end_s / 3 ? 0 : (t_s < 2 * plan_end_s / 3 ? 1 : 2);
+  }
+  double position_floor_m = 5e-4;  ///< the pose measurement's and model's floor
+  double yaw_floor_rad = 0.5 * M_PI / 180;
+  int pushes = 0;  ///< held-out pushes it was calibrated on (0: not calibrated, k a normal quantile)
+  std::string method =
+      "held-out error over ensemble spread, split-conformal 90 % quantile, leave-one-push-out over the learned pushes";
+};
+
+/// The learned object: what the object file holds.
+struct ObjectModel {
+  int version = kObjectModelVersion;
+  std::string surface;
+  ForecastObject object;
+  std::string outline_source;     ///< "shape table: rect1", "data folder: butter_outline.csv", "polygon file: ..."
+  ForecastParameters parameters;  ///< central
+  Eigen::Vector3d standard_error = Eigen::Vector3d::Zero();  ///< of the central values
+  Eigen::Vector3d push_to_push_sd = Eigen::Vector3d::Zero();
+  std::vector<PushFit> pushes;  ///< the ensemble
+  /// h: a forecast weighs learned push i by exp(-d_i^2 / (2 h^2)), d_i its descriptor's distance to the plan's; its
+  /// central parameters are the weighted median (in logarithms) and its regions the weighted spread. 0: all alike
+  /// (the central parameters are `parameters`). Chosen by learn among 0, 2, 1 and 0.5 by the learned pushes' own
+  /// leave-one-out error.
+  double similarity_bandwidth = 0;
+  CentralForecast central = CentralForecast::EnsembleMean;
+  RegionCalibration regions;
+  ForecastSettings settings;
+};
+
+struct LearnOptions {
+  CentralForecast central = CentralForecast::EnsembleMean;
+  std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates
+  ForecastSettings settings;
+};
+
+/// Learns the object from the fits of its pushes (at least one; with three or more the regions are calibrated,
+/// leaving each push out, which forecasts `cases`, the same pushes in the same order; with four or more the
+/// similarity bandwidth is chosen the same way). `bandwidths`: the candidates (empty: 0, 2, 1, 0.5).
+ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
+                               const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
+                               const std::vector<PushFit>& fits, const LearnOptions& options = {});
+
+/// The parameters of a plan described by `descriptor`: the learned pushes' median, weighted by similarity (see
+/// similarity_bandwidth); the central trajectory under CentralForecast::MedianParameters.
+ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor);
+
+/// The object file's JSON, and back. from_json throws InputError prefixed by `source` for a missing or bad field,
+/// another format or a newer version; an outline {"kind": "shape_table", "shape": NAME} is resolved from the shape
+/// table and, for butter, `data_folder`.
+nlohmann::json object_model_to_json(const ObjectModel& model);
+ObjectModel object_model_from_json(const nlohmann::json& json, const std::string& source,
+                                   const std::filesystem::path& data_folder);
+ObjectModel read_object_model(const std::filesystem::path& path, const std::filesystem::path& data_folder);
+
+/// The forecast of one plan with its 90 % regions.
+struct ForecastDistribution {
+  Eigen::VectorXd times_s;
+  Eigen::MatrixX3d mean;                              ///< the central forecast
+  Eigen::VectorXd position_radius_m;                  ///< 90 % disc about mean(x, y)
+  Eigen::VectorXd yaw_halfwidth_rad;                  ///< 90 % interval about mean(yaw)
+  Eigen::VectorXd position_spread_m, yaw_spread_rad;  ///< the ensemble's RMS spread about the mean
+  std::vector<Eigen::MatrixX3d> members;              ///< the ensemble's trajectories (when asked for)
+  ForecastRun run;
+};
+
+/// Reusable storage for many forecasts of one model (a planner's loop): after the first call of a size nothing is
+/// allocated.
+struct ForecastWorkspace {
+  Eigen::MatrixX3d member;
+};
+
+/// Forecasts `plan` from `pose0` (object at rest) at `times_s` (plan time) with the model's regions.
+ForecastDistribution forecast_distribution(const ObjectModel& model, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                                           const Eigen::VectorXd& times_s, bool keep_members = false);
+/// forecast_distribution into `out` (sized by the caller: times_s.size() rows), using `work`; members not kept.
+void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                                const Eigen::VectorXd& times_s, ForecastDistribution& out, ForecastWorkspace& work);
+
+/// Many candidate plans from one start: the final pose (rows), its 90 % radius and yaw half-width, and the rest time
+/// of each, for a planner choosing among them.
+struct BatchForecast {
+  Eigen::MatrixX3d final_pose;
+  Eigen::VectorXd final_position_radius_m, final_yaw_halfwidth_rad, rest_time_s;
+};
+BatchForecast forecast_batch(const ObjectModel& model, const std::vector<TipPlan>& plans, const Eigen::Vector3d& pose0);
+
+/// Output times every `step_s` from 0 to the central forecast's rest time plus `after_s`.
+Eigen::VectorXd forecast_output_times(const ObjectModel& model, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                                      double step_s = 0.01, double after_s = 0.1);
+
+}  // namespace pushpred

@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# pushpred learn, forecast and forecast-study: outputs, the excluded frozen sensors, --jobs, bad flags and bad files
+# (a clear error naming the file, exit 2, nothing written).
+set -u
+bin=$1
+data=$2
+source "$(dirname "$0")/cli_support.sh"
+
+hex=$(ls "$data"/abs/motion_surface=abs_shape=hex_*.h5 | head -6)
+frozen=$(abs_push 'shape=rect1_')
+
+# learn: one object's model from its pushes; a frozen sensor is left out, by name.
+# shellcheck disable=SC2086
+expect_exit 0 "learn hex from six pushes and a frozen rect1" -- "$bin" learn $hex "$frozen" --out "$tmp/hex.json" --jobs 2
+expect_in "$tmp/out" "learned hex on abs from 6 pushes" "the learned pushes are counted"
+expect_in "$tmp/err" "excluded $(basename "$frozen" .h5): force sensor frozen" "the frozen sensor is named"
+expect_in "$tmp/hex.json" '"format": "pushpred-object-model"' "the object file says its format"
+expect_in "$tmp/hex.json" '"version": 1' "the object file says its version"
+expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
+# shellcheck disable=SC2086
+expect_exit 2 "learn from two objects at once" -- "$bin" learn $hex "$(abs_push 'shape=ellip1_')" --out "$tmp/two.json"
+expect_in "$tmp/err" "several objects" "the mix is named"
+expect_absent "$tmp/two.json" "no object file from two objects"
+expect_exit 2 "learn into a missing folder" -- "$bin" learn $hex --out "$tmp/nowhere/hex.json"
+expect_in "$tmp/err" "$tmp/nowhere/hex.json: its folder does not exist" "the destination is named"
+expect_exit 2 "an own outline without mass" -- "$bin" learn $hex --circle 0.05 --out "$tmp/disc.json"
+expect_in "$tmp/err" "--mass" "the missing mass is named"
+expect_absent "$tmp/disc.json" "no object file without a mass"
+
+# One's own outline: the hexagon given as a polygon file with its mass and inertia learns what the shape table's does.
+python3 -c "
+import math
+print('x_m,y_m')
+for k in range(6): print(f'{0.0605 * math.cos(k * math.pi / 3):.9f},{0.0605 * math.sin(k * math.pi / 3):.9f}')
+" >"$tmp/myhex.csv"
+# shellcheck disable=SC2086
+expect_exit 0 "learn with one's own polygon" -- "$bin" learn $hex --outline "$tmp/myhex.csv" --mass 0.9827 \
+  --inertia 0.001497 --name myhex --out "$tmp/myhex.json"
+expect_in "$tmp/myhex.json" '"kind": "polygon"' "the own outline is kept as a polygon"
+expect_in "$tmp/myhex.json" '"name": "myhex"' "the own object's name"
+check "the own polygon learns the shape table's mu_p (to 1 %)" python3 -c "
+import json, sys
+a = json.load(open('$tmp/hex.json'))['parameters']['pusher_friction']['value']
+b = json.load(open('$tmp/myhex.json'))['parameters']['pusher_friction']['value']
+sys.exit(0 if abs(a - b) < 0.01 * a else 1)"
+expect_exit 0 "forecast with one's own polygon" -- "$bin" forecast --model "$tmp/myhex.json" --object-pose 0,0,0 \
+  --tip -66,10 --direction 10 --speed 50 --out "$tmp/f0"
+
+# forecast: a straight push and a path file; outputs all together.
+expect_exit 0 "forecast a straight push" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --tip -66,10 --direction 10 --speed 50 --out "$tmp/f1" --samples
+for f in forecast.csv forecast.json samples.csv outline.dat forecast.gp; do
+  check "forecast wrote $f" test -s "$tmp/f1/$f"
+done
+expect_in "$tmp/f1/forecast.csv" "t_s,x_mm,y_mm,yaw_deg,radius90_mm,yaw_halfwidth90_deg,tip_x_mm,tip_y_mm" "the CSV header"
+expect_in "$tmp/f1/forecast.json" '"format": "pushpred-forecast"' "the forecast JSON says its format"
+printf 't_s,x_mm,y_mm\n0,-66,10\n0.5,-41,10\n1.0,-21,20\n' >"$tmp/path.csv"
+expect_exit 0 "forecast a path file" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/path.csv" --out "$tmp/f2"
+expect_in "$tmp/f2/forecast.json" '"kind": "path"' "the plan is the path"
+
+# Bad input: a clear error naming the file or flag, exit 2, nothing written.
+expect_exit 2 "a missing object file" -- "$bin" forecast --model "$tmp/none.json" --object-pose 0,0,0 --tip -66,0 \
+  --direction 0 --speed 50 --out "$tmp/f3"
+expect_in "$tmp/err" "$tmp/none.json: cannot read the object model" "the missing file is named"
+expect_absent "$tmp/f3" "no output for a missing object file"
+printf '{"format": "pushpred-object-model", "version": 1' >"$tmp/broken.json"
+expect_exit 2 "a malformed object file" -- "$bin" forecast --model "$tmp/broken.json" --object-pose 0,0,0 \
+  --tip -66,0 --direction 0 --speed 50 --out "$tmp/f4"
+expect_in "$tmp/err" "$tmp/broken.json: not valid JSON" "the malformed file is named"
+expect_absent "$tmp/f4" "no output for a malformed object file"
+sed 's/"shape": "hex"/"shape": "teapot"/' "$tmp/hex.json" >"$tmp/teapot.json"
+expect_exit 2 "an unknown shape" -- "$bin" forecast --model "$tmp/teapot.json" --object-pose 0,0,0 --tip -66,0 \
+  --direction 0 --speed 50 --out "$tmp/f5"
+expect_in "$tmp/err" "$tmp/teapot.json" "the file with the unknown shape is named"
+expect_in "$tmp/err" "unknown shape 'teapot'" "the unknown shape is named"
+expect_absent "$tmp/f5" "no output for an unknown shape"
+expect_exit 2 "a straight push without speed" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --tip -66,0 --direction 0 --out "$tmp/f6"
+expect_in "$tmp/err" "--speed" "the missing speed is named"
+expect_exit 2 "a bad pose" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,zero,0 --tip -66,0 \
+  --direction 0 --speed 50 --out "$tmp/f7"
+expect_in "$tmp/err" "--object-pose" "the bad pose is named"
+expect_exit 2 "a negative speed" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 --tip -66,0 \
+  --direction 0 --speed -5 --out "$tmp/f8"
+expect_exit 2 "an unknown flag" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 --wind 3 --out "$tmp/f9"
+printf 't_s,x_mm,y_mm\n0,-66,10\n0,-41,10\n' >"$tmp/badpath.csv"
+expect_exit 2 "a path whose times do not increase" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/badpath.csv" --out "$tmp/f10"
+expect_in "$tmp/err" "$tmp/badpath.csv" "the bad path file is named"
+for d in f6 f7 f8 f9 f10; do expect_absent "$tmp/$d" "no output for bad input ($d)"; done
+
+# forecast-study: summary.json with every method's keys, the same output whatever --jobs.
+# shellcheck disable=SC2086
+expect_exit 0 "a study of six hex pushes" -- "$bin" forecast-study $hex "$frozen" --out "$tmp/s1" --jobs 1
+for key in final_pos_mm_mean final_yaw_deg_mean trajectory_pos_mm_mean trajectory_yaw_deg_mean coverage90_pos \
+  coverage90_yaw pushes; do
+  expect_in "$tmp/s1/summary.json" "\"$key\"" "summary.json holds $key"
+done
+expect_in "$tmp/s1/summary.json" '"not_moving"' "the not-moving reference"
+expect_in "$tmp/s1/summary.json" '"rigid_tip"' "the rigid tip-following reference"
+expect_in "$tmp/s1/summary.json" "force sensor frozen" "the excluded push and why"
+expect_in "$tmp/s1/tables.md" "from its start only" "the report says what of each push is used"
+# shellcheck disable=SC2086
+expect_exit 0 "the same study on two jobs" -- "$bin" forecast-study $hex "$frozen" --out "$tmp/s2" --jobs 2
+expect_same_tree "$tmp/s1" "$tmp/s2" "--jobs 1 and 2 write the same study"
+expect_exit 2 "a study of one push" -- "$bin" forecast-study "$(echo "$hex" | head -1)" --out "$tmp/s3"
+expect_absent "$tmp/s3" "no study of one push"
+finish

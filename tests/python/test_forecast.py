@@ -1,0 +1,70 @@
+"""The whole-push forecast from Python: numpy in, numpy out, the same numbers as `pushpred learn` and `forecast`."""
+import json
+
+import numpy as np
+import pytest
+
+import pushpred
+from conftest import run_cli
+
+
+@pytest.fixture(scope="module")
+def hex_files(data_dir):
+    return [str(p) for p in sorted((data_dir / "abs").glob("*shape=hex_*.h5"))[:6]]
+
+
+@pytest.fixture(scope="module")
+def model(hex_files):
+    return pushpred.learn_object_model(hex_files, jobs=2)
+
+
+def test_learned_model_matches_the_cli(executable, hex_files, model, tmp_path):
+    run_cli(executable, "learn", *hex_files, "--out", tmp_path / "hex.json", "--jobs", 1)
+    from_cli = json.loads((tmp_path / "hex.json").read_text())
+    assert model.to_dict()["parameters"] == from_cli["parameters"]
+    assert model.name == "hex" and model.surface == "abs"
+    again = pushpred.read_object_model(str(tmp_path / "hex.json"))
+    assert again.parameters == model.parameters
+
+
+def test_forecast_matches_the_cli_and_its_regions_grow(executable, model, tmp_path):
+    (tmp_path / "hex.json").write_text(json.dumps(model.to_dict()))
+    run_cli(executable, "forecast", "--model", tmp_path / "hex.json", "--object-pose", "0,0,0", "--tip", "-66,10",
+            "--direction", "10", "--speed", "50", "--out", tmp_path / "f")
+    cli = np.genfromtxt(tmp_path / "f" / "forecast.csv", delimiter=",", names=True)
+    d = np.deg2rad(10.0)
+    f = model.forecast(np.zeros(3), tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]),
+                       speed_m_s=0.05)
+    np.testing.assert_allclose(f["t_s"], cli["t_s"], atol=1e-9)
+    np.testing.assert_allclose(1e3 * f["pose"][:, 0], cli["x_mm"], atol=1e-6)
+    np.testing.assert_allclose(1e3 * f["radius90_m"], cli["radius90_mm"], atol=1e-6)
+    assert f["pose"].shape == (len(f["t_s"]), 3)
+    # The object moves forward, and the region at rest is wider than at the start.
+    assert f["pose"][-1, 0] > 0.02
+    assert f["radius90_m"][-1] > f["radius90_m"][0]
+
+
+def test_batch_forecasts_many_plans_as_single_forecasts_do(model):
+    angles = np.deg2rad(np.array([-20.0, 0.0, 20.0]))
+    tips = np.array([[-0.066, 0.0]] * 3)
+    directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    batch = model.forecast_batch(np.zeros(3), tips, directions, np.full(3, 0.05))
+    assert batch["final_pose"].shape == (3, 3)
+    for i in range(3):
+        single = model.forecast(np.zeros(3), tip=tips[i], direction=directions[i], speed_m_s=0.05,
+                                times_s=np.array([1e6]))
+        np.testing.assert_allclose(batch["final_pose"][i], single["pose"][0], atol=1e-12)
+    # Pushing +x through the centre of the hexagon's vertex: no turn; the angled pushes turn opposite ways.
+    assert abs(batch["final_pose"][1, 2]) < 1e-9
+    assert np.sign(batch["final_pose"][0, 2]) == -np.sign(batch["final_pose"][2, 2])
+
+
+def test_bad_input_is_a_value_error_naming_it(model):
+    with pytest.raises(pushpred.InputError, match="object_pose"):
+        model.forecast(np.zeros(2), tip=np.zeros(2), direction=np.array([1.0, 0.0]), speed_m_s=0.05)
+    with pytest.raises(pushpred.InputError, match="speed"):
+        model.forecast(np.zeros(3), tip=np.zeros(2), direction=np.array([1.0, 0.0]), speed_m_s=-1.0)
+    with pytest.raises(pushpred.InputError, match="teapot"):
+        d = model.to_dict()
+        d["object"]["outline"]["shape"] = "teapot"
+        pushpred.object_model_from_dict(d)
