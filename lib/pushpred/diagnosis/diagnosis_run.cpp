@@ -298,10 +298,15 @@ double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorX
   return std::sqrt(std::max(0.0, variance));
 }
 
-void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, double log_neff) {
+void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, double log_neff,
+                          std::vector<Selection>* nuisance_out) {
   const auto& effects = library_.effects();
   const char* base_name = group == Relation::Linear ? "linear relation" : "friction law";
   std::vector<std::size_t> negligible;  // significant but below the floor: not tried again in this search
+  // The joint test: the significant candidates judged negligible stay in every later fit as nuisance terms, so an
+  // effect is found only if its evidence survives beside them (a friction patch read as a low-speed friction or a
+  // lag, when the patch's own term is below its floor).
+  std::vector<Selection> nuisance;
   const auto law_selected = [&] {
     return std::any_of(selected.begin(), selected.end(),
                        [&](const Selection& s) { return replaces_relation(*effects[s.candidate]); });
@@ -314,6 +319,10 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         storage.push_back(columns(s.candidate, s.setting));
         current_extra += s.extra_parameters;
       }
+    for (const auto& s : nuisance) {
+      storage.push_back(columns(s.candidate, s.setting));
+      current_extra += s.extra_parameters;
+    }
     std::vector<const EffectColumns*> pointers;
     for (const auto& c : storage) pointers.push_back(&c);
     const ResidualRegression regression(data_, group);
@@ -403,6 +412,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
           diagnosis_format(" scores %.1f but its amount does not clear its floor by the margin: negligible",
                            best->score));
       negligible.push_back(best->candidate);
+      nuisance.push_back(*best);
       continue;
     }
     r.negligible = false;
@@ -410,6 +420,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         diagnosis_format(" joins, score %.1f", best->score));
     selected.push_back(*best);
   }
+  if (nuisance_out) *nuisance_out = nuisance;
 }
 
 // Applies the data corrections of the selected effects, re-runs the observer and re-fits the regression effects
@@ -525,6 +536,7 @@ DiagnosisResult DiagnosisRun::run() {
   step("base_structure", &DiagnosisRun::base_structure);
   step("motion_confirmation", &DiagnosisRun::motion_confirmation);
   held_out();
+  if (o_.adequacy_replicates > 0) step("model_adequacy", &DiagnosisRun::model_adequacy);
   return result_;
 }
 

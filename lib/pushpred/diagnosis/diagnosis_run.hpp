@@ -15,6 +15,7 @@
 //                        friction part) and step 5 repeated
 //   6. held_out          the test phases: the paper's `dob`, the base model, the base model plus what was found, the
 //                        references; what each found effect contributes there (the model without it)
+//   7. model_adequacy    whether the corrected model leaves structure noise does not explain (model_adequacy.hpp)
 // A step that fails reports the failure (DiagnosisResult::step_failures) instead of scoring anything as infinite;
 // steps 1 and 6 are essential and their failure ends the diagnosis with an InputError.
 #include <string>
@@ -55,6 +56,7 @@ class DiagnosisRun {
   void base_structure();
   void motion_confirmation();
   void held_out();
+  void model_adequacy();
 
   /// Runs every step, reporting failures; returns the result.
   DiagnosisResult run();
@@ -94,7 +96,10 @@ class DiagnosisRun {
   /// The found effects whose amount no longer clears its floor by the margin after a joint re-fit: reported
   /// negligible and dropped, the rest re-fitted.
   void drop_below_floor();
-  void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
+  /// Greedy forward selection in `group`. A candidate significant but below its floor is not tried again and stays
+  /// in every later fit as a nuisance term (the joint test); `nuisance_out` receives those.
+  void greedy(std::vector<Selection>& selected, Relation group, double log_neff,
+              std::vector<Selection>* nuisance_out = nullptr);
   /// Records effect i's floor, amount (of s.total) and the amount's standard error (amount_standard_error from s's
   /// covariances, or its `std` without them; none when both are empty); true when the amount exceeds the floor by
   /// options.floor_margin_std standard errors.
@@ -134,6 +139,8 @@ class DiagnosisRun {
   /// Physical effects found so far (data corrections and force laws), and the base model's parts.
   std::vector<Selection> selected_;
   std::vector<Selection> base_;
+  /// The corrected model's signed error on each fit phase (predict_fit_phases), for the adequacy test.
+  std::vector<PhaseBias> fit_phase_biases_;
 };
 
 }  // namespace pushpred

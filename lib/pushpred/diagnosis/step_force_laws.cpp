@@ -35,15 +35,38 @@ void DiagnosisRun::retest_direct(std::vector<Selection>& selected, double log_ne
     const std::size_t log_size = result_.log.size();
     log(effect->kind() + ": tested again without its correction, beside the friction law's refinements searched anew");
     rebuild_data(correction_of(trial, false));
-    greedy(trial, Relation::Friction, log_neff);
+    std::vector<Selection> nuisance;
+    greedy(trial, Relation::Friction, log_neff, &nuisance);
     refit(trial);
     for (auto& d : data_) d.friction_explained.setZero();
-    for (const auto& s : trial) {
+    // What the refinements explain, found or significant but negligible (the joint test: a lag must survive beside
+    // both), fitted together with the friction law.
+    std::vector<Selection> refinements = trial;
+    refinements.insert(refinements.end(), nuisance.begin(), nuisance.end());
+    std::vector<EffectColumns> storage;
+    RegressionFit joint;
+    joint.identifiable = false;
+    if (!nuisance.empty()) {
+      joint = fit_selected(refinements, Relation::Friction, storage);
+    } else {
+      for (const auto& s : refinements)
+        if (effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction)
+          storage.push_back(columns(s.candidate, s.setting));
+    }
+    Eigen::Index first = 0;
+    std::size_t column = 0;
+    for (const auto& s : refinements) {
       const auto& e = effects[s.candidate];
-      if (e->test() != EffectTest::Regression || !e->needs_friction_base() || corrects_data(*e)) continue;
-      const EffectColumns cols = columns(s.candidate, s.setting);
+      if (e->test() != EffectTest::Regression || group_of(s.candidate) != Relation::Friction) continue;
+      const EffectColumns& cols = storage[column++];
+      const auto k = static_cast<Eigen::Index>(cols.size());
+      const bool joint_amounts = joint.identifiable && joint.theta.allFinite();
+      const Eigen::VectorXd theta = joint_amounts ? joint.theta.segment(first, k).eval() : s.total;
+      first += k;
+      if (!e->needs_friction_base() || corrects_data(*e)) continue;
       for (std::size_t p = 0; p < data_.size(); ++p)
-        for (std::size_t j = 0; j < cols.size(); ++j) data_[p].friction_explained += s.total(static_cast<Eigen::Index>(j)) * cols[j][p];
+        for (std::size_t j = 0; j < cols.size(); ++j)
+          data_[p].friction_explained += theta(static_cast<Eigen::Index>(j)) * cols[j][p];
     }
     const DirectFit f = effect->fit_directly(data_);
     for (auto& d : data_) d.friction_explained.setZero();

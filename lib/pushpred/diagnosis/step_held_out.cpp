@@ -189,6 +189,18 @@ void DiagnosisRun::predict_fit_phases() {
   try {
     const auto fit = studies(fit_pointers(), result_.correction);
     const auto fp = fit_phases(fit);
+    fit_phase_biases_.clear();
+    for (const auto& sp : fp) {
+      const PhaseResult& r = sp.study->phases.at(sp.phase);
+      if (r.measured.rows() == 0) continue;
+      const Eigen::MatrixX3d e = r.predicted.at(kCorrectedMethod) - r.measured;
+      PhaseBias b;
+      b.position_m = e.leftCols<2>().colwise().mean().transpose();
+      b.yaw_rad = e.col(2).mean();
+      const Eigen::Vector2d travel = (r.measured.bottomRows<1>() - r.measured.topRows<1>()).leftCols<2>().transpose();
+      if (travel.norm() >= 1e-3) b.travel_direction = travel.normalized();
+      fit_phase_biases_.push_back(b);
+    }
     result_.fit_before = summarise_errors(fp, "dob");
     result_.fit_after = summarise_errors(fp, kCorrectedMethod);
     result_.fit_hold = summarise_errors(fp, "hold");
