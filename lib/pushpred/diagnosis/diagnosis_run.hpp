@@ -62,11 +62,10 @@ class DiagnosisRun {
   DiagnosisResult run();
 
   DiagnosisResult& result() { return result_; }
-  const std::vector<Selection>& selected() const { return selected_; }
-  const std::vector<DiagnosisPush>& data() const { return data_; }
+  const std::vector<Selection>& selected() const { return model_terms_; }
+  const std::vector<DiagnosisPush>& data() const { return fit_data_; }
 
  private:
-  friend struct DiagnosisRunAccess;
   void rebuild_data(const ModelCorrection& data_correction);
   EffectColumns columns(std::size_t candidate, double setting) const;
   /// The correction of `selected`: data corrections only, or the whole model for the prediction.
@@ -89,7 +88,7 @@ class DiagnosisRun {
   RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
                              std::vector<EffectColumns>& storage) const;
   void refit(std::vector<Selection>& selected);
-  /// After selections were dropped from selected_: the rest re-fitted from scratch (the data corrections that are
+  /// After selections were dropped from model_terms_: the rest re-fitted from scratch (the data corrections that are
   /// regression effects restart from zero, as the data are rebuilt without the dropped ones).
   void refit_after_dropping();
   void retest_direct(std::vector<Selection>& selected, double log_neff);
@@ -126,19 +125,21 @@ class DiagnosisRun {
   bool is_base(std::size_t candidate) const;
 
   EffectLibrary library_;  // a copy: shared effects, so a temporary library may be passed
-  DiagnosisOptions o_;
+  DiagnosisOptions options_;
   DiagnosisResult result_;
-  bool single_ = false;
-  std::vector<SynchronisedPush> fit_raw_, test_raw_;
-  std::vector<double> fit_end_s_;
-  std::vector<DiagnosisPush> data_;
-  std::vector<PushStudy> base_fit_studies_;
-  std::vector<Eigen::MatrixX3d> residual_before_;
-  double hold_pos_ = 1, hold_theta_ = 1;  ///< normalisers: mean hold errors on the fit phases
-  double log_neff_ = 0;
-  /// Physical effects found so far (data corrections and force laws), and the base model's parts.
-  std::vector<Selection> selected_;
-  std::vector<Selection> base_;
+  bool single_push_ = false;  ///< one push: fit on all intervals but the last, test on the last
+  std::vector<SynchronisedPush> fit_pushes_, test_pushes_;
+  std::vector<double> fit_end_s_;            ///< per fit push, the end of its fit span [s]
+  std::vector<DiagnosisPush> fit_data_;      ///< the fit pushes as corrected so far, with the observer run over them
+  std::vector<PushStudy> base_fit_studies_;  ///< the paper's method on the fit pushes
+  std::vector<Eigen::MatrixX3d> residual_before_;   ///< the paper's residual on the fit pushes
+  double hold_position_mm_ = 1, hold_yaw_deg_ = 1;  ///< normalisers: mean hold errors on the fit phases
+  double log_effective_samples_ = 0;                ///< ln N_eff of the paper's residual: the BIC penalty per parameter
+  /// The regression side of the model: the base friction law and its refinements, and the physical effects found so
+  /// far (data corrections and force laws).
+  std::vector<Selection> model_terms_;
+  /// The base model's prediction structure (its parts and their settings).
+  std::vector<Selection> prediction_structure_;
   /// The corrected model's signed error on each fit phase (predict_fit_phases), for the adequacy test.
   std::vector<PhaseBias> fit_phase_biases_;
 };
