@@ -46,14 +46,15 @@ int main(int argc, char** argv) {
       for (const auto& k : effects_found(r)) found += (found.empty() ? "" : ",") + k;
       unexplained += a.tested && !a.explained ? 1 : 0;
       with_finding += found.empty() ? 0 : 1;
-      std::printf("%lu %s pushes %d: %s | force z %.2f (threshold %.2f, p %.3f), %.3f +- %.3f N, %.4f +- %.4f N m "
-                  "(floors %.3f N, %.4f N m) | motion |t| %.2f (threshold %.2f, p %.3f), %.2f mm, %.2f deg (floors "
-                  "%.2f mm, %.2f deg) | found %s | first hint %s\n",
-                  first + static_cast<unsigned long>(t), kind.c_str(), n, a.verdict().c_str(), a.force_statistic,
-                  a.force_threshold, a.force_p_value, a.force_N, a.force_N_std, a.torque_Nm, a.torque_Nm_std,
-                  a.force_floor_N, a.torque_floor_Nm, a.motion_t, a.motion_t_threshold, a.motion_p_value,
-                  a.position_bias_mm, a.yaw_bias_deg, a.position_floor_mm, a.yaw_floor_deg,
-                  found.empty() ? "-" : found.c_str(), r.hints.empty() ? "-" : r.hints.front().signature.c_str());
+      std::printf(
+          "%lu %s pushes %d: %s | force z %.2f (threshold %.2f, p %.3f), %.3f +- %.3f N, %.4f +- %.4f N m "
+          "(floors %.3f N, %.4f N m) | motion |t| %.2f (threshold %.2f, p %.3f), %.2f mm, %.2f deg (floors "
+          "%.2f mm, %.2f deg) | found %s | first hint %s\n",
+          first + static_cast<unsigned long>(t), kind.c_str(), n, a.verdict().c_str(), a.force_statistic,
+          a.force_threshold, a.force_p_value, a.force_N, a.force_N_std, a.torque_Nm, a.torque_Nm_std, a.force_floor_N,
+          a.torque_floor_Nm, a.motion_t, a.motion_t_threshold, a.motion_p_value, a.position_bias_mm, a.yaw_bias_deg,
+          a.position_floor_mm, a.yaw_floor_deg, found.empty() ? "-" : found.c_str(),
+          r.hints.empty() ? "-" : r.hints.front().signature.c_str());
       std::fflush(stdout);
     }
     std::printf("unexplained residual in %d of %d trials; a kind found in %d\n", unexplained, count, with_finding);
