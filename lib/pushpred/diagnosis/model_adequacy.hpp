@@ -72,7 +72,8 @@ struct ModelAdequacy {
   double position_bias_mm = 0;   ///< the larger of |mean (x, y)| and |mean (along, across)|
   double yaw_bias_deg = 0;       ///< |mean yaw error|
   double position_floor_mm = 0;  ///< kappa x mean travel of a fit phase (hold's error)
-  double yaw_floor_deg = 0;      ///< kappa x mean rotation of a fit phase, at least the turn that moves the outline by the position floor
+  /// kappa x mean rotation of a fit phase, at least the turn that moves the outline by the position floor
+  double yaw_floor_deg = 0;
   bool motion_unexplained = false;
   /// How the floors were derived.
   std::string basis;
