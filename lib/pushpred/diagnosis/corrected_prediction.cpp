@@ -31,7 +31,7 @@ QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<Fitted
   if (!(stop_force_N_ > 0) || !std::isfinite(stop_force_N_))
     throw InputError("quasi-static push law: the stop force must be positive");
   for (const auto& law : laws_)
-    if (law.effect->replaces_relation()) coulomb_from_stop_force_ = false;
+    if (replaces_relation(*law.effect)) coulomb_from_stop_force_ = false;
   if (pusher_stop_) {
     if (!(pusher_stop_->stop_speed_m_s > 0) || !std::isfinite(pusher_stop_->stop_speed_m_s))
       throw InputError("quasi-static push law: the pusher's stop speed must be positive");
@@ -130,8 +130,8 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
   // The same observation model as the diagnosis's regressors (diagnosis_data.hpp), on the interval just measured.
   const DiagnosisPush d = diagnosis_push_from_estimate(push, e, observer);
   Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(n, 3);
-  bool replaces_relation = false;
-  for (const auto& law : laws) replaces_relation = replaces_relation || law.effect->replaces_relation();
+  bool law_replaces_relation = false;
+  for (const auto& law : laws) law_replaces_relation = law_replaces_relation || replaces_relation(*law.effect);
   const FrictionFootprint footprint = FrictionFootprint::of(push.shape);
   for (Eigen::Index k = 0; k < n; ++k) {
     const EffectState s = d.state(k);
@@ -140,7 +140,7 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
     raw.row(k) = f.transpose();
   }
   out = d.as_observed(raw);
-  if (replaces_relation) {
+  if (law_replaces_relation) {
     // Where the object is stuck, static friction balances the push: d = -u (Relation::Friction).
     Eigen::MatrixX3d stuck_input = Eigen::MatrixX3d::Zero(n, 3);
     for (Eigen::Index k = 0; k < n; ++k)
