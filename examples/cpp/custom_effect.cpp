@@ -15,14 +15,13 @@
 
 namespace {
 
-class QuadraticDrag final : public pushpred::CandidateEffect {
+class QuadraticDrag final : public pushpred::ForceLawEffect {
  public:
   std::string kind() const override { return "quadratic_drag"; }
   std::string description() const override { return "drag -c (m |v| v, I |omega| omega)"; }
   std::vector<pushpred::EffectParameter> parameters() const override { return {{"c", "1/m"}}; }
   // Tested against a Coulomb friction law, as the library's own friction refinements are.
   bool needs_friction_base() const override { return true; }
-  bool is_force_law() const override { return true; }
   // The generalized force per unit of c: f_x, f_y [N], torque [N m]; state in SI, frame {R}.
   Eigen::Vector3d unit_force(int /*parameter*/, double /*setting*/, const pushpred::EffectState& s,
                              const pushpred::ShapeInfo& shape) const override {

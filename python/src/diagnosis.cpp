@@ -1,7 +1,7 @@
 // The diagnosis (diagnosis/diagnosis.hpp) through its top-level diagnose() and DiagnosisResult, converted to plain
 // dicts; and effects of a user's own, written in Python, registered in an EffectLibrary.
 //
-// A Python effect is a force law (CandidateEffect's force-law path): the library calls into the Python object
+// A Python effect is a force law (ForceLawEffect): the library calls into the Python object
 // for kind(), description(), parameters() and unit_force(); the diagnosis runs with the GIL released and takes it
 // back for each call. PythonEffect holds the Python object (rather than pybind11 moving a C++ base out of it), so
 // the library may keep it for as long as it likes.
@@ -28,7 +28,7 @@ py::dict shape_dict(const ShapeInfo& s) {
   return d;
 }
 
-class PythonEffect final : public CandidateEffect {
+class PythonEffect final : public ForceLawEffect {
  public:
   explicit PythonEffect(py::object effect) : effect_(std::move(effect)) {
     // Read once, with the GIL held (registration runs in Python): the library asks for these often.
@@ -58,7 +58,6 @@ class PythonEffect final : public CandidateEffect {
   std::vector<double> settings() const override { return settings_; }
   EffectParameter setting_name() const override { return setting_name_; }
   bool needs_friction_base() const override { return needs_friction_base_; }
-  bool is_force_law() const override { return true; }
 
   Eigen::Vector3d unit_force(int parameter, double setting, const EffectState& state,
                              const ShapeInfo& shape) const override {

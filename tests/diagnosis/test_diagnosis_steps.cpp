@@ -84,7 +84,7 @@ Trial blind_trial(std::uint64_t seed, int index, const std::string& kind) {
 }
 
 /// A user's effect whose regressor cannot be computed: its failure must be reported, not scored.
-class BrokenEffect final : public CandidateEffect {
+class BrokenEffect final : public ForceLawEffect {
  public:
   std::string kind() const override { return "broken"; }
   std::string description() const override { return "a regressor that throws"; }
@@ -92,6 +92,9 @@ class BrokenEffect final : public CandidateEffect {
   bool needs_friction_base() const override { return true; }
   std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush&, double) const override {
     throw InputError("broken: no regressor here");
+  }
+  Eigen::Vector3d unit_force(int, double, const EffectState&, const ShapeInfo&) const override {
+    throw InputError("broken: no force here");
   }
 };
 

@@ -17,13 +17,12 @@ using namespace pushpred;
 
 namespace {
 
-class NamedEffect final : public CandidateEffect {
+class NamedEffect final : public ForceLawEffect {
  public:
   explicit NamedEffect(std::string kind) : kind_(std::move(kind)) {}
   std::string kind() const override { return kind_; }
   std::string description() const override { return "test"; }
   std::vector<EffectParameter> parameters() const override { return {{"a", "N"}}; }
-  bool is_force_law() const override { return true; }
   Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo&) const override {
     return {s.velocity(0), 0.0, 0.0};
   }
@@ -33,12 +32,15 @@ class NamedEffect final : public CandidateEffect {
 };
 
 /// A user's support-torque refinement that, wrongly, has two parameters.
-class TwoParameterTorqueEffect final : public CandidateEffect {
+class TwoParameterTorqueEffect final : public ForceLawEffect {
  public:
   std::string kind() const override { return "two_parameter_torque"; }
   std::string description() const override { return "test"; }
   std::vector<EffectParameter> parameters() const override { return {{"a", "-"}, {"b", "-"}}; }
-  bool adds_to_support_torque() const override { return true; }
+  SupportFrictionPart support_friction() const override { return SupportFrictionPart::ScalesTorque; }
+  Eigen::Vector3d unit_force(int, double, const EffectState&, const ShapeInfo&) const override {
+    return Eigen::Vector3d::Zero();
+  }
 };
 
 }  // namespace
@@ -55,7 +57,7 @@ BOOST_AUTO_TEST_CASE(the_standard_library_holds_every_kind_the_issue_names) {
   }
   BOOST_TEST(std::string(effect_test_name(library.find("initial_velocity")->test())) == "prediction");
   BOOST_TEST(std::string(effect_test_name(library.find("force_offset")->test())) == "direct");
-  BOOST_TEST(library.find("coulomb_friction")->replaces_relation());
+  BOOST_TEST(replaces_relation(*library.find("coulomb_friction")));
 }
 
 BOOST_AUTO_TEST_CASE(two_pushes_whose_rest_forces_disagree_show_no_sensor_bias) {
@@ -152,10 +154,10 @@ BOOST_AUTO_TEST_CASE(a_mass_centre_offset_beyond_half_the_radius_of_gyration_is_
   const auto com = EffectLibrary::standard().find("com_offset");
   FloorContext rect2;
   rect2.radius_of_gyration_m = std::sqrt((0.09 * 0.09 + 0.1125 * 0.1125) / 12);  // 41.6 mm, a uniform 90 x 112.5 mm plate
-  BOOST_TEST(com->implausible(Eigen::Vector2d(0.010, -0.005), rect2).empty());
-  BOOST_TEST(!com->implausible(Eigen::Vector2d(0.008, 0.032), rect2).empty());  // 33 mm: 0.79 rho
-  BOOST_TEST(com->implausible(Eigen::Vector2d(0.008, 0.032), FloorContext{}).empty());  // no object known: 5 cm only
-  BOOST_TEST(!com->implausible(Eigen::Vector2d(0.06, 0.0), FloorContext{}).empty());
+  BOOST_TEST(com->plausibility(Eigen::Vector2d(0.010, -0.005), rect2).plausible());
+  BOOST_TEST(!com->plausibility(Eigen::Vector2d(0.008, 0.032), rect2).plausible());          // 33 mm: 0.79 rho
+  BOOST_TEST(com->plausibility(Eigen::Vector2d(0.008, 0.032), FloorContext{}).plausible());  // no object known: 5 cm
+  BOOST_TEST(!com->plausibility(Eigen::Vector2d(0.06, 0.0), FloorContext{}).plausible());
   // The pushing model is part of the base model, whose prediction it makes.
   const auto pushing = EffectLibrary::standard().find("pushing_model");
   BOOST_TEST(pushing->in_base_model());
@@ -177,7 +179,7 @@ BOOST_AUTO_TEST_CASE(a_user_adds_and_removes_effects_and_mistakes_are_input_erro
   BOOST_CHECK_THROW(library.register_effect(std::make_unique<TwoParameterTorqueEffect>()), InputError);
   std::vector<std::string> torque_terms;
   for (const auto& e : library.effects())
-    if (e->adds_to_support_torque()) torque_terms.push_back(e->kind());
+    if (scales_support_torque(*e)) torque_terms.push_back(e->kind());
   BOOST_TEST(torque_terms == std::vector<std::string>{"friction_torque"});
   library.remove("my_effect");
   BOOST_TEST(library.find("my_effect") == nullptr);

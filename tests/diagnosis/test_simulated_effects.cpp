@@ -90,13 +90,12 @@ namespace {
 
 /// A user's own candidate: the pusher's torque about a mass centre `d` along the body x axis, as an analysis
 /// program would write it (one parameter, against the friction law like the built-in com_offset).
-class LeverErrorEffect final : public CandidateEffect {
+class LeverErrorEffect final : public ForceLawEffect {
  public:
   std::string kind() const override { return "lever_error"; }
   std::string description() const override { return "mass centre d along the body x axis"; }
   std::vector<EffectParameter> parameters() const override { return {{"d", "m"}}; }
   bool needs_friction_base() const override { return true; }
-  bool is_force_law() const override { return true; }
   Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo&) const override {
     const Eigen::Vector2d e(std::cos(s.pose(2)), std::sin(s.pose(2)));
     return {0.0, 0.0, -(e.x() * s.input(1) - e.y() * s.input(0))};

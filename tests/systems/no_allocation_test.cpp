@@ -218,8 +218,9 @@ BOOST_AUTO_TEST_CASE(prediction_systems_do_not_allocate) {
   const EffectLibrary library = EffectLibrary::standard();
   std::vector<FittedForceLaw> laws;
   PredictionModel with_laws = model;
-  for (const auto& effect : library.effects()) {
-    if (!effect->is_force_law()) continue;
+  for (const auto& candidate : library.effects()) {
+    if (!candidate->as_force_law()) continue;
+    const std::shared_ptr<const ForceLawEffect> effect(candidate, candidate->as_force_law());
     FittedForceLaw law{effect, Eigen::VectorXd::Constant(static_cast<Eigen::Index>(effect->parameters().size()), 0.05),
                        effect->settings().empty() ? 0.0 : effect->settings().front()};
     laws.push_back(law);

@@ -146,7 +146,7 @@ EffectFloor unknown_floor(const std::string& what) {
   return {std::numeric_limits<double>::infinity(), "no floor: " + what + " unknown"};
 }
 
-class TimeOffsetEffect final : public CandidateEffect {
+class TimeOffsetEffect final : public DataCorrectionEffect {
   double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
   /// Two samples of the force stream: the rig's three streams are put on one grid only to about a sample (clock
   /// jitter, sample-and-hold), so a shorter lag is not distinguishable from the synchronisation itself.
@@ -166,13 +166,13 @@ class TimeOffsetEffect final : public CandidateEffect {
              ModelCorrection& c) const override {
     c.force_delay_s += theta(0);
   }
-  bool corrects_data() const override { return true; }
   /// A delay at the end of the searched range is no minimum; one under half a sample period (2 ms at 250 Hz) is
   /// within what the synchronisation of three jittered streams onto one grid can resolve.
-  std::string implausible(const Eigen::VectorXd& theta) const override {
-    if (std::abs(theta(0)) >= kMaxDelay_s) return "a delay at the end of the searched range";
-    if (std::abs(theta(0)) < kMinDelay_s) return "under half a sample period, within the synchronisation's resolution";
-    return "";
+  Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext&) const override {
+    if (std::abs(theta(0)) >= kMaxDelay_s) return Plausibility::no("a delay at the end of the searched range");
+    if (std::abs(theta(0)) < kMinDelay_s)
+      return Plausibility::no("under half a sample period, within the synchronisation's resolution");
+    return Plausibility::yes();
   }
 
   // A lag of tau changes d_hat by Q u(t) - Q u(t + tau) (the observer reads the force too early). Against the
@@ -305,7 +305,7 @@ class TimeOffsetEffect final : public CandidateEffect {
   static constexpr double kMinDelay_s = 0.002;
 };
 
-class ForceOffsetEffect final : public CandidateEffect {
+class ForceOffsetEffect final : public DataCorrectionEffect {
   /// |b|: the bias's magnitude; a bias below kappa of the friction force shifts the push force less than the
   /// friction itself varies.
   EffectFloor floor(const FloorContext& c) const override {
@@ -319,7 +319,6 @@ class ForceOffsetEffect final : public CandidateEffect {
   }
   std::vector<EffectParameter> parameters() const override { return {{"bias_x", "N"}, {"bias_y", "N"}}; }
   EffectTest test() const override { return EffectTest::Direct; }
-  bool corrects_data() const override { return true; }
   void apply(const Eigen::VectorXd& theta, double, const std::shared_ptr<const CandidateEffect>&,
              ModelCorrection& c) const override {
     c.sensor_bias_N += theta.head<2>();
@@ -384,7 +383,7 @@ class ForceOffsetEffect final : public CandidateEffect {
   }
 };
 
-class ViscousFrictionEffect final : public CandidateEffect {
+class ViscousFrictionEffect final : public ForceLawEffect {
   /// The drag c m v against kappa mu m g, where the drag differs from what a changed mu gives: the base model's
   /// Coulomb friction, fitted on the same data, takes up the drag at the data's mean speed (at one speed the two
   /// are the same force), so only c m times the speeds' spread about their mean is left to matter:
@@ -402,14 +401,13 @@ class ViscousFrictionEffect final : public CandidateEffect {
             friction_basis(c) + printed(" at the typical sliding speed %.1f mm/s", 1e3 * c.sliding_speed_m_s)};
   }
  public:
-  std::string implausible(const Eigen::VectorXd& theta) const override {
-    return theta(0) >= 0 ? "" : "negative drag";
+  Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext&) const override {
+    return theta(0) >= 0 ? Plausibility::yes() : Plausibility::no("negative drag");
   }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "viscous_friction"; }
   std::string description() const override { return "speed-proportional drag -c (m v, I omega)"; }
   std::vector<EffectParameter> parameters() const override { return {{"c", "1/s"}}; }
-  bool is_force_law() const override { return true; }
   Eigen::Vector3d unit_force(int, double, const EffectState& s, const ShapeInfo& shape) const override {
     return -Eigen::Vector3d(shape.mass_kg * s.velocity(0), shape.mass_kg * s.velocity(1),
                             shape.inertia_kgm2 * s.velocity(2));
@@ -418,9 +416,8 @@ class ViscousFrictionEffect final : public CandidateEffect {
 
 /// A force law of the support's friction over the footprint: evaluated with the footprint resolved beforehand
 /// (resolved_unit_force, which the prediction model's terms and the regressors call); unit_force() resolves it.
-class FootprintFrictionLaw : public CandidateEffect {
+class FootprintFrictionLaw : public ForceLawEffect {
  public:
-  bool is_force_law() const override { return true; }
   Eigen::Vector3d unit_force(int parameter, double setting, const EffectState& s, const ShapeInfo& shape) const final {
     return resolved_unit_force(parameter, setting, s, shape, FrictionFootprint::of(shape));
   }
@@ -433,11 +430,11 @@ class CoulombFrictionEffect final : public FootprintFrictionLaw {
     return "friction mu m g opposing the velocity (limit surface), which stops the object when the push ends";
   }
   std::vector<EffectParameter> parameters() const override { return {{"mu", "-"}}; }
-  bool replaces_relation() const override { return true; }
+  SupportFrictionPart support_friction() const override { return SupportFrictionPart::ReplacesRelation; }
   /// Also the quasi-static law's fallback level (mu m g) when the quasi_static effect does not give one.
   void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>& self,
              ModelCorrection& c) const override {
-    CandidateEffect::apply(theta, setting, self, c);
+    ForceLawEffect::apply(theta, setting, self, c);
     c.quasi_static.fallback_friction_coefficient = theta(0);
   }
   Eigen::Vector3d resolved_unit_force(int, double, const EffectState& s, const ShapeInfo& shape,
@@ -459,9 +456,10 @@ class FrictionTorqueEffect final : public FootprintFrictionLaw {
   std::vector<EffectParameter> parameters() const override { return {{"torque_excess", "-"}}; }
   bool needs_friction_base() const override { return true; }
   bool in_base_model() const override { return true; }
-  bool adds_to_support_torque() const override { return true; }
-  std::string implausible(const Eigen::VectorXd& theta) const override {
-    return std::abs(theta(0)) < 1 ? "" : "a friction torque coefficient change of 1 or more";
+  SupportFrictionPart support_friction() const override { return SupportFrictionPart::ScalesTorque; }
+  Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext&) const override {
+    return std::abs(theta(0)) < 1 ? Plausibility::yes()
+                                  : Plausibility::no("a friction torque coefficient change of 1 or more");
   }
   Eigen::Vector3d resolved_unit_force(int, double, const EffectState& s, const ShapeInfo& shape,
                                       const FrictionFootprint& footprint) const override {
@@ -486,8 +484,9 @@ class StribeckFrictionEffect final : public FootprintFrictionLaw {
                 printed(" over the share of the data at low speed (%.2f)", exposure)};
   }
   static constexpr double kTypicalStribeckSpeed_m_s = 0.01;
-  std::string implausible(const Eigen::VectorXd& theta) const override {
-    return theta(0) >= 0 && theta(0) < 1 ? "" : "friction at rest below the sliding friction, or above 1";
+  Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext&) const override {
+    return theta(0) >= 0 && theta(0) < 1 ? Plausibility::yes()
+                                         : Plausibility::no("friction at rest below the sliding friction, or above 1");
   }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "stribeck_friction"; }
@@ -519,20 +518,20 @@ class PositionFrictionEffect final : public FootprintFrictionLaw {
                     "changed mu takes up)",
                     100 * change, 1e3 * c.travel_m, 100 * c.relevance_fraction)};
   }
+
  public:
-  std::string implausible(const Eigen::VectorXd& theta) const override {
-    return std::abs(theta(0)) < 5 ? "" : "a friction change of more than 1 per 20 cm";
-  }
   /// With the data's typical travel L: a friction that changes by less than its own value over L, |g| L < 1 (it
   /// neither doubles nor vanishes along one push). The regressor is a linear ramp; a friction that changes in a step
   /// part-way along the travel (a patch) fits a ramp steeper than its mean gradient, up to about its step over half
-  /// the travel, which the fixed 1 per 20 cm refused on short pushes.
-  std::string implausible(const Eigen::VectorXd& theta, const FloorContext& c) const override {
-    if (!(c.travel_m > 0)) return implausible(theta);
+  /// the travel, which a fixed 1 per 20 cm refused on short pushes. Without a known travel: 1 per 20 cm.
+  Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext& c) const override {
+    if (!(c.travel_m > 0))
+      return std::abs(theta(0)) < 5 ? Plausibility::yes()
+                                    : Plausibility::no("a friction change of more than 1 per 20 cm");
     return std::abs(theta(0)) * c.travel_m < 1
-               ? ""
-               : printed("a friction change of %.0f %% or more over the typical travel %.1f mm",
-                         100 * std::abs(theta(0)) * c.travel_m, 1e3 * c.travel_m);
+               ? Plausibility::yes()
+               : Plausibility::no(printed("a friction change of %.0f %% or more over the typical travel %.1f mm",
+                                          100 * std::abs(theta(0)) * c.travel_m, 1e3 * c.travel_m));
   }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "position_friction"; }
@@ -548,7 +547,7 @@ class PositionFrictionEffect final : public FootprintFrictionLaw {
   }
 };
 
-class ComOffsetEffect final : public CandidateEffect {
+class ComOffsetEffect final : public ForceLawEffect {
   /// |delta| f against kappa of the friction torque mu m g rho (f about mu m g while pushed): |delta| >= kappa rho.
   EffectFloor floor(const FloorContext& c) const override {
     if (!(c.radius_of_gyration_m > 0)) return unknown_floor("the radius of gyration");
@@ -557,18 +556,16 @@ class ComOffsetEffect final : public CandidateEffect {
                     1e3 * c.radius_of_gyration_m)};
   }
  public:
-  std::string implausible(const Eigen::VectorXd& theta) const override {
-    return theta.norm() < 0.05 ? "" : "a mass centre 5 cm or more from the tracked centre";
-  }
-  /// Also within half the radius of gyration rho: a solid block whose mass centre lies further out needs about three
-  /// quarters of its mass on one side of its centre (rect2 with all of it in one half: 0.68 rho), which the dataset's
-  /// objects, solid blocks, do not have; a fit that large is another torque misfit.
-  std::string implausible(const Eigen::VectorXd& theta, const FloorContext& c) const override {
-    if (std::string why = implausible(theta); !why.empty()) return why;
+  /// Within 5 cm of the tracked centre, and, where the object is known, within half the radius of gyration rho: a
+  /// solid block whose mass centre lies further out needs about three quarters of its mass on one side of its centre
+  /// (rect2 with all of it in one half: 0.68 rho), which the dataset's objects, solid blocks, do not have; a fit that
+  /// large is another torque misfit.
+  Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext& c) const override {
+    if (!(theta.norm() < 0.05)) return Plausibility::no("a mass centre 5 cm or more from the tracked centre");
     if (c.radius_of_gyration_m > 0 && theta.norm() >= 0.5 * c.radius_of_gyration_m)
-      return printed("a mass centre %.1f mm from the tracked centre, half the radius of gyration or more",
-                     1e3 * theta.norm());
-    return "";
+      return Plausibility::no(printed(
+          "a mass centre %.1f mm from the tracked centre, half the radius of gyration or more", 1e3 * theta.norm()));
+    return Plausibility::yes();
   }
   bool needs_friction_base() const override { return true; }
   /// The offset moves the pushing model's centre of friction, which sets how a push turns the object: a true offset
@@ -580,11 +577,10 @@ class ComOffsetEffect final : public CandidateEffect {
     return "mass centre at delta (body frame) from the tracked centre: torque error -(R(theta) delta) x f_C";
   }
   std::vector<EffectParameter> parameters() const override { return {{"delta_x", "m"}, {"delta_y", "m"}}; }
-  bool is_force_law() const override { return true; }
   /// The force law for the relation model, and the mass centre (the pushing model's centre of friction) moved.
   void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>& self,
              ModelCorrection& c) const override {
-    CandidateEffect::apply(theta, setting, self, c);
+    ForceLawEffect::apply(theta, setting, self, c);
     c.mass_centre_offset_m += theta.head<2>();
   }
   Eigen::Vector3d unit_force(int j, double, const EffectState& s, const ShapeInfo&) const override {
@@ -594,7 +590,7 @@ class ComOffsetEffect final : public CandidateEffect {
   }
 };
 
-class InertiaMismatchEffect final : public CandidateEffect {
+class InertiaMismatchEffect final : public DataCorrectionEffect {
   double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
   /// The inertial force error |factor - 1| m a at the typical (RMS) acceleration against kappa mu m g.
   EffectFloor floor(const FloorContext& c) const override {
@@ -603,13 +599,13 @@ class InertiaMismatchEffect final : public CandidateEffect {
             friction_basis(c) + printed(" at the typical (RMS) acceleration %.2f m/s^2", c.acceleration_m_s2)};
   }
  public:
-  std::string implausible(const Eigen::VectorXd& theta) const override {
-    return 1 + theta(0) > 0.2 && 1 + theta(0) < 5 ? "" : "a mass factor outside 0.2 to 5";
-  }
-  /// The factor moved inside the range, a quarter of the way in from its ends (0.25 and 4).
-  std::optional<Eigen::VectorXd> plausible_start(const Eigen::VectorXd& theta) const override {
-    if (!theta.allFinite()) return std::nullopt;
-    return Eigen::VectorXd::Constant(1, std::clamp(1 + theta(0), 0.25, 4.0) - 1);
+  /// A factor between 0.2 and 5; outside, the re-fit may restart from the factor moved inside the range, a quarter
+  /// of the way in from its ends (0.25 and 4).
+  Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext&) const override {
+    if (1 + theta(0) > 0.2 && 1 + theta(0) < 5) return Plausibility::yes();
+    if (!theta.allFinite()) return Plausibility::no("a mass factor outside 0.2 to 5");
+    return Plausibility::no("a mass factor outside 0.2 to 5",
+                            Eigen::VectorXd::Constant(1, std::clamp(1 + theta(0), 0.25, 4.0) - 1));
   }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "inertia_mismatch"; }
@@ -630,7 +626,6 @@ class InertiaMismatchEffect final : public CandidateEffect {
       throw InputError("inertia_mismatch: a mass factor of " + std::to_string(1 + theta(0)) + " is not plausible");
     c.inertia_factor *= 1 + theta(0);
   }
-  bool corrects_data() const override { return true; }
   Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const override {
     return ((1 + applied.array()) * (1 + residual.array()) - 1).matrix();
   }
@@ -639,21 +634,20 @@ class InertiaMismatchEffect final : public CandidateEffect {
   }
 };
 
-class InitialVelocityEffect final : public CandidateEffect {
+class InitialVelocityEffect final : public PredictionStructureEffect {
  public:
   std::string kind() const override { return "initial_velocity"; }
   std::string description() const override {
     return "prediction phases start from the observer's velocity estimate instead of rest";
   }
   std::vector<EffectParameter> parameters() const override { return {}; }
-  EffectTest test() const override { return EffectTest::Prediction; }
   void apply(const Eigen::VectorXd&, double, const std::shared_ptr<const CandidateEffect>&,
              ModelCorrection& c) const override {
     c.initial_velocity = true;
   }
 };
 
-class QuasiStaticEffect final : public CandidateEffect {
+class QuasiStaticEffect final : public PredictionStructureEffect {
  public:
   std::string kind() const override { return "quasi_static"; }
   std::string description() const override {
@@ -661,7 +655,6 @@ class QuasiStaticEffect final : public CandidateEffect {
            "kinetic friction stops the object (replaces the relation in the prediction)";
   }
   std::vector<EffectParameter> parameters() const override { return {{"push_force", "N"}}; }
-  EffectTest test() const override { return EffectTest::Prediction; }
   std::vector<double> settings() const override { return {0.3, 0.4, 0.5, 0.6}; }
   EffectParameter setting_name() const override { return {"stop_fraction", "-"}; }
   void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>&,
@@ -714,7 +707,7 @@ class QuasiStaticEffect final : public CandidateEffect {
 /// is half the slowest push's speed (10 mm/s) and far above the planned tip speed of a resting tip (under 0.1 mm/s
 /// on the real pushes). A grid of 2 and 5 mm/s was tried first: the fit phases chose 5 on every object, so the
 /// grid was reduced to it, which keeps the structure search's cost down.
-class PusherStopEffect final : public CandidateEffect {
+class PusherStopEffect final : public PredictionStructureEffect {
  public:
   std::string kind() const override { return "pusher_stop"; }
   std::string description() const override {
@@ -722,7 +715,6 @@ class PusherStopEffect final : public CandidateEffect {
            "still presses on the object";
   }
   std::vector<EffectParameter> parameters() const override { return {}; }
-  EffectTest test() const override { return EffectTest::Prediction; }
   std::string refines() const override { return "quasi_static"; }
   std::vector<double> settings() const override { return {0.005}; }
   EffectParameter setting_name() const override { return {"stop_speed", "m/s"}; }
@@ -739,7 +731,7 @@ class PusherStopEffect final : public CandidateEffect {
 /// (docs/diagnosis.md), which stays as its fallback. The physical effects are still tested in the force domain,
 /// against the base model's friction law (coulomb_friction, friction_torque): the same Coulomb friction of the
 /// footprint that the pushing model's limit surface approximates.
-class PushingModelEffect final : public CandidateEffect {
+class PushingModelEffect final : public PredictionStructureEffect {
  public:
   std::string kind() const override { return "pushing_model"; }
   std::string description() const override {
@@ -747,7 +739,6 @@ class PushingModelEffect final : public CandidateEffect {
            "rest), driven by the planned tip path";
   }
   std::vector<EffectParameter> parameters() const override { return {}; }
-  EffectTest test() const override { return EffectTest::Prediction; }
   void apply(const Eigen::VectorXd&, double, const std::shared_ptr<const CandidateEffect>&,
              ModelCorrection& c) const override {
     c.pushing_model = true;
@@ -756,19 +747,25 @@ class PushingModelEffect final : public CandidateEffect {
 
 }  // namespace
 
-std::unique_ptr<CandidateEffect> make_pushing_model_effect() { return std::make_unique<PushingModelEffect>(); }
-std::unique_ptr<CandidateEffect> make_pusher_stop_effect() { return std::make_unique<PusherStopEffect>(); }
-std::unique_ptr<CandidateEffect> make_quasi_static_effect() { return std::make_unique<QuasiStaticEffect>(); }
-std::unique_ptr<CandidateEffect> make_time_offset_effect() { return std::make_unique<TimeOffsetEffect>(); }
-std::unique_ptr<CandidateEffect> make_force_offset_effect() { return std::make_unique<ForceOffsetEffect>(); }
-std::unique_ptr<CandidateEffect> make_viscous_friction_effect() { return std::make_unique<ViscousFrictionEffect>(); }
-std::unique_ptr<CandidateEffect> make_coulomb_friction_effect() { return std::make_unique<CoulombFrictionEffect>(); }
-std::unique_ptr<CandidateEffect> make_friction_torque_effect() { return std::make_unique<FrictionTorqueEffect>(); }
-std::unique_ptr<CandidateEffect> make_stribeck_friction_effect() { return std::make_unique<StribeckFrictionEffect>(); }
-std::unique_ptr<CandidateEffect> make_position_friction_effect() { return std::make_unique<PositionFrictionEffect>(); }
-std::unique_ptr<CandidateEffect> make_com_offset_effect() { return std::make_unique<ComOffsetEffect>(); }
-std::unique_ptr<CandidateEffect> make_inertia_mismatch_effect() { return std::make_unique<InertiaMismatchEffect>(); }
-std::unique_ptr<CandidateEffect> make_initial_velocity_effect() { return std::make_unique<InitialVelocityEffect>(); }
+std::unique_ptr<PredictionStructureEffect> make_pushing_model_effect() {
+  return std::make_unique<PushingModelEffect>();
+}
+std::unique_ptr<PredictionStructureEffect> make_pusher_stop_effect() { return std::make_unique<PusherStopEffect>(); }
+std::unique_ptr<PredictionStructureEffect> make_quasi_static_effect() { return std::make_unique<QuasiStaticEffect>(); }
+std::unique_ptr<DataCorrectionEffect> make_time_offset_effect() { return std::make_unique<TimeOffsetEffect>(); }
+std::unique_ptr<DataCorrectionEffect> make_force_offset_effect() { return std::make_unique<ForceOffsetEffect>(); }
+std::unique_ptr<ForceLawEffect> make_viscous_friction_effect() { return std::make_unique<ViscousFrictionEffect>(); }
+std::unique_ptr<ForceLawEffect> make_coulomb_friction_effect() { return std::make_unique<CoulombFrictionEffect>(); }
+std::unique_ptr<ForceLawEffect> make_friction_torque_effect() { return std::make_unique<FrictionTorqueEffect>(); }
+std::unique_ptr<ForceLawEffect> make_stribeck_friction_effect() { return std::make_unique<StribeckFrictionEffect>(); }
+std::unique_ptr<ForceLawEffect> make_position_friction_effect() { return std::make_unique<PositionFrictionEffect>(); }
+std::unique_ptr<ForceLawEffect> make_com_offset_effect() { return std::make_unique<ComOffsetEffect>(); }
+std::unique_ptr<DataCorrectionEffect> make_inertia_mismatch_effect() {
+  return std::make_unique<InertiaMismatchEffect>();
+}
+std::unique_ptr<PredictionStructureEffect> make_initial_velocity_effect() {
+  return std::make_unique<InitialVelocityEffect>();
+}
 
 EffectLibrary EffectLibrary::standard() {
   EffectLibrary library;

@@ -49,20 +49,20 @@ inline constexpr double kStandardGravity_m_s2 = 9.81;
 /// v_reg of the limit-surface friction [m/s].
 inline constexpr double kFrictionRegularisation_m_s = 5e-4;
 
-std::unique_ptr<CandidateEffect> make_time_offset_effect();
-std::unique_ptr<CandidateEffect> make_force_offset_effect();
-std::unique_ptr<CandidateEffect> make_viscous_friction_effect();
-std::unique_ptr<CandidateEffect> make_coulomb_friction_effect();
-std::unique_ptr<CandidateEffect> make_friction_torque_effect();
-std::unique_ptr<CandidateEffect> make_stribeck_friction_effect();
-std::unique_ptr<CandidateEffect> make_position_friction_effect();
-std::unique_ptr<CandidateEffect> make_com_offset_effect();
-std::unique_ptr<CandidateEffect> make_inertia_mismatch_effect();
-std::unique_ptr<CandidateEffect> make_initial_velocity_effect();
-std::unique_ptr<CandidateEffect> make_quasi_static_effect();
-std::unique_ptr<CandidateEffect> make_pusher_stop_effect();
+std::unique_ptr<DataCorrectionEffect> make_time_offset_effect();
+std::unique_ptr<DataCorrectionEffect> make_force_offset_effect();
+std::unique_ptr<ForceLawEffect> make_viscous_friction_effect();
+std::unique_ptr<ForceLawEffect> make_coulomb_friction_effect();
+std::unique_ptr<ForceLawEffect> make_friction_torque_effect();
+std::unique_ptr<ForceLawEffect> make_stribeck_friction_effect();
+std::unique_ptr<ForceLawEffect> make_position_friction_effect();
+std::unique_ptr<ForceLawEffect> make_com_offset_effect();
+std::unique_ptr<DataCorrectionEffect> make_inertia_mismatch_effect();
+std::unique_ptr<PredictionStructureEffect> make_initial_velocity_effect();
+std::unique_ptr<PredictionStructureEffect> make_quasi_static_effect();
+std::unique_ptr<PredictionStructureEffect> make_pusher_stop_effect();
 /// The base model's prediction by the quasi-static pushing model (ModelCorrection::pushing_model).
-std::unique_ptr<CandidateEffect> make_pushing_model_effect();
+std::unique_ptr<PredictionStructureEffect> make_pushing_model_effect();
 
 /// Unit-coefficient Coulomb friction wrench of the object on the table (multiply by mu): force [N] and torque
 /// about the tracked centre [N m], world frame, when the tracked centre is at `pose` (x, y [m], yaw [rad]) and

@@ -109,9 +109,39 @@ std::vector<std::string> ModelCorrection::describe() const {
   return out;
 }
 
-std::vector<Eigen::MatrixX3d> CandidateEffect::regressors(const DiagnosisPush& push, double setting) const {
-  if (!is_force_law())
-    throw InputError("effect " + kind() + ": a regression effect must override regressors() or unit_force()");
+const char* effect_role_name(EffectRole role) {
+  switch (role) {
+    case EffectRole::ForceLaw:
+      return "force law";
+    case EffectRole::DataCorrection:
+      return "data correction";
+    case EffectRole::PredictionStructure:
+      return "prediction structure";
+  }
+  return "?";
+}
+
+EffectSize CandidateEffect::judge(const Eigen::VectorXd& theta, const FloorContext& context) const {
+  return {amount(theta), amount_unit(), floor(context), plausibility(theta, context)};
+}
+
+std::vector<Eigen::MatrixX3d> CandidateEffect::regressors(const DiagnosisPush&, double) const {
+  throw InputError("effect " + kind() + " has no regressors (it is not tested by regression)");
+}
+
+DirectFit CandidateEffect::fit_directly(const std::vector<DiagnosisPush>&) const {
+  throw InputError("effect " + kind() + " is not fitted directly");
+}
+
+const ForceLawEffect* CandidateEffect::as_force_law() const { return dynamic_cast<const ForceLawEffect*>(this); }
+const DataCorrectionEffect* CandidateEffect::as_data_correction() const {
+  return dynamic_cast<const DataCorrectionEffect*>(this);
+}
+const PredictionStructureEffect* CandidateEffect::as_prediction_structure() const {
+  return dynamic_cast<const PredictionStructureEffect*>(this);
+}
+
+std::vector<Eigen::MatrixX3d> ForceLawEffect::regressors(const DiagnosisPush& push, double setting) const {
   const int k = static_cast<int>(parameters().size());
   const Eigen::Index n = push.rows();
   std::vector<Eigen::MatrixX3d> out(k, Eigen::MatrixX3d(n, 3));
@@ -125,24 +155,32 @@ std::vector<Eigen::MatrixX3d> CandidateEffect::regressors(const DiagnosisPush& p
   return out;
 }
 
-Eigen::Vector3d CandidateEffect::unit_force(int, double, const EffectState&, const ShapeInfo&) const {
-  throw InputError("effect " + kind() + " is not a force law");
-}
-
-Eigen::Vector3d CandidateEffect::resolved_unit_force(int parameter, double setting, const EffectState& state,
-                                                     const ShapeInfo& shape, const FrictionFootprint&) const {
+Eigen::Vector3d ForceLawEffect::resolved_unit_force(int parameter, double setting, const EffectState& state,
+                                                    const ShapeInfo& shape, const FrictionFootprint&) const {
   return unit_force(parameter, setting, state, shape);
 }
 
-DirectFit CandidateEffect::fit_directly(const std::vector<DiagnosisPush>&) const {
-  throw InputError("effect " + kind() + " is not fitted directly");
+void ForceLawEffect::apply(const Eigen::VectorXd& theta, double setting,
+                           const std::shared_ptr<const CandidateEffect>& self, ModelCorrection& correction) const {
+  if (self.get() != this) throw InputError("effect " + kind() + ": apply() needs the effect itself as `self`");
+  correction.force_laws.push_back({std::shared_ptr<const ForceLawEffect>(self, this), theta, setting});
 }
 
-void CandidateEffect::apply(const Eigen::VectorXd& theta, double setting,
-                            const std::shared_ptr<const CandidateEffect>& self, ModelCorrection& correction) const {
-  if (!is_force_law()) throw InputError("effect " + kind() + " must override apply()");
-  if (self.get() != this) throw InputError("effect " + kind() + ": apply() needs the effect itself as `self`");
-  correction.force_laws.push_back({self, theta, setting});
+bool replaces_relation(const CandidateEffect& effect) {
+  const ForceLawEffect* law = effect.as_force_law();
+  return law && law->support_friction() == SupportFrictionPart::ReplacesRelation;
+}
+
+bool scales_support_torque(const CandidateEffect& effect) {
+  const ForceLawEffect* law = effect.as_force_law();
+  return law && law->support_friction() == SupportFrictionPart::ScalesTorque;
+}
+
+bool corrects_data(const CandidateEffect& effect) { return effect.role() == EffectRole::DataCorrection; }
+
+bool confirmed_by_motion(const CandidateEffect& effect) {
+  const ForceLawEffect* law = effect.as_force_law();
+  return law && law->confirmed_by_motion();
 }
 
 void EffectLibrary::register_effect(std::unique_ptr<CandidateEffect> effect) {
@@ -150,7 +188,7 @@ void EffectLibrary::register_effect(std::unique_ptr<CandidateEffect> effect) {
   const std::string kind = effect->kind();
   if (kind.empty()) throw InputError("effect library: an effect needs a kind");
   if (find(kind)) throw InputError("effect library: an effect of kind '" + kind + "' is already registered");
-  if (effect->adds_to_support_torque() && effect->parameters().size() != 1)
+  if (scales_support_torque(*effect) && effect->parameters().size() != 1)
     throw InputError("effect library: '" + kind + "' adds to the support's friction torque, so it needs exactly one "
                      "parameter, not " + std::to_string(effect->parameters().size()));
   effects_.push_back(std::shared_ptr<const CandidateEffect>(std::move(effect)));

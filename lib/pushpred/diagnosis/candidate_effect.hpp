@@ -1,7 +1,8 @@
 #pragma once
 // Candidate effects: physical terms the paper's model lacks, each with its own regressor and parameters, tested
 // by a diagnosis (diagnosis.hpp) against what the paper's method leaves unexplained. An analysis program adds
-// its own by deriving from CandidateEffect and registering it in an EffectLibrary.
+// its own by deriving from one of the role classes (ForceLawEffect, DataCorrectionEffect,
+// PredictionStructureEffect) and registering it in an EffectLibrary.
 //
 // The residual model, on the samples a diagnosis fits, per push p and channel c (0 = x force [N], 1 = y force
 // [N], 2 = torque about the tracked centre [N m]; frames, units and signs as in
@@ -20,9 +21,10 @@
 //   touch) and scores itself with the same criterion.
 // - Prediction: it changes the structure of the prediction (the initial velocity) and is scored on the
 //   prediction error of the fit pushes.
-// How it corrects the model: apply() writes into a ModelCorrection, which is either a change of the data
-// (force stream delay, sensor bias, nominal mass) or a force law added to the observer's residual and to the
-// prediction model (a GeneralizedForceTerm built from unit_force()).
+// How it corrects the model is its role (EffectRole): apply() writes into a ModelCorrection either a force law added
+// to the observer's residual and to the prediction model (a GeneralizedForceTerm built from unit_force()), a change
+// of the data (force stream delay, sensor bias, nominal mass) or a change of the prediction structure. Its size is
+// judged as one value (EffectSize: amount, floor, plausibility).
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -36,6 +38,7 @@ namespace pushpred {
 
 struct DiagnosisPush;
 class CandidateEffect;
+class ForceLawEffect;
 
 struct EffectParameter {
   std::string name;
@@ -81,11 +84,11 @@ class FrictionFootprint {
 
 /// A force law with fitted parameters, as the correction carries it.
 struct FittedForceLaw {
-  std::shared_ptr<const CandidateEffect> effect;
+  std::shared_ptr<const ForceLawEffect> effect;
   Eigen::VectorXd theta;  ///< in the units of effect->parameters()
   double setting = 0;     ///< the setting chosen from effect->settings() (0 when it has none)
   /// Generalized force [f_x, f_y] [N], torque [N m] of the law at `state`, `footprint` being
-  /// FrictionFootprint::of(shape) resolved beforehand (CandidateEffect::resolved_unit_force). No lock, no cache.
+  /// FrictionFootprint::of(shape) resolved beforehand (ForceLawEffect::resolved_unit_force). No lock, no cache.
   Eigen::Vector3d force(const EffectState& state, const ShapeInfo& shape, const FrictionFootprint& footprint) const;
   /// The same, resolving the footprint on each call (a lock): not for right-hand sides.
   Eigen::Vector3d force(const EffectState& state, const ShapeInfo& shape) const;
@@ -179,9 +182,54 @@ struct EffectFloor {
   std::string basis;  ///< e.g. "5 % of the friction force mu m g = 4.8 N"
 };
 
+/// Whether fitted parameters are physically possible for an effect. A fit outside the physical range is not taken as
+/// the effect, whatever its score.
+struct Plausibility {
+  std::string why_not;  ///< empty: plausible; otherwise why not (e.g. "negative drag")
+  /// Data corrections only: the nearest amount inside the range, from which a re-fit may continue (it applies the
+  /// correction, re-runs the observer and fits the rest; where it settles is judged again). Empty: the fit is not
+  /// taken. Why: a data correction's first, linearised fit can be biased in proportion to the amount (the mass
+  /// factor's, where smoothing leaves the acceleration regressor short of what d_hat holds), while at the re-fit's
+  /// fixed point the residual amount is zero and the bias with it.
+  std::optional<Eigen::VectorXd> restart;
+  bool plausible() const { return why_not.empty(); }
+  static Plausibility yes() { return {}; }
+  static Plausibility no(std::string why, std::optional<Eigen::VectorXd> restart = std::nullopt) {
+    return {std::move(why), std::move(restart)};
+  }
+};
+
+/// An effect's parameters judged as one value (CandidateEffect::judge): the size, the smallest size that matters
+/// and whether the parameters are physical.
+struct EffectSize {
+  double amount = 0;  ///< CandidateEffect::amount(theta), in `unit`
+  std::string unit;
+  EffectFloor floor;  ///< infinite when it cannot be stated (a quantity it needs was not measured)
+  Plausibility plausibility;
+  /// The amount clears the floor by `margin` (e.g. a number of standard errors times the amount's standard error).
+  bool matters(double margin = 0) const { return amount - margin >= floor.amount; }
+};
+
 enum class EffectTest { Regression, Direct, Prediction };
 const char* effect_test_name(EffectTest test);  ///< "regression", "direct", "prediction"
 
+/// What an effect changes in the model: the role decides how the diagnosis tests it and how it corrects the model.
+enum class EffectRole {
+  /// A generalized force added to the observer's residual and to the prediction model (ForceLawEffect).
+  ForceLaw,
+  /// A change of the data the observer reads: a delay, a sensor bias, the nominal mass (DataCorrectionEffect). The
+  /// diagnosis applies it, re-runs the observer and re-fits; what it finds next is a residual amount to compose.
+  DataCorrection,
+  /// A change of the pushing model's prediction structure, scored on prediction error (PredictionStructureEffect).
+  PredictionStructure,
+};
+const char* effect_role_name(EffectRole role);  ///< "force law", "data correction", "prediction structure"
+
+class DataCorrectionEffect;
+class PredictionStructureEffect;
+
+/// What every candidate states: its name, parameters, size and floor, and how it changes the model. An effect
+/// derives from one of the three role classes below, never from this one directly.
 class CandidateEffect {
  public:
   virtual ~CandidateEffect() = default;
@@ -191,81 +239,24 @@ class CandidateEffect {
   /// One line: the physical term and its regressor.
   virtual std::string description() const = 0;
   virtual std::vector<EffectParameter> parameters() const = 0;
-  virtual EffectTest test() const { return EffectTest::Regression; }
-  /// A friction law that replaces the paper's relation as the base the other effects are tested against
-  /// (residual_regression.hpp, Relation::Friction); at most one is selected.
-  virtual bool replaces_relation() const { return false; }
-  /// Its one parameter adds to the friction law's coefficient in the torque channel only (the support's friction
-  /// torque scales with mu + theta): the sum must stay positive, or the fitted friction would drive the rotation
-  /// (DiagnosisRun::support_torque_coefficient).
-  virtual bool adds_to_support_torque() const { return false; }
-  /// Tested only against a friction law (Relation::Friction): against the paper's free relation the effect is
-  /// confounded with the relation's own misfit (a friction change is mirrored by the push force and absorbed;
-  /// the relation's misfit at accelerations reads as a mass error).
-  virtual bool needs_friction_base() const { return false; }
-  /// Prediction effects that only refine another prediction effect's law (its kind, e.g. pusher_stop refines
-  /// quasi_static): the structure search tries them only in combinations that hold that effect, since alone they
-  /// change nothing. Empty: a structure of its own.
-  virtual std::string refines() const { return ""; }
+  virtual EffectRole role() const = 0;
+  /// How it is tested: force laws by regression, prediction structures by prediction, data corrections either way.
+  virtual EffectTest test() const = 0;
 
   /// A structural constant tried on a grid (e.g. the Stribeck speed); the diagnosis keeps the best and counts
   /// the choice as one more parameter. Empty: none.
   virtual std::vector<double> settings() const { return {}; }
   virtual EffectParameter setting_name() const { return {}; }
 
-  /// Regression effects: per parameter j, its contribution to d_hat per unit of theta_j at every row of
-  /// push.estimate (n x 3 each). Default: unit_force() at push.state(row) for every row.
-  virtual std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double setting) const;
+  /// Part of the corrected base model (diagnosis.hpp): a fix of the paper's model structure that is always in the
+  /// corrected model, not a physical effect to be found. Default: none (the role classes say otherwise).
+  virtual bool in_base_model() const { return false; }
+  /// Tested only against a friction law (Relation::Friction): against the paper's free relation the effect is
+  /// confounded with the relation's own misfit (a friction change is mirrored by the push force and absorbed;
+  /// the relation's misfit at accelerations reads as a mass error).
+  virtual bool needs_friction_base() const { return false; }
 
-  /// Force-law effects: the generalized force per unit of parameter j at `state`. Default: throws (not a force
-  /// law); an effect that overrides it keeps the default regressors() and apply().
-  virtual bool is_force_law() const { return false; }
-  virtual Eigen::Vector3d unit_force(int parameter, double setting, const EffectState& state,
-                                     const ShapeInfo& shape) const;
-  /// unit_force() with the shape's friction footprint resolved beforehand (`footprint` is
-  /// FrictionFootprint::of(shape)): what the prediction model's terms and the regressors call, each having resolved
-  /// the footprint once when it was built. The library's friction laws override it so that evaluating them inside
-  /// a right-hand side takes no lock. Default: unit_force(parameter, setting, state, shape).
-  virtual Eigen::Vector3d resolved_unit_force(int parameter, double setting, const EffectState& state,
-                                              const ShapeInfo& shape, const FrictionFootprint& footprint) const;
-
-  /// Direct effects, and prediction effects with parameters: estimates theta from the fit pushes (as corrected so
-  /// far). For prediction effects the score is not used.
-  virtual DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const;
-
-  /// Adds the effect with parameters `theta` (and `setting`) to `correction`. `self` is this effect, shared, for
-  /// force laws to keep. Default for force laws: appends a FittedForceLaw.
-  virtual void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>& self,
-                     ModelCorrection& correction) const;
-
-  /// True when apply() changes the data the observer reads (delay, bias, mass): the diagnosis then re-runs the
-  /// observer and re-fits, and the parameters found next are residual amounts to compose with the applied ones.
-  virtual bool corrects_data() const { return false; }
-
-  /// True when apply() changes how the pushing model moves the object (the mass-centre offset moves its centre of
-  /// friction). Such an effect is a claim about the motion, so the fit pushes' own motion must confirm it: it is
-  /// found only if the corrected model predicts the fit pushes' phases better with it than without it
-  /// (DiagnosisRun::motion_confirmation). A residual the motion contradicts is some other term of the same shape.
-  virtual bool confirmed_by_motion() const { return false; }
-  /// The total amount after applying `applied` and then finding `residual` on the corrected data.
-  virtual Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const {
-    return applied + residual;
-  }
-  /// Empty when `theta` is physically possible for this effect; otherwise why not (e.g. a negative drag). A fit
-  /// outside the physical range is not taken as this effect, whatever its score.
-  virtual std::string implausible(const Eigen::VectorXd& /*theta*/) const { return ""; }
-  /// The same, for a range that depends on the object or the data (`context` as measured for the floors). Default:
-  /// implausible(theta).
-  virtual std::string implausible(const Eigen::VectorXd& theta, const FloorContext& /*context*/) const {
-    return implausible(theta);
-  }
-  /// For a data correction whose first, linearised fit lies outside the physical range: the nearest amount inside
-  /// it, from which the re-fit continues (it applies the correction, re-runs the observer and fits the rest; the
-  /// amount it settles at is judged again). Empty: the fit is not taken (the default, and for every effect that does
-  /// not correct data). Why: a data correction's first fit can be biased in proportion to the amount (the mass
-  /// factor's, where smoothing leaves the acceleration regressor short of what d_hat holds), while at the re-fit's
-  /// fixed point the residual amount is zero and the bias with it.
-  virtual std::optional<Eigen::VectorXd> plausible_start(const Eigen::VectorXd& /*theta*/) const { return std::nullopt; }
+  // --- Its size: the amount compared with the floor, and the physical range.
   /// The effect's size as one non-negative number (its unit: amount_unit()), compared with floor(): e.g. |delay|,
   /// |bias|, |offset|, |mass factor - 1|. Default: the norm of theta.
   virtual double amount(const Eigen::VectorXd& theta) const { return theta.size() ? theta.norm() : 0.0; }
@@ -276,17 +267,111 @@ class CandidateEffect {
   /// The smallest amount that matters physically (see FloorContext). An effect that passes its test below it is
   /// "significant, negligible": reported, not found. Default: 0 (no floor).
   virtual EffectFloor floor(const FloorContext& /*context*/) const { return {0.0, "no floor stated"}; }
-  /// Part of the corrected base model (diagnosis.hpp): a fix of the paper's model structure that is always in the
-  /// corrected model, not a physical effect to be found. Default: prediction effects and friction laws that
-  /// replace the relation.
-  virtual bool in_base_model() const { return test() == EffectTest::Prediction || replaces_relation(); }
+  /// Whether `theta` is physically possible, for the object and data of `context` (as measured for the floors; a
+  /// default FloorContext when nothing is known). Default: always.
+  virtual Plausibility plausibility(const Eigen::VectorXd& /*theta*/, const FloorContext& /*context*/) const {
+    return Plausibility::yes();
+  }
+  /// amount, floor and plausibility of `theta` together.
+  EffectSize judge(const Eigen::VectorXd& theta, const FloorContext& context) const;
   /// Amounts for reports derived from the parameters (e.g. an inertia factor), as name, unit, value.
   struct Derived {
     std::string name, unit;
     double value = 0;
   };
   virtual std::vector<Derived> derived(const Eigen::VectorXd& /*theta*/) const { return {}; }
+
+  // --- How it is fitted (by test()).
+  /// Regression: per parameter j, its contribution to d_hat per unit of theta_j at every row of push.estimate
+  /// (n x 3 each). Force laws: unit_force() at push.state(row) for every row. Default: throws.
+  virtual std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double setting) const;
+  /// Direct effects, and prediction structures with parameters: estimates theta from the fit pushes (as corrected so
+  /// far). For prediction structures the score is not used. Default: throws.
+  virtual DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const;
+
+  // --- How it corrects the model.
+  /// Adds the effect with parameters `theta` (and `setting`) to `correction`. `self` is this effect, shared, for
+  /// force laws to keep.
+  virtual void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>& self,
+                     ModelCorrection& correction) const = 0;
+
+  /// This effect in its role, or null when it has another.
+  const ForceLawEffect* as_force_law() const;
+  const DataCorrectionEffect* as_data_correction() const;
+  const PredictionStructureEffect* as_prediction_structure() const;
 };
+
+/// Where a force law sits in the support's friction (the base model's friction law and its refinements).
+enum class SupportFrictionPart {
+  None,              ///< a force of its own (drag, a lever-arm error, a friction refinement with a shape of its own)
+  ReplacesRelation,  ///< the friction law that replaces the paper's relation as the base (at most one is selected)
+  /// Its one parameter adds to the friction law's coefficient in the torque channel only (the support's friction
+  /// torque scales with mu + theta): the sum must stay positive, or the fitted friction would drive the rotation
+  /// (support_torque_coefficient in the diagnosis).
+  ScalesTorque,
+};
+
+/// A generalized force law: f = sum_j theta_j unit_force(j, setting, state, shape). Tested by regression on the
+/// observer's residual; applied as a FittedForceLaw in the observer and the prediction model.
+class ForceLawEffect : public CandidateEffect {
+ public:
+  EffectRole role() const final { return EffectRole::ForceLaw; }
+  EffectTest test() const final { return EffectTest::Regression; }
+  /// The friction law that replaces the relation is part of the base model.
+  bool in_base_model() const override { return support_friction() == SupportFrictionPart::ReplacesRelation; }
+
+  /// The generalized force [f_x, f_y [N], torque [N m]] per unit of parameter j at `state`.
+  virtual Eigen::Vector3d unit_force(int parameter, double setting, const EffectState& state,
+                                     const ShapeInfo& shape) const = 0;
+  /// unit_force() with the shape's friction footprint resolved beforehand (`footprint` is
+  /// FrictionFootprint::of(shape)): what the prediction model's terms and the regressors call, each having resolved
+  /// the footprint once when it was built. The library's friction laws override it so that evaluating them inside
+  /// a right-hand side takes no lock. Default: unit_force(parameter, setting, state, shape).
+  virtual Eigen::Vector3d resolved_unit_force(int parameter, double setting, const EffectState& state,
+                                              const ShapeInfo& shape, const FrictionFootprint& footprint) const;
+  virtual SupportFrictionPart support_friction() const { return SupportFrictionPart::None; }
+  /// True when the law also changes how the pushing model moves the object (the mass-centre offset moves its centre
+  /// of friction). Such an effect is a claim about the motion, so the fit pushes' own motion must confirm it: it is
+  /// found only if the corrected model predicts the fit pushes' phases better with it than without it. A residual
+  /// the motion contradicts is some other term of the same shape.
+  virtual bool confirmed_by_motion() const { return false; }
+
+  /// unit_force() at push.state(row) for every row, as the observer sees it.
+  std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double setting) const override;
+  /// Appends a FittedForceLaw.
+  void apply(const Eigen::VectorXd& theta, double setting, const std::shared_ptr<const CandidateEffect>& self,
+             ModelCorrection& correction) const override;
+};
+
+/// A change of the data the observer reads (ModelCorrection's force delay, sensor bias, inertia factor): tested by
+/// regression (regressors()) or directly on data of its own (fit_directly()).
+class DataCorrectionEffect : public CandidateEffect {
+ public:
+  EffectRole role() const final { return EffectRole::DataCorrection; }
+  EffectTest test() const override { return EffectTest::Regression; }
+  /// The total amount after applying `applied` and then finding `residual` on the corrected data.
+  virtual Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const {
+    return applied + residual;
+  }
+};
+
+/// A change of the prediction's structure (the initial velocity, the quasi-static push law, the pushing model),
+/// scored on the fit pushes' prediction error; part of the base model unless it says otherwise.
+class PredictionStructureEffect : public CandidateEffect {
+ public:
+  EffectRole role() const final { return EffectRole::PredictionStructure; }
+  EffectTest test() const final { return EffectTest::Prediction; }
+  bool in_base_model() const override { return true; }
+  /// The kind of the structure whose law it only refines (e.g. pusher_stop refines quasi_static): tried only in
+  /// combinations that hold that one, since alone it changes nothing. Empty: a structure of its own.
+  virtual std::string refines() const { return ""; }
+};
+
+/// Role questions the diagnosis asks (each false for an effect of another role).
+bool replaces_relation(const CandidateEffect& effect);
+bool scales_support_torque(const CandidateEffect& effect);
+bool corrects_data(const CandidateEffect& effect);
+bool confirmed_by_motion(const CandidateEffect& effect);
 
 /// The candidate effects a diagnosis tests, in a fixed order. A user registers their own.
 class EffectLibrary {

@@ -31,7 +31,7 @@ QuasiStaticPushTerm::QuasiStaticPushTerm(double stop_force_N, std::vector<Fitted
   if (!(stop_force_N_ > 0) || !std::isfinite(stop_force_N_))
     throw InputError("quasi-static push law: the stop force must be positive");
   for (const auto& law : laws_)
-    if (law.effect->replaces_relation()) coulomb_from_stop_force_ = false;
+    if (replaces_relation(*law.effect)) coulomb_from_stop_force_ = false;
   if (pusher_stop_) {
     if (!(pusher_stop_->stop_speed_m_s > 0) || !std::isfinite(pusher_stop_->stop_speed_m_s))
       throw InputError("quasi-static push law: the pusher's stop speed must be positive");
@@ -131,7 +131,7 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
   const DiagnosisPush d = diagnosis_push_from_estimate(push, e, observer);
   Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(n, 3);
   bool replaces_relation = false;
-  for (const auto& law : laws) replaces_relation = replaces_relation || law.effect->replaces_relation();
+  for (const auto& law : laws) replaces_relation = replaces_relation || replaces_relation(*law.effect);
   const FrictionFootprint footprint = FrictionFootprint::of(push.shape);
   for (Eigen::Index k = 0; k < n; ++k) {
     const EffectState s = d.state(k);

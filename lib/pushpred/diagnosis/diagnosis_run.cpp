@@ -209,7 +209,7 @@ std::vector<double> DiagnosisRun::normalised(const std::vector<StudyPhase>& phas
 
 Relation DiagnosisRun::group_of(std::size_t candidate) const {
   const auto& e = library_.effects()[candidate];
-  return e->replaces_relation() || e->needs_friction_base() ? Relation::Friction : Relation::Linear;
+  return replaces_relation(*e) || e->needs_friction_base() ? Relation::Friction : Relation::Linear;
 }
 
 RegressionFit DiagnosisRun::fit_selected(const std::vector<Selection>& selected, Relation group,
@@ -247,7 +247,8 @@ double DiagnosisRun::fit_phase_error(const ModelCorrection& correction) const {
 
 void DiagnosisRun::refit_after_dropping() {
   for (auto& s : selected_)
-    if (library_.effects()[s.candidate]->corrects_data() && library_.effects()[s.candidate]->test() == EffectTest::Regression)
+    if (corrects_data(*library_.effects()[s.candidate]) &&
+        library_.effects()[s.candidate]->test() == EffectTest::Regression)
       s.total = Eigen::VectorXd::Zero(s.total.size());
   refit(selected_);
 }
@@ -261,10 +262,10 @@ double DiagnosisRun::support_torque_coefficient(const std::vector<Selection>& se
     const auto& effect = library_.effects()[s.candidate];
     if (effect->test() != EffectTest::Regression || group_of(s.candidate) != Relation::Friction) continue;
     if (j >= fit.theta.size()) break;
-    if (effect->replaces_relation()) {
+    if (replaces_relation(*effect)) {
       coefficient += fit.theta(j);
       law = true;
-    } else if (effect->adds_to_support_torque()) {
+    } else if (scales_support_torque(*effect)) {
       coefficient += fit.theta(j);
     }
     j += static_cast<Eigen::Index>(effect->parameters().size());
@@ -303,7 +304,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
   std::vector<std::size_t> negligible;  // significant but below the floor: not tried again in this search
   const auto law_selected = [&] {
     return std::any_of(selected.begin(), selected.end(),
-                       [&](const Selection& s) { return effects[s.candidate]->replaces_relation(); });
+                       [&](const Selection& s) { return replaces_relation(*effects[s.candidate]); });
   };
   while (true) {
     std::vector<EffectColumns> storage;
@@ -346,8 +347,8 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         }
         const double score = f.wald(at, k) - static_cast<double>(k + extra) * log_neff;
         // Settings whose fit is outside the physical range do not compete (unless none is inside).
-        const bool plausible = effects[i]->implausible(f.theta.segment(at, k), result_.floor_context).empty();
-        const bool here_plausible = here && effects[i]->implausible(here->total, result_.floor_context).empty();
+        const bool plausible = effects[i]->plausibility(f.theta.segment(at, k), result_.floor_context).plausible();
+        const bool here_plausible = here && effects[i]->plausibility(here->total, result_.floor_context).plausible();
         if (!here || (plausible && !here_plausible) || (plausible == here_plausible && score > here->score)) {
           here = Selection{i, setting, extra, f.theta.segment(at, k), f.standard_error().segment(at, k), score,
                            f.covariance_blocks(at, k)};
@@ -371,10 +372,11 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
                  diagnosis_format("%.3g", here_torque) + " in the joint fit): not this effect";
         continue;
       }
-      const std::string why = effects[i]->implausible(here->total, result_.floor_context);
+      const Plausibility plausibility = effects[i]->plausibility(here->total, result_.floor_context);
+      const std::string& why = plausibility.why_not;
       if (!why.empty()) {
-        const auto start = effects[i]->corrects_data() ? effects[i]->plausible_start(here->total) : std::nullopt;
-        if (!start || !effects[i]->implausible(*start, result_.floor_context).empty()) {
+        const auto start = corrects_data(*effects[i]) ? plausibility.restart : std::nullopt;
+        if (!start || !effects[i]->plausibility(*start, result_.floor_context).plausible()) {
           r.note = "fitted outside the physical range (" + why + "): not this effect";
           continue;
         }
@@ -429,7 +431,7 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
         const Eigen::VectorXd theta = fit.theta.segment(j, k);
         s.std = fit.standard_error().segment(j, k);
         s.covariances = fit.covariance_blocks(j, k);
-        if (effect->corrects_data()) {
+        if (corrects_data(*effect)) {
           s.total = effect->compose(s.total, theta);
           if ((theta.array().abs() > 0.25 * s.std.array()).any()) converged = false;
         } else {
@@ -465,7 +467,7 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
       for (std::size_t k = selected.size(); k-- > 0;) {
         const auto& effect = library_.effects()[selected[k].candidate];
         if (is_base(selected[k].candidate) || effect->test() != EffectTest::Regression ||
-            group_of(selected[k].candidate) != Relation::Friction || effect->replaces_relation())
+            group_of(selected[k].candidate) != Relation::Friction || replaces_relation(*effect))
           continue;
         result_.effects[selected[k].candidate].note =
             "dropped: its re-fit turned the support's friction torque negative (mu + torque_excess = " +

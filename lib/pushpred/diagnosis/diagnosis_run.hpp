@@ -76,7 +76,7 @@ class DiagnosisRun {
   std::vector<StudyPhase> test_phases(const std::vector<PushStudy>& s) const;
   std::vector<double> normalised(const std::vector<StudyPhase>& phases, const std::string& method) const;
   /// The support's friction torque coefficient in `fit` (a friction-group fit of `selected`'s regression effects,
-  /// then any candidate's): the friction law's mu plus the parameter of every effect that adds_to_support_torque()
+  /// then any candidate's): the friction law's mu plus the parameter of every effect that scales_support_torque()
   /// (the base model's friction_torque), all scaling the footprint's Coulomb torque. 1 when no friction law is in
   /// `selected`. At or below zero the friction would drive the rotation instead of damping it.
   double support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;

@@ -162,12 +162,12 @@ void ResidualRegression::to_base(std::size_t p, int c, Eigen::Ref<Eigen::VectorX
   }
 }
 
-RegressionFit ResidualRegression::fit(const std::vector<const EffectColumns*>& columns, int extra_parameters) const {
+void ResidualRegression::stack(const std::vector<const EffectColumns*>& columns, Eigen::VectorXd& y,
+                               Eigen::MatrixXd& X) const {
   int k = 0;
   for (const EffectColumns* e : columns) k += static_cast<int>(e->size());
-  const Eigen::Index N = samples_;
-  Eigen::VectorXd y(N);
-  Eigen::MatrixXd X(N, k);
+  y.resize(samples_);
+  X.resize(samples_, k);
   Eigen::Index row = 0;
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
     const Eigen::Index n = blocks_[p].residual.rows();
@@ -186,6 +186,21 @@ RegressionFit ResidualRegression::fit(const std::vector<const EffectColumns*>& c
       row += n;
     }
   }
+}
+
+std::vector<Eigen::Index> ResidualRegression::push_rows() const {
+  std::vector<Eigen::Index> out;
+  for (const auto& b : blocks_) out.push_back(b.residual.rows());
+  return out;
+}
+
+RegressionFit ResidualRegression::fit(const std::vector<const EffectColumns*>& columns, int extra_parameters) const {
+  Eigen::VectorXd y;
+  Eigen::MatrixXd X;
+  stack(columns, y, X);
+  const int k = static_cast<int>(X.cols());
+  const Eigen::Index N = samples_;
+  Eigen::Index row = 0;
   RegressionFit f;
   f.parameters = k + extra_parameters;
   const double log_neff = std::log(effective_samples_);

@@ -9,9 +9,9 @@
 // - Relation::Friction: no free relation. Samples where the object is stuck (sliding speed below
 //   kStuckSpeed_m_s) are taken as balanced by static friction, d = -u, and explain nothing else (every column is
 //   zero there); on sliding samples d_hat is explained by the effect columns alone, among them a friction law that
-//   replaces the relation (CandidateEffect::replaces_relation(), Coulomb friction). In quasi-static pushing the
-//   free relation absorbs any friction law (the push force mirrors the friction), so friction effects are only
-//   visible against this base.
+//   replaces the relation (ForceLawEffect::support_friction() ReplacesRelation: Coulomb friction). In quasi-static
+//   pushing the free relation absorbs any friction law (the push force mirrors the friction), so friction effects
+//   are only visible against this base.
 // Channels are weighted by 1 / sigma_c, sigma_c the Linear base's residual standard deviation pooled over the
 // pushes, so that newtons and newton metres add up; parameters stay in physical units.
 //
@@ -85,6 +85,12 @@ class ResidualRegression {
   /// Per push, the residual (unweighted, n x 3) after the base and sum Phi theta.
   std::vector<Eigen::MatrixX3d> residuals(const std::vector<const EffectColumns*>& columns,
                                           const Eigen::VectorXd& theta) const;
+
+  /// The weighted base residual `y` and the weighted columns `X` in the base, stacked as fit() fits them: per push,
+  /// its x, y and rotation channels one after the other (push_rows() rows each).
+  void stack(const std::vector<const EffectColumns*>& columns, Eigen::VectorXd& y, Eigen::MatrixXd& X) const;
+  /// Rows (samples) per push.
+  std::vector<Eigen::Index> push_rows() const;
 
   Relation relation() const { return relation_; }
   long samples() const { return samples_; }  ///< N: rows x channels

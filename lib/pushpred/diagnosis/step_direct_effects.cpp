@@ -24,7 +24,7 @@ void DiagnosisRun::direct_effects() {
       if (r.note.empty()) r.note = "its test could not be made on these data";
       continue;
     }
-    const std::string why = effects[i]->implausible(f.theta, result_.floor_context);
+    const std::string why = effects[i]->plausibility(f.theta, result_.floor_context).why_not;
     if (!why.empty()) {
       r.note = "fitted outside the physical range (" + why + "): not this effect";
       continue;

@@ -11,11 +11,11 @@ namespace pushpred {
 void DiagnosisRun::retest_direct(std::vector<Selection>& selected, double log_neff) {
   const auto& effects = library_.effects();
   const bool law = std::any_of(selected.begin(), selected.end(),
-                               [&](const Selection& x) { return effects[x.candidate]->replaces_relation(); });
+                               [&](const Selection& x) { return replaces_relation(*effects[x.candidate]); });
   if (!law) return;
   std::vector<std::size_t> direct;
   for (const auto& s : selected)
-    if (effects[s.candidate]->test() == EffectTest::Direct && effects[s.candidate]->corrects_data())
+    if (effects[s.candidate]->test() == EffectTest::Direct && corrects_data(*effects[s.candidate]))
       direct.push_back(s.candidate);
   bool changed = false;
   for (const std::size_t candidate : direct) {
@@ -27,7 +27,7 @@ void DiagnosisRun::retest_direct(std::vector<Selection>& selected, double log_ne
     for (const auto& s : selected) {
       if (s.candidate == candidate) continue;
       const auto& e = effects[s.candidate];
-      if (e->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction && !e->replaces_relation())
+      if (e->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction && !replaces_relation(*e))
         continue;
       trial.push_back(s);
     }
@@ -40,7 +40,7 @@ void DiagnosisRun::retest_direct(std::vector<Selection>& selected, double log_ne
     for (auto& d : data_) d.friction_explained.setZero();
     for (const auto& s : trial) {
       const auto& e = effects[s.candidate];
-      if (e->test() != EffectTest::Regression || !e->needs_friction_base() || e->corrects_data()) continue;
+      if (e->test() != EffectTest::Regression || !e->needs_friction_base() || corrects_data(*e)) continue;
       const EffectColumns cols = columns(s.candidate, s.setting);
       for (std::size_t p = 0; p < data_.size(); ++p)
         for (std::size_t j = 0; j < cols.size(); ++j) data_[p].friction_explained += s.total(static_cast<Eigen::Index>(j)) * cols[j][p];
@@ -49,7 +49,7 @@ void DiagnosisRun::retest_direct(std::vector<Selection>& selected, double log_ne
     for (auto& d : data_) d.friction_explained.setZero();
     log(effect->kind() + diagnosis_format(":   score %.1f beside them", f.score));
     changed = true;
-    if (!(f.score > o_.bic_threshold) || !effect->implausible(f.theta, result_.floor_context).empty()) {
+    if (!(f.score > o_.bic_threshold) || !effect->plausibility(f.theta, result_.floor_context).plausible()) {
       EffectReport& r = result_.effects[candidate];
       r.passed_test = false;
       r.note = "not found: with the friction law's refinements found without it, it no longer passes its test";
@@ -77,7 +77,8 @@ void DiagnosisRun::force_laws() {
                        [&](const Selection& s) { return effects[s.candidate]->test() == EffectTest::Regression; });
   };
   // The floors of the force laws, measured on the data as the direct effects corrected them.
-  if (std::any_of(selected_.begin(), selected_.end(), [&](const Selection& s) { return effects[s.candidate]->corrects_data(); }))
+  if (std::any_of(selected_.begin(), selected_.end(),
+                  [&](const Selection& s) { return corrects_data(*effects[s.candidate]); }))
     measure_floors(false);
   greedy(selected_, Relation::Linear, log_neff_);
   if (any_regression()) refit(selected_);
@@ -103,7 +104,7 @@ void DiagnosisRun::drop_below_floor() {
     r.theta_std = selected_[k].std;
     r.note = negligible_note(r, o_.floor_margin_std, " after the joint re-fit");
     log(effects[i]->kind() + ": does not clear its floor by the margin after the joint re-fit: negligible");
-    if (effects[i]->corrects_data()) selected_[k].total.setZero();
+    if (corrects_data(*effects[i])) selected_[k].total.setZero();
     selected_.erase(selected_.begin() + static_cast<std::ptrdiff_t>(k));
     removed = true;
   }

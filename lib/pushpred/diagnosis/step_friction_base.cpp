@@ -19,7 +19,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
   const auto& effects = library_.effects();
   std::optional<std::size_t> law;
   for (std::size_t i = 0; i < effects.size() && !law; ++i)
-    if (effects[i]->replaces_relation() && effects[i]->test() == EffectTest::Regression) law = i;
+    if (replaces_relation(*effects[i]) && effects[i]->test() == EffectTest::Regression) law = i;
   double mu = 0, spread = 0;
   if (!law) {
     fail("friction_base", "the library has no friction law that replaces the relation (coulomb_friction): physical "
@@ -52,7 +52,8 @@ void DiagnosisRun::measure_floors(bool add_law) {
         const RegressionFit g = fit_selected(trial, Relation::Friction, storage);
         const Eigen::Index kj = static_cast<Eigen::Index>(effects[j]->parameters().size());
         const Eigen::VectorXd tj = g.theta.tail(kj);
-        if (!g.identifiable || !g.theta.allFinite() || !effects[j]->implausible(tj, result_.floor_context).empty()) {
+        if (!g.identifiable || !g.theta.allFinite() ||
+            !effects[j]->plausibility(tj, result_.floor_context).plausible()) {
           result_.effects[j].note = "not in the base model here: the fit pushes do not resolve it";
           log(effects[j]->kind() + " (base model): not resolved by the fit pushes; left out");
           continue;

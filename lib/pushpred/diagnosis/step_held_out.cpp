@@ -22,7 +22,7 @@ Eigen::VectorXd residual_amounts(const std::vector<Selection>& selected, const E
     const Eigen::Index n = theta.size();
     theta.conservativeResize(n + s.total.size());
     theta.segment(n, s.total.size()) =
-        library.effects()[s.candidate]->corrects_data() ? Eigen::VectorXd::Zero(s.total.size()) : s.total;
+        corrects_data(*library.effects()[s.candidate]) ? Eigen::VectorXd::Zero(s.total.size()) : s.total;
   }
   return theta;
 }
@@ -100,7 +100,7 @@ void DiagnosisRun::residual_after_findings() {
   // Against the friction law only when a found friction law replaced the linear relation.
   const bool law = std::any_of(selected_.begin(), selected_.end(), [&](const Selection& s) {
     return effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction &&
-           effects[s.candidate]->replaces_relation();
+           replaces_relation(*effects[s.candidate]);
   });
   if (!law) return;
   Eigen::Vector3d f2 = Eigen::Vector3d::Zero();

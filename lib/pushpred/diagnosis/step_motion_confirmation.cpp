@@ -18,7 +18,7 @@ void DiagnosisRun::motion_confirmation() {
   bool removed = false;
   for (std::size_t k = 0; k < selected_.size();) {
     const std::size_t i = selected_[k].candidate;
-    if (is_base(i) || !effects[i]->confirmed_by_motion()) {
+    if (is_base(i) || !confirmed_by_motion(*effects[i])) {
       ++k;
       continue;
     }
