@@ -131,7 +131,7 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
   const DiagnosisPush d = diagnosis_push_from_estimate(push, e, observer);
   Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(n, 3);
   bool replaces_relation = false;
-  for (const auto& law : laws) replaces_relation = replaces_relation || replaces_relation(*law.effect);
+  for (const auto& law : laws) replaces_relation = replaces_relation || pushpred::replaces_relation(*law.effect);
   const FrictionFootprint footprint = FrictionFootprint::of(push.shape);
   for (Eigen::Index k = 0; k < n; ++k) {
     const EffectState s = d.state(k);

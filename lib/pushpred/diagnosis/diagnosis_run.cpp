@@ -432,7 +432,7 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
         s.std = fit.standard_error().segment(j, k);
         s.covariances = fit.covariance_blocks(j, k);
         if (corrects_data(*effect)) {
-          s.total = effect->compose(s.total, theta);
+          s.total = effect->as_data_correction()->compose(s.total, theta);
           if ((theta.array().abs() > 0.25 * s.std.array()).any()) converged = false;
         } else {
           s.total = theta;
