@@ -336,7 +336,7 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     long count = 0;
     for (const auto& d : pushes) {
-      const auto idx = samples_before_tip_moves(d.push);
+      const auto idx = samples_without_contact(d.push);  // a pressing rod's rest is not force-free
       if (idx.size() < 5) continue;
       Eigen::MatrixX2d f(idx.size(), 2);
       for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = d.push.force_N.row(idx[k]);
@@ -350,7 +350,7 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     fit.samples = 2 * count;
     if (count < 5) {
       fit.score = -std::numeric_limits<double>::infinity();
-      fit.note = "no samples before the tip moves";
+      fit.note = "no samples where the tip rests clear of the object (every push starts pressed, or none rests)";
       return fit;
     }
     // The reading is -f_C + b; before the tip moves f_C = 0, so b = -mean(f_C recorded).
