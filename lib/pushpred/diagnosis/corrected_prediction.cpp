@@ -130,8 +130,8 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
   // The same observation model as the diagnosis's regressors (diagnosis_data.hpp), on the interval just measured.
   const DiagnosisPush d = diagnosis_push_from_estimate(push, e, observer);
   Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(n, 3);
-  bool replaces_relation = false;
-  for (const auto& law : laws) replaces_relation = replaces_relation || pushpred::replaces_relation(*law.effect);
+  bool law_replaces_relation = false;
+  for (const auto& law : laws) law_replaces_relation = law_replaces_relation || replaces_relation(*law.effect);
   const FrictionFootprint footprint = FrictionFootprint::of(push.shape);
   for (Eigen::Index k = 0; k < n; ++k) {
     const EffectState s = d.state(k);
@@ -140,7 +140,7 @@ Eigen::MatrixX3d explained_disturbance(const std::vector<FittedForceLaw>& laws, 
     raw.row(k) = f.transpose();
   }
   out = d.as_observed(raw);
-  if (replaces_relation) {
+  if (law_replaces_relation) {
     // Where the object is stuck, static friction balances the push: d = -u (Relation::Friction).
     Eigen::MatrixX3d stuck_input = Eigen::MatrixX3d::Zero(n, 3);
     for (Eigen::Index k = 0; k < n; ++k)
