@@ -22,7 +22,7 @@ done
 expect_exit 0 "a tiny honesty validation" -- "$bin" validate-diagnosis --trials 1 --hide compliant_pusher \
   --min-pushes 4 --max-pushes 4 --quick-base --seed 9100 --jobs 2 --out "$tmp/h"
 for key in '"hide"' '"true_kind": "compliant_pusher"' '"hidden": true' '"adequacy"' '"hidden_none_named"' \
-  '"clean_explained"' '"preloaded_pushes"' '"realistic_start": true'; do
+  '"clean_explained"' '"preloaded_pushes"' '"draw_preloads": true' '"draw_sensor_offsets": true'; do
   expect_in "$tmp/h/validation.json" "$key" "the honesty run's validation.json holds $key"
 done
 expect_in "$tmp/h/validation.md" "Hidden from the diagnosis's catalogue (simulated, not a candidate): compliant_pusher" \

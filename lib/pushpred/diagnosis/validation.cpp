@@ -12,6 +12,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/sensor_zero.hpp"
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
@@ -161,7 +162,7 @@ double simulator_floor(const std::string& kind, const FloorContext& c, const std
 }
 
 FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options) {
-  DiagnosisRun run(pushes, EffectLibrary::standard(), options);
+  DiagnosisRun run(equalise_sensor_zeros(pushes).pushes, EffectLibrary::standard(), options);
   run.paper_method();
   run.friction_base();
   return run.result().floor_context;
@@ -263,19 +264,18 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     s.initial_yaw_rad = uniform(rng, -M_PI, M_PI);
     s.seed = rng();
     s.support_tilt_direction_rad = downhill_rad;
-    if (o.realistic_start) {
-      // The real pushes start pressed with up to 3.7 N, or a gap away; the sensor is not zeroed between pushes.
-      if (uniform(start_rng, 0, 1) < 0.5) {
-        const double preload_N = uniform(start_rng, 0.3, std::max(0.3, std::min(3.7, 0.7 * friction_force_N)));
-        s.approach_gap_m = std::max(-0.001, -preload_N / s.contact_stiffness_N_m);
-        ++trial.preloaded_pushes;
-      } else {
-        s.approach_gap_m = uniform(start_rng, 0.0005, 0.002);
-      }
-      std::normal_distribution<double> offset(0.0, kPushOffsetSpread_N);
-      s.sensors.push_offset_N.x() = offset(start_rng);
-      s.sensors.push_offset_N.y() = offset(start_rng);
+    // The real pushes start pressed with up to 3.7 N, or a gap away; the sensor is not zeroed between pushes. Both
+    // are drawn every time, whether used or not, so that switching one off leaves the other's draws as they were.
+    const bool pressed = uniform(start_rng, 0, 1) < 0.5;
+    const double preload_N = uniform(start_rng, 0.3, std::max(0.3, std::min(3.7, 0.7 * friction_force_N)));
+    const double gap_m = uniform(start_rng, 0.0005, 0.002);
+    std::normal_distribution<double> offset(0.0, kPushOffsetSpread_N);
+    const Eigen::Vector2d offset_N(offset(start_rng), offset(start_rng));
+    if (o.draw_preloads) {
+      s.approach_gap_m = pressed ? std::max(-0.001, -preload_N / s.contact_stiffness_N_m) : gap_m;
+      trial.preloaded_pushes += pressed;
     }
+    if (o.draw_sensor_offsets) s.sensors.push_offset_N = offset_N;
     out.push_back(s);
   }
   if (kind != "none") {

@@ -45,9 +45,9 @@ struct ValidationOptions {
   /// Kinds left out of the diagnosis's catalogue in every trial (still simulated when drawn). When given and
   /// `kinds` is empty, the kinds drawn are "none" and these.
   std::vector<std::string> hide;
-  /// Preloads and per-push force-sensor offsets drawn on every push (the real rig's start); false: a gap of 1 mm
-  /// and a zeroed sensor, as the simulator's defaults.
-  bool realistic_start = true;
+  /// Draw on every push a preload or a gap (false: 1 mm, the simulator's default), and the force sensor's own zero
+  /// on that push (false: zeroed).
+  bool draw_preloads = true, draw_sensor_offsets = true;
   void validate() const;
 };
 

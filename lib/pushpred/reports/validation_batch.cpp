@@ -31,7 +31,8 @@ nlohmann::json options_json(const ValidationOptions& o) {
           {"floor_margin_std", exact_number_json(o.diagnosis.floor_margin_std)},
           {"fit_base_settings", o.diagnosis.fit_base_settings},
           {"hide", o.hide},
-          {"realistic_start", o.realistic_start}};
+          {"draw_preloads", o.draw_preloads},
+          {"draw_sensor_offsets", o.draw_sensor_offsets}};
 }
 
 ValidationOptions options_from(const nlohmann::json& j) {
@@ -49,7 +50,8 @@ ValidationOptions options_from(const nlohmann::json& j) {
     o.diagnosis.floor_margin_std = exact_number(j.at("floor_margin_std"));
     o.diagnosis.fit_base_settings = j.at("fit_base_settings").get<bool>();
     o.hide = j.at("hide").get<std::vector<std::string>>();
-    o.realistic_start = j.at("realistic_start").get<bool>();
+    o.draw_preloads = j.at("draw_preloads").get<bool>();
+    o.draw_sensor_offsets = j.at("draw_sensor_offsets").get<bool>();
     return o;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("its options are not those of validate-diagnosis: ") + e.what());

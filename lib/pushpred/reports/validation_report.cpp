@@ -79,7 +79,8 @@ nlohmann::json validation_json(const ValidationResult& r) {
             {"bic_threshold", o.diagnosis.bic_threshold},
             {"floor_margin_std", o.diagnosis.floor_margin_std},
             {"hide", o.hide},
-            {"realistic_start", o.realistic_start}}},
+            {"draw_preloads", o.draw_preloads},
+            {"draw_sensor_offsets", o.draw_sensor_offsets}}},
           {"summary",
            {{"trials", s.trials},
             {"failed", s.failed},
@@ -110,9 +111,9 @@ std::string validation_markdown(const ValidationResult& r) {
      << fixed(o.max_floor_multiple, 1) << " times their floor; relevance fraction "
      << fixed(o.diagnosis.relevance_fraction, 3) << ", BIC threshold " << fixed(o.diagnosis.bic_threshold, 1)
      << ", floor margin " << fixed(o.diagnosis.floor_margin_std, 1) << " standard error(s)"
-     << (o.realistic_start ? "; every push starts pressed (a preload) or a gap away, even odds, with its own "
-                             "force-sensor offset"
-                           : "; every push starts 1 mm away, the sensor zeroed")
+     << (o.draw_preloads ? "; every push starts pressed (a preload) or a gap away, even odds"
+                         : "; every push starts 1 mm away")
+     << (o.draw_sensor_offsets ? ", with its own force-sensor offset" : ", the sensor zeroed")
      << ". Scenarios and ranges: lib/pushpred/diagnosis/validation.hpp.";
   if (!o.hide.empty()) {
     std::string hidden;
