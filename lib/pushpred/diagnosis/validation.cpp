@@ -150,6 +150,11 @@ double simulator_floor(const std::string& kind, const FloorContext& c, const std
   const double floor = effect->floor(c).amount;
   if (kind == "force_offset") return floor / std::sqrt(2.0);             // the sim's amount is per axis
   if (kind == "stribeck_friction") return floor / c.friction_coefficient;  // the sim's is relative to mu
+  if (kind == "support_tilt") {  // the candidate's |f| [N] as the tilt whose downhill force it is [deg]
+    const double weight = ShapeTable::published().find(shape_name).mass_kg * kStandardGravity_m_s2;
+    return std::asin(std::min(1.0, floor / weight)) * 180 / M_PI;
+  }
+  if (kind == "anisotropic_friction") return floor / c.friction_coefficient;  // k / mu = |A - 1|
   if (kind == "position_friction") {
     // The patch (a disk of radius kFrictionPatchRadius_m) carries at most its share of the footprint's load: its relative
     // excess must be kappa over that share to change the friction force by kappa.
@@ -358,7 +363,10 @@ double fitted_in_simulator_units(const EffectReport& e, const std::string& kind,
   if (kind == "stribeck_friction") return e.theta(0) / mu;
   if (kind == "position_friction") return kNaN;  // a step patch against a linear gradient: not comparable
   if (kind == "inertia_mismatch") return 1 + e.theta(0);
-  if (kind == "support_tilt" || kind == "anisotropic_friction") return kNaN;  // compared once their candidates exist
+  if (kind == "support_tilt") return kNaN;  // a force [N] against a tilt [deg]: compared through the floor only
+  if (kind == "anisotropic_friction") {      // k = mu (r - 1) / (r + 1): the ratio r = (mu + k) / (mu - k)
+    return mu > std::abs(e.theta(0)) ? (mu + e.theta(0)) / (mu - e.theta(0)) : kNaN;
+  }
   return e.theta(0);  // time_offset, viscous_friction, com_offset (delta_x)
 }
 
