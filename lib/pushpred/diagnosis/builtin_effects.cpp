@@ -1,8 +1,6 @@
 #include "pushpred/diagnosis/builtin_effects.hpp"
 
 #include <algorithm>
-#include <boost/math/distributions/normal.hpp>
-#include <boost/math/distributions/students_t.hpp>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -308,13 +306,6 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
   static constexpr double kMinDelay_s = 0.002;
 };
 
-/// The standard normal deviate with the two-sided tail probability of Student's t = `t` with `dof` degrees of freedom.
-double normal_deviate_of_t(double t, double dof) {
-  const double tail = boost::math::cdf(boost::math::complement(boost::math::students_t(dof), std::abs(t)));
-  if (!(tail > 0)) return std::abs(t);  // beyond double precision: t itself (the normal's tail is thinner still)
-  return boost::math::quantile(boost::math::complement(boost::math::normal(), tail));
-}
-
 class ForceOffsetEffect final : public DataCorrectionEffect {
   /// |b|: the bias's magnitude; a bias below kappa of the friction force shifts the push force less than the
   /// friction itself varies.
@@ -387,16 +378,9 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     double wald = 0;
     for (int c = 0; c < 2; ++c) {
       double v = within(c);
-      const bool from_spread = P >= 2 && between(c) / (P - 1) / P > v;
-      if (from_spread) v = between(c) / (P - 1) / P;
+      if (P >= 2) v = std::max(v, between(c) / (P - 1) / P);
       fit.covariance(c, c) = v;
-      if (!(v > 0)) continue;
-      // A variance from the spread of P pushes' means is an estimate with P - 1 degrees of freedom: the ratio is
-      // Student's t, whose tails (P = 2: Cauchy) would pass a sensor's own push-to-push zeros as a bias if read as
-      // normal. It enters the Wald sum as the normal deviate of the same two-sided probability.
-      double z2 = mean(c) * mean(c) / v;
-      if (from_spread) z2 = std::pow(normal_deviate_of_t(std::sqrt(z2), P - 1), 2);
-      wald += z2;
+      wald += v > 0 ? mean(c) * mean(c) / v : 0.0;
     }
     fit.score = wald - 2 * std::log(fit.effective_samples);
     if (one_push) {

@@ -55,8 +55,9 @@ DiagnosisResult diagnose(const std::vector<SynchronisedPush>& pushes, const Effe
   char line[200];
   std::snprintf(line, sizeof line,
                 "sensor zero: measured on %d of %zu pushes (rod clear of the object at rest), spread %.3f / %.3f N "
-                "(fx / fy) about their mean, removed push by push after the rest",
-                zeros.measured, pushes.size(), zeros.spread_N.x(), zeros.spread_N.y());
+                "(fx / fy) about their mean, removed push by push after the rest: %s / %s",
+                zeros.measured, pushes.size(), zeros.spread_N.x(), zeros.spread_N.y(), zeros.removed(0) ? "yes" : "no",
+                zeros.removed(1) ? "yes" : "no");
   result.log.insert(result.log.begin(), line);
   return result;
 }

@@ -13,11 +13,18 @@
 
 namespace pushpred {
 
+/// The rig's force noise at rest, total standard deviation of fx and fy [N] (white and slow together; measured on
+/// the real pushes by `pushpred simulate --measure-real`, docs/simulator.md).
+inline constexpr double kRestForceNoise_N[2] = {0.0413, 0.101};
+
 struct SensorZeros {
   std::vector<SynchronisedPush> pushes;  ///< the input, each measured push's deviation removed after its rest
   int measured = 0;                      ///< pushes whose rod rests clear of the object
   Eigen::Vector2d mean_N = Eigen::Vector2d::Zero();    ///< the measured zeros' mean (left in the data)
   Eigen::Vector2d spread_N = Eigen::Vector2d::Zero();  ///< their standard deviation per axis (0 below two)
+  /// Per axis, whether the deviations were removed: only where the zeros spread beyond twice the larger of their own
+  /// standard error and kRestForceNoise_N, not where a zeroed sensor's slow noise moves them.
+  Eigen::Matrix<bool, 2, 1> removed = Eigen::Matrix<bool, 2, 1>::Constant(false);
 };
 
 /// The pushes with each measured zero's deviation from the mean removed from the samples after its rest window.
