@@ -53,7 +53,8 @@ struct Trial {
 Trial run_trial(const std::string& kind, int index, double multiple, std::uint64_t seed = 7000) {
   ValidationOptions o;
   o.seed = seed;
-  o.draw_preloads = o.draw_sensor_offsets = false;  // the trials of the seeds below were drawn without preloads or sensor offsets
+  // The trials of the seeds below were drawn without preloads or sensor offsets.
+  o.draw_preloads = o.draw_sensor_offsets = false;
   o.min_floor_multiple = o.max_floor_multiple = multiple;
   o.min_pushes = 6;
   o.max_pushes = 6;
@@ -75,7 +76,8 @@ Trial run_trial(const std::string& kind, int index, double multiple, std::uint64
 Trial blind_trial(std::uint64_t seed, int index, const std::string& kind) {
   ValidationOptions o;
   o.seed = seed;
-  o.draw_preloads = o.draw_sensor_offsets = false;  // the trials of the seeds below were drawn without preloads or sensor offsets
+  // The trials of the seeds below were drawn without preloads or sensor offsets.
+  o.draw_preloads = o.draw_sensor_offsets = false;
   Trial t;
   t.result = diagnose(simulate_trial(draw_validation_trial(o, index, kind, t.trial)), EffectLibrary::standard(),
                       o.diagnosis);

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <random>
 
+#include "diagnosis_checks.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/diagnosis/validation.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
-#include "diagnosis_checks.hpp"
 #include "simulated_pushes.hpp"
 
 using namespace pushpred;

@@ -3,16 +3,16 @@
 // anisotropy's regressor is the derivative of elliptic Coulomb friction, checked against a finite difference of
 // the law itself.
 #define BOOST_TEST_MODULE diagnosis_support_effects
-#include <boost/test/unit_test.hpp>
 #include <Eigen/Geometry>
+#include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>
 
+#include "diagnosis_checks.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/support_effects.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
-#include "diagnosis_checks.hpp"
 #include "simulated_pushes.hpp"
 
 using namespace pushpred;
@@ -52,8 +52,8 @@ BOOST_AUTO_TEST_CASE(a_tilted_support_is_diagnosed_as_a_constant_downhill_force)
   log_result(r);
   const EffectReport& e = report(r, "support_tilt");
   BOOST_TEST(e.selected, findings_text(r));
-  const double force = ShapeTable::published().find("rect2").mass_kg * kStandardGravity_m_s2 *
-                       std::sin(alpha_deg * M_PI / 180);
+  const double force =
+      ShapeTable::published().find("rect2").mass_kg * kStandardGravity_m_s2 * std::sin(alpha_deg * M_PI / 180);
   check_near(e.theta(0), e.theta_std(0), force * std::cos(downhill), 0.15, "f_x [N]");
   check_near(e.theta(1), e.theta_std(1), force * std::sin(downhill), 0.15, "f_y [N]");
   check_held_out_error_drops(r);

@@ -216,7 +216,7 @@ BOOST_AUTO_TEST_CASE(support_tilt_adds_m_g_sin_alpha_against_an_uphill_push_and_
   const double mass = ShapeTable::published().find("rect2").mass_kg;
   PushScenario s = central_push(0.05);
   const double push_yaw = s.initial_yaw_rad - M_PI / 2;  // side 0 pushes along the body's -y
-  for (const double sign : {1.0, -1.0}) {  // +1: the push goes uphill (downhill opposite to it)
+  for (const double sign : {1.0, -1.0}) {                // +1: the push goes uphill (downhill opposite to it)
     s.support_tilt_direction_rad = sign > 0 ? push_yaw + M_PI : push_yaw;
     const double expected = mass * kG * (mu * std::cos(alpha) + sign * std::sin(alpha));
     BOOST_TEST(cruise_force(run(s, "support_tilt", alpha_deg)) == expected, boost::test_tools::tolerance(0.01));

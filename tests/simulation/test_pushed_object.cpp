@@ -1,7 +1,7 @@
 // The physics of the simulated object: Newton's laws with distributed Coulomb friction and a compliant rod.
 #define BOOST_TEST_MODULE simulation
-#include <boost/test/unit_test.hpp>
 #include <Eigen/Geometry>
+#include <boost/test/unit_test.hpp>
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
@@ -193,7 +193,8 @@ BOOST_AUTO_TEST_CASE(a_block_on_a_tilted_support_slides_down_at_g_sin_alpha_minu
   const Eigen::MatrixXd x = integrate(system, system.state_at_rest(Eigen::Vector3d(0, 0, 0.3)), times);
   const double a = kG * (std::sin(f.tilt_rad) - 0.1 * std::cos(f.tilt_rad));
   for (Eigen::Index k = 0; k < times.size(); ++k) {
-    const Eigen::Vector2d moved = x.row(k).head<2>().transpose() - system.state_at_rest(Eigen::Vector3d(0, 0, 0.3)).head<2>();
+    const Eigen::Vector2d moved =
+        x.row(k).head<2>().transpose() - system.state_at_rest(Eigen::Vector3d(0, 0, 0.3)).head<2>();
     BOOST_TEST(moved.dot(f.downhill) == 0.5 * a * times(k) * times(k), boost::test_tools::tolerance(1e-3));
     BOOST_TEST(std::abs(moved.dot(Eigen::Vector2d(-f.downhill.y(), f.downhill.x()))) < 1e-9);
     BOOST_TEST(x.row(k).segment<2>(3).dot(f.downhill) == a * times(k), boost::test_tools::tolerance(1e-3));

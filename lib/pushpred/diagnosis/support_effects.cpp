@@ -67,8 +67,8 @@ class AnisotropicFrictionEffect final : public ForceLawEffect {
   EffectFloor floor(const FloorContext& c) const override {
     if (!(c.friction_coefficient > 0)) return unknown_floor("the friction coefficient");
     return {c.relevance_fraction * c.friction_coefficient,
-            printed("%.0f %% of mu = %.3f (the friction along a body axis against the mean)", 100 * c.relevance_fraction,
-                    c.friction_coefficient)};
+            printed("%.0f %% of mu = %.3f (the friction along a body axis against the mean)",
+                    100 * c.relevance_fraction, c.friction_coefficient)};
   }
   Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext& c) const override {
     if (c.friction_coefficient > 0 && !(std::abs(theta(0)) < c.friction_coefficient))
@@ -90,16 +90,20 @@ Eigen::Vector3d anisotropic_friction_wrench(const Eigen::Vector3d& pose, const E
                                             const ShapeInfo& shape, const FrictionFootprint& footprint) {
   const double weight = shape.mass_kg * kStandardGravity_m_s2;
   const double c = std::cos(pose(2)), s = std::sin(pose(2));
-  const auto to_body = [&](const Eigen::Vector2d& w) { return Eigen::Vector2d(c * w.x() + s * w.y(), -s * w.x() + c * w.y()); };
-  const auto to_world = [&](const Eigen::Vector2d& b) { return Eigen::Vector2d(c * b.x() - s * b.y(), s * b.x() + c * b.y()); };
+  const auto to_body = [&](const Eigen::Vector2d& w) {
+    return Eigen::Vector2d(c * w.x() + s * w.y(), -s * w.x() + c * w.y());
+  };
+  const auto to_world = [&](const Eigen::Vector2d& b) {
+    return Eigen::Vector2d(c * b.x() - s * b.y(), s * b.x() + c * b.y());
+  };
   Eigen::Vector3d wrench = Eigen::Vector3d::Zero();
   const FrictionElements* el = footprint.elements();
   const std::size_t n = el ? el->share.size() : 1;
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d r = el ? to_world(el->centre_m[i]) : Eigen::Vector2d::Zero();
     const Eigen::Vector2d v = rigid_point_velocity(velocity.head<2>(), velocity(2), r);
-    const Eigen::Vector2d f = (el ? el->share[i] : 1.0) * weight *
-                              to_world(anisotropy_direction(to_body(v), kFrictionRegularisation_m_s));
+    const Eigen::Vector2d f =
+        (el ? el->share[i] : 1.0) * weight * to_world(anisotropy_direction(to_body(v), kFrictionRegularisation_m_s));
     wrench.head<2>() += f;
     wrench(2) += planar_moment(r, f);
   }

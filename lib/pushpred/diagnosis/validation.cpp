@@ -290,10 +290,10 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     // amount "at twice the floor" would be below the floor the diagnosis measures.
     trial.floor = measured_simulator_floor(kind, out, o.diagnosis, trial.shape);
     trial.floor_multiple = uniform(rng, o.min_floor_multiple, o.max_floor_multiple);
-    const double sign = kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch" ||
-                                kind == "anisotropic_friction"
-                            ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
-                            : 1.0;
+    const double sign =
+        kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch" || kind == "anisotropic_friction"
+            ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
+            : 1.0;
     // The simulator's amount for a size in the diagnosis's measure (|factor - 1| for the mass, |A - 1| for the
     // friction's anisotropy: the ratio (1 + a) / (1 - a) along the body axes or its inverse).
     const auto simulator_amount = [&](double size) {
@@ -364,7 +364,7 @@ double fitted_in_simulator_units(const EffectReport& e, const std::string& kind,
   if (kind == "position_friction") return kNaN;  // a step patch against a linear gradient: not comparable
   if (kind == "inertia_mismatch") return 1 + e.theta(0);
   if (kind == "support_tilt") return kNaN;  // a force [N] against a tilt [deg]: compared through the floor only
-  if (kind == "anisotropic_friction") {      // k = mu (r - 1) / (r + 1): the ratio r = (mu + k) / (mu - k)
+  if (kind == "anisotropic_friction") {     // k = mu (r - 1) / (r + 1): the ratio r = (mu + k) / (mu - k)
     return mu > std::abs(e.theta(0)) ? (mu + e.theta(0)) / (mu - e.theta(0)) : kNaN;
   }
   return e.theta(0);  // time_offset, viscous_friction, com_offset (delta_x)

@@ -70,12 +70,11 @@ BatchRunOutcome write_validation_outputs(const ValidationResult& r, StagedOutput
          << "; corrected below the paper: " << s.after_below_paper << " / " << s.compared
          << ", below const_velocity: " << s.after_below_const_velocity << " / " << s.compared << "\n";
   if (s.hidden_trials_at_twice_floor > 0 || s.clean_adequacy_tested > 0)
-    report << "hidden kinds at >= 2 floors: unexplained " << s.hidden_unexplained << " / "
-           << s.hidden_adequacy_tested << " tested (" << s.hidden_trials_at_twice_floor << " trials), no kind named "
-           << s.hidden_none_named << " / " << s.hidden_trials_at_twice_floor << "; clean explained "
-           << s.clean_explained << " / " << s.clean_adequacy_tested << " tested\n";
-  report
-         << "report in " << out.destination().string() << "/validation.md\n";
+    report << "hidden kinds at >= 2 floors: unexplained " << s.hidden_unexplained << " / " << s.hidden_adequacy_tested
+           << " tested (" << s.hidden_trials_at_twice_floor << " trials), no kind named " << s.hidden_none_named
+           << " / " << s.hidden_trials_at_twice_floor << "; clean explained " << s.clean_explained << " / "
+           << s.clean_adequacy_tested << " tested\n";
+  report << "report in " << out.destination().string() << "/validation.md\n";
   BatchRunOutcome outcome;
   outcome.report = report.str();
   if (s.failed > 0) outcome.notes = std::to_string(s.failed) + " trial(s) could not be diagnosed (listed in validation.md)\n";
@@ -126,8 +125,8 @@ nlohmann::json validation_trial_exact_json(const ValidationTrial& t) {
           {"preloaded_pushes", t.preloaded_pushes},
           {"adequacy_tested", t.adequacy_tested},
           {"explained", t.explained},
-          {"errors", held_out_errors_exact_json(
-                         {&t.before, &t.base, &t.after, &t.hold, &t.const_velocity, &t.quasi_static})},
+          {"errors",
+           held_out_errors_exact_json({&t.before, &t.base, &t.after, &t.hold, &t.const_velocity, &t.quasi_static})},
           {"failure", t.failure}};
 }
 

@@ -141,10 +141,11 @@ std::string validation_markdown(const ValidationResult& r) {
           s.hidden_trials_at_twice_floor, 0.9);
     }
     row("clean trials: \"explained\" (>= 95 %)", s.clean_explained, s.clean_adequacy_tested, 0.95);
-    const int untested = (s.hidden_trials_at_twice_floor - s.hidden_adequacy_tested) +
-                         (s.clean_trials - s.clean_adequacy_tested);
+    const int untested =
+        (s.hidden_trials_at_twice_floor - s.hidden_adequacy_tested) + (s.clean_trials - s.clean_adequacy_tested);
     if (untested > 0)
-      md << "\n" << untested << " trial(s) of these carry no adequacy verdict: the diagnosis did not test the model's "
+      md << "\n"
+         << untested << " trial(s) of these carry no adequacy verdict: the diagnosis did not test the model's "
          << "adequacy there.\n";
   }
 

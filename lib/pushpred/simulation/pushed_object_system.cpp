@@ -163,7 +163,8 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
   const bool patch = support_.patch_excess != 0;
   const double vs2 = support_.stribeck_speed_m_s * support_.stribeck_speed_m_s;
   // In the body frame, about the mass centre: each element's mu (Stribeck rise, patch) times its load.
-  const auto sliding_force_N = [&](std::size_t i, const Eigen::Vector2d& r, double speed2) {
+  const auto sliding_force_N =
+      [&](std::size_t i, const Eigen::Vector2d& r, double speed2) {
         double mu = support_.coefficient;
         if (stribeck) mu *= 1 + support_.stribeck_excess * std::exp(-speed2 / vs2);
         if (patch) {
@@ -176,12 +177,11 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
         }
         return mu * load_[i];
       };
-  const Eigen::Vector3d body =
-      support_.anisotropy == 1
-          ? footprint_friction_wrench(
-                load_.size(), [&](std::size_t i) { return element_from_mass_centre_[i]; }, v_body, omega,
-                support_.regularisation_m_s, sliding_force_N)
-          : anisotropic_friction_wrench(v_body, omega, sliding_force_N);
+  const Eigen::Vector3d body = support_.anisotropy == 1
+                                   ? footprint_friction_wrench(
+                                         load_.size(), [&](std::size_t i) { return element_from_mass_centre_[i]; },
+                                         v_body, omega, support_.regularisation_m_s, sliding_force_N)
+                                   : anisotropic_friction_wrench(v_body, omega, sliding_force_N);
   PlanarWrench w;
   w.force_N = R * body.head<2>();
   w.torque_Nm = body(2);

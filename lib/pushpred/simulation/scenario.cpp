@@ -103,8 +103,9 @@ void Effects::set(const std::string& name, double amount) {
     require(amount > 0, where + "the mass and inertia factor must be positive");
     inertia_factor = amount;
   } else if (name == "support_tilt") {
-    require(amount >= 0 && amount <= 20, where + "the support's tilt must be in [0, 20] degrees (the direction is "
-                                                 "support_tilt_direction_rad)");
+    require(amount >= 0 && amount <= 20, where +
+                                             "the support's tilt must be in [0, 20] degrees (the direction is "
+                                             "support_tilt_direction_rad)");
     support_tilt_deg = amount;
   } else if (name == "anisotropic_friction") {
     require(amount >= 0.2 && amount <= 5, where + "the friction ratio along the body axes must be in [0.2, 5]");
@@ -191,12 +192,30 @@ void PushScenario::validate() const {
 }
 
 PushScenario scenario_from_json(const nlohmann::json& j, const std::string& source) {
-  static const std::set<std::string> known = {
-      "name",           "comment",           "shape",         "surface",       "surface_friction", "contact_friction",
-      "contact_stiffness_N_m", "pressure_rim_weight",
-      "speed_m_s",      "acceleration_m_s2", "push_length_m", "ramp_s",        "contact_side",     "contact_position",
-      "push_angle_rad", "approach_gap_m",    "support_tilt_direction_rad", "initial_pose",  "rest_before_s", "rest_after_s",     "start_unix_s",
-      "seed",           "effects",           "sensors"};
+  static const std::set<std::string> known = {"name",
+                                              "comment",
+                                              "shape",
+                                              "surface",
+                                              "surface_friction",
+                                              "contact_friction",
+                                              "contact_stiffness_N_m",
+                                              "pressure_rim_weight",
+                                              "speed_m_s",
+                                              "acceleration_m_s2",
+                                              "push_length_m",
+                                              "ramp_s",
+                                              "contact_side",
+                                              "contact_position",
+                                              "push_angle_rad",
+                                              "approach_gap_m",
+                                              "support_tilt_direction_rad",
+                                              "initial_pose",
+                                              "rest_before_s",
+                                              "rest_after_s",
+                                              "start_unix_s",
+                                              "seed",
+                                              "effects",
+                                              "sensors"};
   try {
     require(j.is_object(), "a scenario must be a JSON object");
     for (const auto& [key, value] : j.items()) {

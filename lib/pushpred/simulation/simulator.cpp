@@ -263,8 +263,8 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
   rec.push = scenario.push_parameters();
   const double unix0 = scenario.start_unix_s;
   rec.object_pose = object_pose_stream(sim, instants, draws, unix0);
-  rec.ft_wrench = ft_wrench_stream(sim, rod_torque, instants, draws, fx.force_offset_N,
-                                  scenario.sensors.push_offset_N, unix0);
+  rec.ft_wrench =
+      ft_wrench_stream(sim, rod_torque, instants, draws, fx.force_offset_N, scenario.sensors.push_offset_N, unix0);
   rec.tip_pose = tip_pose_stream(path, draws, unix0);
   return sim;
 }
