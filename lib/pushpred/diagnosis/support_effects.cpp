@@ -5,7 +5,6 @@
 #include <limits>
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
-#include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
@@ -52,14 +51,6 @@ class SupportTiltEffect final : public ForceLawEffect {
   }
   Eigen::Vector3d unit_force(int j, double, const EffectState&, const ShapeInfo&) const override {
     return j == 0 ? Eigen::Vector3d(1, 0, 0) : Eigen::Vector3d(0, 1, 0);
-  }
-  /// Only the pushes whose sensor zero is measured (their rod rests clear of the object) carry evidence: on a push
-  /// that starts pressed, a constant force is that push's own unknown zero as much as a tilt.
-  std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double setting) const override {
-    std::vector<Eigen::MatrixX3d> columns = ForceLawEffect::regressors(push, setting);
-    if (samples_without_contact(push.push).size() < 5)
-      for (auto& c : columns) c.setZero();
-    return columns;
   }
 };
 

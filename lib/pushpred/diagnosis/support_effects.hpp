@@ -5,9 +5,7 @@
 // - support_tilt [N] (f_x, f_y, world frame): a support that is not level pulls the mass centre downhill with the
 //   constant force m g sin(alpha) (the normal load m g cos(alpha) differs from m g by under 0.1 % below 2.5
 //   degrees, and is left to mu). Regressor: the unit force along each world axis, acting at the tracked centre.
-//   Tested against the friction law (a constant force is a free relation's intercept), on the pushes whose sensor
-//   zero is measured only (samples_without_contact): on a push that starts pressed a constant force is as much that
-//   push's own zero error. Floor: kappa mu m g on |f|,
+//   Tested against the friction law (a constant force is a free relation's intercept). Floor: kappa mu m g on |f|,
 //   the yardstick of every force; plausible while |f| < mu m g (the object rests on the support before the push).
 //   Reported with the tilt asin(|f| / m g) [deg] and its downhill direction [deg from the robot's x axis].
 // - anisotropic_friction [-] (k): the support's friction depends on the sliding direction in the body frame:
