@@ -130,12 +130,10 @@ constexpr double kMaxAnisotropy = 0.6;
 /// The largest drawn pusher compliance [m/N] (the simulator's range).
 constexpr double kMaxCompliance_m_N = 0.01;
 
-/// Floors of the simulator's effects on the diagnosis's yardstick (validation.hpp), in the simulator's units, for
-/// the kinds the standard catalogue has no candidate for.
+/// The floor of a simulator effect the standard catalogue has no candidate for, on the diagnosis's yardstick
+/// (validation.hpp), in the simulator's units.
 double yardstick_floor(const std::string& kind, const FloorContext& c, const std::string& shape_name) {
   const double kappa = c.relevance_fraction, mu = c.friction_coefficient;
-  if (kind == "support_tilt") return std::asin(std::min(1.0, kappa * mu)) * 180 / M_PI;  // [deg]
-  if (kind == "anisotropic_friction") return kappa;  // |A - 1|; the ratio is (1 + a) / (1 - a) or its inverse
   if (kind == "compliant_pusher") {
     const double mass = c.mass_kg > 0 ? c.mass_kg : ShapeTable::published().find(shape_name).mass_kg;
     const double travel = c.travel_m > 0 ? c.travel_m : 0.04;
