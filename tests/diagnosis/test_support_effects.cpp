@@ -48,7 +48,7 @@ BOOST_AUTO_TEST_CASE(a_tilted_support_is_diagnosed_as_a_constant_downhill_force)
   const double alpha_deg = 3, downhill = 0.7;
   auto scenarios = draw_scenarios(rng, 6, {{"support_tilt", alpha_deg}});
   for (auto& s : scenarios) s.support_tilt_direction_rad = downhill;
-  const DiagnosisResult r = diagnose(simulate_all(scenarios), EffectLibrary::standard(), fast_options());
+  const DiagnosisResult r = diagnose(simulate_all(scenarios), library_with_support_effects(), fast_options());
   log_result(r);
   const EffectReport& e = report(r, "support_tilt");
   BOOST_TEST(e.selected, findings_text(r));
@@ -63,7 +63,7 @@ BOOST_AUTO_TEST_CASE(friction_that_depends_on_the_body_direction_is_diagnosed_as
   std::mt19937_64 rng(42);
   const double ratio = 1.4, mu = 0.47;
   const auto pushes = simulate_all(draw_scenarios(rng, 6, {{"anisotropic_friction", ratio}}));
-  const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
+  const DiagnosisResult r = diagnose(pushes, library_with_support_effects(), fast_options());
   log_result(r);
   const EffectReport& e = report(r, "anisotropic_friction");
   BOOST_TEST(e.selected, findings_text(r));

@@ -16,15 +16,16 @@ BOOST_AUTO_TEST_SUITE(validation_honesty)
 
 BOOST_AUTO_TEST_CASE(a_hidden_kind_is_drawn_but_not_a_candidate) {
   ValidationOptions o;
-  o.hide = {"support_tilt"};
+  o.hide = {"time_offset"};
   const auto kinds = validation_kinds(o);
-  BOOST_TEST(kinds == (std::vector<std::string>{"none", "support_tilt"}), boost::test_tools::per_element());
+  BOOST_TEST(kinds == (std::vector<std::string>{"none", "time_offset"}), boost::test_tools::per_element());
   const EffectLibrary library = validation_library(o);
-  BOOST_TEST(!library.find("support_tilt"));
+  BOOST_TEST(!library.find("time_offset"));
   BOOST_TEST(library.kinds().size() + 1 == EffectLibrary::standard().kinds().size());
-  // A simulator effect without a candidate is never drawn by default, only when asked for.
+  // A simulator effect without a standard candidate is never drawn by default, only when asked for.
   const auto defaults = default_validation_kinds();
-  BOOST_TEST((std::find(defaults.begin(), defaults.end(), "compliant_pusher") == defaults.end()));
+  for (const char* kind : {"compliant_pusher", "support_tilt", "anisotropic_friction"})
+    BOOST_TEST((std::find(defaults.begin(), defaults.end(), kind) == defaults.end()), kind);
   o.hide = {"bogus"};
   BOOST_CHECK_THROW(o.validate(), InputError);
 }
@@ -38,7 +39,8 @@ BOOST_AUTO_TEST_CASE(a_compliant_pusher_floor_is_a_lag_of_kappa_of_the_travel_un
   // c mu m g = kappa L: c = 0.05 x 0.04 / (0.4 x 9.81) m/N.
   BOOST_TEST(simulator_floor("compliant_pusher", c, "rect2") == 0.05 * 0.04 / (0.4 * kStandardGravity_m_s2),
              boost::test_tools::tolerance(1e-12));
-  // The candidates' floors in the simulator's units: the tilt whose m g sin(alpha) is kappa mu m g.
+  // The support's effects on the same yardstick: the tilt whose m g sin(alpha) is kappa mu m g, the anisotropy whose
+  // friction along a body axis differs from mu by kappa mu.
   const double mass = ShapeTable::published().find("rect2").mass_kg;
   c.mass_kg = mass;
   BOOST_TEST(simulator_floor("support_tilt", c, "rect2") == std::asin(0.05 * 0.4) * 180 / M_PI,

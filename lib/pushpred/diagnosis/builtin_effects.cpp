@@ -13,7 +13,6 @@
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/diagnosis/residual_regression.hpp"
-#include "pushpred/diagnosis/support_effects.hpp"
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
 
@@ -784,8 +783,6 @@ EffectLibrary EffectLibrary::standard() {
   library.register_effect(make_position_friction_effect());
   library.register_effect(make_com_offset_effect());
   library.register_effect(make_inertia_mismatch_effect());
-  library.register_effect(make_support_tilt_effect());
-  library.register_effect(make_anisotropic_friction_effect());
   library.register_effect(make_coulomb_friction_effect());
   library.register_effect(make_friction_torque_effect());
   library.register_effect(make_initial_velocity_effect());

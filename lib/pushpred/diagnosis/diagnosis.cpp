@@ -9,7 +9,6 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis_run.hpp"
-#include "pushpred/diagnosis/sensor_zero.hpp"
 
 namespace pushpred {
 
@@ -49,17 +48,8 @@ ErrorSummary summarise_errors(const std::vector<StudyPhase>& phases, const std::
 
 DiagnosisResult diagnose(const std::vector<SynchronisedPush>& pushes, const EffectLibrary& library,
                          const DiagnosisOptions& options) {
-  const SensorZeros zeros = equalise_sensor_zeros(pushes);
-  DiagnosisRun run(zeros.pushes, library, options);
-  DiagnosisResult result = run.run();
-  char line[200];
-  std::snprintf(line, sizeof line,
-                "sensor zero: measured on %d of %zu pushes (rod clear of the object at rest), spread %.3f / %.3f N "
-                "(fx / fy) about their mean, removed push by push after the rest: %s / %s",
-                zeros.measured, pushes.size(), zeros.spread_N.x(), zeros.spread_N.y(), zeros.removed(0) ? "yes" : "no",
-                zeros.removed(1) ? "yes" : "no");
-  result.log.insert(result.log.begin(), line);
-  return result;
+  DiagnosisRun run(pushes, library, options);
+  return run.run();
 }
 
 }  // namespace pushpred

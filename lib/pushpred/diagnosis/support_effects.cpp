@@ -110,6 +110,13 @@ Eigen::Vector3d anisotropic_friction_wrench(const Eigen::Vector3d& pose, const E
   return wrench;
 }
 
+EffectLibrary library_with_support_effects() {
+  EffectLibrary library = EffectLibrary::standard();
+  library.register_effect(make_support_tilt_effect());
+  library.register_effect(make_anisotropic_friction_effect());
+  return library;
+}
+
 std::unique_ptr<ForceLawEffect> make_support_tilt_effect() { return std::make_unique<SupportTiltEffect>(); }
 std::unique_ptr<ForceLawEffect> make_anisotropic_friction_effect() {
   return std::make_unique<AnisotropicFrictionEffect>();

@@ -1,6 +1,11 @@
 #pragma once
-// Candidate effects of the support itself (EffectLibrary::standard() registers them; formulas as in
-// builtin_effects.hpp, m the shape table's mass, g = 9.81 m/s^2, mu the base model's Coulomb coefficient).
+// Candidate effects of the support itself, for a user to register (formulas as in builtin_effects.hpp, m the shape
+// table's mass, g = 9.81 m/s^2, mu the base model's Coulomb coefficient). EffectLibrary::standard() does not hold
+// them: on the real ABS pushes both were found on hex and ellip3, and the tilt's constant force made hex's held-out
+// prediction worse (0.39 -> 5.04 mm; docs/diagnosis.md), and in the blind validation with the real sensor's
+// per-push offsets the tilt takes up the zeros of pushes that start pressed.
+//
+// `library_with_support_effects()` is the standard library with both.
 //
 // - support_tilt [N] (f_x, f_y, world frame): a support that is not level pulls the mass centre downhill with the
 //   constant force m g sin(alpha) (the normal load m g cos(alpha) differs from m g by under 0.1 % below 2.5
@@ -23,6 +28,8 @@ namespace pushpred {
 
 std::unique_ptr<ForceLawEffect> make_support_tilt_effect();
 std::unique_ptr<ForceLawEffect> make_anisotropic_friction_effect();
+/// EffectLibrary::standard() with support_tilt and anisotropic_friction registered.
+EffectLibrary library_with_support_effects();
 
 /// The anisotropy's unit wrench [f_x, f_y [N], torque about the tracked centre [N m]] (world) at `pose` and
 /// `velocity` for unit k (multiply by k): each element's friction direction's derivative in k, regularised over

@@ -12,7 +12,6 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_run.hpp"
-#include "pushpred/diagnosis/sensor_zero.hpp"
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
@@ -134,6 +133,8 @@ constexpr double kMaxCompliance_m_N = 0.01;
 /// (validation.hpp), in the simulator's units.
 double yardstick_floor(const std::string& kind, const FloorContext& c, const std::string& shape_name) {
   const double kappa = c.relevance_fraction, mu = c.friction_coefficient;
+  if (kind == "support_tilt") return std::asin(std::min(1.0, kappa * mu)) * 180 / M_PI;  // [deg]
+  if (kind == "anisotropic_friction") return kappa;  // |A - 1|; the ratio is (1 + a) / (1 - a) or its inverse
   if (kind == "compliant_pusher") {
     const double mass = c.mass_kg > 0 ? c.mass_kg : ShapeTable::published().find(shape_name).mass_kg;
     const double travel = c.travel_m > 0 ? c.travel_m : 0.04;
@@ -165,7 +166,7 @@ double simulator_floor(const std::string& kind, const FloorContext& c, const std
 }
 
 FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options) {
-  DiagnosisRun run(equalise_sensor_zeros(pushes).pushes, EffectLibrary::standard(), options);
+  DiagnosisRun run(pushes, EffectLibrary::standard(), options);
   run.paper_method();
   run.friction_base();
   return run.result().floor_context;

@@ -12,16 +12,18 @@
 //
 // Honesty (`hide`): a hidden kind is simulated but left out of the diagnosis's catalogue, as are the simulator's
 // effects that have no candidate at all (compliant_pusher): the diagnosis should then say "unexplained residual"
-// and name no other kind. A kind without a candidate has a floor on the same yardstick (simulator_floor): the
-// pusher compliance whose lag under the friction force, c mu m g, is kappa of the pushes' mean travel.
+// and name no other kind. A kind without a candidate in the standard catalogue has a floor on the same yardstick
+// (simulator_floor): the support's tilt whose downhill force m g sin(alpha) is kappa of the friction force mu m g
+// (the support_tilt candidate's floor), the anisotropy whose friction along a body axis differs from the mean by
+// kappa of it, |A - 1| = |r - 1| / (r + 1) = kappa (anisotropic_friction's), the pusher compliance whose lag under
+// the friction force, c mu m g, is kappa of the pushes' mean travel.
 //
 // The floor of a trial's effect is the candidate's own floor (candidate_effect.hpp) evaluated on the FloorContext
 // the diagnosis measures on the trial's pushes simulated without the effect (measured_simulator_floor: the floor
 // the diagnosis itself would state there), then put into the simulator's units
 // (simulation/scenario.hpp): the force offset's sim amount is per axis (|b| = sqrt 2 x amount), Stribeck's is
-// relative to mu, the friction patch's relative excess is the one whose friction gradient along the pushes'
-// travel (patch_gradient_per_excess) is the position_friction candidate's floor, the tilt is asin(|f| / m g) of the
-// candidate's force, and the anisotropy's ratio r has |r - 1| / (r + 1) = k / mu of the candidate's k.
+// relative to mu, and the friction patch's relative excess is the one whose friction gradient along the pushes'
+// travel (patch_gradient_per_excess) is the position_friction candidate's floor.
 #include <cstdint>
 #include <functional>
 #include <string>
