@@ -1,9 +1,8 @@
 #pragma once
 // Candidate effects of the support itself, for a user to register (formulas as in builtin_effects.hpp, m the shape
 // table's mass, g = 9.81 m/s^2, mu the base model's Coulomb coefficient). EffectLibrary::standard() does not hold
-// them: on the real ABS pushes both were found on hex and ellip3, and the tilt's constant force made hex's held-out
-// prediction worse (0.39 -> 5.04 mm; docs/diagnosis.md), and in the blind validation with the real sensor's
-// per-push offsets the tilt takes up the zeros of pushes that start pressed.
+// them: on the real ellip3 pushes both are found without predicting better (docs/diagnosis.md), and a constant
+// world-frame force is also what a pressed push's own, unmeasurable sensor zero looks like.
 //
 // `library_with_support_effects()` is the standard library with both.
 //
