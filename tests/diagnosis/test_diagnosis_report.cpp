@@ -156,13 +156,39 @@ BOOST_AUTO_TEST_CASE(the_overview_lists_every_object_and_the_ones_not_diagnosed)
   groups.push_back({"rect1_on_abs", 2, std::nullopt, "no usable push"});
   const std::string md = diagnosis_overview_markdown(groups);
   // before, base (not set here: zero), after
-  BOOST_TEST(md.find("[hex_on_abs](hex_on_abs/report.md) | 4 | 3 | time_offset | 5.00 / 0.00 | 0.00 / 0.00 | 1.00 / 0.50") !=
-                 std::string::npos,
-             md);
+  BOOST_TEST(
+      md.find("[hex_on_abs](hex_on_abs/report.md) | 4 | 3 | time_offset | not tested | 5.00 / 0.00 | 0.00 / 0.00 | "
+              "1.00 / 0.50") != std::string::npos,
+      md);
   BOOST_TEST(md.find("rect1_on_abs (2 pushes): no usable push") != std::string::npos, md);
   const nlohmann::json j = diagnosis_overview_json(groups);
   BOOST_TEST(j["objects"][0]["after_beats_both_references"].get<bool>());
   BOOST_TEST(j["objects"][1]["error"].get<std::string>() == "no usable push");
+}
+
+BOOST_AUTO_TEST_CASE(nothing_found_is_said_only_with_an_explained_residual) {
+  DiagnosisResult r = made_up_result();
+  r.effects[0].selected = false;
+  r.adequacy.tested = true;
+  r.adequacy.explained = true;
+  BOOST_TEST(findings_text(r).rfind("nothing found, residual explained", 0) == 0u, findings_text(r));
+  BOOST_TEST(hints_json(r).empty());
+  // An unexplained residual with nothing found: the headline gives its size and never says "nothing found".
+  r.adequacy.explained = false;
+  r.adequacy.force_unexplained = true;
+  r.adequacy.force_N = 0.8;
+  r.adequacy.torque_Nm = 0.01;
+  r.hints = {{"world_force", "a constant force in the world frame", 0.4, 0.8}};
+  const std::string text = findings_text(r);
+  BOOST_TEST(text.rfind("unexplained residual: 0.8 N and 0.01 N m", 0) == 0u, text);
+  BOOST_TEST(text.find("nothing found") == std::string::npos, text);
+  BOOST_TEST(
+      diagnosis_summary_text(r).find("hint (not a finding): world_force: 40.0 % of the residual") != std::string::npos,
+      diagnosis_summary_text(r));
+  const nlohmann::json j = diagnosis_json(r, DiagnosisOptions{});
+  BOOST_TEST(!j["adequacy"]["explained"].get<bool>());
+  BOOST_TEST(j["hints"][0]["signature"].get<std::string>() == "world_force");
+  BOOST_TEST(diagnosis_markdown(r, DiagnosisOptions{}, {}, "").find("## Model adequacy") != std::string::npos);
 }
 
 BOOST_AUTO_TEST_CASE(the_report_traces_the_phases_where_the_corrected_model_loses) {

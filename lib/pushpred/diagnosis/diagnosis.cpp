@@ -21,6 +21,9 @@ void DiagnosisOptions::validate() const {
     throw InputError("diagnosis: the relevance fraction must be between 0 and 1");
   if (!(floor_margin_std >= 0) || !std::isfinite(floor_margin_std))
     throw InputError("diagnosis: the floor margin must be a non-negative number of standard errors");
+  if (adequacy_replicates < 0) throw InputError("diagnosis: the number of adequacy replicates must not be negative");
+  if (!(adequacy_alpha > 0) || !(adequacy_alpha < 1))
+    throw InputError("diagnosis: the adequacy test's level must be between 0 and 1");
   if (study.correction) throw InputError("diagnosis: the study options must not carry a correction of their own");
 }
 

@@ -30,6 +30,10 @@
 // 6. Test phases: the paper's `dob`, the base model, the base model plus the found effects (`corrected`), `hold`
 //    and `const_velocity`; for each found effect, the corrected model without it (its held-out contribution,
 //    reported, never used to decide).
+// 7. Model adequacy (model_adequacy.hpp): whether the corrected model still leaves structure in the fit pushes'
+//    force residual or in their prediction error that noise and parameter uncertainty do not explain, significant
+//    and above a floor; when it does, generic signatures are ranked as hints. "Nothing found" is said only with
+//    "explained".
 #include <Eigen/Core>
 #include <limits>
 #include <string>
@@ -37,6 +41,7 @@
 
 #include "pushpred/core/batch.hpp"
 #include "pushpred/diagnosis/candidate_effect.hpp"
+#include "pushpred/diagnosis/model_adequacy.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/prediction/prediction_study.hpp"
 
@@ -57,6 +62,10 @@ struct DiagnosisOptions {
   /// Step 5: fit the base model's settings (the quasi-static stop fraction) on the fit phases; off: each part's
   /// middle setting (faster, for tests and quick looks).
   bool fit_base_settings = true;
+  /// Step 7: the model-adequacy test (model_adequacy.hpp) with this many bootstrap replicates at level
+  /// adequacy_alpha; 0 replicates: not tested.
+  int adequacy_replicates = 199;
+  double adequacy_alpha = 0.01;
   void validate() const;
 };
 
@@ -140,6 +149,11 @@ struct DiagnosisResult {
   /// The same on the fit pushes' phases (in-sample), for comparison.
   ErrorSummary fit_before, fit_after, fit_hold, fit_const_velocity;
   FloorContext floor_context;  ///< what the floors were derived from
+  /// Whether the corrected model leaves structure that noise and parameter uncertainty do not explain.
+  ModelAdequacy adequacy;
+  /// Generic signatures ranked by the share of the residual they account for: hints where to look when the residual
+  /// is unexplained, not findings (empty when the force residual was not tested).
+  std::vector<ResidualHint> hints;
   /// A step that failed (diagnosis_run.hpp) and why; the diagnosis went on without what it would have given.
   struct StepFailure {
     std::string step, what;

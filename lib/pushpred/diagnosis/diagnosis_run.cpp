@@ -39,10 +39,10 @@ std::string negligible_note(const EffectReport& r, double margin_std, const std:
 
 DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const EffectLibrary& library,
                            const DiagnosisOptions& o)
-    : library_(library), o_(o) {
+    : library_(library), options_(o) {
   o.validate();
   // The methods the diagnosis compares; the quasi-static pushing model only on the test phases (held_out).
-  o_.study.methods = {"dob", "dob_velinit", "hold", "const_velocity"};
+  options_.study.methods = {"dob", "dob_velinit", "hold", "const_velocity"};
   const auto& effects = library_.effects();
   result_.effects.resize(effects.size());
   for (std::size_t i = 0; i < effects.size(); ++i) {
@@ -65,7 +65,7 @@ DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const Eff
       continue;
     }
     try {
-      split_into_intervals(p, o_.study.schedule);
+      split_into_intervals(p, options_.study.schedule);
       usable.push_back(p);
     } catch (const std::exception& e) {
       result_.failures.push_back({p.source, e.what()});
@@ -90,18 +90,18 @@ DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const Eff
   std::sort(usable.begin(), usable.end(), [](const auto& a, const auto& b) { return a.source < b.source; });
   result_.shape = usable.front().shape.name;
   result_.surface = usable.front().push.surface;
-  single_ = usable.size() == 1;
-  if (single_) {
-    fit_raw_ = usable;
-    test_raw_ = usable;
-    const auto intervals = split_into_intervals(usable.front(), o_.study.schedule);
+  single_push_ = usable.size() == 1;
+  if (single_push_) {
+    fit_pushes_ = usable;
+    test_pushes_ = usable;
+    const auto intervals = split_into_intervals(usable.front(), options_.study.schedule);
     if (intervals.size() < 3)
       throw InputError("diagnosis: one push needs at least 3 intervals (fit on all but the last, test on the last)");
     fit_end_s_.push_back(intervals.back().t0_s);
     result_.held_out = "one push: fitted on all intervals but the last; tested on the last prediction phase";
   } else {
     for (std::size_t k = 0; k < usable.size(); ++k) {
-      (k % 2 == 0 ? fit_raw_ : test_raw_).push_back(usable[k]);
+      (k % 2 == 0 ? fit_pushes_ : test_pushes_).push_back(usable[k]);
       if (k % 2 == 0) fit_end_s_.push_back(usable[k].duration_s());
     }
     result_.held_out = "alternate pushes (sorted by name): the 1st, 3rd, ... fit; the 2nd, 4th, ... test";
@@ -116,8 +116,8 @@ DiagnosisRun::DiagnosisRun(const std::vector<SynchronisedPush>& input, const Eff
                       std::to_string(validated.max_pushes) +
                       " per object the diagnosis was validated on: with fewer pushes it names effects on clean data "
                       "more often (docs/diagnosis.md, \"Few pushes\"); take what is found as tentative";
-  for (const auto& p : fit_raw_) result_.fit_sources.push_back(p.source);
-  for (const auto& p : test_raw_) result_.test_sources.push_back(p.source);
+  for (const auto& p : fit_pushes_) result_.fit_sources.push_back(p.source);
+  for (const auto& p : test_pushes_) result_.test_sources.push_back(p.source);
 }
 
 void DiagnosisRun::fail(const std::string& step, const std::string& what) {
@@ -128,22 +128,22 @@ void DiagnosisRun::fail(const std::string& step, const std::string& what) {
 bool DiagnosisRun::is_base(std::size_t candidate) const { return library_.effects()[candidate]->in_base_model(); }
 
 void DiagnosisRun::rebuild_data(const ModelCorrection& c) {
-  data_.clear();
-  for (std::size_t p = 0; p < fit_raw_.size(); ++p) {
-    const SynchronisedPush corrected = apply_data_correction(fit_raw_[p], c);
-    QFilterObserverOptions obs = o_.observer;
+  fit_data_.clear();
+  for (std::size_t p = 0; p < fit_pushes_.size(); ++p) {
+    const SynchronisedPush corrected = apply_data_correction(fit_pushes_[p], c);
+    QFilterObserverOptions obs = options_.observer;
     obs.mass_kg = 0;  // from the corrected shape
     obs.inertia_kgm2 = 0;
-    data_.push_back(prepare_diagnosis_push(corrected, 0.0, fit_end_s_[p], obs));
+    fit_data_.push_back(prepare_diagnosis_push(corrected, 0.0, fit_end_s_[p], obs));
   }
 }
 
 EffectColumns DiagnosisRun::columns(std::size_t candidate, double setting) const {
   const auto& effect = library_.effects()[candidate];
   const std::size_t k = effect->parameters().size();
-  EffectColumns out(k, std::vector<Eigen::MatrixX3d>(data_.size()));
-  for (std::size_t p = 0; p < data_.size(); ++p) {
-    std::vector<Eigen::MatrixX3d> r = effect->regressors(data_[p], setting);
+  EffectColumns out(k, std::vector<Eigen::MatrixX3d>(fit_data_.size()));
+  for (std::size_t p = 0; p < fit_data_.size(); ++p) {
+    std::vector<Eigen::MatrixX3d> r = effect->regressors(fit_data_[p], setting);
     if (r.size() != k)
       throw InputError("effect " + effect->kind() + ": regressors() gave " + std::to_string(r.size()) +
                        " columns for " + std::to_string(k) + " parameters");
@@ -164,8 +164,8 @@ ModelCorrection DiagnosisRun::correction_of(const std::vector<Selection>& select
 
 std::vector<PushStudy> DiagnosisRun::studies(const std::vector<const SynchronisedPush*>& pushes,
                                              const ModelCorrection& correction) const {
-  StudyOptions so = o_.study;
-  so.correction = std::make_shared<CorrectedPrediction>(correction, o_.observer);
+  StudyOptions so = options_.study;
+  so.correction = std::make_shared<CorrectedPrediction>(correction, options_.observer);
   std::vector<PushStudy> out;
   for (const auto* p : pushes) {
     try {
@@ -180,7 +180,7 @@ std::vector<PushStudy> DiagnosisRun::studies(const std::vector<const Synchronise
 std::vector<StudyPhase> DiagnosisRun::fit_phases(const std::vector<PushStudy>& s) const {
   std::vector<StudyPhase> out;
   for (const auto& study : s) {
-    const std::size_t n = single_ ? study.phases.size() - 1 : study.phases.size();
+    const std::size_t n = single_push_ ? study.phases.size() - 1 : study.phases.size();
     for (std::size_t k = 0; k < n; ++k) out.push_back({&study, k});
   }
   return out;
@@ -189,7 +189,7 @@ std::vector<StudyPhase> DiagnosisRun::fit_phases(const std::vector<PushStudy>& s
 std::vector<StudyPhase> DiagnosisRun::test_phases(const std::vector<PushStudy>& s) const {
   std::vector<StudyPhase> out;
   for (const auto& study : s) {
-    if (single_) {
+    if (single_push_) {
       out.push_back({&study, study.phases.size() - 1});
     } else {
       for (std::size_t k = 0; k < study.phases.size(); ++k) out.push_back({&study, k});
@@ -202,7 +202,7 @@ std::vector<double> DiagnosisRun::normalised(const std::vector<StudyPhase>& phas
   std::vector<double> out;
   for (const auto& sp : phases) {
     const ErrorSummary e = summarise_errors({sp}, method);
-    out.push_back(e.pos_mm_mean / hold_pos_ + e.theta_deg_mean / hold_theta_);
+    out.push_back(e.pos_mm_mean / hold_position_mm_ + e.theta_deg_mean / hold_yaw_deg_);
   }
   return out;
 }
@@ -224,7 +224,7 @@ RegressionFit DiagnosisRun::fit_selected(const std::vector<Selection>& selected,
   }
   std::vector<const EffectColumns*> pointers;
   for (const auto& c : storage) pointers.push_back(&c);
-  const ResidualRegression regression(data_, group);
+  const ResidualRegression regression(fit_data_, group);
   return regression.fit(pointers, extra);
 }
 
@@ -234,7 +234,7 @@ bool DiagnosisRun::above_floor(std::size_t i, const Selection& s) {
   r.amount = effect->amount(s.total);
   r.amount_std = amount_standard_error(*effect, s.total, s.std, s.covariances);
   r.floor = effect->floor(result_.floor_context);
-  return r.amount - o_.floor_margin_std * r.amount_std >= r.floor.amount;
+  return r.amount - options_.floor_margin_std * r.amount_std >= r.floor.amount;
 }
 
 double DiagnosisRun::fit_phase_error(const ModelCorrection& correction) const {
@@ -246,11 +246,11 @@ double DiagnosisRun::fit_phase_error(const ModelCorrection& correction) const {
 }
 
 void DiagnosisRun::refit_after_dropping() {
-  for (auto& s : selected_)
+  for (auto& s : model_terms_)
     if (corrects_data(*library_.effects()[s.candidate]) &&
         library_.effects()[s.candidate]->test() == EffectTest::Regression)
       s.total = Eigen::VectorXd::Zero(s.total.size());
-  refit(selected_);
+  refit(model_terms_);
 }
 
 double DiagnosisRun::support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const {
@@ -298,10 +298,15 @@ double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorX
   return std::sqrt(std::max(0.0, variance));
 }
 
-void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, double log_neff) {
+void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, double log_neff,
+                          std::vector<Selection>* nuisance_out) {
   const auto& effects = library_.effects();
   const char* base_name = group == Relation::Linear ? "linear relation" : "friction law";
   std::vector<std::size_t> negligible;  // significant but below the floor: not tried again in this search
+  // The joint test: the significant candidates judged negligible stay in every later fit as nuisance terms, so an
+  // effect is found only if its evidence survives beside them (a friction patch read as a low-speed friction or a
+  // lag, when the patch's own term is below its floor).
+  std::vector<Selection> nuisance;
   const auto law_selected = [&] {
     return std::any_of(selected.begin(), selected.end(),
                        [&](const Selection& s) { return replaces_relation(*effects[s.candidate]); });
@@ -314,9 +319,13 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         storage.push_back(columns(s.candidate, s.setting));
         current_extra += s.extra_parameters;
       }
+    for (const auto& s : nuisance) {
+      storage.push_back(columns(s.candidate, s.setting));
+      current_extra += s.extra_parameters;
+    }
     std::vector<const EffectColumns*> pointers;
     for (const auto& c : storage) pointers.push_back(&c);
-    const ResidualRegression regression(data_, group);
+    const ResidualRegression regression(fit_data_, group);
     std::optional<Selection> best;
     for (std::size_t i = 0; i < effects.size(); ++i) {
       if (effects[i]->test() != EffectTest::Regression || group_of(i) != group || is_base(i)) continue;
@@ -389,7 +398,7 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
       if (!best || here->score > best->score) best = here;
     }
     if (!best) break;
-    if (!(best->score > o_.bic_threshold)) {
+    if (!(best->score > options_.bic_threshold)) {
       log(std::string("greedy (against the ") + base_name + "): best remaining " + effects[best->candidate]->kind() +
           diagnosis_format(" scores only %.1f (robust Wald minus BIC penalty): stop", best->score));
       break;
@@ -398,11 +407,12 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
     r.passed_test = true;
     if (!above_floor(best->candidate, *best)) {
       r.negligible = true;
-      r.note = negligible_note(r, o_.floor_margin_std);
+      r.note = negligible_note(r, options_.floor_margin_std);
       log(std::string("greedy (against the ") + base_name + "): " + effects[best->candidate]->kind() +
           diagnosis_format(" scores %.1f but its amount does not clear its floor by the margin: negligible",
                            best->score));
       negligible.push_back(best->candidate);
+      nuisance.push_back(*best);
       continue;
     }
     r.negligible = false;
@@ -410,12 +420,13 @@ void DiagnosisRun::greedy(std::vector<Selection>& selected, Relation group, doub
         diagnosis_format(" joins, score %.1f", best->score));
     selected.push_back(*best);
   }
+  if (nuisance_out) *nuisance_out = nuisance;
 }
 
 // Applies the data corrections of the selected effects, re-runs the observer and re-fits the regression effects
 // jointly, until the residual amounts of the data corrections are negligible against their standard errors.
 void DiagnosisRun::refit(std::vector<Selection>& selected) {
-  for (int iteration = 0; iteration <= o_.max_refits; ++iteration) {
+  for (int iteration = 0; iteration <= options_.max_refits; ++iteration) {
     rebuild_data(correction_of(selected, false));
     bool converged = true;
     double support_torque = 1.0;  // the friction group's mu + torque_excess after this re-fit
@@ -448,7 +459,7 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
       bool plausible = selected[k].total.allFinite();
       try {
         if (plausible) effect->apply(selected[k].total, selected[k].setting, effect, probe);
-        if (plausible) apply_data_correction(fit_raw_.front(), probe);
+        if (plausible) apply_data_correction(fit_pushes_.front(), probe);
       } catch (const std::exception&) {
         plausible = false;
       }
@@ -491,21 +502,21 @@ void DiagnosisRun::refit(std::vector<Selection>& selected) {
 
 std::vector<Selection> DiagnosisRun::base_selections() const {
   std::vector<Selection> out;
-  for (const auto& s : selected_)
+  for (const auto& s : model_terms_)
     if (is_base(s.candidate)) out.push_back(s);
-  for (const auto& s : base_) out.push_back(s);
+  for (const auto& s : prediction_structure_) out.push_back(s);
   return out;
 }
 
 std::vector<const SynchronisedPush*> DiagnosisRun::fit_pointers() const {
   std::vector<const SynchronisedPush*> out;
-  for (const auto& p : fit_raw_) out.push_back(&p);
+  for (const auto& p : fit_pushes_) out.push_back(&p);
   return out;
 }
 
 std::vector<const SynchronisedPush*> DiagnosisRun::test_pointers() const {
   std::vector<const SynchronisedPush*> out;
-  for (const auto& p : test_raw_) out.push_back(&p);
+  for (const auto& p : test_pushes_) out.push_back(&p);
   return out;
 }
 
@@ -525,6 +536,7 @@ DiagnosisResult DiagnosisRun::run() {
   step("base_structure", &DiagnosisRun::base_structure);
   step("motion_confirmation", &DiagnosisRun::motion_confirmation);
   held_out();
+  if (options_.adequacy_replicates > 0) step("model_adequacy", &DiagnosisRun::model_adequacy);
   return result_;
 }
 

@@ -15,6 +15,7 @@
 //                        friction part) and step 5 repeated
 //   6. held_out          the test phases: the paper's `dob`, the base model, the base model plus what was found, the
 //                        references; what each found effect contributes there (the model without it)
+//   7. model_adequacy    whether the corrected model leaves structure noise does not explain (model_adequacy.hpp)
 // A step that fails reports the failure (DiagnosisResult::step_failures) instead of scoring anything as infinite;
 // steps 1 and 6 are essential and their failure ends the diagnosis with an InputError.
 #include <string>
@@ -55,16 +56,16 @@ class DiagnosisRun {
   void base_structure();
   void motion_confirmation();
   void held_out();
+  void model_adequacy();
 
   /// Runs every step, reporting failures; returns the result.
   DiagnosisResult run();
 
   DiagnosisResult& result() { return result_; }
-  const std::vector<Selection>& selected() const { return selected_; }
-  const std::vector<DiagnosisPush>& data() const { return data_; }
+  const std::vector<Selection>& selected() const { return model_terms_; }
+  const std::vector<DiagnosisPush>& data() const { return fit_data_; }
 
  private:
-  friend struct DiagnosisRunAccess;
   void rebuild_data(const ModelCorrection& data_correction);
   EffectColumns columns(std::size_t candidate, double setting) const;
   /// The correction of `selected`: data corrections only, or the whole model for the prediction.
@@ -87,14 +88,17 @@ class DiagnosisRun {
   RegressionFit fit_selected(const std::vector<Selection>& selected, Relation group,
                              std::vector<EffectColumns>& storage) const;
   void refit(std::vector<Selection>& selected);
-  /// After selections were dropped from selected_: the rest re-fitted from scratch (the data corrections that are
+  /// After selections were dropped from model_terms_: the rest re-fitted from scratch (the data corrections that are
   /// regression effects restart from zero, as the data are rebuilt without the dropped ones).
   void refit_after_dropping();
   void retest_direct(std::vector<Selection>& selected, double log_neff);
   /// The found effects whose amount no longer clears its floor by the margin after a joint re-fit: reported
   /// negligible and dropped, the rest re-fitted.
   void drop_below_floor();
-  void greedy(std::vector<Selection>& selected, Relation group, double log_neff);
+  /// Greedy forward selection in `group`. A candidate significant but below its floor is not tried again and stays
+  /// in every later fit as a nuisance term (the joint test); `nuisance_out` receives those.
+  void greedy(std::vector<Selection>& selected, Relation group, double log_neff,
+              std::vector<Selection>* nuisance_out = nullptr);
   /// Records effect i's floor, amount (of s.total) and the amount's standard error (amount_standard_error from s's
   /// covariances, or its `std` without them; none when both are empty); true when the amount exceeds the floor by
   /// options.floor_margin_std standard errors.
@@ -121,19 +125,23 @@ class DiagnosisRun {
   bool is_base(std::size_t candidate) const;
 
   EffectLibrary library_;  // a copy: shared effects, so a temporary library may be passed
-  DiagnosisOptions o_;
+  DiagnosisOptions options_;
   DiagnosisResult result_;
-  bool single_ = false;
-  std::vector<SynchronisedPush> fit_raw_, test_raw_;
-  std::vector<double> fit_end_s_;
-  std::vector<DiagnosisPush> data_;
-  std::vector<PushStudy> base_fit_studies_;
-  std::vector<Eigen::MatrixX3d> residual_before_;
-  double hold_pos_ = 1, hold_theta_ = 1;  ///< normalisers: mean hold errors on the fit phases
-  double log_neff_ = 0;
-  /// Physical effects found so far (data corrections and force laws), and the base model's parts.
-  std::vector<Selection> selected_;
-  std::vector<Selection> base_;
+  bool single_push_ = false;  ///< one push: fit on all intervals but the last, test on the last
+  std::vector<SynchronisedPush> fit_pushes_, test_pushes_;
+  std::vector<double> fit_end_s_;            ///< per fit push, the end of its fit span [s]
+  std::vector<DiagnosisPush> fit_data_;      ///< the fit pushes as corrected so far, with the observer run over them
+  std::vector<PushStudy> base_fit_studies_;  ///< the paper's method on the fit pushes
+  std::vector<Eigen::MatrixX3d> residual_before_;   ///< the paper's residual on the fit pushes
+  double hold_position_mm_ = 1, hold_yaw_deg_ = 1;  ///< normalisers: mean hold errors on the fit phases
+  double log_effective_samples_ = 0;                ///< ln N_eff of the paper's residual: the BIC penalty per parameter
+  /// The regression side of the model: the base friction law and its refinements, and the physical effects found so
+  /// far (data corrections and force laws).
+  std::vector<Selection> model_terms_;
+  /// The base model's prediction structure (its parts and their settings).
+  std::vector<Selection> prediction_structure_;
+  /// The corrected model's signed error on each fit phase (predict_fit_phases), for the adequacy test.
+  std::vector<PhaseBias> fit_phase_biases_;
 };
 
 }  // namespace pushpred

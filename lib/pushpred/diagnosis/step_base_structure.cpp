@@ -13,34 +13,34 @@ namespace pushpred {
 
 void DiagnosisRun::base_structure() {
   const auto& effects = library_.effects();
-  base_.clear();
+  prediction_structure_.clear();
   std::vector<std::size_t> parts;
   std::vector<std::vector<double>> grids;
   for (std::size_t i = 0; i < effects.size(); ++i) {
     if (effects[i]->test() != EffectTest::Prediction || !is_base(i)) continue;
     Eigen::VectorXd t(0), sd(0);
     if (!effects[i]->parameters().empty()) {
-      const DirectFit f = effects[i]->fit_directly(data_);
+      const DirectFit f = effects[i]->fit_directly(fit_data_);
       t = f.theta;
       sd = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
       if (!f.note.empty()) result_.effects[i].note = f.note;
     }
     std::vector<double> grid = effects[i]->settings();
     if (grid.empty()) grid.push_back(0.0);
-    if (!o_.fit_base_settings) grid = {grid[grid.size() / 2]};
+    if (!options_.fit_base_settings) grid = {grid[grid.size() / 2]};
     parts.push_back(i);
     grids.push_back(grid);
-    base_.push_back({i, grid[grid.size() / 2], grid.size() > 1 ? 1 : 0, t, sd, 0.0, {}});
+    prediction_structure_.push_back({i, grid[grid.size() / 2], grid.size() > 1 ? 1 : 0, t, sd, 0.0, {}});
   }
   // Every combination of the parts' settings, scored on the fit phases (the parts themselves are not chosen).
   std::vector<std::size_t> at(parts.size(), 0);
   double best = std::numeric_limits<double>::infinity();
-  std::vector<Selection> best_base = base_;
+  std::vector<Selection> best_base = prediction_structure_;
   int tried = 0, failed = 0;
   while (true) {
-    std::vector<Selection> trial = base_;
+    std::vector<Selection> trial = prediction_structure_;
     for (std::size_t q = 0; q < parts.size(); ++q) trial[q].setting = grids[q][at[q]];
-    std::vector<Selection> model = selected_;
+    std::vector<Selection> model = model_terms_;
     model.insert(model.end(), trial.begin(), trial.end());
     // The search reads only the fit pushes; skip it when there is a single combination.
     bool single = true;
@@ -64,9 +64,9 @@ void DiagnosisRun::base_structure() {
     while (q < at.size() && ++at[q] == grids[q].size()) at[q++] = 0;
     if (q == at.size()) break;
   }
-  base_ = best_base;
+  prediction_structure_ = best_base;
   std::string names;
-  for (const auto& s : base_) {
+  for (const auto& s : prediction_structure_) {
     EffectReport& r = result_.effects[s.candidate];
     r.selected = true;
     r.setting = s.setting;

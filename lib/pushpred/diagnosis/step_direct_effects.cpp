@@ -12,7 +12,7 @@ void DiagnosisRun::direct_effects() {
   const auto& effects = library_.effects();
   for (std::size_t i = 0; i < effects.size(); ++i) {
     if (effects[i]->test() != EffectTest::Direct || is_base(i)) continue;
-    const DirectFit f = effects[i]->fit_directly(data_);
+    const DirectFit f = effects[i]->fit_directly(fit_data_);
     EffectReport& r = result_.effects[i];
     r.score = f.score;
     r.theta = f.theta;
@@ -29,18 +29,18 @@ void DiagnosisRun::direct_effects() {
       r.note = "fitted outside the physical range (" + why + "): not this effect";
       continue;
     }
-    if (!(f.score > o_.bic_threshold)) continue;
+    if (!(f.score > options_.bic_threshold)) continue;
     r.passed_test = true;
     const Selection found{i, 0.0, 0, f.theta, r.theta_std, f.score, {f.covariance}};
     if (!above_floor(i, found)) {
       r.negligible = true;
-      r.note = negligible_note(r, o_.floor_margin_std);
+      r.note = negligible_note(r, options_.floor_margin_std);
       log("  significant, but it does not clear its floor by the margin: negligible");
       continue;
     }
-    selected_.push_back(found);
+    model_terms_.push_back(found);
     log("  found");
-    rebuild_data(correction_of(selected_, false));
+    rebuild_data(correction_of(model_terms_, false));
   }
 }
 

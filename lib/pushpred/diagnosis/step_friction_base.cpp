@@ -27,7 +27,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
   } else {
     const std::size_t i = *law;
     const EffectColumns cols = columns(i, 0.0);
-    const ResidualRegression regression(data_, Relation::Friction);
+    const ResidualRegression regression(fit_data_, Relation::Friction);
     const RegressionFit f = regression.fit({&cols});
     if (!f.identifiable || !f.theta.allFinite())
       throw InputError("the friction law " + effects[i]->kind() + " is not identifiable on the fit pushes (the object "
@@ -36,17 +36,17 @@ void DiagnosisRun::measure_floors(bool add_law) {
     EffectReport& r = result_.effects[i];
     r.theta = f.theta;
     r.theta_std = f.standard_error();
-    r.score = f.wald(0, k) - static_cast<double>(k) * log_neff_;
-    r.passed_test = r.score > o_.bic_threshold;
+    r.score = f.wald(0, k) - static_cast<double>(k) * log_effective_samples_;
+    r.passed_test = r.score > options_.bic_threshold;
     mu = f.theta(0);
     if (add_law) {
-      selected_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score, f.covariance_blocks(0, f.theta.size())});
+      model_terms_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score, f.covariance_blocks(0, f.theta.size())});
       // The law's own refinements in the base model (friction_torque), fitted with it when the data resolve them.
       for (std::size_t j = 0; j < effects.size(); ++j) {
         if (j == i || !is_base(j) || effects[j]->test() != EffectTest::Regression || group_of(j) != Relation::Friction)
           continue;
         std::vector<EffectColumns> storage;
-        std::vector<Selection> trial = selected_;
+        std::vector<Selection> trial = model_terms_;
         trial.push_back({j, 0.0, 0, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(effects[j]->parameters().size())),
                          Eigen::VectorXd(), 0.0, {}});
         const RegressionFit g = fit_selected(trial, Relation::Friction, storage);
@@ -74,10 +74,10 @@ void DiagnosisRun::measure_floors(bool add_law) {
           if (t.candidate == i) t.total = g.theta.head(k);  // the law's own parameters come first in the fit
         result_.effects[j].theta = tj;
         result_.effects[j].theta_std = trial.back().std;
-        selected_ = trial;
+        model_terms_ = trial;
         log(effects[j]->kind() + diagnosis_format(" (base model): %.4g +- %.2g", tj(0), trial.back().std(0)));
       }
-      for (const auto& t : selected_)
+      for (const auto& t : model_terms_)
         if (t.candidate == i) {
           mu = t.total(0);
           r.theta = t.total;
@@ -86,14 +86,14 @@ void DiagnosisRun::measure_floors(bool add_law) {
     log(effects[i]->kind() + diagnosis_format(" (base model): %.4g +- %.2g, score %.1f", f.theta(0), r.theta_std(0),
                                               r.score));
     // The surface's own variation: the law fitted on each push alone.
-    if (data_.size() >= 3) {
+    if (fit_data_.size() >= 3) {
       std::vector<double> own;
-      for (const auto& d : data_) {
+      for (const auto& d : fit_data_) {
         try {
           const std::vector<DiagnosisPush> one{d};
           const EffectColumns c1 = [&] {
             EffectColumns out(cols.size(), std::vector<Eigen::MatrixX3d>(1));
-            for (std::size_t j = 0; j < cols.size(); ++j) out[j][0] = cols[j][&d - data_.data()];
+            for (std::size_t j = 0; j < cols.size(); ++j) out[j][0] = cols[j][&d - fit_data_.data()];
             return out;
           }();
           const RegressionFit g = ResidualRegression(one, Relation::Friction).fit({&c1});
@@ -109,7 +109,7 @@ void DiagnosisRun::measure_floors(bool add_law) {
       }
     }
   }
-  result_.floor_context = measure_floor_context(data_, mu, spread, o_.relevance_fraction);
+  result_.floor_context = measure_floor_context(fit_data_, mu, spread, options_.relevance_fraction);
   const FloorContext& c = result_.floor_context;
   log(diagnosis_format("floors: friction force mu m g = %.2f N (mu %.3f, push-to-push spread %.3f), ", c.friction_force_N(),
                        c.friction_coefficient, c.friction_spread) +

@@ -31,8 +31,8 @@ Eigen::VectorXd residual_amounts(const std::vector<Selection>& selected, const E
 
 void DiagnosisRun::held_out() {
   report_findings();
-  std::vector<Selection> model = selected_;
-  model.insert(model.end(), base_.begin(), base_.end());
+  std::vector<Selection> model = model_terms_;
+  model.insert(model.end(), prediction_structure_.begin(), prediction_structure_.end());
   result_.correction = correction_of(model, true);
   residual_after_findings();
   const std::vector<const SynchronisedPush*> tested = predict_test_phases();
@@ -42,7 +42,7 @@ void DiagnosisRun::held_out() {
 
 void DiagnosisRun::report_findings() {
   const auto& effects = library_.effects();
-  for (const auto& s : selected_) {
+  for (const auto& s : model_terms_) {
     EffectReport& r = result_.effects[s.candidate];
     r.selected = true;
     r.note.clear();
@@ -76,29 +76,32 @@ void DiagnosisRun::residual_after_findings() {
       return effects[c]->test() == EffectTest::Regression && group_of(c) == relation;
     };
     std::vector<EffectColumns> storage;
-    for (const auto& s : selected_)
+    for (const auto& s : model_terms_)
       if (in_group(s.candidate)) storage.push_back(columns(s.candidate, s.setting));
     std::vector<const EffectColumns*> pointers;
     for (const auto& c : storage) pointers.push_back(&c);
-    return ResidualRegression(data_, relation).residuals(pointers, residual_amounts(selected_, library_, in_group));
+    return ResidualRegression(fit_data_, relation)
+        .residuals(pointers, residual_amounts(model_terms_, library_, in_group));
   };
   const std::vector<Eigen::MatrixX3d> residual_after = residual_against(Relation::Linear);
   Eigen::Vector3d before2 = Eigen::Vector3d::Zero(), after2 = Eigen::Vector3d::Zero();
   double rows = 0;
   result_.residuals.clear();
-  for (std::size_t p = 0; p < data_.size(); ++p) {
+  for (std::size_t p = 0; p < fit_data_.size(); ++p) {
     if (p < residual_before_.size() && residual_before_[p].rows() == residual_after[p].rows())
       before2 += residual_before_[p].colwise().squaredNorm().transpose();
     after2 += residual_after[p].colwise().squaredNorm().transpose();
-    rows += static_cast<double>(data_[p].rows());
-    result_.residuals.push_back({data_[p].push.source, data_[p].estimate.t_s,
+    rows += static_cast<double>(fit_data_[p].rows());
+    result_.residuals.push_back({fit_data_[p].push.source,
+                                 fit_data_[p].estimate.t_s,
                                  p < residual_before_.size() ? residual_before_[p] : residual_after[p],
-                                 residual_after[p], {}});
+                                 residual_after[p],
+                                 {}});
   }
   result_.residual_std_before = (before2 / rows).cwiseSqrt();
   result_.residual_std_after = (after2 / rows).cwiseSqrt();
   // Against the friction law only when a found friction law replaced the linear relation.
-  const bool law = std::any_of(selected_.begin(), selected_.end(), [&](const Selection& s) {
+  const bool law = std::any_of(model_terms_.begin(), model_terms_.end(), [&](const Selection& s) {
     return effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction &&
            replaces_relation(*effects[s.candidate]);
   });
@@ -113,9 +116,9 @@ void DiagnosisRun::residual_after_findings() {
 }
 
 std::vector<const SynchronisedPush*> DiagnosisRun::predict_test_phases() {
-  StudyOptions so = o_.study;
+  StudyOptions so = options_.study;
   so.methods.push_back("quasi_static");  // the pushing model (prediction/quasi_static_pushing.hpp), a reference
-  so.correction = std::make_shared<CorrectedPrediction>(result_.correction, o_.observer);
+  so.correction = std::make_shared<CorrectedPrediction>(result_.correction, options_.observer);
   std::vector<PushStudy> test_studies;
   std::vector<const SynchronisedPush*> tested;
   for (const auto* p : test_pointers()) {
@@ -164,12 +167,12 @@ void DiagnosisRun::base_and_ablations(const std::vector<const SynchronisedPush*>
   }
   // What each found effect contributes on the test phases and on the fit phases (reported only, never used to
   // decide; the motion confirmation made its own comparison on the fit phases before).
-  for (std::size_t k = 0; k < selected_.size(); ++k) {
-    if (is_base(selected_[k].candidate)) continue;
+  for (std::size_t k = 0; k < model_terms_.size(); ++k) {
+    if (is_base(model_terms_[k].candidate)) continue;
     std::vector<Selection> without = model;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
-    EffectReport& r = result_.effects[selected_[k].candidate];
-    const std::string kind = library_.effects()[selected_[k].candidate]->kind();
+    EffectReport& r = result_.effects[model_terms_[k].candidate];
+    const std::string kind = library_.effects()[model_terms_[k].candidate]->kind();
     try {
       r.held_out_without = summarise_errors(test_phases(studies(tested, correction_of(without, true))), kCorrectedMethod);
       r.has_ablation = true;
@@ -189,6 +192,18 @@ void DiagnosisRun::predict_fit_phases() {
   try {
     const auto fit = studies(fit_pointers(), result_.correction);
     const auto fp = fit_phases(fit);
+    fit_phase_biases_.clear();
+    for (const auto& sp : fp) {
+      const PhaseResult& r = sp.study->phases.at(sp.phase);
+      if (r.measured.rows() == 0) continue;
+      const Eigen::MatrixX3d e = r.predicted.at(kCorrectedMethod) - r.measured;
+      PhaseBias b;
+      b.position_m = e.leftCols<2>().colwise().mean().transpose();
+      b.yaw_rad = e.col(2).mean();
+      const Eigen::Vector2d travel = (r.measured.bottomRows<1>() - r.measured.topRows<1>()).leftCols<2>().transpose();
+      if (travel.norm() >= 1e-3) b.travel_direction = travel.normalized();
+      fit_phase_biases_.push_back(b);
+    }
     result_.fit_before = summarise_errors(fp, "dob");
     result_.fit_after = summarise_errors(fp, kCorrectedMethod);
     result_.fit_hold = summarise_errors(fp, "hold");

@@ -16,14 +16,14 @@ namespace pushpred {
 void DiagnosisRun::motion_confirmation() {
   const auto& effects = library_.effects();
   bool removed = false;
-  for (std::size_t k = 0; k < selected_.size();) {
-    const std::size_t i = selected_[k].candidate;
+  for (std::size_t k = 0; k < model_terms_.size();) {
+    const std::size_t i = model_terms_[k].candidate;
     if (is_base(i) || !confirmed_by_motion(*effects[i])) {
       ++k;
       continue;
     }
-    std::vector<Selection> with = selected_;
-    with.insert(with.end(), base_.begin(), base_.end());
+    std::vector<Selection> with = model_terms_;
+    with.insert(with.end(), prediction_structure_.begin(), prediction_structure_.end());
     std::vector<Selection> without = with;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
     const double error_with = fit_phase_error(correction_of(with, true));
@@ -37,15 +37,15 @@ void DiagnosisRun::motion_confirmation() {
     }
     EffectReport& r = result_.effects[i];
     r.contradicted_by_motion = true;
-    r.theta = selected_[k].total;
-    r.theta_std = selected_[k].std;
+    r.theta = model_terms_[k].total;
+    r.theta_std = model_terms_[k].std;
     r.note = "significant and above its floor, but the fit pushes' motion contradicts it: the corrected model "
              "predicts their phases no better with it" +
              diagnosis_format(" (normalised error %.3f with it, %.3f without)", error_with, error_without) +
              "; a residual of its shape that is not this effect";
     log(effects[i]->kind() + ": contradicted by the fit pushes' motion" +
         diagnosis_format(" (normalised error %.3f with it, %.3f without): not found", error_with, error_without));
-    selected_.erase(selected_.begin() + static_cast<std::ptrdiff_t>(k));
+    model_terms_.erase(model_terms_.begin() + static_cast<std::ptrdiff_t>(k));
     removed = true;
   }
   if (!removed) return;
@@ -55,15 +55,16 @@ void DiagnosisRun::motion_confirmation() {
   // The new search's verdicts replace the first search's for every candidate it tries again.
   for (std::size_t i = 0; i < effects.size(); ++i) {
     EffectReport& r = result_.effects[i];
-    const bool selected = std::any_of(selected_.begin(), selected_.end(), [&](const Selection& s) { return s.candidate == i; });
+    const bool selected =
+        std::any_of(model_terms_.begin(), model_terms_.end(), [&](const Selection& s) { return s.candidate == i; });
     if (selected || is_base(i) || r.contradicted_by_motion || effects[i]->test() != EffectTest::Regression ||
         group_of(i) != Relation::Friction)
       continue;
     r.passed_test = r.negligible = false;
     r.note.clear();
   }
-  greedy(selected_, Relation::Friction, log_neff_);
-  refit(selected_);
+  greedy(model_terms_, Relation::Friction, log_effective_samples_);
+  refit(model_terms_);
   drop_below_floor();
   base_structure();
   // An effect of this kind that joined in the new search is held to the same test (one ruled out is not tried

@@ -369,10 +369,10 @@ double fitted_in_simulator_units(const EffectReport& e, const std::string& kind,
   return e.theta(0);  // time_offset, viscous_friction, com_offset (delta_x)
 }
 
-/// The diagnosis's model-adequacy verdict. The diagnosis has no adequacy test yet: recorded as not tested.
-void read_adequacy(const DiagnosisResult&, ValidationTrial& trial) {
-  trial.adequacy_tested = false;
-  trial.explained = false;
+/// The diagnosis's model-adequacy verdict (DiagnosisResult::adequacy).
+void read_adequacy(const DiagnosisResult& r, ValidationTrial& trial) {
+  trial.adequacy_tested = r.adequacy.tested;
+  trial.explained = r.adequacy.explained;
 }
 
 void run_trial(const ValidationOptions& o, ValidationTrial& trial, const std::string& kind) {

@@ -52,6 +52,7 @@ nlohmann::json object_exact_json(const ObjectDone& d) {
   j["overview"] = {{"shape", r.shape},
                    {"surface", r.surface},
                    {"selected", selected},
+                   {"adequacy", {{"tested", r.adequacy.tested}, {"explained", r.adequacy.explained}}},
                    {"errors", held_out_errors_exact_json({&r.error_before, &r.error_base, &r.error_after, &r.hold,
                                                           &r.const_velocity, &r.quasi_static})}};
   return j;
@@ -78,6 +79,8 @@ ObjectDone object_from_exact_json(const nlohmann::json& j) {
       report.selected = true;
       r.effects.push_back(std::move(report));
     }
+    r.adequacy.tested = o.at("adequacy").at("tested").get<bool>();
+    r.adequacy.explained = o.at("adequacy").at("explained").get<bool>();
     held_out_errors_from_exact_json(
         o.at("errors"), {&r.error_before, &r.error_base, &r.error_after, &r.hold, &r.const_velocity, &r.quasi_static},
         "an object");

@@ -283,8 +283,16 @@ std::string findings_text(const DiagnosisResult& r) {
     else if (e.negligible) negligible.push_back(e.kind);
     else if (e.contradicted_by_motion) contradicted.push_back(e.kind);
   }
-  std::string s = found.empty() ? "nothing found: no physical effect beyond the base model explains the residual"
-                                : "found: " + joined(found);
+  const ModelAdequacy& a = r.adequacy;
+  const bool unexplained = a.tested && !a.explained;
+  std::string s;
+  if (found.empty())
+    s = unexplained ? a.verdict() + "; no effect of the catalogue explains it"
+        : a.tested  ? "nothing found, residual explained: no physical effect beyond the base model, and what is left "
+                      "is what noise leaves"
+                    : "nothing found: no physical effect beyond the base model explains the residual";
+  else
+    s = "found: " + joined(found) + (unexplained ? "; " + a.verdict() : a.tested ? "; residual explained" : "");
   if (!negligible.empty()) s += "; significant but negligible: " + joined(negligible);
   if (!contradicted.empty()) s += "; significant, but contradicted by the fit pushes' motion: " + joined(contradicted);
   const auto fixes = kinds_of(r, true);
@@ -327,6 +335,61 @@ nlohmann::json error_summary_json(const ErrorSummary& e) {
           {"final_theta_deg", e.final_theta_deg}};
 }
 
+nlohmann::json adequacy_json(const ModelAdequacy& a) {
+  return {{"tested", a.tested},
+          {"explained", a.explained},
+          {"verdict", a.verdict()},
+          {"statistic", a.statistic},
+          {"alpha", a.alpha},
+          {"replicates", a.replicates},
+          {"force",
+           {{"tested", a.force_tested},
+            {"unexplained", a.force_unexplained},
+            {"statistic", a.force_statistic},
+            {"threshold", a.force_threshold},
+            {"share_of_all_signatures", a.force_share},
+            {"p_value", a.force_p_value},
+            {"force_N", a.force_N},
+            {"torque_Nm", a.torque_Nm},
+            {"force_floor_N", a.force_floor_N},
+            {"torque_floor_Nm", a.torque_floor_Nm}}},
+          {"motion",
+           {{"tested", a.motion_tested},
+            {"unexplained", a.motion_unexplained},
+            {"phases", a.phases},
+            {"t", a.motion_t},
+            {"t_threshold", a.motion_t_threshold},
+            {"p_value", a.motion_p_value},
+            {"position_bias_mm", a.position_bias_mm},
+            {"yaw_bias_deg", a.yaw_bias_deg},
+            {"position_floor_mm", a.position_floor_mm},
+            {"yaw_floor_deg", a.yaw_floor_deg}}},
+          {"basis", a.basis},
+          {"note", a.note}};
+}
+
+nlohmann::json hints_json(const DiagnosisResult& r) {
+  nlohmann::json out = nlohmann::json::array();
+  if (!r.adequacy.tested || r.adequacy.explained) return out;
+  for (const auto& h : r.hints)
+    out.push_back({{"signature", h.signature},
+                   {"description", h.description},
+                   {"share", h.share},
+                   {"share_of_structure", h.share_of_structure}});
+  return out;
+}
+
+std::vector<std::string> hint_lines(const DiagnosisResult& r, std::size_t at_most) {
+  std::vector<std::string> out;
+  if (!r.adequacy.tested || r.adequacy.explained) return out;
+  for (const auto& h : r.hints) {
+    if (out.size() >= at_most) break;
+    out.push_back(h.signature + ": " + fixed(100 * h.share, 1) + " % of the residual (" +
+                  fixed(100 * h.share_of_structure, 0) + " % of its structure) - " + h.description);
+  }
+  return out;
+}
+
 nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& o) {
   const auto found = effects_found(r);
   nlohmann::json effects = nlohmann::json::array();
@@ -347,7 +410,9 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
             {"bic_threshold", o.bic_threshold},
             {"relevance_fraction", o.relevance_fraction},
             {"floor_margin_std", o.floor_margin_std},
-            {"fit_base_settings", o.fit_base_settings}}},
+            {"fit_base_settings", o.fit_base_settings},
+            {"adequacy_replicates", o.adequacy_replicates},
+            {"adequacy_alpha", o.adequacy_alpha}}},
           {"held_out", r.held_out},
           {"caution", r.caution},
           {"fit_pushes", r.fit_sources},
@@ -356,6 +421,8 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
           {"found", found},
           {"nothing_found", found.empty()},
           {"findings", findings_text(r)},
+          {"adequacy", adequacy_json(r.adequacy)},
+          {"hints", hints_json(r)},
           {"correction", r.correction.describe()},
           {"initial_velocity_from_observer", r.correction.initial_velocity},
           {"error_before", error_summary_json(r.error_before)},
@@ -398,6 +465,7 @@ std::string diagnosis_summary_text(const DiagnosisResult& r) {
   s << "diagnosis of " << r.fit_sources.size() << " fit and " << r.test_sources.size() << " test pushes (" << r.shape
     << " on " << r.surface << ")\n";
   s << "  " << findings_text(r) << "\n";
+  for (const auto& h : hint_lines(r, 3)) s << "  hint (not a finding): " << h << "\n";
   if (!r.caution.empty()) s << "  caution: " << r.caution << "\n";
   for (const auto& e : r.effects)
     if (e.selected) s << "  " << (e.structural ? "base " : "found ") << e.kind << ": " << effect_parameters_text(e) << "\n";
@@ -414,6 +482,38 @@ std::string diagnosis_summary_text(const DiagnosisResult& r) {
     s << line;
   }
   return s.str();
+}
+
+std::string adequacy_markdown(const DiagnosisResult& r) {
+  const ModelAdequacy& a = r.adequacy;
+  std::ostringstream md;
+  md << "## Model adequacy\n\n";
+  if (!a.tested) {
+    md << "Not tested" << (a.note.empty() ? std::string(".") : ": " + a.note + ".") << "\n\n";
+    return md.str();
+  }
+  md << "**" << a.verdict() << ".** " << a.statistic << ". Floors: " << a.basis << ".\n\n"
+     << "| part | statistic | null threshold | p | size | floor | verdict |\n|---|---|---|---|---|---|---|\n";
+  if (a.force_tested)
+    md << "| force residual | z " << fixed(a.force_statistic) << " | " << fixed(a.force_threshold) << " | "
+       << general(a.force_p_value) << " | " << general(a.force_N) << " N, " << general(a.torque_Nm) << " N m | "
+       << general(a.force_floor_N) << " N, " << general(a.torque_floor_Nm) << " N m | "
+       << (a.force_unexplained ? "unexplained" : "explained") << " |\n";
+  if (a.motion_tested)
+    md << "| motion (" << a.phases << " fit phases) | max abs t " << fixed(a.motion_t) << " | "
+       << fixed(a.motion_t_threshold) << " | " << general(a.motion_p_value) << " | " << fixed(a.position_bias_mm)
+       << " mm, " << fixed(a.yaw_bias_deg) << " deg | " << fixed(a.position_floor_mm) << " mm, "
+       << fixed(a.yaw_floor_deg) << " deg | " << (a.motion_unexplained ? "unexplained" : "explained") << " |\n";
+  md << "\n";
+  if (!a.note.empty()) md << a.note << ".\n\n";
+  const auto hints = hint_lines(r, r.hints.size());
+  if (!hints.empty()) {
+    md << "Hints, not findings: generic signatures ranked by the share of the force residual each accounts for alone "
+          "(where to look for the missing physics; none of them is a tested effect):\n\n";
+    for (const auto& h : hints) md << "- " << h << "\n";
+    md << "\n";
+  }
+  return md.str();
 }
 
 std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions& o, const std::vector<std::string>& plots,
@@ -436,6 +536,7 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
 
   md << "**" << findings_text(r) << ".**\n\n";
   if (!r.caution.empty()) md << "> Caution: " << r.caution << ".\n\n";
+  md << adequacy_markdown(r);
   md << "## Prediction error on the held-out phases\n\n"
      << "Mean over " << r.error_after.phases << " phases of the per-phase mean error. `before` is the paper's method "
      << "(`dob`: relation identified online, initial velocity zero); `base` is the corrected base model (initial "
@@ -558,24 +659,32 @@ void write_diagnosis_report(const DiagnosisResult& r, const DiagnosisOptions& o,
   write_text_atomically(folder / "report.md", diagnosis_markdown(r, o, drawn, note));
 }
 
+namespace {
+const char* adequacy_word(const ModelAdequacy& a) {
+  return !a.tested ? "not tested" : a.explained ? "explained" : "**unexplained**";
+}
+}  // namespace
+
 std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>& groups) {
   std::ostringstream md;
   md << "# Diagnosis per object\n\n"
      << "pushpred " << kVersion << ". One diagnosis per object and surface; each has its own report in the folder "
      << "named in the first column. Errors: mean over the held-out phases of the per-phase mean position error [mm] "
      << "/ yaw error [deg].\n\n"
-     << "| object | pushes | held-out phases | found | before (paper `dob`) | base model | after (base + found) | "
+     << "| object | pushes | held-out phases | found | residual | before (paper `dob`) | base model | after (base + "
+        "found) | "
         "`hold` | `const_velocity` | after beats both | `quasi_static` (pushing model) |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   const auto pair = [](const ErrorSummary& e) { return fixed(e.pos_mm_mean) + " / " + fixed(e.theta_deg_mean); };
   for (const auto& g : groups) {
     if (!g.result) continue;
     const DiagnosisResult& r = *g.result;
     const auto found = effects_found(r);
     md << "| [" << g.name << "](" << g.name << "/report.md) | " << g.pushes << " | " << r.error_after.phases << " | "
-       << (found.empty() ? std::string("nothing") : joined(found)) << " | " << pair(r.error_before) << " | "
-       << pair(r.error_base) << " | " << pair(r.error_after) << " | " << pair(r.hold) << " | " << pair(r.const_velocity) << " | "
-       << (beats_both(r) ? "yes" : "**no**") << " | " << pair(r.quasi_static) << " |\n";
+       << (found.empty() ? std::string("nothing") : joined(found)) << " | " << adequacy_word(r.adequacy) << " | "
+       << pair(r.error_before) << " | " << pair(r.error_base) << " | " << pair(r.error_after) << " | " << pair(r.hold)
+       << " | " << pair(r.const_velocity) << " | " << (beats_both(r) ? "yes" : "**no**") << " | "
+       << pair(r.quasi_static) << " |\n";
   }
   // All objects: every held-out phase weighs alike.
   ErrorSummary all[6];
@@ -600,7 +709,7 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
       e.pos_mm_mean /= e.phases;
       e.theta_deg_mean /= e.phases;
     }
-    md << "| all " << objects << " objects (phases weighed alike) | | " << all[1].phases << " | | " << pair(all[0])
+    md << "| all " << objects << " objects (phases weighed alike) | | " << all[1].phases << " | | | " << pair(all[0])
        << " | " << pair(all[4]) << " | " << pair(all[1]) << " | " << pair(all[2]) << " | " << pair(all[3]) << " | "
        << (beats_references(all[1], all[2], all[3]).both() ? "yes" : "**no**") << " | " << pair(all[5]) << " |\n";
   }
@@ -631,6 +740,7 @@ nlohmann::json diagnosis_overview_json(const std::vector<DiagnosisGroupOutcome>&
       const auto found = effects_found(r);
       j["found"] = found;
       j["nothing_found"] = found.empty();
+      j["adequacy"] = {{"tested", r.adequacy.tested}, {"explained", r.adequacy.explained}};
       j["structure_fixes"] = kinds_of(r, true);
       j["error_before"] = error_summary_json(r.error_before);
       j["error_base"] = error_summary_json(r.error_base);

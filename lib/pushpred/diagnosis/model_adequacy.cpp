@@ -1,0 +1,399 @@
+#include "pushpred/diagnosis/model_adequacy.hpp"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "pushpred/diagnosis/builtin_effects.hpp"
+#include "pushpred/diagnosis/diagnosis_data.hpp"
+
+namespace pushpred {
+
+namespace {
+
+std::string printed(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+  return buf;
+}
+
+/// The (1 - alpha) quantile of `values` (sorted in place).
+double upper_quantile(std::vector<double>& values, double alpha) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto at = static_cast<std::size_t>(std::clamp(std::ceil((1 - alpha) * static_cast<double>(values.size())) - 1,
+                                                      0.0, static_cast<double>(values.size() - 1)));
+  return values[at];
+}
+
+/// Orthonormal basis of the column space of `X` (columns the data cannot tell apart dropped).
+Eigen::MatrixXd orthonormal_basis(const Eigen::MatrixXd& X) {
+  if (X.cols() == 0) return Eigen::MatrixXd(X.rows(), 0);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+  qr.setThreshold(1e-9);
+  const Eigen::Index rank = qr.rank();
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(X.rows(), rank);
+  Q = qr.householderQ() * Q;
+  return Q;
+}
+
+/// `v` with its projection on the orthonormal `Q` removed.
+Eigen::VectorXd off(const Eigen::MatrixXd& Q, const Eigen::VectorXd& v) {
+  return Q.cols() ? (v - Q * (Q.transpose() * v)).eval() : v;
+}
+
+double share_of(const Eigen::MatrixXd& Q, const Eigen::VectorXd& e) {
+  const double total = e.squaredNorm();
+  if (!(total > 0) || Q.cols() == 0) return 0.0;
+  return (Q.transpose() * e).squaredNorm() / total;
+}
+
+}  // namespace
+
+std::string ModelAdequacy::verdict() const {
+  if (!tested) return "not tested";
+  if (explained) return "explained";
+  std::string s = "unexplained residual:";
+  if (force_unexplained)
+    s += printed(" %.3g N and %.3g N m of structured force (floors %.3g N, %.3g N m)", force_N, torque_Nm,
+                 force_floor_N, torque_floor_Nm);
+  if (motion_unexplained)
+    s += std::string(force_unexplained ? ";" : "") +
+         printed(" a prediction bias of %.2f mm and %.2f deg on the fit phases (floors %.2f mm, %.2f deg)",
+                 position_bias_mm, yaw_bias_deg, position_floor_mm, yaw_floor_deg);
+  return s;
+}
+
+std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes) {
+  std::vector<ResidualSignature> out = {
+      {"world_force", "a constant force in the world frame (a support that is not level, a cable, a draught)", {}},
+      {"body_direction_friction", "friction that depends on the sliding direction in the body frame", {}},
+      {"speed", "a force that grows with speed (drag, friction rising with speed)", {}},
+      {"travel", "friction that changes along the travel (a patch, a gradient)", {}},
+      {"time_since_contact", "friction that changes with the time since contact (creep, wear, warming)", {}},
+      {"tip_motion", "the tip moving relative to the object (a compliant pusher's lag, penetration)", {}},
+      {"force_rate", "the force's rate (a delay between the force and the pose)", {}},
+      {"lever_arm", "the push force's moment about a point shifted in the body frame (a lever-arm error)", {}},
+  };
+  const std::size_t columns[] = {2, 2, 2, 2, 2, 4, 3, 2};
+  for (std::size_t g = 0; g < out.size(); ++g)
+    out[g].columns.assign(columns[g], std::vector<Eigen::MatrixX3d>(pushes.size()));
+  for (std::size_t p = 0; p < pushes.size(); ++p) {
+    const DiagnosisPush& d = pushes[p];
+    const Eigen::Index n = d.rows();
+    const ShapeInfo& shape = d.push.shape;
+    const double weight = shape.mass_kg * kStandardGravity_m_s2;
+    const FrictionFootprint footprint = FrictionFootprint::of(shape);
+    const double contact_s = d.push.has_contact ? d.push.contact_start_s : d.push.t_s(d.first);
+    // The lever r_C - r_O in the body frame, smoothed without lag, and its rate: the tip's motion relative to the
+    // object (zero for a rigid pusher that neither slides nor penetrates).
+    Eigen::MatrixXd lever_body(n, 2);
+    Eigen::VectorXd t(n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Eigen::Index i = d.first + k;
+      t(k) = d.push.t_s(i);
+      const double c = std::cos(d.smooth_pose(k, 2)), s = std::sin(d.smooth_pose(k, 2));
+      const Eigen::Vector2d l = d.push.lever_m.row(i).transpose();
+      lever_body.row(k) << c * l.x() + s * l.y(), -s * l.x() + c * l.y();
+    }
+    Eigen::MatrixXd lever_rate;
+    const Eigen::MatrixXd lever_smooth = zero_phase_smooth(t, lever_body, kSmoothingBandwidth_rad_s, &lever_rate);
+    Eigen::Index at_contact = 0;
+    while (at_contact + 1 < n && t(at_contact) < contact_s) ++at_contact;
+
+    std::vector<Eigen::MatrixX3d> raw;
+    for (std::size_t g = 0; g < out.size(); ++g)
+      for (std::size_t j = 0; j < columns[g]; ++j) raw.emplace_back(Eigen::MatrixX3d::Zero(n, 3));
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const EffectState st = d.state(k);
+      const double c = std::cos(st.pose(2)), s = std::sin(st.pose(2));
+      const Eigen::Vector2d ex(c, s), ey(-s, c);
+      const Eigen::Vector3d coulomb = coulomb_friction_wrench(st.pose, st.velocity, shape, footprint);
+      const double speed = st.velocity.head<2>().norm();
+      const double regularised = std::hypot(speed, kFrictionRegularisation_m_s);
+      const Eigen::Vector2d v_body(ex.dot(st.velocity.head<2>()), ey.dot(st.velocity.head<2>()));
+      const double travel = (st.pose.head<2>() - st.start_pose.head<2>()).norm();
+      const double since = std::max(0.0, t(k) - contact_s);
+      const Eigen::Vector2d penetration = lever_smooth.row(k).transpose() - lever_smooth.row(at_contact).transpose();
+      const Eigen::Vector2d rate(lever_rate(k, 0), lever_rate(k, 1));
+      std::size_t j = 0;
+      // world_force
+      raw[j++].row(k) << weight, 0, 0;
+      raw[j++].row(k) << 0, weight, 0;
+      // body_direction_friction: -W e_i (v_i / |v|) along each body axis
+      for (const Eigen::Vector2d& e : {ex, ey}) {
+        const double share = (e == ex ? v_body.x() : v_body.y()) / regularised;
+        raw[j++].row(k) << -weight * share * e.x(), -weight * share * e.y(), 0;
+      }
+      // speed: drag -(m v, I omega) and the Coulomb law growing with speed (per 10 cm/s)
+      raw[j++].row(k) << -shape.mass_kg * st.velocity(0), -shape.mass_kg * st.velocity(1),
+          -shape.inertia_kgm2 * st.velocity(2);
+      raw[j++].row(k) = (speed / 0.1) * coulomb.transpose();
+      // travel: the Coulomb law times the distance travelled (per cm) and its square
+      raw[j++].row(k) = (travel / 0.01) * coulomb.transpose();
+      raw[j++].row(k) = std::pow(travel / 0.01, 2) * coulomb.transpose();
+      // time since contact: the Coulomb law times the time (per s), and a decay over 0.3 s
+      raw[j++].row(k) = since * coulomb.transpose();
+      raw[j++].row(k) = std::exp(-since / 0.3) * coulomb.transpose();
+      // tip_motion: penetration (per mm) and its rate (per 10 mm/s), body axes, as forces in the world frame
+      for (int a = 0; a < 2; ++a) {
+        const Eigen::Vector2d e = a == 0 ? ex : ey;
+        raw[j++].row(k) << weight * (penetration(a) / 1e-3) * e.x(), weight * (penetration(a) / 1e-3) * e.y(), 0;
+      }
+      for (int a = 0; a < 2; ++a) {
+        const Eigen::Vector2d e = a == 0 ? ex : ey;
+        raw[j++].row(k) << weight * (rate(a) / 0.01) * e.x(), weight * (rate(a) / 0.01) * e.y(), 0;
+      }
+      // force_rate: filled below (already as observed)
+      j += 3;
+      // lever_arm: -(R e_i) x f_C in the torque channel
+      raw[j++].row(k) << 0, 0, -(ex.x() * st.input(1) - ex.y() * st.input(0));
+      raw[j++].row(k) << 0, 0, -(ey.x() * st.input(1) - ey.y() * st.input(0));
+    }
+    std::size_t j = 0;
+    for (std::size_t g = 0; g < out.size(); ++g)
+      for (std::size_t q = 0; q < columns[g]; ++q, ++j) {
+        if (out[g].name == "force_rate") {
+          Eigen::MatrixX3d r = Eigen::MatrixX3d::Zero(n, 3);
+          r.col(static_cast<Eigen::Index>(q)) = 0.01 * d.filtered_input_rate.col(static_cast<Eigen::Index>(q));
+          out[g].columns[q][p] = std::move(r);
+        } else {
+          out[g].columns[q][p] = d.as_observed(raw[j]);
+        }
+      }
+  }
+  return out;
+}
+
+std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPush>& pushes,
+                                                  const std::vector<const EffectColumns*>& model,
+                                                  const FloorContext& context, const AdequacyOptions& options,
+                                                  ModelAdequacy& adequacy) {
+  adequacy.alpha = options.alpha;
+  adequacy.replicates = options.replicates;
+  const ResidualRegression regression(pushes, Relation::Friction);
+  const std::vector<ResidualSignature> signatures = residual_signatures(pushes);
+  std::vector<const EffectColumns*> all;
+  for (const auto& s : signatures) all.push_back(&s.columns);
+  Eigen::VectorXd y;
+  Eigen::MatrixXd Xm, Xs;
+  regression.stack(model, y, Xm);
+  {
+    Eigen::VectorXd unused;
+    regression.stack(all, unused, Xs);
+  }
+  // Only sliding samples the friction base uses: where stuck, static friction balances whatever acts.
+  const std::vector<Eigen::Index> rows = regression.push_rows();
+  Eigen::VectorXd mask(y.size());
+  {
+    Eigen::Index row = 0;
+    for (std::size_t p = 0; p < pushes.size(); ++p) {
+      const std::vector<char> used = friction_law_samples(pushes[p]);
+      for (int c = 0; c < 3; ++c)
+        for (Eigen::Index i = 0; i < rows[p]; ++i) mask(row++) = used[i] && !pushes[p].stuck[i] ? 1.0 : 0.0;
+    }
+  }
+  const double sliding_rows = mask.sum() / 3;
+  if (sliding_rows < 50) {
+    adequacy.note = "the force residual was not tested: fewer than 50 sliding samples";
+    return {};
+  }
+  y = y.cwiseProduct(mask);
+  Xm = mask.asDiagonal() * Xm;
+  Xs = mask.asDiagonal() * Xs;
+  const Eigen::MatrixXd Qm = orthonormal_basis(Xm);
+  const Eigen::VectorXd e0 = off(Qm, y);
+  Eigen::MatrixXd Xs_off = Xs;
+  for (Eigen::Index j = 0; j < Xs.cols(); ++j) Xs_off.col(j) = off(Qm, Xs.col(j));
+  const Eigen::MatrixXd Qs = orthonormal_basis(Xs_off);
+  adequacy.force_share = share_of(Qs, e0);
+  // Each signature's own basis, off the model's columns: the statistic is the largest standardised share.
+  std::vector<Eigen::MatrixXd> group_bases;
+  {
+    Eigen::Index column = 0;
+    for (const auto& s : signatures) {
+      const auto k = static_cast<Eigen::Index>(s.columns.size());
+      group_bases.push_back(orthonormal_basis(Xs_off.middleCols(column, k)));
+      column += k;
+    }
+  }
+  const auto group_shares = [&](const Eigen::VectorXd& e) {
+    Eigen::VectorXd out(static_cast<Eigen::Index>(group_bases.size()));
+    for (std::size_t g = 0; g < group_bases.size(); ++g)
+      out(static_cast<Eigen::Index>(g)) = share_of(group_bases[g], e);
+    return out;
+  };
+  const Eigen::VectorXd observed_shares = group_shares(e0);
+
+  const Eigen::Vector3d& scale = regression.channel_scale();
+  // The structured part's mean square in physical units over the sliding samples: force (x, y) [N^2], torque
+  // [(N m)^2].
+  const auto mean_squares = [&](const Eigen::VectorXd& residual) {
+    const Eigen::VectorXd structured =
+        Qs.cols() ? (Qs * (Qs.transpose() * residual)).eval() : Eigen::VectorXd::Zero(residual.size());
+    double force2 = 0, torque2 = 0;
+    Eigen::Index row = 0;
+    for (std::size_t p = 0; p < pushes.size(); ++p) {
+      const Eigen::Index n = rows[p];
+      for (Eigen::Index i = 0; i < n; ++i) {
+        force2 += std::pow(scale(0) * structured(row + i), 2) + std::pow(scale(1) * structured(row + n + i), 2);
+        torque2 += std::pow(scale(2) * structured(row + 2 * n + i), 2);
+      }
+      row += 3 * n;
+    }
+    return Eigen::Vector2d(force2 / sliding_rows, torque2 / sliding_rows);
+  };
+
+  // Block bootstrap of the model's residual (see the header).
+  std::mt19937_64 rng(options.seed);
+  // What is resampled is the residual of the model with the signatures (unrestricted): under the null it is the same
+  // noise, and where a signature holds structure the replicates do not carry it into the null.
+  const Eigen::VectorXd noise = off(Qs, e0);
+  Eigen::MatrixXd null_shares(options.replicates, static_cast<Eigen::Index>(group_bases.size()));
+  Eigen::MatrixX2d chance_rms(options.replicates, 2);  // the structured part's RMS the replicates show [N, N m]
+  Eigen::Vector2d null_mean_squares = Eigen::Vector2d::Zero();
+  Eigen::VectorXd resampled(e0.size());
+  // Blocks are drawn from any push (the same sensor and observer everywhere), which breaks a block's tie to its own
+  // push's states better than resampling within a push of a second or two.
+  std::vector<std::pair<std::size_t, Eigen::Index>> origins;  // (push, first stacked row of its x channel)
+  {
+    Eigen::Index row = 0;
+    for (std::size_t p = 0; p < pushes.size(); ++p) {
+      origins.emplace_back(p, row);
+      row += 3 * rows[p];
+    }
+  }
+  std::uniform_int_distribution<std::size_t> any_push(0, pushes.size() - 1);
+  for (int b = 0; b < options.replicates; ++b) {
+    for (std::size_t p = 0; p < pushes.size(); ++p) {
+      const Eigen::Index n = rows[p], row = origins[p].second;
+      const double rate = pushes[p].push.rate_hz > 0 ? pushes[p].push.rate_hz : 250.0;
+      const Eigen::Index block = std::max<Eigen::Index>(1, std::lround(options.block_s * rate));
+      for (Eigen::Index filled = 0; filled < n;) {
+        const std::size_t q = any_push(rng);
+        const Eigen::Index m = rows[q], from_row = origins[q].second;
+        const Eigen::Index from = std::uniform_int_distribution<Eigen::Index>(0, m - 1)(rng);
+        for (Eigen::Index i = 0; i < block && filled < n; ++i, ++filled)
+          for (int c = 0; c < 3; ++c) resampled(row + c * n + filled) = noise(from_row + c * m + (from + i) % m);
+      }
+    }
+    resampled = off(Qm, resampled.cwiseProduct(mask));
+    null_shares.row(b) = group_shares(resampled).transpose();
+    const Eigen::Vector2d chance = mean_squares(resampled);
+    null_mean_squares += chance / static_cast<double>(options.replicates);
+    chance_rms.row(b) = chance.cwiseSqrt().transpose();
+  }
+  // Standardised by the replicates' own mean and spread per signature; the largest over the signatures, in the data and
+  // in every replicate, so that testing eight signatures is paid for in the null.
+  const Eigen::VectorXd mean = null_shares.colwise().mean().transpose();
+  Eigen::VectorXd spread(mean.size());
+  for (Eigen::Index g = 0; g < mean.size(); ++g)
+    spread(g) = std::max(1e-12, std::sqrt((null_shares.col(g).array() - mean(g)).square().sum() /
+                                          std::max(1.0, static_cast<double>(options.replicates - 1))));
+  const auto largest_z = [&](const Eigen::VectorXd& shares) {
+    return ((shares - mean).cwiseQuotient(spread)).maxCoeff();
+  };
+  adequacy.force_statistic = largest_z(observed_shares);
+  std::vector<double> null;
+  int exceed = 0;
+  for (Eigen::Index b = 0; b < null_shares.rows(); ++b) {
+    null.push_back(largest_z(null_shares.row(b).transpose()));
+    if (null.back() >= adequacy.force_statistic) ++exceed;
+  }
+  adequacy.force_p_value = (1.0 + exceed) / (1.0 + options.replicates);
+  adequacy.force_threshold = upper_quantile(null, options.alpha);
+  // Size: the structured part's RMS beyond what the signatures pick out of noise alone (the replicates' mean square),
+  // so that chance fits of slow noise do not count as structure.
+  const Eigen::Vector2d observed = mean_squares(e0);
+  adequacy.force_N = std::sqrt(std::max(0.0, observed(0) - null_mean_squares(0)));
+  adequacy.torque_Nm = std::sqrt(std::max(0.0, observed(1) - null_mean_squares(1)));
+  adequacy.force_floor_N = context.relevance_fraction * context.friction_force_N();
+  adequacy.torque_floor_Nm = adequacy.force_floor_N * context.radius_of_gyration_m;
+  // The sizes' standard errors: how far noise alone moves the structured part's RMS (the replicates' spread).
+  for (int c = 0; c < 2; ++c) {
+    const double m = chance_rms.col(c).mean();
+    const double sd = std::sqrt((chance_rms.col(c).array() - m).square().sum() /
+                                std::max(1.0, static_cast<double>(options.replicates - 1)));
+    (c == 0 ? adequacy.force_N_std : adequacy.torque_Nm_std) = sd;
+  }
+  adequacy.force_tested = adequacy.force_floor_N > 0;
+  adequacy.force_unexplained =
+      adequacy.force_tested && adequacy.force_p_value <= options.alpha &&
+      (adequacy.force_N - options.floor_margin_std * adequacy.force_N_std > adequacy.force_floor_N ||
+       adequacy.torque_Nm - options.floor_margin_std * adequacy.torque_Nm_std > adequacy.torque_floor_Nm);
+
+  std::vector<ResidualHint> hints;
+  for (const auto& s : signatures) {
+    Eigen::VectorXd unused;
+    Eigen::MatrixXd X;
+    regression.stack({&s.columns}, unused, X);
+    X = mask.asDiagonal() * X;
+    for (Eigen::Index j = 0; j < X.cols(); ++j) X.col(j) = off(Qm, X.col(j));
+    const double share = share_of(orthonormal_basis(X), e0);
+    hints.push_back({s.name, s.description, share, adequacy.force_share > 0 ? share / adequacy.force_share : 0.0});
+  }
+  std::stable_sort(hints.begin(), hints.end(), [](const auto& a, const auto& b) { return a.share > b.share; });
+  return hints;
+}
+
+void test_motion_bias(const std::vector<PhaseBias>& phases, double hold_position_mm, double hold_yaw_deg, double kappa,
+                      double radius_of_gyration_m, const AdequacyOptions& options, ModelAdequacy& adequacy) {
+  adequacy.phases = static_cast<int>(phases.size());
+  adequacy.position_floor_mm = kappa * hold_position_mm;
+  // Pushes that hardly turn the object make kappa of the rotation tiny: a yaw bias counts only when it also moves the
+  // outline (at the radius of gyration) by the position floor.
+  adequacy.yaw_floor_deg = kappa * hold_yaw_deg;
+  if (radius_of_gyration_m > 0)
+    adequacy.yaw_floor_deg =
+        std::max(adequacy.yaw_floor_deg, 1e-3 * adequacy.position_floor_mm / radius_of_gyration_m * 180.0 / M_PI);
+  if (phases.size() < 4) {
+    adequacy.note +=
+        std::string(adequacy.note.empty() ? "" : "; ") + "the motion was not tested: fewer than 4 fit phases";
+    return;
+  }
+  // Per phase: world x, y [mm], along and across its travel [mm], yaw [deg].
+  const Eigen::Index K = static_cast<Eigen::Index>(phases.size());
+  Eigen::MatrixXd v(K, 5);
+  for (Eigen::Index k = 0; k < K; ++k) {
+    const PhaseBias& b = phases[static_cast<std::size_t>(k)];
+    const Eigen::Vector2d d = b.travel_direction;
+    v.row(k) << 1e3 * b.position_m.x(), 1e3 * b.position_m.y(), 1e3 * d.dot(b.position_m),
+        1e3 * (d.x() * b.position_m.y() - d.y() * b.position_m.x()), b.yaw_rad * 180.0 / M_PI;
+  }
+  const auto largest_t = [&](const Eigen::VectorXd& signs) {
+    double t = 0;
+    for (int c = 0; c < 5; ++c) {
+      const Eigen::VectorXd x = v.col(c).cwiseProduct(signs);
+      const double mean = x.mean();
+      const double sd = std::sqrt((x.array() - mean).square().sum() / static_cast<double>(K - 1));
+      if (sd > 0) t = std::max(t, std::abs(mean) / (sd / std::sqrt(static_cast<double>(K))));
+    }
+    return t;
+  };
+  adequacy.motion_t = largest_t(Eigen::VectorXd::Ones(K));
+  std::mt19937_64 rng(options.seed + 1);
+  std::bernoulli_distribution flip(0.5);
+  std::vector<double> null;
+  int exceed = 0;
+  const int draws = std::max(options.replicates, 199);
+  for (int b = 0; b < draws; ++b) {
+    Eigen::VectorXd signs(K);
+    for (Eigen::Index k = 0; k < K; ++k) signs(k) = flip(rng) ? 1.0 : -1.0;
+    const double t = largest_t(signs);
+    null.push_back(t);
+    if (t >= adequacy.motion_t) ++exceed;
+  }
+  adequacy.motion_p_value = (1.0 + exceed) / (1.0 + draws);
+  adequacy.motion_t_threshold = upper_quantile(null, options.alpha);
+  const Eigen::VectorXd mean = v.colwise().mean().transpose();
+  adequacy.position_bias_mm = std::max(mean.head<2>().norm(), mean.segment<2>(2).norm());
+  adequacy.yaw_bias_deg = std::abs(mean(4));
+  adequacy.motion_tested = hold_position_mm > 0;
+  adequacy.motion_unexplained =
+      adequacy.motion_tested && adequacy.motion_p_value <= options.alpha &&
+      (adequacy.position_bias_mm > adequacy.position_floor_mm || adequacy.yaw_bias_deg > adequacy.yaw_floor_deg);
+}
+
+}  // namespace pushpred

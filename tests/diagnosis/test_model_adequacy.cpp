@@ -1,0 +1,156 @@
+// The model-adequacy test (diagnosis/model_adequacy.hpp): a residual the catalogue cannot explain is called
+// "unexplained residual" with its size, clean pushes are "explained", the statistics find what was put into the data
+// and not symmetric noise; and the joint test: a friction patch does not give a delay or a low-speed friction.
+#define BOOST_TEST_MODULE diagnosis_adequacy
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <random>
+
+#include "diagnosis_checks.hpp"
+#include "pushpred/diagnosis/builtin_effects.hpp"
+#include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/diagnosis/model_adequacy.hpp"
+#include "pushpred/reports/diagnosis_report.hpp"
+#include "simulated_pushes.hpp"
+
+using namespace pushpred;
+using namespace pushpred::testing;
+
+namespace {
+
+/// Clean simulated pushes prepared for the regression, with the Coulomb law's columns and mu fitted on them.
+struct PreparedPushes {
+  std::vector<DiagnosisPush> data;
+  EffectColumns coulomb;
+  FloorContext context;
+};
+
+PreparedPushes prepare_clean(unsigned seed, int count) {
+  std::mt19937_64 rng(seed);
+  PreparedPushes out;
+  for (const auto& p : simulate_all(draw_scenarios(rng, count, {})))
+    out.data.push_back(prepare_diagnosis_push(p, 0.0, p.duration_s()));
+  const auto law = make_coulomb_friction_effect();
+  out.coulomb.assign(1, std::vector<Eigen::MatrixX3d>(out.data.size()));
+  for (std::size_t p = 0; p < out.data.size(); ++p) out.coulomb[0][p] = law->regressors(out.data[p], 0.0)[0];
+  const RegressionFit f = ResidualRegression(out.data, Relation::Friction).fit({&out.coulomb});
+  const ShapeInfo& shape = out.data.front().push.shape;
+  out.context.mass_kg = shape.mass_kg;
+  out.context.friction_coefficient = f.theta(0);
+  out.context.radius_of_gyration_m = std::sqrt(shape.inertia_kgm2 / shape.mass_kg);
+  return out;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_SUITE(model_adequacy)
+
+BOOST_AUTO_TEST_CASE(a_constant_world_force_left_in_the_residual_is_unexplained_and_hinted_as_such) {
+  PreparedPushes clean = prepare_clean(230001, 4);
+  ModelAdequacy without;
+  test_residual_structure(clean.data, {&clean.coulomb}, clean.context, {}, without);
+  BOOST_TEST_MESSAGE("clean: R^2 " << without.force_share << ", p " << without.force_p_value << ", " << without.force_N
+                                   << " N (floor " << without.force_floor_N << " N)");
+  BOOST_TEST(without.force_tested);
+  BOOST_TEST(!without.force_unexplained, without.force_N << " N against the floor " << without.force_floor_N << " N");
+
+  // A constant world-frame force of a quarter of the friction force (five times the floor) acts while the object
+  // slides, as a support tilted by asin(mu / 4) would push it: the observer sees it through its Q filter.
+  const double size_N = 0.25 * clean.context.friction_force_N();
+  for (auto& d : clean.data) {
+    Eigen::MatrixX3d raw = Eigen::MatrixX3d::Zero(d.rows(), 3);
+    raw.col(0).setConstant(size_N * 0.6);
+    raw.col(1).setConstant(size_N * 0.8);
+    d.estimate.d_hat += d.as_observed(raw);
+  }
+  ModelAdequacy with;
+  const auto hints = test_residual_structure(clean.data, {&clean.coulomb}, clean.context, {}, with);
+  BOOST_TEST_MESSAGE("tilted: R^2 " << with.force_share << ", p " << with.force_p_value << ", " << with.force_N
+                                    << " N");
+  BOOST_TEST(with.force_unexplained);
+  BOOST_TEST(with.force_p_value <= with.alpha);
+  BOOST_REQUIRE(!hints.empty());
+  BOOST_TEST(hints.front().signature == "world_force");
+  // The structured part's size is the force put in (less what the Coulomb law's re-fit takes up along the motion).
+  BOOST_TEST(with.force_N > 0.5 * size_N);
+  BOOST_TEST(with.force_N < 1.1 * size_N);
+}
+
+BOOST_AUTO_TEST_CASE(the_motion_test_finds_a_systematic_bias_and_not_symmetric_noise) {
+  std::mt19937_64 rng(230002);
+  std::normal_distribution<double> noise(0.0, 0.5e-3);  // 0.5 mm per phase
+  std::vector<PhaseBias> symmetric, biased;
+  for (int k = 0; k < 16; ++k) {
+    PhaseBias b;
+    b.position_m = Eigen::Vector2d(noise(rng), noise(rng));
+    b.yaw_rad = noise(rng);  // 0.03 deg
+    const double angle = 0.4 * k;
+    b.travel_direction = Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    symmetric.push_back(b);
+    b.position_m -= 2e-3 * b.travel_direction;  // the model runs 2 mm behind, along every phase's travel
+    biased.push_back(b);
+  }
+  ModelAdequacy a, b;
+  test_motion_bias(symmetric, 10.0, 5.0, 0.05, 0.0, {}, a);  // floor: 0.5 mm, 0.25 deg
+  test_motion_bias(biased, 10.0, 5.0, 0.05, 0.0, {}, b);
+  BOOST_TEST(a.motion_tested);
+  BOOST_TEST(!a.motion_unexplained, "p " << a.motion_p_value << ", bias " << a.position_bias_mm << " mm");
+  BOOST_TEST(b.motion_unexplained, "p " << b.motion_p_value << ", bias " << b.position_bias_mm << " mm");
+  BOOST_TEST(b.position_bias_mm == 2.0, boost::test_tools::tolerance(0.2));
+  BOOST_TEST(b.position_floor_mm == 0.5, boost::test_tools::tolerance(1e-9));
+  // Fewer than four phases are not tested.
+  ModelAdequacy few;
+  test_motion_bias({biased.begin(), biased.begin() + 3}, 10.0, 5.0, 0.05, 0.0, {}, few);
+  BOOST_TEST(!few.motion_tested);
+  BOOST_TEST(!few.motion_unexplained);
+}
+
+BOOST_AUTO_TEST_CASE(clean_pushes_are_explained) {
+  std::mt19937_64 rng(230010);
+  const auto pushes = simulate_all(draw_scenarios(rng, 6, {}));
+  const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
+  log_result(r);
+  BOOST_TEST(r.adequacy.tested);
+  BOOST_TEST(r.adequacy.explained, r.adequacy.verdict());
+  BOOST_TEST(effects_found(r).empty(), findings_text(r));
+  BOOST_TEST(findings_text(r).rfind("nothing found, residual explained", 0) == 0u, findings_text(r));
+  BOOST_TEST(hints_json(r).empty());
+}
+
+BOOST_AUTO_TEST_CASE(a_kind_missing_from_the_catalogue_gives_unexplained_residual) {
+  // Drag well above its floor (the floor is about 5 1/s on these speeds), diagnosed by a catalogue without it.
+  std::mt19937_64 rng(230020);
+  DrawRanges ranges;
+  ranges.speed_min_m_s = 0.02;
+  ranges.speed_max_m_s = 0.15;
+  const auto pushes = simulate_all(draw_scenarios(rng, 8, {{"viscous_friction", 30.0}}, ranges));
+  EffectLibrary library = EffectLibrary::standard();
+  library.remove("viscous_friction");
+  const DiagnosisResult r = diagnose(pushes, library, fast_options());
+  log_result(r);
+  BOOST_TEST(r.adequacy.tested);
+  BOOST_TEST(!r.adequacy.explained, r.adequacy.verdict());
+  BOOST_TEST(effects_found(r).empty(), findings_text(r));
+  const std::string headline = findings_text(r);
+  BOOST_TEST(headline.rfind("unexplained residual", 0) == 0u, headline);
+  BOOST_TEST(headline.find("nothing found") == std::string::npos, headline);
+  const auto summary = diagnosis_summary_text(r);
+  BOOST_TEST(summary.find("hint (not a finding): speed") != std::string::npos, summary);
+}
+
+BOOST_AUTO_TEST_CASE(a_friction_patch_does_not_give_a_delay) {
+  // A patch of half as much again to three times the friction: whatever position_friction is called (found or
+  // significant but negligible), neither a force-stream delay nor a low-speed friction is found.
+  std::mt19937_64 rng(230030);
+  const double amount = draw(rng, 0.5, 2.0);
+  DrawRanges ranges;
+  ranges.length_min_m = 0.04;
+  ranges.length_max_m = 0.06;
+  const auto pushes = simulate_all(draw_scenarios(rng, 10, {{"position_friction", amount}}, ranges));
+  const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
+  log_result(r);
+  BOOST_TEST(!report(r, "time_offset").selected, findings_text(r));
+  BOOST_TEST(!report(r, "stribeck_friction").selected, findings_text(r));
+}
+
+BOOST_AUTO_TEST_SUITE_END()
