@@ -37,6 +37,16 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_out_folder(*sub, a->out, "Output folder (validation.md, validation.json)");
   sub->add_option("--kinds", a->options.kinds, "Kinds to draw: none and simulator effect names (default: all)")
       ->delimiter(',');
+  sub->add_option("--hide", a->options.hide,
+                  "Kinds left out of the diagnosis's catalogue but simulated: the honesty test (\"unexplained "
+                  "residual\", no other kind named); with no --kinds the kinds drawn are none and these")
+      ->delimiter(',');
+  sub->add_flag(
+      "--no-preloads", [a](std::int64_t) { a->options.draw_preloads = false; },
+      "No preloads: every push starts 1 mm away from the object");
+  sub->add_flag(
+      "--no-sensor-offsets", [a](std::int64_t) { a->options.draw_sensor_offsets = false; },
+      "No per-push force-sensor offsets: the sensor zeroed on every push");
   sub->add_option("--min-pushes", a->options.min_pushes, "Fewest pushes per trial (default 4)");
   sub->add_option("--max-pushes", a->options.max_pushes, "Most pushes per trial (default 8)");
   sub->add_option("--relevance", a->options.diagnosis.relevance_fraction,

@@ -18,6 +18,20 @@ for section in "## Targets" "## Confusion matrix" "## Detection rate against the
   expect_in "$tmp/v/validation.md" "$section" "validation.md has $section"
 done
 
+# --hide: the kind is simulated but not a candidate; the report gives the honesty rates.
+expect_exit 0 "a tiny honesty validation" -- "$bin" validate-diagnosis --trials 1 --hide compliant_pusher \
+  --min-pushes 4 --max-pushes 4 --quick-base --seed 9100 --jobs 2 --out "$tmp/h"
+for key in '"hide"' '"true_kind": "compliant_pusher"' '"hidden": true' '"adequacy"' '"hidden_none_named"' \
+  '"clean_explained"' '"preloaded_pushes"' '"draw_preloads": true' '"draw_sensor_offsets": true'; do
+  expect_in "$tmp/h/validation.json" "$key" "the honesty run's validation.json holds $key"
+done
+expect_in "$tmp/h/validation.md" "Hidden from the diagnosis's catalogue (simulated, not a candidate): compliant_pusher" \
+  "validation.md names the hidden kind"
+expect_in "$tmp/h/validation.md" "no other kind named" "validation.md gives the hidden kind's no-other-kind rate"
+expect_exit 2 "an unknown hidden kind" -- "$bin" validate-diagnosis --trials 1 --hide bogus --out "$tmp/bad4"
+expect_in "$tmp/err" "unknown effect 'bogus'" "the error names the hidden kind"
+expect_absent "$tmp/bad4" "output written for a bad hidden kind"
+
 expect_exit 2 "an unknown kind" -- "$bin" validate-diagnosis --trials 1 --kinds bogus --out "$tmp/bad1"
 expect_in "$tmp/err" "unknown effect 'bogus'" "the error names the kind"
 expect_absent "$tmp/bad1" "output written for a bad kind"

@@ -72,6 +72,7 @@ BOOST_AUTO_TEST_CASE(two_pushes_whose_rest_forces_disagree_show_no_sensor_bias) 
   for (int p = 0; p < 2; ++p) {
     SynchronisedPush push = pushpred::testing::synthetic_push_shell("rect1", 250, 100);
     push.pose.setZero();
+    push.tip_m.col(0).setConstant(0.2);  // the rod rests 15 cm clear of the object: its rest is force-free
     push.torque_about_centre_Nm.setZero();
     for (Eigen::Index k = 0; k < push.size(); ++k)
       push.force_N.row(k) << 1e-3 * std::sin(1.7 * k), reading_y_N[p] + 1e-3 * std::cos(2.3 * k);

@@ -210,4 +210,71 @@ BOOST_AUTO_TEST_CASE(inertia_mismatch_scales_the_force_to_accelerate_but_not_the
   }
 }
 
+BOOST_AUTO_TEST_CASE(support_tilt_adds_m_g_sin_alpha_against_an_uphill_push_and_with_a_downhill_one) {
+  // Pushed straight along the slope at constant speed: mu m g cos(alpha) +- m g sin(alpha).
+  const double alpha_deg = 2, alpha = alpha_deg * M_PI / 180, mu = 0.47;
+  const double mass = ShapeTable::published().find("rect2").mass_kg;
+  PushScenario s = central_push(0.05);
+  const double push_yaw = s.initial_yaw_rad - M_PI / 2;  // side 0 pushes along the body's -y
+  for (const double sign : {1.0, -1.0}) {                // +1: the push goes uphill (downhill opposite to it)
+    s.support_tilt_direction_rad = sign > 0 ? push_yaw + M_PI : push_yaw;
+    const double expected = mass * kG * (mu * std::cos(alpha) + sign * std::sin(alpha));
+    BOOST_TEST(cruise_force(run(s, "support_tilt", alpha_deg)) == expected, boost::test_tools::tolerance(0.01));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(anisotropic_friction_sets_each_body_axis_own_pushing_force_keeping_the_mean) {
+  // mu_x / mu_y = 1.4, mean 0.47: pushed along the body's y axis (side 0) mu_y m g, along x (side 1) mu_x m g.
+  const double r = 1.4, mu = 0.47;
+  const double mass = ShapeTable::published().find("rect2").mass_kg;
+  PushScenario s = central_push(0.05);
+  const double along_y = cruise_force(run(s, "anisotropic_friction", r));
+  s.contact_side = 1;
+  const double along_x = cruise_force(run(s, "anisotropic_friction", r));
+  BOOST_TEST(along_y == mu * 2 / (1 + r) * mass * kG, boost::test_tools::tolerance(0.01));
+  BOOST_TEST(along_x == mu * 2 * r / (1 + r) * mass * kG, boost::test_tools::tolerance(0.01));
+  BOOST_TEST(0.5 * (along_x + along_y) == mu * mass * kG, boost::test_tools::tolerance(0.01));
+}
+
+BOOST_AUTO_TEST_CASE(compliant_pusher_keeps_the_recorded_tip_on_its_path_while_the_object_lags_by_f_c) {
+  const double compliance = 1e-3, mu = 0.47;  // 1000 N/m
+  const double mass = ShapeTable::published().find("rect2").mass_kg;
+  // The spring and the object ring at sqrt(k / m) (4.4 Hz; Coulomb friction does not damp it): a long cruise, so
+  // that its means are over many periods.
+  const PushScenario s = central_push(0.05, 0.15);
+  const SimulatedPush clean = run(s), soft = run(s, "compliant_pusher", compliance);
+  BOOST_TEST((soft.recording.tip_pose.values == clean.recording.tip_pose.values));  // the commanded path
+  // In the cruise the object is f c further behind than on the rigid pusher, and the sensor reads the push.
+  double lag = 0;
+  int n = 0;
+  const double ramp = s.motion.ramp_s;
+  for (Eigen::Index k = 0; k < clean.t_s.size(); ++k)
+    if (clean.t_s(k) > clean.push_start_s + ramp + 0.2 && clean.t_s(k) < clean.push_end_s - ramp - 0.01) {
+      lag += (clean.tracked_pose.row(k).head<2>() - soft.tracked_pose.row(k).head<2>()).norm();
+      ++n;
+    }
+  BOOST_REQUIRE(n > 10);
+  BOOST_TEST(lag / n == mu * mass * kG * compliance, boost::test_tools::tolerance(0.03));
+  BOOST_TEST(cruise_force(soft) == mu * mass * kG, boost::test_tools::tolerance(0.01));
+}
+
+BOOST_AUTO_TEST_CASE(a_push_offset_shifts_this_push_fx_and_fy_readings_by_exactly_its_amount) {
+  PushScenario s = central_push(0.05, 0.02);
+  const SimulatedPush clean = run(s);
+  s.sensors.push_offset_N = Eigen::Vector2d(-1.2, 0.7);
+  const SimulatedPush offset = run(s);
+  const Eigen::MatrixX3d d = offset.recording.ft_wrench.values - clean.recording.ft_wrench.values;
+  BOOST_TEST((d.col(0).array() + 1.2).abs().maxCoeff() < 1e-9);
+  BOOST_TEST((d.col(1).array() - 0.7).abs().maxCoeff() < 1e-9);
+  BOOST_TEST(d.col(2).cwiseAbs().maxCoeff() < 1e-12);
+  BOOST_TEST((offset.recording.object_pose.values == clean.recording.object_pose.values));
+}
+
+BOOST_AUTO_TEST_CASE(a_preload_presses_with_stiffness_times_depth_before_the_tip_moves) {
+  PushScenario s = central_push(0.05, 0.02);
+  s.approach_gap_m = -2e-4;  // 1e4 N/m x 0.2 mm = 2 N, below rect2's friction mu m g: the object stays put
+  const SimulatedPush pressed = run(s);
+  BOOST_TEST(mean_force(pressed, 0.05, s.rest_before_s - 0.01) == 2.0, boost::test_tools::tolerance(0.01));
+}
+
 BOOST_AUTO_TEST_SUITE_END()

@@ -1,5 +1,6 @@
 // The physics of the simulated object: Newton's laws with distributed Coulomb friction and a compliant rod.
 #define BOOST_TEST_MODULE simulation
+#include <Eigen/Geometry>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 
@@ -178,6 +179,116 @@ BOOST_AUTO_TEST_CASE(the_pressure_puts_its_centre_under_the_mass_centre) {
   ObjectProperties off = ObjectProperties::nominal(s);
   off.mass_centre_m.x() = 0.016;  // outside the middle third of the 90 mm width: a planar pressure cannot carry it
   BOOST_CHECK_THROW(PushedObjectSystem(s, off, SupportFriction{}, RodContact{}, far_away_rod()), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(a_block_on_a_tilted_support_slides_down_at_g_sin_alpha_minus_mu_g_cos_alpha) {
+  // The textbook incline: steeper than the friction angle, from rest, a = g (sin alpha - mu cos alpha) downhill.
+  SupportFriction f;
+  f.coefficient = 0.1;
+  f.tilt_rad = 10 * M_PI / 180;
+  f.downhill = Eigen::Vector2d(std::cos(0.5), std::sin(0.5));
+  const PushedObjectSystem system(shape("rect2"), ObjectProperties::nominal(shape("rect2")), f, RodContact{},
+                                  far_away_rod());
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(4, 0.1, 0.4);
+  const Eigen::MatrixXd x = integrate(system, system.state_at_rest(Eigen::Vector3d(0, 0, 0.3)), times);
+  const double a = kG * (std::sin(f.tilt_rad) - 0.1 * std::cos(f.tilt_rad));
+  for (Eigen::Index k = 0; k < times.size(); ++k) {
+    const Eigen::Vector2d moved =
+        x.row(k).head<2>().transpose() - system.state_at_rest(Eigen::Vector3d(0, 0, 0.3)).head<2>();
+    BOOST_TEST(moved.dot(f.downhill) == 0.5 * a * times(k) * times(k), boost::test_tools::tolerance(1e-3));
+    BOOST_TEST(std::abs(moved.dot(Eigen::Vector2d(-f.downhill.y(), f.downhill.x()))) < 1e-9);
+    BOOST_TEST(x.row(k).segment<2>(3).dot(f.downhill) == a * times(k), boost::test_tools::tolerance(1e-3));
+    BOOST_TEST(std::abs(x(k, 5)) < 1e-6);
+  }
+  // The support carries the weight's normal component only.
+  double load = 0;
+  for (double l : system.element_loads_N()) load += l;
+  BOOST_TEST(load == ObjectProperties::nominal(shape("rect2")).mass_kg * kG * std::cos(f.tilt_rad),
+             boost::test_tools::tolerance(1e-12));
+}
+
+BOOST_AUTO_TEST_CASE(on_a_tilt_below_the_friction_angle_the_block_stays) {
+  SupportFriction f;
+  f.coefficient = 0.3;  // tan 10 deg = 0.176 < 0.3: static friction holds it
+  f.tilt_rad = 10 * M_PI / 180;
+  const PushedObjectSystem system(shape("hex"), ObjectProperties::nominal(shape("hex")), f, RodContact{},
+                                  far_away_rod());
+  const Eigen::VectorXd x0 = system.state_at_rest(Eigen::Vector3d(0.2, 0.1, 1.0));
+  const Eigen::MatrixXd x = integrate(system, x0, Eigen::Vector2d(0.5, 1.0));
+  // It creeps at eps sin / (mu cos) = 6 micrometres per second, the regularisation's slip.
+  BOOST_TEST((x.row(1).head<2>().transpose() - x0.head<2>()).norm() < 1e-5);
+}
+
+BOOST_AUTO_TEST_CASE(anisotropic_friction_decelerates_along_each_body_axis_at_its_own_mu_g) {
+  // mu_x / mu_y = 1.4 with mean 0.3: mu_x = 0.35, mu_y = 0.25. A slide along a body axis stops after v^2 / (2 mu g)
+  // with that axis's mu, and goes straight on.
+  SupportFriction f;
+  f.coefficient = 0.3;
+  f.anisotropy = 1.4;
+  const ShapeInfo& s = shape("rect2");
+  const PushedObjectSystem system(s, ObjectProperties::nominal(s), f, RodContact{}, far_away_rod());
+  const double yaw = 0.7, v0 = 0.2;
+  const Eigen::Matrix2d R = Eigen::Rotation2Dd(yaw).toRotationMatrix();
+  for (int axis = 0; axis < 2; ++axis) {
+    const double mu = axis == 0 ? 0.3 * 2 * 1.4 / 2.4 : 0.3 * 2 / 2.4;
+    Eigen::VectorXd x0 = system.state_at_rest(Eigen::Vector3d(0, 0, yaw));
+    const Eigen::Vector2d u = R.col(axis);
+    x0.segment<2>(3) = v0 * u;
+    const Eigen::MatrixXd x = integrate(system, x0, Eigen::Vector2d(0.5 * v0 / (mu * kG), 0.3));
+    BOOST_TEST(x.row(0).segment<2>(3).norm() == 0.5 * v0, boost::test_tools::tolerance(2e-3));
+    const Eigen::Vector2d moved = x.row(1).head<2>().transpose() - x0.head<2>();
+    BOOST_TEST(moved.norm() == v0 * v0 / (2 * mu * kG), boost::test_tools::tolerance(2e-3));
+    BOOST_TEST(std::abs(moved.normalized().dot(u) - 1) < 1e-9);
+  }
+  // Sliding obliquely, the friction force lies on the ellipse (f_x / A_x)^2 + (f_y / A_y)^2 = (mu m g)^2 and is
+  // not opposite to the velocity: it points along -A^2 v (maximum dissipation).
+  Eigen::VectorXd x = system.state_at_rest(Eigen::Vector3d(0, 0, yaw));
+  const Eigen::Vector2d v_body = Eigen::Vector2d(1, 1).normalized() * 0.05;
+  x.segment<2>(3) = R * v_body;
+  const Eigen::Vector2d force_body = R.transpose() * system.support_wrench(x).force_N;
+  const Eigen::Array2d A(2 * 1.4 / 2.4, 2 / 2.4);
+  const double F = 0.3 * s.mass_kg * kG;
+  BOOST_TEST((force_body.array() / A).matrix().norm() == F, boost::test_tools::tolerance(1e-6));
+  const Eigen::Vector2d expected = -(A * A * v_body.array()).matrix().normalized();
+  BOOST_TEST((force_body.normalized() - expected).norm() < 1e-6);
+}
+
+BOOST_AUTO_TEST_CASE(a_compliant_pusher_lags_its_commanded_path_by_force_times_compliance) {
+  // A 500 N/m pusher on a 1.3 kg object rings at about sqrt(k / m) = 3 Hz, and Coulomb friction does not damp it: over
+  // whole periods of the cruise the push carries mu m g and the tip lags its commanded point by f c.
+  const ShapeInfo& s = shape("rect2");
+  SupportFriction f;
+  f.coefficient = 0.3;
+  RodContact c;
+  c.pusher_compliance_m_N = 2e-3;
+  PusherMotion m;
+  m.speed_m_s = 0.05;
+  m.length_m = 0.1;
+  const Eigen::Vector2d start(0.0, s.dim2_m / 2 + kPusherRadius_m);
+  const PusherPath path(start, Eigen::Vector2d(0, -1), 0.1, m);
+  const PushedObjectSystem system(s, ObjectProperties::nominal(s), f, c, path);
+  BOOST_TEST(system.state_size() == 10);
+  // The pusher's spring in series with the contact's: the ringing's period.
+  const double period = 2 * M_PI * std::sqrt((2e-3 + 1 / c.stiffness_N_m) * s.mass_kg);
+  const int n = 400;
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(n, 0.5, 0.5 + 4 * period * (n - 1) / n);
+  const Eigen::MatrixXd x = integrate(system, system.state_at_rest(Eigen::Vector3d::Zero()), times);
+  const double push = 0.3 * s.mass_kg * kG;
+  double contact = 0, lag = 0, spring = 0, across = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::VectorXd xk = x.row(k).transpose();
+    const RodWrench w = system.rod_wrench(times(k), xk);
+    BOOST_TEST_REQUIRE(w.touching);
+    contact += -w.force_on_object_N.y() / n;
+    const Eigen::Vector2d behind = path.position_m(times(k)) - system.tip_position_m(times(k), xk);
+    lag += -behind.y() / n;
+    across = std::max(across, std::abs(behind.x()));
+    spring += -system.pusher_spring_force_N(times(k), xk).y() / n;
+  }
+  BOOST_TEST(contact == push, boost::test_tools::tolerance(0.01));
+  BOOST_TEST(spring == push, boost::test_tools::tolerance(0.01));
+  BOOST_TEST(lag == push * 2e-3, boost::test_tools::tolerance(0.01));
+  BOOST_TEST(across < 1e-7);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

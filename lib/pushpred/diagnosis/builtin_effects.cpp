@@ -336,7 +336,7 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     long count = 0;
     for (const auto& d : pushes) {
-      const auto idx = samples_before_tip_moves(d.push);
+      const auto idx = samples_without_contact(d.push);  // a pressing rod's rest is not force-free
       if (idx.size() < 5) continue;
       Eigen::MatrixX2d f(idx.size(), 2);
       for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = d.push.force_N.row(idx[k]);
@@ -350,9 +350,12 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     fit.samples = 2 * count;
     if (count < 5) {
       fit.score = -std::numeric_limits<double>::infinity();
-      fit.note = "no samples before the tip moves";
+      fit.note = "no samples where the tip rests clear of the object (every push starts pressed, or none rests)";
       return fit;
     }
+    // One push's zero cannot tell a bias the pushes share from that push's own offset (the real sensor's differ
+    // from push to push by 0.6 N and more): a shared bias needs two pushes that show it.
+    const bool one_push = blocks.size() < 2;
     // The reading is -f_C + b; before the tip moves f_C = 0, so b = -mean(f_C recorded).
     const Eigen::Vector2d mean = sum / static_cast<double>(count);
     fit.theta = -mean;
@@ -379,6 +382,10 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
       wald += v > 0 ? mean(c) * mean(c) / v : 0.0;
     }
     fit.score = wald - 2 * std::log(fit.effective_samples);
+    if (one_push) {
+      fit.score = -std::numeric_limits<double>::infinity();
+      fit.note = "the rest of one push only is clear of the object: its zero may be that push's own";
+    }
     return fit;
   }
 };

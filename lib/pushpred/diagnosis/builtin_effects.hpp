@@ -13,7 +13,8 @@
 //   with three or more pushes, the pushes' own delays must agree (their spread bounds the standard error and the
 //   score). Applied by reading the force stream tau later.
 // - force_offset [N] (direct; corrects data): the sensor's fx, fy read a bias b. Estimated from the samples
-//   before the tip moves (samples_before_tip_moves), where the true force is zero; scored by the same BIC on those
+//   before the tip moves on pushes whose rod rests clear of the object (samples_without_contact: a preload is no
+//   bias), where the true force is zero; scored by the same BIC on those
 //   samples (model: zero mean vs mean b). Applied by removing b.
 // - viscous_friction [1/s]: drag -c (m v, I omega) (uniform drag per unit mass over the footprint).
 // - coulomb_friction [-]: the limit-surface friction above with coefficient mu: friction that opposes the

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "pushpred/systems/exact_discretisation.hpp"
 
 namespace pushpred {
@@ -172,6 +174,36 @@ std::vector<Eigen::Index> samples_before_tip_moves(const SynchronisedPush& push,
     out.push_back(k);
   }
   return out;
+}
+
+namespace {
+
+/// The rod's surface to `outline` at sample k [m]: the tip's centre in the object's body frame, its distance to the
+/// outline less the rod's radius.
+double rod_gap_m(const SynchronisedPush& push, const Outline& outline, Eigen::Index k) {
+  const double c = std::cos(push.pose(k, 2)), s = std::sin(push.pose(k, 2));
+  const Eigen::Vector2d d = push.tip_m.row(k).transpose() - push.pose.row(k).head<2>().transpose();
+  return outline.closest(Eigen::Vector2d(c * d.x() + s * d.y(), -s * d.x() + c * d.y())).signed_distance_m -
+         kPusherRadius_m;
+}
+
+}  // namespace
+
+double measured_rod_gap_m(const SynchronisedPush& push, Eigen::Index k) {
+  if (!push.shape.has_outline()) return std::numeric_limits<double>::quiet_NaN();
+  return rod_gap_m(push, Outline(push.shape), k);
+}
+
+std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push) {
+  std::vector<Eigen::Index> rest = samples_before_tip_moves(push);
+  if (rest.empty() || !push.shape.has_outline()) return rest;
+  const Outline outline(push.shape);
+  std::vector<double> gaps;
+  gaps.reserve(rest.size());
+  for (Eigen::Index k : rest) gaps.push_back(rod_gap_m(push, outline, k));
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  if (!(gaps[gaps.size() / 2] > kContactMargin_m)) return {};
+  return rest;
 }
 
 }  // namespace pushpred

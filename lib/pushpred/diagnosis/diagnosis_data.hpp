@@ -93,4 +93,19 @@ SynchronisedPush apply_data_correction(const SynchronisedPush& push, const Model
 /// rests at the start of the recording (a push starts with the tip at rest, a gap away from the object).
 std::vector<Eigen::Index> samples_before_tip_moves(const SynchronisedPush& push, double travel_m = 3e-4);
 
+/// Below this measured gap between the resting rod's surface and the object's outline [m], the rod may touch: the
+/// contact compresses by f / k (a 3.7 N preload on the rig's 1e4 N/m: 0.37 mm, read as a negative gap), the trackers
+/// are good to a few micrometres, so a rod that presses reads a gap at or below zero and one 0.2 mm clear cannot press.
+inline constexpr double kContactMargin_m = 2e-4;
+
+/// The gap between the rod's surface and the object's outline [m] at grid sample k, from the measured tip and
+/// object poses (negative: the rod is pressed in); NaN for a shape without an outline.
+double measured_rod_gap_m(const SynchronisedPush& push, Eigen::Index k);
+
+/// Grid samples where the sensor's true force is zero: those before the tip moves (samples_before_tip_moves) on a
+/// push whose rod rests clear of the object, its median measured gap over them above kContactMargin_m. A rod that
+/// presses before the tip moves (a preload) makes its rest anything but force-free: such a push gives none. A shape
+/// without an outline cannot be measured so: its samples before the tip moves are taken, as a gap is then assumed.
+std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push);
+
 }  // namespace pushpred

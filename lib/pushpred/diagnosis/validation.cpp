@@ -54,13 +54,35 @@ void ValidationOptions::validate() const {
   if (jobs < 1) throw InputError("validation: --jobs must be at least 1");
   for (const auto& k : kinds)
     if (k != "none") effect_info(k);  // throws for an unknown kind, naming the known ones
+  for (const auto& k : hide) {
+    if (k == "none") throw InputError("validation: --hide takes simulator effects, not 'none'");
+    effect_info(k);
+  }
   diagnosis.validate();
 }
 
 std::vector<std::string> default_validation_kinds() {
+  const EffectLibrary library = EffectLibrary::standard();
   std::vector<std::string> out{"none"};
-  for (const auto& e : effect_catalogue()) out.push_back(e.name);
+  for (const auto& e : effect_catalogue())
+    if (library.find(e.name)) out.push_back(e.name);
   return out;
+}
+
+std::vector<std::string> validation_kinds(const ValidationOptions& options) {
+  if (!options.kinds.empty()) return options.kinds;
+  if (options.hide.empty()) return default_validation_kinds();
+  std::vector<std::string> out{"none"};
+  for (const auto& k : options.hide)
+    if (std::find(out.begin(), out.end(), k) == out.end()) out.push_back(k);
+  return out;
+}
+
+EffectLibrary validation_library(const ValidationOptions& options) {
+  EffectLibrary library = EffectLibrary::standard();
+  for (const auto& k : options.hide)
+    if (library.find(k)) library.remove(k);
+  return library;
 }
 
 FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, double relevance_fraction) {
@@ -100,12 +122,38 @@ constexpr double kMaxPatchExcess = 3.0;
 /// Rounds of the floor's fixed point for friction laws (draw_validation_trial).
 constexpr int kFloorRounds = 4;
 
+/// The largest drawn support tilt, as a share of the friction angle: the object must rest on the tilted support.
+constexpr double kMaxTiltShareOfFrictionAngle = 0.5;
+/// The largest drawn anisotropy |A - 1| = |r - 1| / (r + 1): 0.6 is a ratio of 4 along the body axes.
+constexpr double kMaxAnisotropy = 0.6;
+/// The largest drawn pusher compliance [m/N] (the simulator's range).
+constexpr double kMaxCompliance_m_N = 0.01;
+
+/// The floor of a simulator effect the standard catalogue has no candidate for, on the diagnosis's yardstick
+/// (validation.hpp), in the simulator's units.
+double yardstick_floor(const std::string& kind, const FloorContext& c, const std::string& shape_name) {
+  const double kappa = c.relevance_fraction, mu = c.friction_coefficient;
+  if (kind == "support_tilt") return std::asin(std::min(1.0, kappa * mu)) * 180 / M_PI;  // [deg]
+  if (kind == "anisotropic_friction") return kappa;  // |A - 1|; the ratio is (1 + a) / (1 - a) or its inverse
+  if (kind == "compliant_pusher") {
+    const double mass = c.mass_kg > 0 ? c.mass_kg : ShapeTable::published().find(shape_name).mass_kg;
+    const double travel = c.travel_m > 0 ? c.travel_m : 0.04;
+    return kappa * travel / (mu * mass * kStandardGravity_m_s2);  // [m/N]
+  }
+  throw InputError("validation: no floor for the simulator's '" + kind + "'");
+}
+
 double simulator_floor(const std::string& kind, const FloorContext& c, const std::string& shape_name) {
   const auto effect = EffectLibrary::standard().find(kind);
-  if (!effect) throw InputError("validation: no candidate effect for the simulator's '" + kind + "'");
+  if (!effect) return yardstick_floor(kind, c, shape_name);
   const double floor = effect->floor(c).amount;
   if (kind == "force_offset") return floor / std::sqrt(2.0);             // the sim's amount is per axis
   if (kind == "stribeck_friction") return floor / c.friction_coefficient;  // the sim's is relative to mu
+  if (kind == "support_tilt") {  // the candidate's |f| [N] as the tilt whose downhill force it is [deg]
+    const double weight = ShapeTable::published().find(shape_name).mass_kg * kStandardGravity_m_s2;
+    return std::asin(std::min(1.0, floor / weight)) * 180 / M_PI;
+  }
+  if (kind == "anisotropic_friction") return floor / c.friction_coefficient;  // k / mu = |A - 1|
   if (kind == "position_friction") {
     // The patch (a disk of radius kFrictionPatchRadius_m) carries at most its share of the footprint's load: its relative
     // excess must be kappa over that share to change the friction force by kappa.
@@ -189,6 +237,14 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
   trial.contact_stiffness_N_m = std::exp(uniform(rng, std::log(5e3), std::log(3e4)));
   trial.pressure_rim_weight = uniform(rng, -0.3, 0.6);
   trial.pushes = std::uniform_int_distribution<int>(o.min_pushes, o.max_pushes)(rng);
+  // The start of each push, the sensor's offsets and the support's tilt direction come from a generator of their
+  // own, so that the rest of a trial is drawn as without them.
+  std::mt19937_64 start_rng(seed ^ 0x9E3779B97F4A7C15ULL);
+  // One support for the trial: the downhill direction of a tilt (used only when the kind is support_tilt).
+  const double downhill_rad = uniform(start_rng, -M_PI, M_PI);
+  trial.preloaded_pushes = 0;
+  const ShapeInfo& shape_info = ShapeTable::published().find(trial.shape);
+  const double friction_force_N = trial.surface_friction * shape_info.mass_kg * kStandardGravity_m_s2;
   const int sides = Outline(ShapeTable::published().find(trial.shape)).side_count();
   std::vector<PushScenario> out;
   for (int k = 0; k < trial.pushes; ++k) {
@@ -211,6 +267,19 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     s.push_angle_rad = uniform(rng, -0.35, 0.35);
     s.initial_yaw_rad = uniform(rng, -M_PI, M_PI);
     s.seed = rng();
+    s.support_tilt_direction_rad = downhill_rad;
+    // The real pushes start pressed with up to 3.7 N, or a gap away; the sensor is not zeroed between pushes. Both
+    // are drawn every time, whether used or not, so that switching one off leaves the other's draws as they were.
+    const bool pressed = uniform(start_rng, 0, 1) < 0.5;
+    const double preload_N = uniform(start_rng, 0.3, std::max(0.3, std::min(3.7, 0.7 * friction_force_N)));
+    const double gap_m = uniform(start_rng, 0.0005, 0.002);
+    std::normal_distribution<double> offset(0.0, kPushOffsetSpread_N);
+    const Eigen::Vector2d offset_N(offset(start_rng), offset(start_rng));
+    if (o.draw_preloads) {
+      s.approach_gap_m = pressed ? std::max(-0.001, -preload_N / s.contact_stiffness_N_m) : gap_m;
+      trial.preloaded_pushes += pressed;
+    }
+    if (o.draw_sensor_offsets) s.sensors.push_offset_N = offset_N;
     out.push_back(s);
   }
   if (kind != "none") {
@@ -220,11 +289,17 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     // amount "at twice the floor" would be below the floor the diagnosis measures.
     trial.floor = measured_simulator_floor(kind, out, o.diagnosis, trial.shape);
     trial.floor_multiple = uniform(rng, o.min_floor_multiple, o.max_floor_multiple);
-    const double sign = kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch"
-                            ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
-                            : 1.0;
-    // The simulator's amount for a size in the diagnosis's measure (|factor - 1| for the mass).
-    const auto simulator_amount = [&](double size) { return kind == "inertia_mismatch" ? 1 + sign * size : sign * size; };
+    const double sign =
+        kind == "force_offset" || kind == "com_offset" || kind == "inertia_mismatch" || kind == "anisotropic_friction"
+            ? (uniform(rng, 0, 1) < 0.5 ? -1.0 : 1.0)
+            : 1.0;
+    // The simulator's amount for a size in the diagnosis's measure (|factor - 1| for the mass, |A - 1| for the
+    // friction's anisotropy: the ratio (1 + a) / (1 - a) along the body axes or its inverse).
+    const auto simulator_amount = [&](double size) {
+      if (kind == "inertia_mismatch") return 1 + sign * size;
+      if (kind == "anisotropic_friction") return sign > 0 ? (1 + size) / (1 - size) : (1 - size) / (1 + size);
+      return sign * size;
+    };
     // A mass factor of 0.5 at the least and 4 at the most: inside the diagnosis's plausible range (0.2-5), where the
     // floor is large (an object that hardly accelerates) the drawn multiple of the floor is then smaller. Friction at
     // rest at most twice the sliding friction (a Stribeck excess of 1): where the pushes spend too little time at low
@@ -240,6 +315,10 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
       if (kind == "stribeck_friction") return std::min(size, kMaxStribeckExcess);
       if (kind == "viscous_friction") return std::min(size, max_drag_1_s);
       if (kind == "position_friction") return std::min(size, kMaxPatchExcess);
+      if (kind == "support_tilt")
+        return std::min(size, kMaxTiltShareOfFrictionAngle * std::atan(trial.surface_friction) * 180 / M_PI);
+      if (kind == "anisotropic_friction") return std::min(size, kMaxAnisotropy);
+      if (kind == "compliant_pusher") return std::min(size, kMaxCompliance_m_N);
       return size;
     };
     double size = capped(std::isfinite(trial.floor) ? trial.floor_multiple * trial.floor : kMaxStribeckExcess);
@@ -283,13 +362,25 @@ double fitted_in_simulator_units(const EffectReport& e, const std::string& kind,
   if (kind == "stribeck_friction") return e.theta(0) / mu;
   if (kind == "position_friction") return kNaN;  // a step patch against a linear gradient: not comparable
   if (kind == "inertia_mismatch") return 1 + e.theta(0);
+  if (kind == "support_tilt") return kNaN;  // a force [N] against a tilt [deg]: compared through the floor only
+  if (kind == "anisotropic_friction") {     // k = mu (r - 1) / (r + 1): the ratio r = (mu + k) / (mu - k)
+    return mu > std::abs(e.theta(0)) ? (mu + e.theta(0)) / (mu - e.theta(0)) : kNaN;
+  }
   return e.theta(0);  // time_offset, viscous_friction, com_offset (delta_x)
+}
+
+/// The diagnosis's model-adequacy verdict (DiagnosisResult::adequacy).
+void read_adequacy(const DiagnosisResult& r, ValidationTrial& trial) {
+  trial.adequacy_tested = r.adequacy.tested;
+  trial.explained = r.adequacy.explained;
 }
 
 void run_trial(const ValidationOptions& o, ValidationTrial& trial, const std::string& kind) {
   try {
     const std::vector<PushScenario> scenarios = draw_validation_trial(o, trial.index, kind, trial);
-    score_trial(diagnose(simulate_trial(scenarios), EffectLibrary::standard(), o.diagnosis), trial);
+    const EffectLibrary library = validation_library(o);
+    trial.hidden = kind != "none" && !library.find(kind);
+    score_trial(diagnose(simulate_trial(scenarios), library, o.diagnosis), trial);
   } catch (const std::exception& e) {
     trial.failure = e.what();
   }
@@ -328,6 +419,7 @@ void score_trial(const DiagnosisResult& r, ValidationTrial& trial) {
   }
   trial.true_named = kind == "none" ? trial.named.empty()
                                     : std::find(trial.named.begin(), trial.named.end(), kind) != trial.named.end();
+  read_adequacy(r, trial);
   trial.before = r.error_before;
   trial.base = r.error_base;
   trial.after = r.error_after;
@@ -337,7 +429,7 @@ void score_trial(const DiagnosisResult& r, ValidationTrial& trial) {
 }
 
 int validation_trial_count(const ValidationOptions& options) {
-  const std::size_t kinds = options.kinds.empty() ? default_validation_kinds().size() : options.kinds.size();
+  const std::size_t kinds = validation_kinds(options).size();
   return options.trials_per_kind * static_cast<int>(kinds);
 }
 
@@ -352,7 +444,7 @@ ValidationResult validate_diagnosis_trials(const ValidationOptions& options, con
   options.validate();
   ValidationResult result;
   result.options = options;
-  if (result.options.kinds.empty()) result.options.kinds = default_validation_kinds();
+  result.options.kinds = validation_kinds(options);
   const auto& kinds = result.options.kinds;
   const int count = validation_trial_count(result.options);
   for (int k : indices)
@@ -394,6 +486,13 @@ ValidationSummary summarise_validation(const ValidationResult& r) {
     if (t.true_kind == "none") {
       ++s.clean_trials;
       s.clean_nothing_named += t.named.empty();
+      s.clean_adequacy_tested += t.adequacy_tested;
+      s.clean_explained += t.adequacy_tested && t.explained;
+    } else if (t.floor_multiple >= 2 && t.hidden) {
+      ++s.hidden_trials_at_twice_floor;
+      s.hidden_adequacy_tested += t.adequacy_tested;
+      s.hidden_unexplained += t.adequacy_tested && !t.explained;
+      s.hidden_none_named += t.named.empty();
     } else if (t.floor_multiple >= 2) {
       ++s.effect_trials_at_twice_floor;
       s.named_at_twice_floor += t.true_named;

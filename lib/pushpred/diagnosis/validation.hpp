@@ -4,8 +4,19 @@
 // friction 0.2-0.6, pusher-object friction 0.1-0.4, contact stiffness 5e3-3e4 N/m, a support pressure loading the
 // rim or the middle (rim weight -0.3 to 0.6), push speeds of the dataset (10-150 mm/s) or accelerations
 // (0.2-2.5 m/s^2), sides, contact positions and angles, sensor noise seeds; one effect kind (or none) at an amount
-// drawn between `min_floor_multiple` and `max_floor_multiple` times its floor; 4-8 pushes; then the diagnosis,
-// which is told nothing of the draw.
+// drawn between `min_floor_multiple` and `max_floor_multiple` times its floor; 4-8 pushes; and, like the real rig,
+// on every push a start either pressed (a preload: the rod already in contact, 0.3-3.7 N, at most 70 % of the
+// support's friction so that the object stays put) or a gap of 0.5-2 mm (even odds), and the force sensor's own zero
+// error on that push (fx, fy each normal, push-to-push spread kPushOffsetSpread_N). Then the diagnosis, which is
+// told nothing of the draw.
+//
+// Honesty (`hide`): a hidden kind is simulated but left out of the diagnosis's catalogue, as are the simulator's
+// effects that have no candidate at all (compliant_pusher): the diagnosis should then say "unexplained residual"
+// and name no other kind. A kind without a candidate in the standard catalogue has a floor on the same yardstick
+// (simulator_floor): the support's tilt whose downhill force m g sin(alpha) is kappa of the friction force mu m g
+// (the support_tilt candidate's floor), the anisotropy whose friction along a body axis differs from the mean by
+// kappa of it, |A - 1| = |r - 1| / (r + 1) = kappa (anisotropic_friction's), the pusher compliance whose lag under
+// the friction force, c mu m g, is kappa of the pushes' mean travel.
 //
 // The floor of a trial's effect is the candidate's own floor (candidate_effect.hpp) evaluated on the FloorContext
 // the diagnosis measures on the trial's pushes simulated without the effect (measured_simulator_floor: the floor
@@ -32,11 +43,26 @@ struct ValidationOptions {
   double min_floor_multiple = 1, max_floor_multiple = 5;
   DiagnosisOptions diagnosis;
   int jobs = 1;  ///< trials run in parallel (results do not depend on it)
+  /// Kinds left out of the diagnosis's catalogue in every trial (still simulated when drawn). When given and
+  /// `kinds` is empty, the kinds drawn are "none" and these.
+  std::vector<std::string> hide;
+  /// Draw on every push a preload or a gap (false: 1 mm, the simulator's default), and the force sensor's own zero
+  /// on that push (false: zeroed).
+  bool draw_preloads = true, draw_sensor_offsets = true;
   void validate() const;
 };
 
-/// The kinds drawn by default: "none" and every effect of the simulator's catalogue.
+/// The push-to-push spread (standard deviation per axis) of the force sensor's zero error [N], measured on the real
+/// ABS pushes whose tip rests clear of the object (docs/simulator.md).
+inline constexpr double kPushOffsetSpread_N = 0.6;
+
+/// The kinds drawn by default: "none" and every effect of the simulator's catalogue that the standard diagnosis
+/// has a candidate for.
 std::vector<std::string> default_validation_kinds();
+/// The kinds drawn by `options`: its kinds; or "none" and the hidden ones; or default_validation_kinds().
+std::vector<std::string> validation_kinds(const ValidationOptions& options);
+/// The catalogue the diagnosis uses in the trials of `options`: the standard one without the hidden kinds.
+EffectLibrary validation_library(const ValidationOptions& options);
 
 struct ValidationTrial {
   int index = 0;
@@ -60,6 +86,11 @@ struct ValidationTrial {
   bool true_passed = false, true_negligible = false;
   double true_amount = 0, true_floor = 0;
   std::string true_note;
+  /// The true kind is not in the diagnosis's catalogue (hidden, or the simulator's effect has no candidate).
+  bool hidden = false;
+  int preloaded_pushes = 0;  ///< pushes that started with the rod pressing
+  /// The diagnosis's model-adequacy verdict: whether it was tested, and "explained" (else "unexplained residual").
+  bool adequacy_tested = false, explained = false;
   ErrorSummary before, base, after, hold, const_velocity, quasi_static;
   std::string failure;  ///< why the trial could not be diagnosed (empty: it was)
 };
@@ -121,6 +152,9 @@ struct ValidationSummary {
   int effect_trials_at_twice_floor = 0, named_at_twice_floor = 0;
   int clean_trials = 0, clean_nothing_named = 0;
   int after_below_paper = 0, after_below_const_velocity = 0, compared = 0;
+  // Honesty: trials whose kind the catalogue lacks, at twice its floor or more; with the adequacy test's verdict.
+  int hidden_trials_at_twice_floor = 0, hidden_adequacy_tested = 0, hidden_unexplained = 0, hidden_none_named = 0;
+  int clean_adequacy_tested = 0, clean_explained = 0;
 };
 ValidationSummary summarise_validation(const ValidationResult& result);
 

@@ -29,7 +29,10 @@ nlohmann::json options_json(const ValidationOptions& o) {
           {"relevance_fraction", exact_number_json(o.diagnosis.relevance_fraction)},
           {"bic_threshold", exact_number_json(o.diagnosis.bic_threshold)},
           {"floor_margin_std", exact_number_json(o.diagnosis.floor_margin_std)},
-          {"fit_base_settings", o.diagnosis.fit_base_settings}};
+          {"fit_base_settings", o.diagnosis.fit_base_settings},
+          {"hide", o.hide},
+          {"draw_preloads", o.draw_preloads},
+          {"draw_sensor_offsets", o.draw_sensor_offsets}};
 }
 
 ValidationOptions options_from(const nlohmann::json& j) {
@@ -46,6 +49,9 @@ ValidationOptions options_from(const nlohmann::json& j) {
     o.diagnosis.bic_threshold = exact_number(j.at("bic_threshold"));
     o.diagnosis.floor_margin_std = exact_number(j.at("floor_margin_std"));
     o.diagnosis.fit_base_settings = j.at("fit_base_settings").get<bool>();
+    o.hide = j.at("hide").get<std::vector<std::string>>();
+    o.draw_preloads = j.at("draw_preloads").get<bool>();
+    o.draw_sensor_offsets = j.at("draw_sensor_offsets").get<bool>();
     return o;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("its options are not those of validate-diagnosis: ") + e.what());
@@ -62,8 +68,13 @@ BatchRunOutcome write_validation_outputs(const ValidationResult& r, StagedOutput
   report << "right kind named at >= 2 floors: " << s.named_at_twice_floor << " / " << s.effect_trials_at_twice_floor
          << "; nothing named on clean: " << s.clean_nothing_named << " / " << s.clean_trials
          << "; corrected below the paper: " << s.after_below_paper << " / " << s.compared
-         << ", below const_velocity: " << s.after_below_const_velocity << " / " << s.compared << "\n"
-         << "report in " << out.destination().string() << "/validation.md\n";
+         << ", below const_velocity: " << s.after_below_const_velocity << " / " << s.compared << "\n";
+  if (s.hidden_trials_at_twice_floor > 0 || s.clean_adequacy_tested > 0)
+    report << "hidden kinds at >= 2 floors: unexplained " << s.hidden_unexplained << " / " << s.hidden_adequacy_tested
+           << " tested (" << s.hidden_trials_at_twice_floor << " trials), no kind named " << s.hidden_none_named
+           << " / " << s.hidden_trials_at_twice_floor << "; clean explained " << s.clean_explained << " / "
+           << s.clean_adequacy_tested << " tested\n";
+  report << "report in " << out.destination().string() << "/validation.md\n";
   BatchRunOutcome outcome;
   outcome.report = report.str();
   if (s.failed > 0) outcome.notes = std::to_string(s.failed) + " trial(s) could not be diagnosed (listed in validation.md)\n";
@@ -110,8 +121,12 @@ nlohmann::json validation_trial_exact_json(const ValidationTrial& t) {
           {"true_amount", exact_number_json(t.true_amount)},
           {"true_floor", exact_number_json(t.true_floor)},
           {"true_note", t.true_note},
-          {"errors", held_out_errors_exact_json(
-                         {&t.before, &t.base, &t.after, &t.hold, &t.const_velocity, &t.quasi_static})},
+          {"hidden", t.hidden},
+          {"preloaded_pushes", t.preloaded_pushes},
+          {"adequacy_tested", t.adequacy_tested},
+          {"explained", t.explained},
+          {"errors",
+           held_out_errors_exact_json({&t.before, &t.base, &t.after, &t.hold, &t.const_velocity, &t.quasi_static})},
           {"failure", t.failure}};
 }
 
@@ -140,6 +155,10 @@ ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
     t.true_amount = exact_number(j.at("true_amount"));
     t.true_floor = exact_number(j.at("true_floor"));
     t.true_note = j.at("true_note").get<std::string>();
+    t.hidden = j.at("hidden").get<bool>();
+    t.preloaded_pushes = j.at("preloaded_pushes").get<int>();
+    t.adequacy_tested = j.at("adequacy_tested").get<bool>();
+    t.explained = j.at("explained").get<bool>();
     held_out_errors_from_exact_json(j.at("errors"),
                                     {&t.before, &t.base, &t.after, &t.hold, &t.const_velocity, &t.quasi_static},
                                     "a trial");

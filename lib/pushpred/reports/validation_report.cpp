@@ -48,6 +48,12 @@ nlohmann::json validation_json(const ValidationResult& r) {
       j["named"] = t.named;
       j["negligible"] = t.negligible;
       j["true_named"] = t.true_named;
+      j["hidden"] = t.hidden;
+      j["preloaded_pushes"] = t.preloaded_pushes;
+      j["adequacy"] = {{"tested", t.adequacy_tested},
+                       {"verdict", !t.adequacy_tested ? "not tested"
+                                   : t.explained      ? "explained"
+                                                      : "unexplained residual"}};
       j["fitted_amount"] = number_or_null(t.fitted_amount);
       j["true_kind_in_diagnosis"] = {{"score", number_or_null(t.true_score)}, {"passed_test", t.true_passed},
                                      {"negligible", t.true_negligible}, {"amount", number_or_null(t.true_amount)},
@@ -71,7 +77,10 @@ nlohmann::json validation_json(const ValidationResult& r) {
             {"floor_multiples", {o.min_floor_multiple, o.max_floor_multiple}},
             {"relevance_fraction", o.diagnosis.relevance_fraction},
             {"bic_threshold", o.diagnosis.bic_threshold},
-            {"floor_margin_std", o.diagnosis.floor_margin_std}}},
+            {"floor_margin_std", o.diagnosis.floor_margin_std},
+            {"hide", o.hide},
+            {"draw_preloads", o.draw_preloads},
+            {"draw_sensor_offsets", o.draw_sensor_offsets}}},
           {"summary",
            {{"trials", s.trials},
             {"failed", s.failed},
@@ -81,7 +90,13 @@ nlohmann::json validation_json(const ValidationResult& r) {
             {"clean_nothing_named", s.clean_nothing_named},
             {"after_below_paper", s.after_below_paper},
             {"after_below_const_velocity", s.after_below_const_velocity},
-            {"compared", s.compared}}},
+            {"compared", s.compared},
+            {"hidden_trials_at_twice_floor", s.hidden_trials_at_twice_floor},
+            {"hidden_adequacy_tested", s.hidden_adequacy_tested},
+            {"hidden_unexplained", s.hidden_unexplained},
+            {"hidden_none_named", s.hidden_none_named},
+            {"clean_adequacy_tested", s.clean_adequacy_tested},
+            {"clean_explained", s.clean_explained}}},
           {"trials", trials}};
 }
 
@@ -96,7 +111,15 @@ std::string validation_markdown(const ValidationResult& r) {
      << fixed(o.max_floor_multiple, 1) << " times their floor; relevance fraction "
      << fixed(o.diagnosis.relevance_fraction, 3) << ", BIC threshold " << fixed(o.diagnosis.bic_threshold, 1)
      << ", floor margin " << fixed(o.diagnosis.floor_margin_std, 1) << " standard error(s)"
+     << (o.draw_preloads ? "; every push starts pressed (a preload) or a gap away, even odds"
+                         : "; every push starts 1 mm away")
+     << (o.draw_sensor_offsets ? ", with its own force-sensor offset" : ", the sensor zeroed")
      << ". Scenarios and ranges: lib/pushpred/diagnosis/validation.hpp.";
+  if (!o.hide.empty()) {
+    std::string hidden;
+    for (const auto& k : o.hide) hidden += (hidden.empty() ? "" : ", ") + k;
+    md << " Hidden from the diagnosis's catalogue (simulated, not a candidate): " << hidden << ".";
+  }
   if (s.failed > 0) md << " " << s.failed << " trial(s) could not be diagnosed (listed at the end).";
   md << "\n\n## Targets\n\n| target | result | met |\n|---|---|---|\n";
   const auto row = [&](const std::string& what, int a, int b, double need) {
@@ -108,6 +131,23 @@ std::string validation_markdown(const ValidationResult& r) {
   row("nothing named on clean trials (>= 95 %)", s.clean_nothing_named, s.clean_trials, 0.95);
   row("corrected below the paper's method, held out (every trial)", s.after_below_paper, s.compared, 1.0);
   row("corrected below `const_velocity`, held out (>= 90 %)", s.after_below_const_velocity, s.compared, 0.9);
+  if (s.hidden_trials_at_twice_floor > 0 || s.clean_trials > 0) {
+    // Honesty: a kind the catalogue lacks must give "unexplained residual" and no other kind; a clean trial
+    // "explained". Counted over the trials whose diagnosis ran the adequacy test.
+    if (s.hidden_trials_at_twice_floor > 0) {
+      row("hidden kind at twice its floor or more: \"unexplained residual\" (>= 80 %)", s.hidden_unexplained,
+          s.hidden_adequacy_tested, 0.8);
+      row("hidden kind at twice its floor or more: no other kind named (>= 90 %)", s.hidden_none_named,
+          s.hidden_trials_at_twice_floor, 0.9);
+    }
+    row("clean trials: \"explained\" (>= 95 %)", s.clean_explained, s.clean_adequacy_tested, 0.95);
+    const int untested =
+        (s.hidden_trials_at_twice_floor - s.hidden_adequacy_tested) + (s.clean_trials - s.clean_adequacy_tested);
+    if (untested > 0)
+      md << "\n"
+         << untested << " trial(s) of these carry no adequacy verdict: the diagnosis did not test the model's "
+         << "adequacy there.\n";
+  }
 
   // Confusion matrix: rows true kind, columns named kinds (a trial naming two counts in both) and "nothing".
   std::vector<std::string> columns = o.kinds;

@@ -46,6 +46,15 @@ PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectPrope
   if (!(support.patch_excess > -1))
     throw InputError("patch friction change must be above -1 (friction stays positive)");
   if (!object.mass_centre_m.allFinite()) throw InputError("mass centre must be finite");
+  if (!(std::abs(support.tilt_rad) < M_PI / 2) || !support.downhill.allFinite() ||
+      std::abs(support.downhill.norm() - 1) > 1e-9)
+    throw InputError("support tilt must be within 90 degrees and its downhill direction a unit vector");
+  if (!(support.anisotropy > 0) || !std::isfinite(support.anisotropy))
+    throw InputError("friction anisotropy must be positive");
+  if (!(contact.pusher_compliance_m_N >= 0) || !std::isfinite(contact.pusher_compliance_m_N))
+    throw InputError("pusher compliance must not be negative");
+  if (contact.pusher_compliance_m_N > 0 && (!(contact.tip_mass_kg > 0) || !(contact.tip_damping_ratio >= 0)))
+    throw InputError("a compliant pusher needs a positive tip mass and a non-negative damping ratio");
 
   // Planar pressure p_i = 1 + g . (r_i - c) over the footprint: its centre of pressure is c + J g / A, which
   // must be the mass centre for the object to rest on the table without tipping.
@@ -77,16 +86,33 @@ PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectPrope
     load_[i] = p * footprint.area_m2[i] * radial[i];
     total += load_[i];
   }
-  for (auto& l : load_) l *= object.mass_kg * support.gravity_m_s2 / total;
+  // A tilted support carries the normal component of the weight.
+  for (auto& l : load_) l *= object.mass_kg * support.gravity_m_s2 * std::cos(support.tilt_rad) / total;
   element_from_mass_centre_.reserve(load_.size());
   for (const auto& c : footprint.centre_m) element_from_mass_centre_.push_back(c - object.mass_centre_m);
 }
 
 Eigen::VectorXd PushedObjectSystem::state_at_rest(const Eigen::Vector3d& pose) const {
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(6);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(state_size());
   x.head<2>() = pose.head<2>() + rotation(pose(2)) * object_.mass_centre_m;
   x(2) = pose(2);
+  if (compliant()) x.segment<2>(6) = path_.start_m();  // the tip at rest where the path starts, spring relaxed
   return x;
+}
+
+Eigen::Vector2d PushedObjectSystem::tip_position_m(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  return compliant() ? Eigen::Vector2d(x.segment<2>(6)) : path_.position_m(t);
+}
+
+Eigen::Vector2d PushedObjectSystem::pusher_spring_force_N(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  if (!compliant()) return Eigen::Vector2d::Zero();
+  const double k = 1 / contact_.pusher_compliance_m_N;
+  const double c = 2 * contact_.tip_damping_ratio * std::sqrt(k * contact_.tip_mass_kg);
+  return k * (path_.position_m(t) - x.segment<2>(6)) + c * (path_.velocity_m_s(t) - x.segment<2>(8));
+}
+
+Eigen::Vector2d PushedObjectSystem::gravity_along_support_N() const {
+  return object_.mass_kg * support_.gravity_m_s2 * std::sin(support_.tilt_rad) * support_.downhill;
 }
 
 Eigen::Vector3d PushedObjectSystem::tracked_pose(const Eigen::Ref<const Eigen::VectorXd>& x) const {
@@ -101,7 +127,7 @@ RodWrench PushedObjectSystem::rod_wrench(double t, const Eigen::Ref<const Eigen:
   const Eigen::Matrix2d R = rotation(x(2));
   const Eigen::Vector2d mass_centre = x.head<2>();
   const Eigen::Vector2d origin = mass_centre - R * object_.mass_centre_m;
-  w.rod_centre_m = path_.position_m(t);
+  w.rod_centre_m = tip_position_m(t, x);
   const Outline::Closest c = outline_.closest(R.transpose() * (w.rod_centre_m - origin));
   w.penetration_m = contact_.rod_radius_m - c.signed_distance_m;
   w.contact_point_m = origin + R * c.point_m;
@@ -113,7 +139,8 @@ RodWrench PushedObjectSystem::rod_wrench(double t, const Eigen::Ref<const Eigen:
   const double omega = x(5);
   const Eigen::Vector2d arm = w.contact_point_m - mass_centre;
   const Eigen::Vector2d v_material = v_centre + omega * Eigen::Vector2d(-arm.y(), arm.x());
-  const Eigen::Vector2d v_rel = path_.velocity_m_s(t) - v_material;  // rod relative to the object's surface
+  const Eigen::Vector2d v_tip = compliant() ? Eigen::Vector2d(x.segment<2>(8)) : path_.velocity_m_s(t);
+  const Eigen::Vector2d v_rel = v_tip - v_material;  // rod relative to the object's surface
   const double penetration_rate = -n.dot(v_rel);
   const double blend = std::min(1.0, w.penetration_m / contact_.damping_blend_m);
   const double normal =
@@ -136,9 +163,8 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
   const bool patch = support_.patch_excess != 0;
   const double vs2 = support_.stribeck_speed_m_s * support_.stribeck_speed_m_s;
   // In the body frame, about the mass centre: each element's mu (Stribeck rise, patch) times its load.
-  const Eigen::Vector3d body = footprint_friction_wrench(
-      load_.size(), [&](std::size_t i) { return element_from_mass_centre_[i]; }, v_body, omega,
-      support_.regularisation_m_s, [&](std::size_t i, const Eigen::Vector2d& r, double speed2) {
+  const auto sliding_force_N =
+      [&](std::size_t i, const Eigen::Vector2d& r, double speed2) {
         double mu = support_.coefficient;
         if (stribeck) mu *= 1 + support_.stribeck_excess * std::exp(-speed2 / vs2);
         if (patch) {
@@ -150,7 +176,12 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
           mu *= 1 + support_.patch_excess * s * s * (3 - 2 * s);  // smooth step: the force stays continuous
         }
         return mu * load_[i];
-      });
+      };
+  const Eigen::Vector3d body = support_.anisotropy == 1
+                                   ? footprint_friction_wrench(
+                                         load_.size(), [&](std::size_t i) { return element_from_mass_centre_[i]; },
+                                         v_body, omega, support_.regularisation_m_s, sliding_force_N)
+                                   : anisotropic_friction_wrench(v_body, omega, sliding_force_N);
   PlanarWrench w;
   w.force_N = R * body.head<2>();
   w.torque_Nm = body(2);
@@ -161,19 +192,49 @@ PlanarWrench PushedObjectSystem::support_wrench(const Eigen::Ref<const Eigen::Ve
   return w;
 }
 
+template <class SlidingForce>
+Eigen::Vector3d PushedObjectSystem::anisotropic_friction_wrench(const Eigen::Vector2d& v_body, double omega,
+                                                                SlidingForce&& sliding_force_N) const {
+  // A = diag(2 r, 2) / (1 + r): mu_x / mu_y = r, (mu_x + mu_y) / 2 = mu. Maximum dissipation on the ellipse
+  // (f_x / A_x)^2 + (f_y / A_y)^2 = F^2 gives f = -F A^2 v / |A v|; eps regularises |A v| as in the isotropic law.
+  const double r = support_.anisotropy;
+  const Eigen::Array2d a(2 * r / (1 + r), 2 / (1 + r));
+  const double eps2 = support_.regularisation_m_s * support_.regularisation_m_s;
+  Eigen::Vector3d wrench = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < load_.size(); ++i) {
+    const Eigen::Vector2d& offset = element_from_mass_centre_[i];
+    const Eigen::Vector2d v = rigid_point_velocity(v_body, omega, offset);
+    const double force = sliding_force_N(i, offset, v.squaredNorm());
+    if (force == 0) continue;
+    const Eigen::Array2d av = a * v.array();
+    const Eigen::Vector2d f = (-force / std::sqrt(av.matrix().squaredNorm() + eps2) * (a * av)).matrix();
+    wrench.head<2>() += f;
+    wrench(2) += planar_moment(offset, f);
+  }
+  return wrench;
+}
+
 void PushedObjectSystem::derivative(const IntegrationInterval&, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                                     Eigen::Ref<Eigen::VectorXd> xdot) const {
   const PlanarWrench support = support_wrench(x);
   const RodWrench rod = rod_wrench(t, x);
   Eigen::Vector2d force = support.force_N;
+  if (support_.tilt_rad != 0) force += gravity_along_support_N();
   double torque = support.torque_Nm;
   if (rod.touching) {
     force += rod.force_on_object_N;
     torque += planar_moment(rod.contact_point_m - x.head<2>(), rod.force_on_object_N);
   }
-  xdot.head<3>() = x.tail<3>();
+  xdot.head<3>() = x.segment<3>(3);
   xdot.segment<2>(3) = force / object_.mass_kg;
   xdot(5) = torque / object_.inertia_kgm2;
+  if (compliant()) {
+    // The tip: its spring to the commanded path, and the object's reaction at the contact.
+    xdot.segment<2>(6) = x.segment<2>(8);
+    Eigen::Vector2d on_tip = pusher_spring_force_N(t, x);
+    if (rod.touching) on_tip -= rod.force_on_object_N;
+    xdot.segment<2>(8) = on_tip / contact_.tip_mass_kg;
+  }
 }
 
 std::vector<double> PushedObjectSystem::discontinuities(double t0, double t1) const {

@@ -54,6 +54,13 @@ struct SupportFriction {
   double viscous_per_kg = 0;    ///< extra drag -c m v and -c I omega [1/s = N s/m per kg]
   /// Radial shape of the pressure (PushScenario::pressure_rim_weight): p ~ 1 + w (|r - c|^2 / <|r - c|^2> - 1).
   double pressure_rim_weight = 0;
+  /// A support tilted by `tilt_rad` whose downhill direction is `downhill` (world, unit): gravity pulls the mass
+  /// centre with m g sin(tilt) along it and the support carries m g cos(tilt).
+  double tilt_rad = 0;
+  Eigen::Vector2d downhill = Eigen::Vector2d::UnitX();
+  /// mu_x / mu_y along the body axes, mean (mu_x + mu_y) / 2 = mu: elliptic Coulomb friction of maximum dissipation,
+  /// f = -F A^2 v / sqrt(|A v|^2 + eps^2), A = diag(mu_x, mu_y) / mu, so that (f_x / A_x)^2 + (f_y / A_y)^2 = F^2.
+  double anisotropy = 1;
 };
 
 struct RodContact {
@@ -63,6 +70,11 @@ struct RodContact {
   double damping_blend_m = 5e-5;
   double friction = 0.25;  ///< Coulomb mu between rod and object
   double regularisation_m_s = 1e-5;
+  /// A compliant pusher: the tip is a small mass on a spring of this compliance [m/N] behind the commanded path,
+  /// damped at `tip_damping_ratio`; 0: the tip is the path. The sensor, behind the spring, reads the spring's force.
+  double pusher_compliance_m_N = 0;
+  double tip_mass_kg = 0.02;
+  double tip_damping_ratio = 0.7;
 };
 
 /// What the rod does to the object at one instant.
@@ -90,7 +102,9 @@ class PushedObjectSystem final : public ContinuousSystem {
   PushedObjectSystem(const ShapeInfo& shape, const ObjectProperties& object, const SupportFriction& support,
                      const RodContact& contact, const PusherPath& path);
 
-  int state_size() const override { return 6; }
+  /// X, Y, yaw, their rates; with a compliant pusher also the tip's position and velocity (world), 10.
+  int state_size() const override { return compliant() ? 10 : 6; }
+  bool compliant() const { return contact_.pusher_compliance_m_N > 0; }
   /// The pusher path has no held inputs: `interval` is not used.
   void derivative(const IntegrationInterval& interval, double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                   Eigen::Ref<Eigen::VectorXd> xdot) const override;
@@ -106,6 +120,12 @@ class PushedObjectSystem final : public ContinuousSystem {
 
   RodWrench rod_wrench(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const;
   PlanarWrench support_wrench(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// Gravity along a tilted support, on the mass centre [N], world: m g sin(tilt) downhill.
+  Eigen::Vector2d gravity_along_support_N() const;
+  /// The tip's centre: the commanded path's point, or with a compliant pusher the tip's state.
+  Eigen::Vector2d tip_position_m(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// The force the arm's spring puts on the tip [N], world (zero without a compliant pusher).
+  Eigen::Vector2d pusher_spring_force_N(double t, const Eigen::Ref<const Eigen::VectorXd>& x) const;
 
   const Outline& outline() const { return outline_; }
   const PusherPath& path() const { return path_; }
@@ -114,6 +134,10 @@ class PushedObjectSystem final : public ContinuousSystem {
   const std::vector<double>& element_loads_N() const { return load_; }
 
  private:
+  template <class SlidingForce>
+  Eigen::Vector3d anisotropic_friction_wrench(const Eigen::Vector2d& v_body, double omega,
+                                              SlidingForce&& sliding_force_N) const;
+
   Outline outline_;
   ObjectProperties object_;
   SupportFriction support_;

@@ -39,6 +39,15 @@ const std::vector<EffectInfo>& effect_catalogue() {
        "leading point at the start (the object runs onto it)"},
       {"com_offset", "m", 0.0, "mass centre moved by amount along the body x axis; pressure follows it"},
       {"inertia_mismatch", "-", 1.0, "true mass and inertia are amount times the shape table's (weight too)"},
+      {"support_tilt", "deg", 0.0,
+       "the support is tilted by amount degrees, downhill along support_tilt_direction_rad (robot frame): a constant "
+       "force m g sin(alpha) on the mass centre, normal load m g cos(alpha)"},
+      {"anisotropic_friction", "-", 1.0,
+       "support friction along the body x axis is amount times that along body y, their mean kept at mu (elliptic "
+       "Coulomb friction)"},
+      {"compliant_pusher", "m/N", 0.0,
+       "the tip is a spring of compliance amount behind the recorded (commanded) path: the contact lags it by "
+       "f x amount"},
   };
   return catalogue;
 }
@@ -93,6 +102,18 @@ void Effects::set(const std::string& name, double amount) {
   } else if (name == "inertia_mismatch") {
     require(amount > 0, where + "the mass and inertia factor must be positive");
     inertia_factor = amount;
+  } else if (name == "support_tilt") {
+    require(amount >= 0 && amount <= 20, where +
+                                             "the support's tilt must be in [0, 20] degrees (the direction is "
+                                             "support_tilt_direction_rad)");
+    support_tilt_deg = amount;
+  } else if (name == "anisotropic_friction") {
+    require(amount >= 0.2 && amount <= 5, where + "the friction ratio along the body axes must be in [0.2, 5]");
+    friction_anisotropy = amount;
+  } else if (name == "compliant_pusher") {
+    require(amount >= 0 && amount <= 0.01,
+            where + "the pusher's compliance must be in [0, 0.01] m/N (0.01 m/N: 1 cm of lag per newton)");
+    pusher_compliance_m_N = amount;
   }
 }
 
@@ -104,6 +125,9 @@ double Effects::get(const std::string& name) const {
   if (name == "stribeck_friction") return stribeck_excess;
   if (name == "position_friction") return position_friction_excess;
   if (name == "com_offset") return com_offset_m;
+  if (name == "support_tilt") return support_tilt_deg;
+  if (name == "anisotropic_friction") return friction_anisotropy;
+  if (name == "compliant_pusher") return pusher_compliance_m_N;
   return inertia_factor;
 }
 
@@ -161,16 +185,37 @@ void PushScenario::validate() const {
   require(start_unix_s >= 0 && std::isfinite(start_unix_s), "start time must be a non-negative Unix time");
   require(sensors.noise_scale >= 0 && std::isfinite(sensors.noise_scale), "noise scale must not be negative");
   require(sensors.jitter_scale >= 0 && sensors.jitter_scale <= 10, "jitter scale must be in [0, 10]");
+  require(sensors.push_offset_N.allFinite() && sensors.push_offset_N.cwiseAbs().maxCoeff() <= 20,
+          "the force sensor's push offset must be finite and within 20 N on each axis");
+  require(std::isfinite(support_tilt_direction_rad), "support tilt direction must be finite");
   for (const auto& [name, amount] : effects.active()) Effects().set(name, amount);  // the range checks
 }
 
 PushScenario scenario_from_json(const nlohmann::json& j, const std::string& source) {
-  static const std::set<std::string> known = {
-      "name",           "comment",           "shape",         "surface",       "surface_friction", "contact_friction",
-      "contact_stiffness_N_m", "pressure_rim_weight",
-      "speed_m_s",      "acceleration_m_s2", "push_length_m", "ramp_s",        "contact_side",     "contact_position",
-      "push_angle_rad", "approach_gap_m",    "initial_pose",  "rest_before_s", "rest_after_s",     "start_unix_s",
-      "seed",           "effects",           "sensors"};
+  static const std::set<std::string> known = {"name",
+                                              "comment",
+                                              "shape",
+                                              "surface",
+                                              "surface_friction",
+                                              "contact_friction",
+                                              "contact_stiffness_N_m",
+                                              "pressure_rim_weight",
+                                              "speed_m_s",
+                                              "acceleration_m_s2",
+                                              "push_length_m",
+                                              "ramp_s",
+                                              "contact_side",
+                                              "contact_position",
+                                              "push_angle_rad",
+                                              "approach_gap_m",
+                                              "support_tilt_direction_rad",
+                                              "initial_pose",
+                                              "rest_before_s",
+                                              "rest_after_s",
+                                              "start_unix_s",
+                                              "seed",
+                                              "effects",
+                                              "sensors"};
   try {
     require(j.is_object(), "a scenario must be a JSON object");
     for (const auto& [key, value] : j.items()) {
@@ -216,6 +261,7 @@ PushScenario scenario_from_json(const nlohmann::json& j, const std::string& sour
     s.contact_position = number("contact_position", s.contact_position);
     s.push_angle_rad = number("push_angle_rad", s.push_angle_rad);
     s.approach_gap_m = number("approach_gap_m", s.approach_gap_m);
+    s.support_tilt_direction_rad = number("support_tilt_direction_rad", s.support_tilt_direction_rad);
     if (j.contains("initial_pose")) {
       const auto& p = j["initial_pose"];
       require(p.is_array() && p.size() == 3 && p[0].is_number() && p[1].is_number() && p[2].is_number(),
@@ -243,7 +289,14 @@ PushScenario scenario_from_json(const nlohmann::json& j, const std::string& sour
       const auto& q = j["sensors"];
       require(q.is_object(), "field 'sensors' must be an object");
       for (const auto& [key, value] : q.items()) {
-        require(key == "noise_scale" || key == "jitter_scale", "unknown field 'sensors." + key + "'");
+        require(key == "noise_scale" || key == "jitter_scale" || key == "push_offset_N",
+                "unknown field 'sensors." + key + "'");
+        if (key == "push_offset_N") {
+          require(value.is_array() && value.size() == 2 && value[0].is_number() && value[1].is_number(),
+                  "field 'sensors.push_offset_N' must be [fx, fy] in newtons");
+          s.sensors.push_offset_N = Eigen::Vector2d(value[0].get<double>(), value[1].get<double>());
+          continue;
+        }
         require(value.is_number(), "field 'sensors." + key + "' must be a number");
         (key == "noise_scale" ? s.sensors.noise_scale : s.sensors.jitter_scale) = value.get<double>();
       }
@@ -288,6 +341,8 @@ nlohmann::json scenario_to_json(const PushScenario& s) {
   j["contact_position"] = s.contact_position;
   j["push_angle_rad"] = s.push_angle_rad;
   j["approach_gap_m"] = s.approach_gap_m;
+  if (s.effects.support_tilt_deg != 0 || s.support_tilt_direction_rad != 0)
+    j["support_tilt_direction_rad"] = s.support_tilt_direction_rad;
   j["initial_pose"] = {s.initial_x_m, s.initial_y_m, s.initial_yaw_rad};
   j["rest_before_s"] = s.rest_before_s;
   j["rest_after_s"] = s.rest_after_s;
@@ -297,6 +352,8 @@ nlohmann::json scenario_to_json(const PushScenario& s) {
   for (const auto& [name, amount] : s.effects.active()) effects[name] = amount;
   j["effects"] = effects;
   j["sensors"] = {{"noise_scale", s.sensors.noise_scale}, {"jitter_scale", s.sensors.jitter_scale}};
+  if (!s.sensors.push_offset_N.isZero())
+    j["sensors"]["push_offset_N"] = {s.sensors.push_offset_N.x(), s.sensors.push_offset_N.y()};
   return j;
 }
 

@@ -14,6 +14,13 @@
 //   com_offset         [m]      the mass centre sits `amount` along the body x axis from its nominal place
 //                               (pressure shifts with it); inertia about the mass centre unchanged
 //   inertia_mismatch   [-]      true mass and inertia are `amount` times the shape table's (weight too)
+//   support_tilt       [deg]    the support is tilted by `amount` downhill along support_tilt_direction_rad (world):
+//                               a constant force m g sin(alpha) on the mass centre, the normal load m g cos(alpha)
+//   anisotropic_friction [-]    the support's mu along the body x axis is `amount` times that along body y, their
+//                               mean kept at mu (elliptic Coulomb friction, maximum dissipation)
+//   compliant_pusher   [m/N]    the tip is a spring of compliance `amount` behind the recorded (commanded) path:
+//                               the contact lags the recorded tip by f x amount
+#include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -52,6 +59,9 @@ struct Effects {
   double position_friction_excess = 0;
   double com_offset_m = 0;
   double inertia_factor = 1;
+  double support_tilt_deg = 0;       ///< [deg] (only reports use degrees; the physics takes radians)
+  double friction_anisotropy = 1;    ///< mu_x / mu_y in the body frame
+  double pusher_compliance_m_N = 0;  ///< [m/N]; 0: the tip follows its path rigidly
 
   /// Sets the effect `name` to `amount`; throws InputError for an unknown name or an amount out of range.
   void set(const std::string& name, double amount);
@@ -64,6 +74,9 @@ struct Effects {
 struct SensorRealism {
   double noise_scale = 1.0;
   double jitter_scale = 1.0;
+  /// The force sensor's own zero error on this push, added to fx and fy [N] (robot frame). The real sensor is not
+  /// zeroed between pushes: its reading with nothing touching differs from push to push (docs/simulator.md).
+  Eigen::Vector2d push_offset_N = Eigen::Vector2d::Zero();
 };
 
 struct PushScenario {
@@ -87,6 +100,8 @@ struct PushScenario {
   /// Rod surface to outline at the start; negative: the rod starts pressed into the object by that much, a
   /// preload of stiffness x |gap| (1e4 N/m: 0.0002 m is 2 N), as in many real files.
   double approach_gap_m = 0.001;
+  /// The downhill direction of a tilted support (effect support_tilt), as an angle from the robot's x axis [rad].
+  double support_tilt_direction_rad = 0;
   double initial_x_m = 0.35, initial_y_m = 0.0, initial_yaw_rad = 0.0;  ///< tracked centre, robot frame
   double rest_before_s = 0.18;                                          ///< recording before the rod moves
   double rest_after_s = 0.27;                                           ///< recording after the rod stops

@@ -46,6 +46,7 @@ RodContact rod_contact(const PushScenario& scenario) {
   RodContact contact;
   contact.friction = scenario.contact_friction;
   contact.stiffness_N_m = scenario.contact_stiffness_N_m;
+  contact.pusher_compliance_m_N = scenario.effects.pusher_compliance_m_N;
   return contact;
 }
 
@@ -83,6 +84,9 @@ SupportFriction support_friction(const PushScenario& scenario, const Outline& ou
   support.patch_centre_m = layout.pose0.head<2>() +
                            (outline.extent_along(layout.direction_body) + kPatchAlongPath_m) * layout.direction_world;
   support.patch_radius_m = kPatchRadius_m;
+  support.tilt_rad = fx.support_tilt_deg * M_PI / 180;
+  support.downhill = rotation(scenario.support_tilt_direction_rad) * Eigen::Vector2d::UnitX();
+  support.anisotropy = fx.friction_anisotropy;
   return support;
 }
 
@@ -157,14 +161,19 @@ Eigen::VectorXd record_truth(const PushedObjectSystem& system, const Eigen::Matr
   sim.tracked_pose.resize(n, 3);
   sim.mass_centre_velocity.resize(n, 3);
   sim.force_on_object_N.resize(n, 2);
+  sim.sensed_force_N.resize(n, 2);
   sim.touching.assign(n, 0);
   Eigen::VectorXd rod_torque(n);
   for (Eigen::Index k = 0; k < n; ++k) {
     const Eigen::VectorXd x = states.row(k).transpose();
     sim.tracked_pose.row(k) = system.tracked_pose(x).transpose();
-    sim.mass_centre_velocity.row(k) = x.tail<3>().transpose();
+    sim.mass_centre_velocity.row(k) = x.segment<3>(3).transpose();
     const RodWrench w = system.rod_wrench(out_times(k), x);
     sim.force_on_object_N.row(k) = w.force_on_object_N.transpose();
+    // Behind a compliant pusher's spring the sensor reads the spring's force (the tip's inertia between).
+    const Eigen::Vector2d sensed =
+        system.compliant() ? system.pusher_spring_force_N(out_times(k), x) : w.force_on_object_N;
+    sim.sensed_force_N.row(k) = sensed.transpose();
     sim.touching[k] = w.touching;
     rod_torque(k) = w.torque_about_rod_Nm;
   }
@@ -191,14 +200,14 @@ TimedStream object_pose_stream(const SimulatedPush& sim, const SampleInstants& i
 
 TimedStream ft_wrench_stream(const SimulatedPush& sim, const Eigen::VectorXd& rod_torque,
                              const SampleInstants& instants, const SensorDraws& draws, double force_offset_N,
-                             double unix0) {
+                             const Eigen::Vector2d& push_offset_N, double unix0) {
   const Eigen::Index m = instants.force.size();
   Eigen::MatrixX3d v(m, 3);
   for (Eigen::Index i = 0; i < m; ++i) {
     const Eigen::Index k = row_at(instants.all, instants.force(i));
-    // The sensor reads the reaction on the pusher, plus any bias.
-    v(i, 0) = -sim.force_on_object_N(k, 0) + force_offset_N;
-    v(i, 1) = -sim.force_on_object_N(k, 1) + force_offset_N;
+    // The sensor reads the reaction on the pusher, plus any bias and this push's own zero error.
+    v(i, 0) = -sim.sensed_force_N(k, 0) + force_offset_N + push_offset_N.x();
+    v(i, 1) = -sim.sensed_force_N(k, 1) + force_offset_N + push_offset_N.y();
     v(i, 2) = -rod_torque(k);
   }
   return make_stream(draws.force_clock.stamp_s.array() + unix0, v + draws.force_noise);
@@ -254,7 +263,8 @@ SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sen
   rec.push = scenario.push_parameters();
   const double unix0 = scenario.start_unix_s;
   rec.object_pose = object_pose_stream(sim, instants, draws, unix0);
-  rec.ft_wrench = ft_wrench_stream(sim, rod_torque, instants, draws, fx.force_offset_N, unix0);
+  rec.ft_wrench =
+      ft_wrench_stream(sim, rod_torque, instants, draws, fx.force_offset_N, scenario.sensors.push_offset_N, unix0);
   rec.tip_pose = tip_pose_stream(path, draws, unix0);
   return sim;
 }

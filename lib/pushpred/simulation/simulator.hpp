@@ -32,6 +32,8 @@ struct SimulatedPush {
   Eigen::MatrixX3d tracked_pose;          ///< tracked centre x, y [m], yaw [rad] (unwrapped), world
   Eigen::MatrixX3d mass_centre_velocity;  ///< vX, vY [m/s], omega [rad/s]
   Eigen::MatrixX2d force_on_object_N;     ///< the rod's force on the object, world
+  /// The force the sensor reads the reaction of, world: the contact force, or a compliant pusher's spring force.
+  Eigen::MatrixX2d sensed_force_N;
   std::vector<char> touching;
   double push_start_s = 0, push_end_s = 0;  ///< the rod's motion
   double rod_peak_speed_m_s = 0;
