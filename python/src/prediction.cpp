@@ -132,6 +132,13 @@ it). With beta = eps = 0 and no friction it is Newton's law under the planned fo
       .def_readonly("beta", &PredictionModel::beta, "beta per channel (x, y, rotation) [-]")
       .def_readonly("eps", &PredictionModel::eps, "eps per channel [N, N, N m]")
       .def_readonly("coulomb_force_N", &PredictionModel::coulomb_force_N, "Coulomb friction force [N] (0: none)")
+      .def("__repr__",
+           [](const PredictionModel& model) {
+             return "PredictionModel(mass_kg=" + repr_number(model.mass_kg) +
+                    ", inertia_kgm2=" + repr_number(model.inertia_kgm2) + ", beta=" + repr_vector(model.beta) +
+                    ", eps=" + repr_vector(model.eps) + ", coulomb_force_N=" + repr_number(model.coulomb_force_N) +
+                    ", coulomb_speed_scale_m_s=" + repr_number(model.coulomb_speed_scale_m_s) + ")";
+           })
       .def_static(
           "from_relation",
           [](const SynchronisedPush& push, const py::dict& relation) {
