@@ -14,7 +14,7 @@ from pathlib import Path
 import pushpred
 from pushpred import _core
 
-HEADER = '''"""Type stubs of pushpred, written by scripts/python-stubs.py from the compiled module's signatures: do not edit."""
+HEADER = '''"""Type stubs of pushpred, written by scripts/python-stubs.py from the compiled module: do not edit."""
 import os
 from typing import Any, Callable, Dict, Iterable, List, Optional, Tuple
 

@@ -1,4 +1,4 @@
-"""Type stubs of pushpred, written by scripts/python-stubs.py from the compiled module's signatures: do not edit."""
+"""Type stubs of pushpred, written by scripts/python-stubs.py from the compiled module: do not edit."""
 import os
 from typing import Any, Callable, Dict, Iterable, List, Optional, Tuple
 

@@ -66,7 +66,8 @@ t1_s, relation (the fitted beta, eps used by `dob`), note, t_s [s], measured (n 
 predicted {method: n x 3, same units}, errors {method: x_mm_mean, x_mm_std, y_mm_mean, y_mm_std,
 theta_deg_mean, theta_deg_std, final_pos_mm, final_theta_deg}, initial_velocity [m/s, m/s, rad/s],
 method_parameters {method: {name: {value, std, unit, source}}} for the methods that report parameters, and
-method_notes {method: text}, as in summary.json), identification (the observer's estimate on every identified interval) and estimator_seconds.)doc");
+method_notes {method: text}, as in summary.json), identification (the observer's estimate on every identified
+interval) and estimator_seconds.)doc");
 
   m.def(
       "study_summary",
