@@ -212,10 +212,11 @@ int run_bench(const BenchArgs& a) {
               used, skipped, a.repeat);
   if (!reference_passes_s.empty()) {
     const auto [fastest, slowest] = std::minmax_element(reference_passes_s.begin(), reference_passes_s.end());
-    std::printf("the reference itself varies between runs (on a shared 2-core machine, 6.6 to 34 ms between six "
-                "runs of --repeat 1 over the ABS folder; docs/performance.md); here %.4f to %.4f s over %d pass(es): "
-                "compare ratios of runs with --repeat 5 or more, which keeps each stage's fastest pass\n",
-                *fastest, *slowest, a.repeat);
+    std::printf(
+        "the reference itself varies between runs (on a shared 2-core machine, 6.6 to 34 ms between six "
+        "runs of --repeat 1 over the ABS folder; docs/performance.md); here %.4f to %.4f s over %d pass(es): "
+        "compare ratios of runs with --repeat 5 or more, which keeps each stage's fastest pass\n",
+        *fastest, *slowest, a.repeat);
   }
   std::printf("%-40s %12s %14s %14s\n", "stage", "seconds", "samples/s", "x reference");
   nlohmann::json doc;
