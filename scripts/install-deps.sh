@@ -7,6 +7,7 @@ packages=(
   libsundials-dev libceres-dev libeigen3-dev libboost-test-dev libhdf5-dev
   nlohmann-json3-dev libcli11-dev libbenchmark-dev gnuplot-nox
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  python3-pip python3-setuptools python3-wheel python3-venv
   clang-14 libclang-rt-14-dev jq
   libopenmpi-dev openmpi-bin
 )

@@ -32,7 +32,7 @@ pushpred="$build/pushpred"
 if [ -z "$work" ]; then work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi
 mkdir -p "$work"
 
-# pushpred exits 1 when some inputs fail (e.g. frozen sensors); only the memory and the outputs matter here.
+# pushpred exits 1 when some inputs fail; only the memory and the outputs matter here.
 measure() {  # LABEL COMMAND...
   local label=$1; shift
   /usr/bin/time -f "%e s %M KB" -o "$work/time.txt" "$@" >/dev/null 2>"$work/stderr.txt" || true

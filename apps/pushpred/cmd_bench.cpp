@@ -174,8 +174,13 @@ int run_bench(const BenchArgs& a) {
   std::size_t used = 0, skipped = 0;
   double worst_cvode_difference = 0;
   std::map<std::string, PathDifference> path_differences;
+  // The reference's own time in every pass: it moves with the machine's other work as every stage does, and each
+  // ratio moves with it.
+  std::vector<double> reference_passes_s;
   for (int r = 0; r < a.repeat; ++r) {
     std::vector<Stage> pass = one_pass(a, inputs, o, used, skipped, worst_cvode_difference, path_differences);
+    for (const auto& s : pass)
+      if (s.name == "reference") reference_passes_s.push_back(s.seconds);
     if (best.empty()) {
       best = std::move(pass);
       continue;
@@ -205,12 +210,21 @@ int run_bench(const BenchArgs& a) {
   std::printf("%zu pushes studied (%zu skipped), best of %d; reference: the exact discretisation of the observer "
               "over every push\n",
               used, skipped, a.repeat);
+  if (!reference_passes_s.empty()) {
+    const auto [fastest, slowest] = std::minmax_element(reference_passes_s.begin(), reference_passes_s.end());
+    std::printf(
+        "the reference itself varies between runs (on a shared 2-core machine, 6.6 to 34 ms between six "
+        "runs of --repeat 1 over the ABS folder; docs/performance.md); here %.4f to %.4f s over %d pass(es): "
+        "compare ratios of runs with --repeat 5 or more, which keeps each stage's fastest pass\n",
+        *fastest, *slowest, a.repeat);
+  }
   std::printf("%-40s %12s %14s %14s\n", "stage", "seconds", "samples/s", "x reference");
   nlohmann::json doc;
   doc["pushes"] = used;
   doc["skipped"] = skipped;
   doc["repeat"] = a.repeat;
   doc["reference"] = "exact discretisation of the observer over every push";
+  doc["reference_seconds_per_pass"] = reference_passes_s;
   for (const auto& s : best) {
     const double rate = s.seconds > 0 ? s.samples / s.seconds : 0;
     const double ratio = reference_s > 0 ? s.seconds / reference_s : 0;

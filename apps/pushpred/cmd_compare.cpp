@@ -48,7 +48,6 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   a->study.add_to(*sub, {2, true, false, true, true});
   // The estimators compared come from --estimators.
   add_jobs(*sub, a->jobs, "Pushes studied in parallel (default: all cores); the results do not depend on it");
-  add_shard_refusal(*sub);
   sub->callback([a, &run] { run = [a] { return run_compare(*a); }; });
 });
 

@@ -112,7 +112,6 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_jobs(*sub, a->jobs, "Files read in parallel (default: all cores); the output does not depend on it");
   sub->add_flag("--cvode", a->cvode,
                 "Run the reconstruction by CVODE instead of its exact discretisation (a hundred times slower)");
-  add_shard_refusal(*sub);
   sub->callback([a, &run] { run = [a] { return run_fit_pid(*a); }; });
 });
 

@@ -37,7 +37,6 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_shape(*sub, args->shape);
   add_rate(*sub, args->rate_hz);
   add_jobs(*sub, args->jobs, "Files read in parallel (default: all cores); the output does not depend on it");
-  add_shard_refusal(*sub);
   sub->callback([args, &run] { run = [args] { return run_inspect(*args); }; });
 });
 

@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include "pushpred/core/batch.hpp"
@@ -29,27 +30,49 @@ std::vector<std::function<void(CLI::App&)>> all_commands() {
   return out;
 }
 
-static std::vector<std::string>& shard_refusals() {
-  static std::vector<std::string> names;
-  return names;
+namespace {
+
+/// The number of single-character insertions, deletions and substitutions that turn `a` into `b`.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
 }
 
-void add_shard_refusal(CLI::App& sub) {
-  shard_refusals().push_back(sub.get_name());
-  static std::string ignored;  // never read: run_selected refuses the flag
-  sub.add_option("--shard", ignored,
-                 "Not supported by `" + sub.get_name() +
-                     "` yet (only by predict, validate-diagnosis and diagnose --per-object): refused");
+}  // namespace
+
+std::optional<int> refuse_unknown_command(const CLI::App& app, const std::string& word) {
+  if (word.empty() || word[0] == '-') return std::nullopt;
+  std::string nearest, names;
+  std::size_t best = std::string::npos;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    const std::string& name = sub->get_name();
+    if (name == word) return std::nullopt;
+    names += (names.empty() ? "" : ", ") + name;
+    const std::size_t d = edit_distance(word, name);
+    if (d < best) best = d, nearest = name;
+  }
+  std::cerr << "pushpred: unknown command '" << plain_text(word) << "'";
+  // Close enough to be a typo: at most a third of the word's letters changed (and at least two allowed).
+  if (best <= std::max<std::size_t>(2, word.size() / 3))
+    std::cerr << "; did you mean '" << nearest << "'?\n";
+  else
+    std::cerr << "; the commands are: " << names << " (pushpred --help)\n";
+  return kExitNothingDone;
 }
 
 int run_selected(CLI::App& app) {
   for (const CLI::App* sub : app.get_subcommands()) {
     const std::string& name = sub->get_name();
-    for (const auto& refusing : shard_refusals())
-      if (refusing == name && sub->count("--shard") > 0)
-        throw InputError("--shard: `" + name + "` cannot split its inputs into shards yet (only `predict`, "
-                         "`validate-diagnosis` and `diagnose --per-object` can); run it on every input, or split the "
-                         "inputs yourself");
     // Several processes started by mpirun would each do the whole job and write the same output.
     // diagnose refuses mpirun itself without --per-object.
     if (name != "predict" && name != "validate-diagnosis" && name != "diagnose" && mpi_launch_size() > 1)
@@ -71,20 +94,33 @@ int finish_outcome(const BatchRunOutcome& outcome) {
     return *outcome.exit_code;
   }
   if (!outcome.partial) return report_failures(outcome.failures, outcome.used);
-  for (const auto& f : outcome.failures)
-    std::cerr << "FAILED " << plain_text(f.source) << ": " << plain_text(f.reason) << "\n";
-  if (outcome.failures.empty()) return 0;
-  std::cerr << outcome.failures.size() << " of " << outcome.failures.size() + outcome.used
-            << " inputs of this shard failed\n";
+  std::size_t failed = 0;
+  for (const auto& f : outcome.failures) {
+    std::cerr << (f.skipped ? "SKIPPED " : "FAILED ") << plain_text(f.source) << ": " << plain_text(f.reason) << "\n";
+    failed += f.skipped ? 0 : 1;
+  }
+  if (failed == 0) return 0;
+  std::cerr << failed << " of " << outcome.failures.size() + outcome.used << " inputs of this shard failed\n";
   return kExitSomeFailed;
 }
 
 int report_failures(const std::vector<BatchFailure>& failures, std::size_t used, const std::string& label) {
-  for (const auto& f : failures) std::cerr << label << " " << plain_text(f.source) << ": " << plain_text(f.reason) << "\n";
+  std::size_t failed = 0, skipped = 0;
+  for (const auto& f : failures) {
+    std::cerr << (f.skipped ? std::string("SKIPPED") : label) << " " << plain_text(f.source) << ": "
+              << plain_text(f.reason) << "\n";
+    (f.skipped ? skipped : failed) += 1;
+  }
   if (failures.empty()) return 0;
-  std::cerr << failures.size() << " of " << failures.size() + used << " inputs failed"
-            << (used == 0 ? "; nothing written" : "") << "\n";
-  return used == 0 ? kExitNothingDone : kExitSomeFailed;
+  const std::size_t inputs = failures.size() + used;
+  if (skipped > 0)
+    std::cerr << skipped << " of " << inputs << " inputs skipped (valid, but not usable by this command)\n";
+  if (failed > 0) std::cerr << failed << " of " << inputs << " inputs failed\n";
+  if (used == 0) {
+    std::cerr << "nothing written\n";
+    return kExitNothingDone;
+  }
+  return failed > 0 ? kExitSomeFailed : 0;
 }
 
 std::string json_text(const nlohmann::json& doc) { return json_file_text(doc); }

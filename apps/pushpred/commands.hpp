@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,18 +25,21 @@ struct CommandRegistration {
   explicit CommandRegistration(AddCommand add);
 };
 
-// Exit codes every subcommand keeps (README): 0 every input used; 1 some inputs failed, the others' results written
-// and the failures listed; 2 nothing done: a bad argument or output folder, or no input usable, nothing written.
+// Exit codes every subcommand keeps (docs/exit-codes.md): 0 every input used or skipped (a valid input the command
+// cannot use by design, such as a frozen force sensor, is listed as SKIPPED); 1 some inputs failed, the others'
+// results written and the failures listed; 2 nothing done: a bad argument or output folder, or no input usable,
+// nothing written.
 inline constexpr int kExitSomeFailed = 1;
 inline constexpr int kExitNothingDone = 2;
 
-/// Lists each failure as "FAILED source: reason" on stderr, then "N of M inputs failed"; returns the exit code for
-/// a batch of `inputs` items with `used` of them giving results.
-int report_failures(const std::vector<BatchFailure>& failures, std::size_t used, const std::string& label = "FAILED");
+/// When `word` (the first argument) is neither an option nor a command, says so on stderr with the nearest command
+/// ("unknown command 'predcit'; did you mean 'predict'?") and gives exit code 2; otherwise nothing.
+std::optional<int> refuse_unknown_command(const CLI::App& app, const std::string& word);
 
-/// Adds `--shard I/N` to a subcommand that cannot split its inputs yet (compare, inspect, fit-pid): given, it is
-/// refused with an error naming the subcommand, exit 2, before anything is read or written.
-void add_shard_refusal(CLI::App& sub);
+/// Lists each failure as "FAILED source: reason" (a skip as "SKIPPED source: reason") on stderr, then how many of the
+/// inputs failed and were skipped; returns the exit code for a batch with `used` inputs giving results: 0 when none
+/// failed (skips are not failures), 1 when some did, 2 when no input gave a result.
+int report_failures(const std::vector<BatchFailure>& failures, std::size_t used, const std::string& label = "FAILED");
 
 /// The help text of --shard where it is supported.
 inline constexpr const char* kShardHelp =

@@ -29,7 +29,7 @@ inline const CLI::Validator kNonNegativeNumber = finite_number_above(0, true, "a
 /// The recordings a batch subcommand reads (required): files, or folders of them.
 inline CLI::Option* add_recordings(CLI::App& sub, std::vector<std::string>& files,
                                    const std::string& help = "Recordings (.h5 or .json), or folders of them") {
-  return sub.add_option("files", files, help)->required();
+  return sub.add_option("files", files, help)->required()->default_str("");  // no "=[]" in --help
 }
 
 /// `--out DIR` (required); `help` says what is written there.

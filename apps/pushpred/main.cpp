@@ -31,7 +31,12 @@ int main(int argc, char** argv) {
   CLI::App app{"pushpred: predict where a pushed object goes, and explain why predictions miss"};
   app.set_version_flag("--version", std::string("pushpred ") + pushpred::kVersion);
   app.require_subcommand(1);
+  // Every option's default in --help (subcommands copy these defaults when they are added).
+  app.option_defaults()->always_capture_default();
   for (const auto& add : pushpred::app::all_commands()) add(app);
+  // CLI11 takes a mistyped command for a stray argument ("A subcommand is required"): name it and the nearest command.
+  if (argc > 1)
+    if (const auto code = pushpred::app::refuse_unknown_command(app, argv[1])) return *code;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -43,7 +43,8 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
   }
   if (flags.mu)
     sub.add_option("--mu", mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")
-        ->check(kNonNegativeNumber);
+        ->check(kNonNegativeNumber)
+        ->default_str("");  // its stored default (-1) only means "from the surface"
 }
 
 StudyOptions StudyArguments::options() const {

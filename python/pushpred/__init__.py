@@ -15,8 +15,95 @@ release the GIL.
 """
 import sys as _sys
 
-from ._core import *  # noqa: F401,F403
-from ._core import __version__, InputError, SolverError, load_push  # noqa: F401
+try:
+    from ._core import *  # noqa: F401,F403
+    from ._core import __version__, InputError, SolverError, load_push  # noqa: F401
+except ImportError as _error:
+    # A module built for one interpreter fails in another with a bare "initialization failed" (or an undefined
+    # symbol): say which interpreter it was built for.
+    from . import _build
+
+    raise ImportError(
+        f"pushpred was built for {_build.python_executable} (Python {_build.python_version}, with numpy); this is "
+        f"{_sys.executable} (Python {_sys.version.split()[0]}): run it with that interpreter, or build pushpred "
+        f"for this one (pip install --no-build-isolation . with it, or cmake -DPython3_EXECUTABLE={_sys.executable}; "
+        f"docs/python.md). The import failed with: {_error}") from _error
+
+def _signature_from_doc(function):
+    """inspect.Signature of a compiled function, from the first line of its docstring, which pybind11 writes as
+    "name(a: T, b: T = default) -> R" (None for an overloaded one). Defaults that are not Python literals keep their
+    text as their repr."""
+    import ast
+    import inspect
+
+    first = (function.__doc__ or "").split("\n", 1)[0]
+    name = function.__name__
+    if not first.startswith(name + "(") or ") -> " not in first:
+        return None
+    inside = first[len(name) + 1:first.rindex(") -> ")]
+    parameters, depth, start = [], 0, 0
+    pieces = []
+    for k, c in enumerate(inside):  # split at the commas outside brackets
+        depth += c in "[(" and 1 or (c in "])" and -1 or 0)
+        if c == "," and depth == 0:
+            pieces.append(inside[start:k])
+            start = k + 1
+    if inside.strip():
+        pieces.append(inside[start:])
+
+    class _Default:
+        def __init__(self, text):
+            self.text = text
+
+        def __repr__(self):
+            return self.text
+
+    for piece in pieces:
+        piece = piece.strip()
+        if piece.startswith("**"):
+            parameters.append(inspect.Parameter(piece[2:].split(":")[0], inspect.Parameter.VAR_KEYWORD))
+            continue
+        head, _, default_text = piece.partition(" = ")
+        pname = head.split(":")[0].strip()
+        default = inspect.Parameter.empty
+        if default_text:
+            try:
+                default = ast.literal_eval(default_text)
+            except (ValueError, SyntaxError):
+                default = _Default(default_text)
+        kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
+        if any(p.kind == inspect.Parameter.VAR_KEYWORD for p in parameters):
+            kind = inspect.Parameter.KEYWORD_ONLY
+        parameters.append(inspect.Parameter(pname, kind, default=default))
+    return inspect.Signature(parameters)
+
+
+def _with_signatures(namespace):
+    """Gives every compiled module-level function of `namespace` a Python wrapper whose inspect.signature() is the
+    compiled one's (pybind11 functions have none: inspect.signature raises ValueError on them)."""
+    import functools
+
+    for name, function in list(namespace.items()):
+        if name.startswith("_") or type(function).__name__ != "builtin_function_or_method":
+            continue
+        signature = _signature_from_doc(function)
+        if signature is None:
+            continue
+
+        def make(compiled):
+            @functools.wraps(compiled)
+            def wrapper(*args, **kwargs):
+                return compiled(*args, **kwargs)
+            return wrapper
+
+        wrapper = make(function)
+        wrapper.__signature__ = signature
+        wrapper.__module__ = "pushpred"
+        namespace[name] = wrapper
+
+
+_with_signatures(globals())
+
 
 class ForceLawEffect:
     """Base for a candidate effect written in Python, registered with EffectLibrary.register().

@@ -53,6 +53,12 @@ py::dict relation_dict(const RelationParameters& p) {
   return d;
 }
 
+std::string repr_number(double x) { return py::repr(py::float_(x)).cast<std::string>(); }
+
+std::string repr_vector(const Eigen::Vector3d& v) {
+  return "[" + repr_number(v(0)) + ", " + repr_number(v(1)) + ", " + repr_number(v(2)) + "]";
+}
+
 py::dict errors_dict(const PredictionErrors& e) {
   // Through the library's own summary.json conversion, so that the keys are always those of `pushpred predict`.
   return from_json(errors_json(e));
@@ -81,6 +87,25 @@ py::dict study_dict(const PushStudy& s) {
     p["predicted"] = predicted;
     p["errors"] = errors;
     p["initial_velocity"] = array(ph.initial_velocity);
+    // The same fields as summary.json's: per method that reports any, {name: {value, std, unit, source}}; and what
+    // each method says about the phase.
+    py::dict method_parameters;
+    for (const auto& [method, parameters] : ph.method_parameters) {
+      py::dict by_name;
+      for (const auto& q : parameters) {
+        py::dict one;
+        one["value"] = q.value;
+        one["std"] = q.std;
+        one["unit"] = q.unit;
+        one["source"] = q.source;
+        by_name[py::str(q.name)] = one;
+      }
+      method_parameters[py::str(method)] = by_name;
+    }
+    p["method_parameters"] = method_parameters;
+    py::dict method_notes;
+    for (const auto& [method, note] : ph.method_notes) method_notes[py::str(method)] = note;
+    p["method_notes"] = method_notes;
     if (!ph.corrected_relation.estimator.empty()) p["corrected_relation"] = relation_dict(ph.corrected_relation);
     phases.append(p);
   }

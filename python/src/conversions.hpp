@@ -9,6 +9,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <nlohmann/json.hpp>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -28,6 +29,11 @@ py::array array(const Eigen::MatrixBase<Derived>& m) {
 }
 /// A per-sample flag vector as a numpy bool array.
 py::array bool_array(const std::vector<char>& flags);
+
+/// A number as Python's repr writes a float (the shortest text that reads back to it), for the classes' reprs.
+std::string repr_number(double x);
+/// A 3-vector as "[x, y, z]", each number as repr_number.
+std::string repr_vector(const Eigen::Vector3d& v);
 
 /// A JSON value as plain Python (dict, list, float, str, bool, None).
 py::object from_json(const nlohmann::json& json);

@@ -181,6 +181,13 @@ for the object `shape` (a dict: mass_kg, inertia_kgm2, ...). Optional: settings(
 constant), setting_name() ((name, unit)), needs_friction_base() (bool). See pushpred.ForceLawEffect.)doc")
       .def(py::init<>(), "an empty library")
       .def_static("standard", &EffectLibrary::standard, "every effect the library ships")
+      .def("__repr__",
+           [](const EffectLibrary& library) {
+             std::string kinds;
+             for (const auto& k : library.kinds()) kinds += (kinds.empty() ? "'" : ", '") + k + "'";
+             return "<pushpred.EffectLibrary of " + std::to_string(library.kinds().size()) + " effects: [" + kinds +
+                    "]>";
+           })
       .def("kinds", &EffectLibrary::kinds, "the effects' kinds, in library order")
       .def("remove", &EffectLibrary::remove, py::arg("kind"),
            "removes the effect called `kind`; raises InputError when there is none")

@@ -40,6 +40,12 @@ void bind_estimators(py::module_& m) {
 An estimator of the relation d_hat = beta u + eps, fed one identification interval at a time. Make one with
 relation_estimator(name), RecursiveLeastSquares(...) or BatchLeastSquaresFit(...).)doc")
       .def_property_readonly("name", &RelationEstimator::name, "the estimator's name (relation_estimator_names())")
+      .def("__repr__",
+           [](const py::object& self) {
+             const auto& e = self.cast<const RelationEstimator&>();
+             return "<pushpred." + py::type::of(self).attr("__name__").cast<std::string>() + " '" + e.name() +
+                    "': " + (e.ready() ? std::string("ready") : "not ready (" + e.not_ready_reason() + ")") + ">";
+           })
       .def(
           "add_interval",
           [](RelationEstimator& e, const Eigen::MatrixXd& u, const Eigen::MatrixXd& d_hat) {

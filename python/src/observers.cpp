@@ -93,9 +93,12 @@ mass_kg / inertia_kgm2 0: the nominal values of the push's shape. hold: how y an
              o.mass_kg = mass_kg;
              o.inertia_kgm2 = inertia_kgm2;
              o.hold = parse_hold(hold);
-             if (start == "steady") o.start = QFilterObserverOptions::Start::Steady;
-             else if (start == "at_rest") o.start = QFilterObserverOptions::Start::AtRest;
-             else throw InputError("start must be 'steady' or 'at_rest', not '" + start + "'");
+             if (start == "steady")
+               o.start = QFilterObserverOptions::Start::Steady;
+             else if (start == "at_rest")
+               o.start = QFilterObserverOptions::Start::AtRest;
+             else
+               throw InputError("start must be 'steady' or 'at_rest', not '" + start + "'");
              o.velocity_window_s = velocity_window_s;
              o.validate();
              return QFilterObserver(o);
@@ -104,6 +107,15 @@ mass_kg / inertia_kgm2 0: the nominal values of the push's shape. hold: how y an
            py::arg("inertia_kgm2") = 0.0, py::arg("hold") = "first", py::arg("start") = "steady",
            py::arg("velocity_window_s") = 0.03)
       .def_property_readonly("name", &QFilterObserver::name)
+      .def("__repr__",
+           [](const QFilterObserver& o) {
+             const QFilterObserverOptions& q = o.options();
+             return "QFilterObserver(wn_rad_s=" + repr_number(q.wn_rad_s) + ", zeta=" + repr_number(q.zeta) +
+                    ", mass_kg=" + repr_number(q.mass_kg) + ", inertia_kgm2=" + repr_number(q.inertia_kgm2) +
+                    ", hold='" + (q.hold == Hold::Zero ? "zero" : "first") + "', start='" +
+                    (q.start == QFilterObserverOptions::Start::AtRest ? "at_rest" : "steady") +
+                    "', velocity_window_s=" + repr_number(q.velocity_window_s) + ")";
+           })
       .def(
           "estimate",
           [](const QFilterObserver& o, const SynchronisedPush& push, double t_start_s, std::optional<double> t_end_s) {
@@ -135,8 +147,16 @@ ki [N/(m s)], kd [N s/m] for translation, lp [N m/rad], li [N m/(rad s)], ld [N 
            py::arg("lp") = PidGains{}.lp, py::arg("li") = PidGains{}.li, py::arg("ld") = PidGains{}.ld,
            py::arg("mass_kg") = 0.0, py::arg("inertia_kgm2") = 0.0)
       .def_property_readonly("name", &PidForceReconstruction::name)
-      .def_property_readonly("gains", [](const PidForceReconstruction& p) { return gains_dict(p.gains()); },
-                             "kp, ki, kd (translation) and lp, li, ld (rotation), units as in the class docstring")
+      .def("__repr__",
+           [](const PidForceReconstruction& p) {
+             const PidGains& g = p.gains();
+             return "PidForceReconstruction(kp=" + repr_number(g.kp) + ", ki=" + repr_number(g.ki) +
+                    ", kd=" + repr_number(g.kd) + ", lp=" + repr_number(g.lp) + ", li=" + repr_number(g.li) +
+                    ", ld=" + repr_number(g.ld) + ")";
+           })
+      .def_property_readonly(
+          "gains", [](const PidForceReconstruction& p) { return gains_dict(p.gains()); },
+          "kp, ki, kd (translation) and lp, li, ld (rotation), units as in the class docstring")
       .def(
           "estimate",
           [](const PidForceReconstruction& p, const SynchronisedPush& push, double t_start_s,

@@ -64,8 +64,10 @@ or "rest") and observer_output ("interval-mean" or "point"): how the dob observe
 Returns a dict: source, span, intervals_s [(t0, t1) in s], phases (one dict per prediction phase: phase, t0_s,
 t1_s, relation (the fitted beta, eps used by `dob`), note, t_s [s], measured (n x 3: x [m], y [m], yaw [rad]),
 predicted {method: n x 3, same units}, errors {method: x_mm_mean, x_mm_std, y_mm_mean, y_mm_std,
-theta_deg_mean, theta_deg_std, final_pos_mm, final_theta_deg}, initial_velocity [m/s, m/s, rad/s]),
-identification (the observer's estimate on every identified interval) and estimator_seconds.)doc");
+theta_deg_mean, theta_deg_std, final_pos_mm, final_theta_deg}, initial_velocity [m/s, m/s, rad/s],
+method_parameters {method: {name: {value, std, unit, source}}} for the methods that report parameters, and
+method_notes {method: text}, as in summary.json), identification (the observer's estimate on every identified
+interval) and estimator_seconds.)doc");
 
   m.def(
       "study_summary",
@@ -132,6 +134,13 @@ it). With beta = eps = 0 and no friction it is Newton's law under the planned fo
       .def_readonly("beta", &PredictionModel::beta, "beta per channel (x, y, rotation) [-]")
       .def_readonly("eps", &PredictionModel::eps, "eps per channel [N, N, N m]")
       .def_readonly("coulomb_force_N", &PredictionModel::coulomb_force_N, "Coulomb friction force [N] (0: none)")
+      .def("__repr__",
+           [](const PredictionModel& model) {
+             return "PredictionModel(mass_kg=" + repr_number(model.mass_kg) +
+                    ", inertia_kgm2=" + repr_number(model.inertia_kgm2) + ", beta=" + repr_vector(model.beta) +
+                    ", eps=" + repr_vector(model.eps) + ", coulomb_force_N=" + repr_number(model.coulomb_force_N) +
+                    ", coulomb_speed_scale_m_s=" + repr_number(model.coulomb_speed_scale_m_s) + ")";
+           })
       .def_static(
           "from_relation",
           [](const SynchronisedPush& push, const py::dict& relation) {

@@ -25,6 +25,8 @@ expect_in "$tmp/err" "unknown prediction method 'magic'" "bench names the unknow
 # double integrator in closed form and by CVODE at rtol 1e-8) agreeing to well under a micrometre.
 expect_exit 0 "bench with both prediction paths" -- "$bin" bench "$hex" --methods dob,simple --cvode-prediction \
   --json "$tmp/bench.json"
+expect_in "$tmp/out" "the reference itself varies between runs" "bench says its reference moves between runs"
+expect_in "$tmp/bench.json" '"reference_seconds_per_pass"' "bench writes the reference of every pass"
 check "bench times both paths of both models and only the chosen methods, the dob model's paths within 1e-3 mm" \
   python3 -c '
 import json, sys

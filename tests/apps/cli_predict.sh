@@ -23,11 +23,19 @@ expect_in "$tmp/p/tables.md" "v =  50 mm/s" "tables.md has the per-speed table"
 expect_in "$tmp/p/summary.json" '"aggregate"' "summary.json has the aggregate"
 if ls "$tmp"/p/predictions/*.csv >/dev/null 2>&1; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: no per-push CSV"; fi
 
-expect_exit 1 "a frozen force sensor is a listed failure, the rest goes on" -- \
+# A frozen force sensor is a listed skip (the push is valid; the method needs its force), not a failure: exit 0, as
+# reproduce and fit-pid on the same files (docs/exit-codes.md).
+expect_exit 0 "a frozen force sensor is a listed skip, the rest goes on" -- \
   "$bin" predict "$frozen" "$hex" --out "$tmp/q" --span contact
-expect_in "$tmp/err" "force sensor frozen" "the reason is given"
-expect_in "$tmp/q/summary.json" '"failures"' "the failure is in summary.json"
+expect_in "$tmp/err" "SKIPPED $frozen: force sensor frozen" "the skip and its reason are given"
+expect_in "$tmp/err" "1 of 2 inputs skipped" "the skips are counted"
+expect_in "$tmp/q/summary.json" '"skipped": true' "the skip is in summary.json's failures, marked skipped"
 expect_in "$tmp/out" "predicted 1 pushes (4 intervals over the contact span)" "the good push is predicted"
+expect_exit 2 "only a frozen force sensor: nothing to predict" -- "$bin" predict "$frozen" --out "$tmp/q0"
+expect_absent "$tmp/q0" "nothing written when only a skipped push is given"
+expect_exit 1 "a skip and a failure: the failure sets the exit code" -- \
+  "$bin" predict "$frozen" "$hex" "$tmp/missing.h5" --out "$tmp/q1"
+expect_in "$tmp/err" "FAILED $tmp/missing.h5" "the failure is listed"
 
 expect_exit 0 "methods chosen by name" -- "$bin" predict "$hex" --out "$tmp/m" --methods quasi_static,hold
 expect_in "$tmp/out" "quasi_static" "the chosen method is printed"

@@ -6,6 +6,9 @@ data=$2
 source "$(dirname "$0")/cli_support.sh"
 
 expect_exit 0 "reproduce with the real data" -- "$bin" reproduce --data "$data" --out "$tmp/r"
+# The same rule as predict on the same files: the 13 frozen-sensor pushes are listed skips, exit 0.
+expect_in "$tmp/err" "SKIPPED $data/abs/motion_surface=abs_shape=rect1" "a frozen-sensor push is listed as skipped"
+expect_not_in "$tmp/err" "FAILED" "no real push fails"
 for section in "Table I" "Table II" "Figures 2 and 4" "Figure 5" "Figure 6" "Figure 7" "Figure 8" "Figure 9" \
   "The paper's claims" "every real ABS push" "force sensor frozen"; do
   expect_in "$tmp/r/report.md" "$section" "report.md has '$section'"

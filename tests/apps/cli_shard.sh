@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # --shard I/N and `pushpred merge` (issue 12): the partial outputs of every shard, merged, are the output of one run
 # byte for byte (diff -r), with the same stdout, failure list and exit code; bad shard specs, --shard on a
-# subcommand that cannot split, and parts that are not every shard of one run are refused with exit 2 and no output.
+# subcommand that cannot split (it does not list --shard), and parts that are not every shard of one run are refused
+# with exit 2 and no output.
 # The same for validate-diagnosis's trials and diagnose --per-object's objects.
 set -u
 bin=$1
@@ -65,9 +66,14 @@ for spec in 0/2 3/2 x 1/0 2 1/2/3 ""; do
   check "--shard '$spec' wrote nothing" [ ! -e "$tmp/bad" ]
 done
 
-# Subcommands that cannot split yet refuse --shard by name, before reading anything.
+# Subcommands that cannot split do not list --shard (pushpred inspect --help): given, it is an unknown option, exit 2,
+# before anything is read or written.
+for sub in inspect fit-pid compare; do
+  "$bin" "$sub" --help >"$tmp/help" 2>&1
+  expect_not_in "$tmp/help" "--shard" "$sub --help does not list --shard"
+done
 expect_exit 2 "inspect --shard refused" -- "$bin" inspect "${files[0]}" --shard 1/2
-expect_in "$tmp/err" "inspect\` cannot split its inputs" "inspect says it cannot shard"
+expect_in "$tmp/err" "--shard" "inspect names --shard"
 expect_exit 2 "fit-pid --shard refused" -- "$bin" fit-pid "${files[0]}" --out "$tmp/bad" --shard 1/2
 check "fit-pid --shard wrote nothing" [ ! -e "$tmp/bad" ]
 expect_exit 2 "compare --shard refused" -- "$bin" compare "${files[0]}" --out "$tmp/bad" --shard 1/2

@@ -16,7 +16,9 @@ TIP_SPEED_WINDOW_S = 0.05  # paper_reproduction.cpp; the report states the windo
 
 
 def f(fmt, value):
-    return fmt % value
+    """`value` as the report prints it: printf's text, without the sign of a value that rounds to zero."""
+    text = fmt % value
+    return text[1:] if text.startswith("-") and not any(c in "123456789" for c in text.split("e")[0]) else text
 
 
 def sections(markdown):

@@ -15,6 +15,7 @@ namespace pushpred {
 struct BatchFailure {
   std::string source;
   std::string reason;  ///< one line of plain text (see plain_text)
+  bool skipped = false;  ///< the input is valid but the job cannot use it (UnsuitableInput): not a failure
 };
 
 template <class Result>
@@ -109,9 +110,13 @@ auto run_batch(const std::vector<std::filesystem::path>& inputs, Job&& job) -> B
   Batch<decltype(job(inputs.front()))> batch;
   for (const auto& path : inputs) {
     std::string reason;
+    bool skipped = false;
     try {
       batch.results.push_back(job(path));
       continue;
+    } catch (const UnsuitableInput& e) {
+      reason = e.what();
+      skipped = true;
     } catch (const std::exception& e) {
       reason = e.what();
     } catch (...) {
@@ -119,7 +124,7 @@ auto run_batch(const std::vector<std::filesystem::path>& inputs, Job&& job) -> B
     }
     const std::string prefix = path.string() + ": ";
     if (reason.rfind(prefix, 0) == 0) reason = reason.substr(prefix.size());
-    batch.failures.push_back({plain_text(path.string()), plain_text(reason)});
+    batch.failures.push_back({plain_text(path.string()), plain_text(reason), skipped});
   }
   return batch;
 }

@@ -12,6 +12,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A valid input that a method cannot use by design (a push whose force sensor is frozen, for a method that needs its
+/// force): a batch lists it as skipped, with the reason, and it does not count as a failure in the exit code.
+class UnsuitableInput : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// A numerical solver (CVODE, Ceres) failed; the message carries the solver's own flag and where it happened.
 class SolverError : public std::runtime_error {
  public:

@@ -163,7 +163,10 @@ PartialManifestWriter::PartialManifestWriter(std::ostream& out, const std::strin
 void PartialManifestWriter::add(PartialItem item) {
   nlohmann::json entry = {{"index", item.index}};
   if (item.result_json) entry["files"] = item.files;
-  else if (item.failure) entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
+  else if (item.failure) {
+    entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
+    if (item.failure->skipped) entry["failure"]["skipped"] = true;
+  }
   std::string line = dump(entry, -1);
   out_ << (first_ ? "\n    " : ",\n    ");
   first_ = false;
@@ -458,7 +461,8 @@ MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
           for (const auto& f : mi.files) require_relative_inside(f);
         } else {
           const auto& f = entry.at("failure");
-          mi.failure = BatchFailure{f.at("source").get<std::string>(), f.at("reason").get<std::string>()};
+          mi.failure = BatchFailure{f.at("source").get<std::string>(), f.at("reason").get<std::string>(),
+                                    f.value("skipped", false)};
         }
         if (items[mi.index])
           throw InputError("input " + std::to_string(mi.index + 1) + " is also in " +

@@ -126,7 +126,7 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
 
 PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions& o) {
   if (push.flags.frozen_force_sensor)
-    throw InputError(about(push.source, "force sensor frozen: its force cannot be trusted for prediction"));
+    throw UnsuitableInput(about(push.source, "force sensor frozen: its force cannot be trusted for prediction"));
   // A nan here would fail every "< 0" test and silently mean "from the surface".
   if (!std::isfinite(o.friction_coefficient))
     throw InputError("friction coefficient of the simple baseline must be finite (negative: from the surface)");

@@ -7,6 +7,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/prediction/predictor.hpp"
+#include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 
 namespace pushpred {
@@ -84,30 +85,34 @@ std::string comparison_markdown(const EstimatorComparison& c) {
   out += c.methods.empty() ? "none" : markdown_method_list(c.methods);
   out += "). Fit time is the time spent in the estimator, as a ratio to `" + c.reference +
          "` measured in the same run.\n\n";
-  out +=
-      "| estimator | beta x | beta y | beta rot | eps x [N] | eps y [N] | eps rot [N m] | max |dbeta| | max |deps| | ";
-  for (const auto& m : c.methods) out += m + " pos err x/y [mm] | " + m + " yaw err [deg] | ";
-  out += "fit time ratio |\n|---|---|---|---|---|---|---|---|---|";
-  for (std::size_t k = 0; k < c.methods.size(); ++k) out += "---|---|";
-  out += "---|\n";
+  std::vector<std::string> header = {"estimator", "beta x",        "beta y",      "beta rot",  "eps x [N]",
+                                     "eps y [N]", "eps rot [N m]", "max |dbeta|", "max |deps|"};
+  for (const auto& m : c.methods) {
+    header.push_back(m + " pos err x/y [mm]");
+    header.push_back(m + " yaw err [deg]");
+  }
+  header.push_back("fit time ratio");
+  out += markdown_header(header);
   const double ref_time = c.rows.empty() ? 0 : c.rows.front().fit_seconds;
   for (const auto& r : c.rows) {
-    std::snprintf(line, sizeof line, "| %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.5f | %.2e | %.2e |",
-                  r.estimator.c_str(), r.beta_mean(0), r.beta_mean(1), r.beta_mean(2), r.eps_mean(0), r.eps_mean(1),
-                  r.eps_mean(2), r.beta_max_abs_diff.maxCoeff(), r.eps_max_abs_diff.maxCoeff());
-    out += line;
+    std::vector<std::string> cells = {r.estimator};
+    for (int k = 0; k < 3; ++k) cells.push_back(table_number("%.4f", r.beta_mean(k)));
+    cells.push_back(table_number("%.4f", r.eps_mean(0)));
+    cells.push_back(table_number("%.4f", r.eps_mean(1)));
+    cells.push_back(table_number("%.5f", r.eps_mean(2)));
+    cells.push_back(table_number("%.2e", r.beta_max_abs_diff.maxCoeff()));
+    cells.push_back(table_number("%.2e", r.eps_max_abs_diff.maxCoeff()));
     for (const auto& m : c.methods) {
       const auto e = r.errors.find(m);
-      if (e == r.errors.end()) {
-        out += " - | - |";  // a row without pushes has no errors
+      if (e == r.errors.end()) {  // a row without pushes has no errors
+        cells.insert(cells.end(), {"-", "-"});
         continue;
       }
-      std::snprintf(line, sizeof line, " %.2f / %.2f | %.2f |", e->second.x_mm_mean, e->second.y_mm_mean,
-                    e->second.theta_deg_mean);
-      out += line;
+      cells.push_back(table_number("%.2f", e->second.x_mm_mean) + " / " + table_number("%.2f", e->second.y_mm_mean));
+      cells.push_back(table_number("%.2f", e->second.theta_deg_mean));
     }
-    std::snprintf(line, sizeof line, " %.2f |\n", ref_time > 0 ? r.fit_seconds / ref_time : NAN);
-    out += line;
+    cells.push_back(table_number("%.2f", ref_time > 0 ? r.fit_seconds / ref_time : NAN));
+    out += markdown_row(cells);
   }
   if (!c.failures.empty()) {
     out += "\n## Pushes left out\n\n";

@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <limits>
 #include <map>
 #include <ostream>
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/version.hpp"
+#include "pushpred/mechanics/outline.hpp"
+#include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/observation_report.hpp"
 #include "pushpred/reports/plotting.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
@@ -19,10 +23,22 @@ namespace {
 
 constexpr double kMm = 1e3, kDeg = 180.0 / M_PI;
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
+/// A number for the report's tables and text: never "-0.0" (table_number).
+std::string fmt(const char* f, double v) { return table_number(f, v); }
+
+/// A plot's value range for one pose column of some curves, in report units, padded by a fifth of its span (at least
+/// one unit) so that the curves do not touch the frame.
+struct FigureRange {
+  double lo = 0, hi = 0;
+};
+FigureRange figure_range(std::initializer_list<const Eigen::MatrixX3d*> curves, int column, double scale) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Eigen::MatrixX3d* m : curves) {
+    lo = std::min(lo, scale * m->col(column).minCoeff());
+    hi = std::max(hi, scale * m->col(column).maxCoeff());
+  }
+  const double pad = std::max(1.0, 0.2 * (hi - lo));
+  return {lo - pad, hi + pad};
 }
 
 /// Writes a gnuplot script and runs it; a plot that cannot be drawn leaves a note, never an error.
@@ -71,7 +87,7 @@ std::string shape_of(const std::string& source) {
 }
 
 std::string errors_row(const std::string& label, const PredictionErrors& e) {
-  return "| " + label + " | " + fmt("%.2f", e.x_mm_mean) + " ± " + fmt("%.2f", e.x_mm_std) + " | " +
+  return "| " + markdown_cell(label) + " | " + fmt("%.2f", e.x_mm_mean) + " ± " + fmt("%.2f", e.x_mm_std) + " | " +
          fmt("%.2f", e.y_mm_mean) + " ± " + fmt("%.2f", e.y_mm_std) + " | " + fmt("%.2f", e.theta_deg_mean) + " ± " +
          fmt("%.2f", e.theta_deg_std) + " | " + fmt("%.2f", e.final_pos_mm) + " | " + fmt("%.2f", e.final_theta_deg) +
          " |\n";
@@ -217,9 +233,14 @@ void write_figure_5(std::ostream& md, const std::vector<SynchronisedPush>& pushe
   write_text_atomically(out.path("fig5.dat"), dat.str());
   std::ostringstream gp;
   gp << png_terminal("fig5.png", 1500, 560) << "set multiplot layout 1,3\nset key below horizontal maxcols 4\n";
-  const char* titles[3] = {"x force [N]", "y force [N]", "torque [N m]"};
+  const char* titles[3] = {"x force", "y force", "torque about the centre"};
+  const char* xlabels[3] = {"applied input u_x [N]", "applied input u_y [N]", "applied input u_rot [N m]"};
+  const char* ylabels[3] = {"estimated disturbance d_x [N]", "estimated disturbance d_y [N]",
+                            "estimated disturbance d_rot [N m]"};
+  gp << "set termoption noenhanced\n";
   for (int c = 0; c < 3; ++c)
-    gp << "set title " << gnuplot_quoted(titles[c]) << "\nset xlabel 'u (applied)'\nset ylabel 'd hat (estimated)'\n"
+    gp << "set title " << gnuplot_quoted(titles[c]) << "\nset xlabel " << gnuplot_quoted(xlabels[c]) << "\nset ylabel "
+       << gnuplot_quoted(ylabels[c]) << "\n"
        << "plot for [n=1:6] 'fig5.dat' using ($1==n ? $" << 2 + 2 * c << " : 1/0):" << 3 + 2 * c
        << " with points pt 7 ps 0.3 title sprintf('case %d', n), " << all.beta(c) << "*x + " << all.eps(c)
        << " with lines lw 2 lc 'black' title 'fit over all cases'\n";
@@ -358,13 +379,29 @@ void write_figure_9(std::ostream& md, const std::vector<PushStudy>& cases, const
     dat << "\n";
   }
   write_text_atomically(out.path("fig9.dat"), dat.str());
+  // The axes are set by the measured and the dob curves; a curve that leaves them (simple's often diverges by
+  // metres) is clipped at the frame, and its key says how far it goes, so that it cannot flatten the others.
+  const FigureRange x = figure_range({&best->measured, &best->predicted.at("dob")}, 0, kMm),
+                    y = figure_range({&best->measured, &best->predicted.at("dob")}, 1, kMm),
+                    yaw = figure_range({&best->measured, &best->predicted.at("dob")}, 2, kDeg);
+  const FigureRange ranges[3] = {x, y, yaw};
+  const Eigen::MatrixX3d& simple = best->predicted.at("simple");
   std::ostringstream gp;
-  gp << png_terminal("fig9.png", 1500, 450) << "set multiplot layout 1,3\nset xlabel 'time [s]'\nset key bottom\n";
+  gp << png_terminal("fig9.png", 1500, 450)
+     << "set termoption noenhanced\nset multiplot layout 1,3\nset xlabel 'time [s]'\nset key bottom\n";
   const char* labels[3] = {"x [mm]", "y [mm]", "yaw [deg]"};
-  for (int c = 0; c < 3; ++c)
-    gp << "set ylabel " << gnuplot_quoted(labels[c]) << "\nplot 'fig9.dat' using 1:" << 2 + c
-       << " with lines lw 2 lc 'black' title 'measured', '' using 1:" << 5 + c << " with lines lw 2 lc 'red' title "
-       << "'proposed (dob)', '' using 1:" << 8 + c << " with lines dt 2 lc 'blue' title 'simple'\n";
+  const char* units[3] = {"mm", "mm", "deg"};
+  const double scale[3] = {kMm, kMm, kDeg};
+  for (int c = 0; c < 3; ++c) {
+    const double lo = scale[c] * simple.col(c).minCoeff(), hi = scale[c] * simple.col(c).maxCoeff();
+    std::string simple_title = "simple";
+    if (lo < ranges[c].lo || hi > ranges[c].hi)
+      simple_title += " (clipped; it spans " + fmt("%.0f", lo) + " to " + fmt("%.0f", hi) + " " + units[c] + ")";
+    gp << "set ylabel " << gnuplot_quoted(labels[c]) << "\nset yrange [" << ranges[c].lo << ":" << ranges[c].hi
+       << "]\nplot 'fig9.dat' using 1:" << 2 + c << " with lines lw 2 lc 'black' title 'measured', '' using 1:" << 5 + c
+       << " with lines lw 2 lc 'red' title 'proposed (dob)', '' using 1:" << 8 + c
+       << " with lines dt 2 lc 'blue' title " << gnuplot_quoted(simple_title) << "\n";
+  }
   gp << "unset multiplot\n";
   draw(out, "fig9.gp", gp.str(), notes);
   md << "## Figure 9: the best prediction\n\nAmong the phases in which the object moves at least 5 mm: case " << best_case << ", phase " << best->phase << " (mean x/y error "
@@ -418,9 +455,9 @@ Batch<PushStudy> study_real_pushes(std::ostream& md, const std::filesystem::path
     const auto agg = aggregate_errors(studies);
     for (const auto& name : studies.front().methods) {
       const auto& e = agg.at(name);
-      md << "| " << shape << " | " << studies.size() << " | " << name << " | " << fmt("%.2f", e.x_mm_mean) << " | "
-         << fmt("%.2f", e.y_mm_mean) << " | " << fmt("%.2f", e.theta_deg_mean) << " | " << fmt("%.2f", e.final_pos_mm)
-         << " | " << fmt("%.2f", e.final_theta_deg) << " |\n";
+      md << "| " << markdown_cell(shape) << " | " << studies.size() << " | " << markdown_cell(name) << " | "
+         << fmt("%.2f", e.x_mm_mean) << " | " << fmt("%.2f", e.y_mm_mean) << " | " << fmt("%.2f", e.theta_deg_mean)
+         << " | " << fmt("%.2f", e.final_pos_mm) << " | " << fmt("%.2f", e.final_theta_deg) << " |\n";
     }
   }
   md << "\nMean over phases of each phase's mean position error [mm] / yaw error [deg], per object and per pusher "
@@ -433,6 +470,112 @@ Batch<PushStudy> study_real_pushes(std::ostream& md, const std::filesystem::path
   }
   md << "\n";
   return real;
+}
+
+/// The best method on real data: the real push whose `quasi_static` error (mean position error over its phases) is the
+/// median of those of the objects with a listed outline, so that the figures show a typical push rather than a chosen
+/// one. Figure 10: x, y and yaw over time, measured and predicted by quasi_static, dob and const_velocity in every
+/// phase; figure 11: the object's outline seen from above at the start and end of every phase, measured and as each
+/// method predicts it.
+void write_real_push_figures(std::ostream& md, const Batch<PushStudy>& real, const StagedOutput& out,
+                             std::vector<std::string>& notes) {
+  const std::string best_method = "quasi_static";
+  std::vector<std::pair<double, const PushStudy*>> by_error;
+  for (const PushStudy& s : real.results) {
+    if (s.phases.empty() || std::find(s.methods.begin(), s.methods.end(), best_method) == s.methods.end()) continue;
+    // Figure 11 draws the outline: among the objects whose outline the shape table lists (not butter).
+    const std::string shape = shape_of(s.source);
+    if (!ShapeTable::published().contains(shape) || !ShapeTable::published().find(shape).has_outline()) continue;
+    double sum = 0;
+    for (const PhaseResult& ph : s.phases) sum += mean_position_error(ph.errors.at(best_method));
+    by_error.emplace_back(sum / static_cast<double>(s.phases.size()), &s);
+  }
+  if (by_error.empty()) return;  // quasi_static not run (--methods), or no real push studied
+  std::sort(by_error.begin(), by_error.end(), [](const auto& a, const auto& b) {
+    return a.first < b.first || (a.first == b.first && a.second->source < b.second->source);
+  });
+  const PushStudy& study = *by_error[(by_error.size() - 1) / 2].second;
+  const std::string file = std::filesystem::path(study.source).filename().string();
+  std::vector<std::string> methods;
+  for (const std::string& m : {best_method, std::string("dob"), std::string("const_velocity")})
+    if (std::find(study.methods.begin(), study.methods.end(), m) != study.methods.end()) methods.push_back(m);
+
+  // Figure 10: one block per phase (blank lines between, so that no line joins two phases).
+  std::ostringstream dat;
+  dat << "# " << file << ": t_s, then x_mm y_mm yaw_deg measured and per method:";
+  for (const auto& m : methods) dat << " " << m;
+  dat << "\n";
+  for (const PhaseResult& ph : study.phases) {
+    for (Eigen::Index j = 0; j < ph.t_s.size(); ++j) {
+      dat << ph.t_s(j);
+      for (int c = 0; c < 3; ++c) dat << " " << (c < 2 ? kMm : kDeg) * ph.measured(j, c);
+      for (const auto& m : methods)
+        for (int c = 0; c < 3; ++c) dat << " " << (c < 2 ? kMm : kDeg) * ph.predicted.at(m)(j, c);
+      dat << "\n";
+    }
+    dat << "\n\n";
+  }
+  write_text_atomically(out.path("fig10.dat"), dat.str());
+  const char* colours[3] = {"'red'", "'blue'", "'dark-green'"};
+  std::ostringstream gp;
+  gp << png_terminal("fig10.png", 1500, 450) << "set termoption noenhanced\nset multiplot layout 1,3 title "
+     << gnuplot_quoted(file) << "\nset xlabel 'time [s]'\nset key bottom\n";
+  const char* labels[3] = {"x [mm]", "y [mm]", "yaw [deg]"};
+  for (int c = 0; c < 3; ++c) {
+    gp << "set ylabel " << gnuplot_quoted(labels[c]) << "\nplot 'fig10.dat' using 1:" << 2 + c
+       << " with lines lw 2 lc 'black' title 'measured'";
+    for (std::size_t m = 0; m < methods.size(); ++m)
+      gp << ", '' using 1:" << 5 + 3 * m + static_cast<std::size_t>(c) << " with lines lw 1.5 lc " << colours[m]
+         << " title " << gnuplot_quoted(methods[m]);
+    gp << "\n";
+  }
+  gp << "unset multiplot\n";
+  draw(out, "fig10.gp", gp.str(), notes);
+
+  // Figure 11: the outline at the start and end of every phase; the predictions start from the measured pose.
+  const SynchronisedPush push = load_push(study.source);
+  const std::vector<Eigen::Vector2d> outline = outline_polygon(push.shape, 36);
+  std::ostringstream top;
+  const auto outline_at = [&](const Eigen::MatrixX3d& pose, Eigen::Index j) {
+    const double c = std::cos(pose(j, 2)), s = std::sin(pose(j, 2));
+    for (std::size_t v = 0; v <= outline.size(); ++v) {
+      const Eigen::Vector2d& q = outline[v % outline.size()];
+      const Eigen::Vector2d p =
+          pose.row(j).head<2>().transpose() + Eigen::Vector2d(c * q.x() - s * q.y(), s * q.x() + c * q.y());
+      top << kMm * p.x() << " " << kMm * p.y() << "\n";
+    }
+    top << "\n\n";
+  };
+  top << "# " << file << ": the outline [mm] at the start and end of each phase; index 0 measured, then";
+  for (const auto& m : methods) top << " " << m;
+  top << " (ends of phases only)\n";
+  for (const PhaseResult& ph : study.phases) outline_at(ph.measured, 0);  // index 0: measured, phase starts
+  for (const PhaseResult& ph : study.phases) outline_at(ph.measured, ph.measured.rows() - 1);
+  for (const auto& m : methods)
+    for (const PhaseResult& ph : study.phases) outline_at(ph.predicted.at(m), ph.measured.rows() - 1);
+  write_text_atomically(out.path("fig11.dat"), top.str());
+  const std::size_t phases = study.phases.size();
+  std::ostringstream gp11;
+  gp11 << png_terminal("fig11.png", 1000, 900) << "set termoption noenhanced\nset size ratio -1\nset grid\n"
+       << "set title " << gnuplot_quoted("from above: " + file) << "\nset xlabel 'x [mm]'\nset ylabel 'y [mm]'\n"
+       << "set key outside right top\n"
+       << "plot 'fig11.dat' index 0:" << phases - 1 << " with lines dt 3 lc 'gray' title 'measured, phase start', "
+       << "'' index " << phases << ":" << 2 * phases - 1 << " with lines lw 2 lc 'black' title 'measured, phase end'";
+  for (std::size_t m = 0; m < methods.size(); ++m)
+    gp11 << ", '' index " << (2 + m) * phases << ":" << (3 + m) * phases - 1 << " with lines lw 1.5 lc " << colours[m]
+         << " title " << gnuplot_quoted(methods[m] + ", phase end");
+  gp11 << "\n";
+  draw(out, "fig11.gp", gp11.str(), notes);
+
+  md << "## Figures 10 and 11: the best method on a real push\n\n"
+     << "The real push whose `" << best_method << "` error is the median of the " << by_error.size()
+     << " studied pushes of objects with a listed outline (`" << file << "`, mean position error "
+     << fmt("%.2f", by_error[(by_error.size() - 1) / 2].first)
+     << " mm per phase): its pose over time, measured and predicted in every phase by";
+  for (const auto& m : methods) md << " `" << m << "`";
+  md << " (each prediction starts from the measured pose at its phase's start), and the object's outline seen from "
+        "above at the start and end of each phase, measured and as each method predicts its end.\n\n"
+     << "![the best method on a real push](fig10.png)\n\n![the outline from above](fig11.png)\n\n";
 }
 
 /// The plots gnuplot could not draw, and why.
@@ -482,7 +625,10 @@ ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOut
   write_figures_7_and_8(md, result.cases, out, notes);
   write_figure_9(md, result.cases, out, notes);
   write_claims(md, result.cases);
-  if (!o.data_folder.empty()) result.real = study_real_pushes(md, o.data_folder, study_options, log);
+  if (!o.data_folder.empty()) {
+    result.real = study_real_pushes(md, o.data_folder, study_options, log);
+    write_real_push_figures(md, result.real, out, notes);
+  }
   write_plot_notes(md, notes);
   write_text_atomically(out.path("report.md"), md.str());
   write_summary(out, result, study_options, simulated);

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "pushpred/core/version.hpp"
+#include "pushpred/reports/markdown_table.hpp"
 
 namespace pushpred {
 namespace {
@@ -59,11 +60,7 @@ Eigen::Vector3d mean_of(const std::vector<const PidGainQuality*>& qs, Eigen::Vec
   return qs.empty() ? s : Eigen::Vector3d(s / static_cast<double>(qs.size()));
 }
 
-std::string fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+std::string fmt(const char* format, double v) { return table_number(format, v); }
 
 }  // namespace
 
@@ -156,7 +153,7 @@ namespace {
 
 /// One row of the gains table; a gain at its lower clamp reads "floor".
 void write_gain_row(std::ostringstream& md, const std::string& label, const PidGains& g) {
-  md << "| " << label;
+  md << "| " << markdown_cell(label);
   for (double v : {g.kp, g.ki, g.kd, g.lp, g.li, g.ld})
     md << " | " << (v <= kPidGainFloor * (1 + 1e-9) ? std::string("floor") : fmt("%.4g", v));
   md << " |\n";
@@ -260,10 +257,10 @@ void write_objective_row(std::ostringstream& md, const PidFitStudy& s, PidFitPro
     samples += static_cast<double>(pid_fit_channels(problem).count * q->samples);
     steps += static_cast<double>(pid_fit_channels(problem).count * (q->samples - 1));
   }
-  md << "| " << pid_fit_problem_name(problem) << " | " << label << " | " << fmt("%.4g", t.tracking) << " | "
-     << fmt("%.4g", t.tracking / samples) << " | " << fmt("%.4g", t.roughness) << " | "
-     << fmt("%.4g", t.roughness / steps) << " | " << fmt("%.4g", 0.5 * (t.tracking + s.roughness_weight * t.roughness))
-     << " |\n";
+  md << "| " << markdown_cell(pid_fit_problem_name(problem)) << " | " << markdown_cell(label) << " | "
+     << fmt("%.4g", t.tracking) << " | " << fmt("%.4g", t.tracking / samples) << " | " << fmt("%.4g", t.roughness)
+     << " | " << fmt("%.4g", t.roughness / steps) << " | "
+     << fmt("%.4g", 0.5 * (t.tracking + s.roughness_weight * t.roughness)) << " |\n";
 }
 
 void write_objective_table(std::ostringstream& md, const PidFitStudy& s, const QualitiesByGains& q) {
@@ -292,7 +289,7 @@ void write_quality_cells(std::ostringstream& md, const Eigen::Vector3d& track, c
 void write_mean_quality_row(std::ostringstream& md, const std::string& label,
                             const std::vector<const PidGainQuality*>& qs) {
   if (qs.empty()) return;
-  md << "| " << label;
+  md << "| " << markdown_cell(label);
   write_quality_cells(md, mean_of(qs, &PidGainQuality::tracking_rms), mean_of(qs, &PidGainQuality::roughness_rms),
                       mean_of(qs, &PidGainQuality::dob_rms));
 }
@@ -349,7 +346,7 @@ void write_per_push(std::ostringstream& md, const PidFitStudy& s) {
   md << "Noise during the rest at the start: sigma_pose x, y [mm], theta [deg]; sigma_df x, y [N], rot [N mm].\n\n";
   md << "| push | sigma_pose | sigma_df |\n|---|---|---|\n";
   for (const auto& r : s.pushes)
-    md << "| " << short_name(r.source) << " | " << fmt("%.4f", 1e3 * r.noise.pose(0)) << ", "
+    md << "| " << markdown_cell(short_name(r.source)) << " | " << fmt("%.4f", 1e3 * r.noise.pose(0)) << ", "
        << fmt("%.4f", 1e3 * r.noise.pose(1)) << ", " << fmt("%.4f", kRadToDeg * r.noise.pose(2)) << " | "
        << fmt("%.4f", r.noise.force_step(0)) << ", " << fmt("%.4f", r.noise.force_step(1)) << ", "
        << fmt("%.3f", 1e3 * r.noise.force_step(2)) << " |\n";
@@ -358,7 +355,7 @@ void write_per_push(std::ostringstream& md, const PidFitStudy& s) {
   for (const auto& r : s.pushes) {
     const std::string name = short_name(r.source);
     const auto row = [&](const std::string& label, const PidGainQuality& q) {
-      md << "| " << name << " | " << label;
+      md << "| " << markdown_cell(name) << " | " << markdown_cell(label);
       write_quality_cells(md, q.tracking_rms, q.roughness_rms, q.dob_rms);
     };
     row("paper", r.paper);

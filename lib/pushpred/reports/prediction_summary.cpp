@@ -13,6 +13,7 @@
 #include "pushpred/core/output_files.hpp"
 #include "pushpred/core/version.hpp"
 #include "pushpred/reading/recording.hpp"
+#include "pushpred/reports/markdown_table.hpp"
 
 namespace pushpred {
 
@@ -122,7 +123,10 @@ nlohmann::json summary_head(const std::map<std::string, PredictionErrors>& aggre
   nlohmann::json aggregate = nlohmann::json::object();
   for (const auto& [name, e] : aggregate_errors) aggregate[name] = errors_json(e);
   nlohmann::json failures = nlohmann::json::array();
-  for (const auto& f : batch_failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});
+  for (const auto& f : batch_failures) {
+    failures.push_back({{"source", f.source}, {"reason", f.reason}});
+    if (f.skipped) failures.back()["skipped"] = true;
+  }
   nlohmann::json summary = {{"pushpred_version", kVersion}, {"options", options}};
   summary["aggregate"] = std::move(aggregate);
   summary["failures"] = std::move(failures);
@@ -247,22 +251,19 @@ std::string PredictionTables::grouped_errors_markdown() const {
   if (!started_) return "";
   auto table = [&](const std::string& title, const std::map<std::string, Group>& groups) {
     std::ostringstream md;
-    md << "| " << title << " | pushes | phases |";
-    for (const auto& m : methods_) md << " " << m << " |";
-    md << "\n|---|---|---|";
-    for (size_t k = 0; k < methods_.size(); ++k) md << "---|";
-    md << "\n";
+    std::vector<std::string> header = {title, "pushes", "phases"};
+    header.insert(header.end(), methods_.begin(), methods_.end());
+    md << markdown_header(header);
     for (const auto& [group, sums] : groups) {
       const auto agg = sums.mean();
-      md << "| " << group << " | " << sums.pushes << " | " << sums.phases << " |";
-      char cell[64];
+      std::vector<std::string> cells = {group, std::to_string(sums.pushes), std::to_string(sums.phases)};
       for (const auto& m : methods_) {
         const auto e = agg.find(m);
-        if (e == agg.end()) std::snprintf(cell, sizeof cell, " - |");
-        else std::snprintf(cell, sizeof cell, " %.2f / %.2f |", e->second.pos_mm_mean, e->second.theta_deg_mean);
-        md << cell;
+        cells.push_back(e == agg.end() ? std::string("-")
+                                       : table_number("%.2f", e->second.pos_mm_mean) + " / " +
+                                             table_number("%.2f", e->second.theta_deg_mean));
       }
-      md << "\n";
+      md << markdown_row(cells);
     }
     return md.str();
   };
@@ -281,16 +282,13 @@ std::string PredictionTables::losing_phases_markdown() const {
   md << " (position or yaw more than 2 % and 0.05 mm / 0.05 deg worse):";
   for (const auto& [object, counts] : lost_per_object_)
     md << " " << object << " " << counts.first << " of " << counts.second << ";";
-  md << "\n\n| push | phase | " << losing_method_ << " [mm / deg] | better reference [mm / deg] |\n|---|---|---|---|\n";
+  md << "\n\n" << markdown_header({"push", "phase", losing_method_ + " [mm / deg]", "better reference [mm / deg]"});
   std::vector<Loss> worst = losses_;
   keep_worst(worst, static_cast<std::size_t>(std::max(worst_, 0)));
-  char row[400];
-  for (size_t k = 0; k < worst.size(); ++k) {
-    const Loss& l = worst[k];
-    std::snprintf(row, sizeof row, "| `%s` | %d | %.2f / %.2f | %.2f / %.2f |\n", l.push.c_str(), l.phase, l.pos, l.yaw,
-                  l.best_pos, l.best_yaw);
-    md << row;
-  }
+  for (const Loss& l : worst)
+    md << markdown_row({"`" + l.push + "`", std::to_string(l.phase),
+                        table_number("%.2f", l.pos) + " / " + table_number("%.2f", l.yaw),
+                        table_number("%.2f", l.best_pos) + " / " + table_number("%.2f", l.best_yaw)});
   return md.str();
 }
 
