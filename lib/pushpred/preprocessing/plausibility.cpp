@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/preprocessing/synchronised_push.hpp"
 
 namespace pushpred {
 namespace {
@@ -78,55 +77,6 @@ void check_plausible(const Recording& r, const PlausibilityLimits& limits) {
       check_column(src, name, *stream, 1, "y", limits.max_position_m, "m");
       check_column(src, name, *stream, 2, "yaw", limits.max_yaw_rad, "rad");
     }
-  }
-}
-
-void check_plausible_motion(const SynchronisedPush& p, const PlausibilityLimits& limits) {
-  const Eigen::Index n = p.size();
-  if (n < 2 || !(p.rate_hz > 0)) return;
-  const Eigen::Index w =
-      std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::lround(limits.motion_window_s * p.rate_hz)));
-  const auto at = [&](Eigen::Index k) {
-    return "at t = " + number(p.t_s(k)) + " s (grid sample " + std::to_string(k) + ")";
-  };
-  const auto refuse = [&](const std::string& what) {
-    throw InputError(about(p.source, what + "; docs/robustness.md says why such motion is refused"));
-  };
-  const double rho =
-      p.shape.mass_kg > 0 && p.shape.inertia_kgm2 > 0 ? std::sqrt(p.shape.inertia_kgm2 / p.shape.mass_kg) : 0.0;
-  const double max_yaw_rate = rho > 0 ? limits.max_speed_m_s / rho : 0.0;
-  // Speed, then yaw rate, then acceleration, so that a jump is named by the first of them it breaks.
-  for (Eigen::Index k = 0; k + w < n; ++k) {
-    const double speed = (p.pose.row(k + w).head<2>() - p.pose.row(k).head<2>()).norm() / (p.t_s(k + w) - p.t_s(k));
-    if (speed > limits.max_speed_m_s)
-      refuse("object_pose moves at " + number(speed) + " m/s " + at(k) + ", beyond the " +
-             number(limits.max_speed_m_s) + " m/s a pushed object can");
-  }
-  for (Eigen::Index k = 0; max_yaw_rate > 0 && k + w < n; ++k) {
-    const double yaw_rate = std::abs(p.pose(k + w, 2) - p.pose(k, 2)) / (p.t_s(k + w) - p.t_s(k));
-    if (yaw_rate > max_yaw_rate)
-      refuse("object_pose turns at " + number(yaw_rate) + " rad/s " + at(k) + ", beyond the " + number(max_yaw_rate) +
-             " rad/s at which a point of " + p.shape.name + " one radius of gyration (" + number(1e3 * rho) +
-             " mm) from its centre would move at " + number(limits.max_speed_m_s) + " m/s");
-  }
-  for (Eigen::Index k = 0; k + 2 * w < n; ++k) {
-    const double h = 0.5 * (p.t_s(k + 2 * w) - p.t_s(k));
-    const double acceleration =
-        (p.pose.row(k + 2 * w).head<2>() - 2 * p.pose.row(k + w).head<2>() + p.pose.row(k).head<2>()).norm() / (h * h);
-    if (acceleration > limits.max_acceleration_m_s2)
-      refuse("object_pose accelerates at " + number(acceleration) + " m/s^2 " + at(k + w) + ", beyond the " +
-             number(limits.max_acceleration_m_s2) + " m/s^2 a push force and friction can give it");
-  }
-  if (!p.shape.has_outline()) return;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const double c = std::cos(p.pose(k, 2)), s = std::sin(p.pose(k, 2));
-    const Eigen::Vector2d d = p.lever_m.row(k).transpose();
-    const Eigen::Vector2d body(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
-    const double penetration = kPusherRadius_m - signed_distance_to_outline(p.shape, body);
-    if (penetration > limits.max_tip_penetration_m)
-      refuse("the rod's surface lies " + number(1e3 * penetration) + " mm inside " + p.shape.name + "'s outline " +
-             at(k) + ", more than the " + number(1e3 * limits.max_tip_penetration_m) +
-             " mm a pressed contact allows: the object pose is not the object's");
   }
 }
 

@@ -37,6 +37,9 @@ class Handle {
 
 constexpr std::array<const char*, 3> kArrayNames = {"tip_pose", "object_pose", "ft_wrench"};
 
+/// Arrays longer than this have their time span checked before the rest is read: 400 s at 250 Hz.
+constexpr hsize_t kEarlySpanCheckRows = 100'000;
+
 /// HDF5 prints its own error stack by default; errors here become InputError messages instead.
 void silence_hdf5_errors() {
   static const bool done = [] {
@@ -97,8 +100,10 @@ Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* nam
   if (dims[0] > static_cast<hsize_t>(max_rows))
     throw InputError(about(source, where + " declares " + std::to_string(dims[0]) + " rows, more than the " +
                                        std::to_string(max_rows) + " a recording may hold"));
-  // The time column first (a hyperslab of column 0): a stream spanning hours is refused before the rest is read.
-  if (dims[0] > 1) {
+  // A long array's time column first (a hyperslab of column 0): one spanning hours is refused before the rest is
+  // read, so that refusing a huge file costs a column of it. Arrays of ordinary length (a push holds about 1,500
+  // rows) are read whole, and the plausibility checks say more precisely what is wrong with their time stamps.
+  if (dims[0] > kEarlySpanCheckRows) {
     Eigen::VectorXd time(static_cast<Eigen::Index>(dims[0]));
     const hsize_t start[2] = {0, 0}, count[2] = {dims[0], 1};
     Handle memory(H5Screate_simple(2, count, nullptr), H5Sclose);
