@@ -10,50 +10,12 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
+#include "pushpred/prediction/quasi_static_contact.hpp"
 
 namespace pushpred {
 namespace {
 
 Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
-
-Eigen::Vector2d body_tip(const SynchronisedPush& push, Eigen::Index i) {
-  return Eigen::Rotation2Dd(push.pose(i, 2)).inverse() *
-         (push.tip_m.row(i).transpose() - push.pose.row(i).head<2>().transpose());
-}
-
-bool has_outline(const ShapeInfo& shape) {
-  try {
-    Outline o(shape);
-    return true;
-  } catch (const InputError&) {
-    return false;
-  }
-}
-
-/// Outward normal (body frame) of an unknown outline at sample i: along the tip's slide over the object where it
-/// slides, against the push where the rod is stuck (see contact_outline_for), else the plan's direction turned back
-/// by the push angle.
-Eigen::Vector2d local_outward_normal(const SynchronisedPush& push, Eigen::Index i, const Eigen::Vector2d& plan_direction,
-                                     Eigen::Index lookback) {
-  const Eigen::Rotation2Dd R(push.pose(i, 2));
-  const Eigen::Vector2d push_body = R.inverse() * plan_direction;
-  Eigen::Index j = std::max<Eigen::Index>(0, i - lookback);
-  while (j < i && !push.in_contact[static_cast<size_t>(j)]) ++j;
-  const Eigen::Vector2d slide = body_tip(push, i) - body_tip(push, j);
-  Eigen::Vector2d normal;
-  const bool stuck = push.in_contact[static_cast<size_t>(i)] && j == i - lookback && slide.norm() < 5e-4 &&
-                     (push.tip_m.row(i) - push.tip_m.row(j)).norm() >= 2e-3;
-  if (push.in_contact[static_cast<size_t>(i)] && slide.norm() > 1.5e-3) {
-    normal = perp(slide.normalized());
-  } else if (stuck) {
-    normal = -push_body;  // a rounded vertex pushed along the plan, as contact_outline_for takes it
-  } else {
-    normal = -(Eigen::Rotation2Dd(-push.push.angle_rad) * push_body);
-  }
-  if (normal.dot(push_body) > 0) normal = -normal;
-  return normal.normalized();
-}
-
 
 /// One contact sample's kinematics: the measured twist against the quasi-static motion, for (mu_p, c, delta) with
 /// delta the CoF's offset from the shape table's centroid (body frame). Differentiated automatically
@@ -128,70 +90,6 @@ struct PriorResidual {
 const std::array<const char*, 4>& QuasiStaticIdentification::names() {
   static const std::array<const char*, 4> n{"pusher_friction", "torque_ratio_m", "support_friction", "contact_offset_m"};
   return n;
-}
-
-std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush& push, double t_s,
-                                                          const Eigen::Vector2d& plan_direction) {
-  if (has_outline(push.shape)) return shape_outline(push.shape);
-  // The outline is known only where the rod touched it: at the last contact sample up to t_s.
-  Eigen::Index i = push.index_at(t_s);
-  while (i > 0 && !push.in_contact[static_cast<size_t>(i)]) --i;
-  if (!push.in_contact[static_cast<size_t>(i)]) i = push.index_at(t_s);
-  const Eigen::Vector2d direction = plan_direction.norm() > 0 ? plan_direction.normalized() : Eigen::Vector2d::UnitX();
-  const Eigen::Vector2d push_body = Eigen::Rotation2Dd(push.pose(i, 2)).inverse() * direction;
-  // Stuck: over the last 0.1 s in contact the rod pushed (moved at least 2 mm) without sliding over the object (under
-  // 0.5 mm). The contact is then taken as a rounded vertex ahead of the rod along the push, so the push stays on
-  // its normal while the object turns (a rod stuck at a corner rolls around it).
-  {
-    const Eigen::Index back = static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz));
-    const Eigen::Index j = i - back;
-    if (j >= 0 && push.in_contact[static_cast<size_t>(j)] &&
-        (push.tip_m.row(i) - push.tip_m.row(j)).norm() >= 2e-3 && (body_tip(push, i) - body_tip(push, j)).norm() < 5e-4) {
-      constexpr double kVertexRadius_m = 5e-4;
-      return circular_edge(body_tip(push, i) + (kPusherRadius_m + kVertexRadius_m) * push_body, kVertexRadius_m);
-    }
-  }
-  // The rod centre's trace over the object while in contact, back from t_s: a circle (of the outline's radius
-  // plus the rod's) where it has slid far enough to show the outline's curvature.
-  std::vector<Eigen::Vector2d> trace;
-  double arc = 0;
-  for (Eigen::Index j = i; j >= 0 && push.in_contact[static_cast<size_t>(j)] && arc < 0.015; --j) {
-    const Eigen::Vector2d q = body_tip(push, j);
-    if (trace.empty() || (q - trace.back()).norm() >= 1e-3) {
-      if (!trace.empty()) arc += (q - trace.back()).norm();
-      trace.push_back(q);
-    }
-  }
-  if (arc >= 0.004 && trace.size() >= 4) {
-    Eigen::MatrixXd A(static_cast<Eigen::Index>(trace.size()), 3);
-    Eigen::VectorXd b(A.rows());
-    for (Eigen::Index k = 0; k < A.rows(); ++k) {
-      const Eigen::Vector2d& q = trace[static_cast<size_t>(k)];
-      A.row(k) << q.x(), q.y(), 1.0;
-      b(k) = -q.squaredNorm();
-    }
-    const Eigen::Vector3d def = A.colPivHouseholderQr().solve(b);
-    const Eigen::Vector2d centre = -0.5 * def.head<2>();
-    const double r2 = centre.squaredNorm() - def(2);
-    if (r2 > 0) {
-      const double trace_radius = std::sqrt(r2);
-      const Eigen::Vector2d outward = (trace.front() - centre).normalized();
-      if (trace_radius > kPusherRadius_m + 0.005 && trace_radius < 1.0 && outward.dot(push_body) < 0)
-        return circular_edge(centre, trace_radius - kPusherRadius_m);
-    }
-  }
-  const Eigen::Vector2d normal =
-      local_outward_normal(push, i, direction, static_cast<Eigen::Index>(std::lround(0.1 * push.rate_hz)));
-  return straight_edge(body_tip(push, i) - kPusherRadius_m * normal, normal);
-}
-
-QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_ptr<const ContactOutline> outline) {
-  QuasiStaticObject o;
-  o.mass_kg = push.shape.mass_kg;
-  o.inertia_kgm2 = push.shape.inertia_kgm2;
-  o.centre_of_friction_m = push.shape.centroid_m;
-  o.outline = std::move(outline);
-  return o;
 }
 
 namespace {
@@ -379,7 +277,7 @@ class Fit {
         defaults_(defaults),
         centroid_(push.shape.centroid_m),
         id_(id),
-        c0_(defaults.torque_ratio_m),
+        uniform_torque_ratio_m_(defaults.torque_ratio_m),
         weight_(push.shape.mass_kg * defaults.gravity_m_s2),
         centre_fixed_(!options.use_prior || !(options.prior_centre_offset_std_m > 0)),
         mu_p_(defaults.pusher_friction),
@@ -408,7 +306,8 @@ class Fit {
 
   void solve_with_prior() {
     bound_to_physical_ranges();
-    const double prior_std[3] = {options_.prior_pusher_friction_std, options_.prior_torque_ratio_fraction * c0_,
+    const double prior_std[3] = {options_.prior_pusher_friction_std,
+                                 options_.prior_torque_ratio_fraction * uniform_torque_ratio_m_,
                                  options_.prior_support_friction_std};
     add_prior(prior_std);
     ceres::Solver::Summary summary;
@@ -469,7 +368,7 @@ class Fit {
                               centroid_,
                               Eigen::Rotation2Dd(s.yaw_rad).toRotationMatrix(),
                               s.omega_rad_s,
-                              c0_,
+                              uniform_torque_ratio_m_,
                               options_.velocity_noise_m_s};
     if (centre_fixed_) {
       problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<AtCentroid<KinematicResidual>, 3, 1, 1>(
@@ -494,18 +393,22 @@ class Fit {
                                 &huber_, &c_, &mu_s_, delta_);
   }
 
+  // Bounds that only exclude the unphysical: dry friction between the rod, the objects and the supports of such rigs
+  // lies well inside 0.02-1.5 (the dataset's supports and objects measure about 0.1-0.5); c, the limit surface's
+  // torque ratio, runs from 0 (all pressure at the CoF) to the footprint's largest radius, and the pressure of a
+  // rigid object on a flat support keeps it within a factor of about 3 of its uniform-pressure value c0.
   void bound_to_physical_ranges() {
     problem_.SetParameterLowerBound(&mu_p_, 0, 0.02);
     problem_.SetParameterUpperBound(&mu_p_, 0, 1.5);
-    problem_.SetParameterLowerBound(&c_, 0, 0.3 * c0_);
-    problem_.SetParameterUpperBound(&c_, 0, 3.0 * c0_);
+    problem_.SetParameterLowerBound(&c_, 0, 0.3 * uniform_torque_ratio_m_);
+    problem_.SetParameterUpperBound(&c_, 0, 3.0 * uniform_torque_ratio_m_);
     problem_.SetParameterLowerBound(&mu_s_, 0, 0.02);
     problem_.SetParameterUpperBound(&mu_s_, 0, 1.5);
   }
 
   /// A Gaussian prior about the defaults, so that a few samples inform without overturning physics.
   void add_prior(const double prior_std[3]) {
-    const double prior_mean[3] = {defaults_.pusher_friction, c0_, defaults_.support_friction};
+    const double prior_mean[3] = {defaults_.pusher_friction, uniform_torque_ratio_m_, defaults_.support_friction};
     double* theta[3] = {&mu_p_, &c_, &mu_s_};
     if (options_.prior_centre_offset_std_m > 0) {
       for (int axis = 0; axis < 2; ++axis)
@@ -584,7 +487,7 @@ class Fit {
   const QuasiStaticParameters& defaults_;
   const Eigen::Vector2d centroid_;
   QuasiStaticIdentification& id_;
-  const double c0_, weight_;
+  const double uniform_torque_ratio_m_, weight_;
   /// The CoF stays at the shape table's centroid unless the prior gives its offset a spread.
   const bool centre_fixed_;
   double mu_p_, c_, mu_s_;
@@ -609,7 +512,7 @@ void QuasiStaticEstimator::reset(const SynchronisedPush& push) {
   gaps_m_.clear();
   intervals_ = 0;
   defaults_ = options_.defaults;
-  const bool outline_known = has_outline(push.shape);
+  const bool outline_known = has_listed_outline(push.shape);
   outline_ = outline_known ? shape_outline(push.shape) : nullptr;
   if (!(defaults_.torque_ratio_m > 0) || defaults_.torque_ratio_m == QuasiStaticParameters().torque_ratio_m) {
     defaults_.torque_ratio_m =
@@ -650,14 +553,14 @@ void QuasiStaticEstimator::add_interval(const TimeInterval& interval) {
     s.tip_velocity_m_s = tip_velocity;
     Eigen::Vector2d point_body, normal_out_body;
     if (outline_) {
-      const Outline::Closest c = outline_->closest(body_tip(push, i));
+      const Outline::Closest c = outline_->closest(body_frame_tip(push, i));
       gaps_m_.push_back(c.signed_distance_m - kPusherRadius_m);
       point_body = c.point_m;
       normal_out_body = c.normal;
     } else {
       if (!(tip_velocity.norm() > 0)) continue;
       normal_out_body = local_outward_normal(push, i, tip_velocity.normalized(), lookback);
-      point_body = body_tip(push, i) - kPusherRadius_m * normal_out_body;
+      point_body = body_frame_tip(push, i) - kPusherRadius_m * normal_out_body;
     }
     s.inward_normal = -(R * normal_out_body);
     s.point_from_centre_m = R * point_body;
@@ -724,67 +627,6 @@ QuasiStaticIdentification QuasiStaticEstimator::identify() const {
   else
     fit.solve_dropping_undetermined();
   return id;
-}
-
-QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
-                                            const TimeInterval& phase, double plan_rate_hz,
-                                            const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
-                                            const IntegratorOptions& integrator,
-                                            const QuasiStaticEstimator* fed_estimator,
-                                            std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms) {
-  QuasiStaticEstimator own;
-  if (!fed_estimator) {
-    own.reset(push);
-    for (const auto& interval : identified) own.add_interval(interval);
-    fed_estimator = &own;
-  }
-  QuasiStaticPhase out;
-  out.identification = fed_estimator->identify();
-  PlannedTipVelocity plan = plan_tip_velocity_from_measurement(push, phase.t0_s, phase.t1_s, plan_rate_hz);
-  Eigen::Vector2d direction = Eigen::Vector2d::Zero();
-  for (Eigen::Index k = 0; k < plan.signal.samples(); ++k) direction += plan.signal.values().row(k).transpose();
-  const Eigen::Index i0 = push.index_at(phase.t0_s);
-  auto outline = contact_outline_for(push, phase.t0_s, direction);
-  // Start in contact exactly when the data do: the rod-outline distance measured at the phase's start.
-  QuasiStaticParameters& p = out.identification.parameters;
-  const Eigen::Vector3d pose0 = push.pose.row(i0).transpose();
-  if (push.in_contact[static_cast<size_t>(i0)]) {
-    const Outline::Closest c = outline->closest(body_tip(push, i0));
-    p.contact_offset_m = c.signed_distance_m - p.rod_radius_m + p.contact_band_m;
-    out.identification.sources[3] = "measured at the phase's start (in contact)";
-    // A rod centre deeper inside the tracked outline than half its radius is a tracking or outline error, not a
-    // contact: the model's rod keeps at least half its radius, as out of contact below.
-    if (!(p.contact_offset_m >= -0.5 * p.rod_radius_m)) {
-      p.contact_offset_m = -0.5 * p.rod_radius_m;
-      out.identification.sources[3] = "measured at the phase's start (in contact), limited to half the rod radius";
-    }
-    out.identification.std(3) = 0;
-  } else if (!has_outline(push.shape)) {
-    // Out of contact at the start on an unlisted outline: the local outline, extrapolated from the last contact, may
-    // reach under the rod. Take the straight edge just ahead of the rod, along the local normal, instead.
-    const Eigen::Vector2d q0 = body_tip(push, i0);
-    const Eigen::Vector2d normal = outline->closest(q0).normal;
-    outline = straight_edge(q0 - p.rod_radius_m * normal, normal);
-    p.contact_offset_m = -p.contact_band_m;
-    out.identification.sources[3] = "out of contact at the phase's start: the rod just off a straight edge";
-    out.identification.std(3) = 0;
-  } else {
-    // Out of contact at the start: the rod must not start inside the outline either.
-    const double largest = outline->closest(body_tip(push, i0)).signed_distance_m - p.rod_radius_m;
-    if (p.contact_offset_m > largest) {
-      p.contact_offset_m = std::max(largest, -0.5 * p.rod_radius_m);
-      out.identification.sources[3] = "measured at the phase's start (out of contact: no penetration)";
-      out.identification.std(3) = 0;
-    }
-  }
-  out.note = has_outline(push.shape) ? "" : "outline not listed: a local outline from the rod's trace at the last contact";
-  const PlannedTipPath path(std::move(plan), push.tip_m.row(i0).transpose());
-  QuasiStaticObject object = quasi_static_object(push, outline);
-  object.centre_of_friction_m += out.identification.centre_offset_m;
-  object.free_slide_terms = std::move(free_slide_terms);
-  out.poses = predict_quasi_static_poses(object, p, path, pose0, velocity0, output_times_s,
-                                         integrator);
-  return out;
 }
 
 }  // namespace pushpred

@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "pushpred/estimators/online_parameter_estimator.hpp"
+#include "pushpred/prediction/quasi_static_contact.hpp"
 #include "pushpred/prediction/quasi_static_pushing.hpp"
 #include "pushpred/prediction/schedule.hpp"
 
@@ -87,18 +88,6 @@ struct QuasiStaticIdentification {
   long intervals = 0;
   static const std::array<const char*, 4>& names();  ///< "pusher_friction", "torque_ratio_m", "support_friction", "contact_offset_m"
 };
-
-/// The outline the model pushes on for `push`: the shape table's where it lists one; otherwise (butter) a local
-/// outline at the last measured contact up to `t_s`: a circle fitted to the rod centre's trace over the object
-/// where the rod has slid at least 4 mm along it (and the circle is convex towards the push), else a straight
-/// edge through the contact point, normal to the last 0.1 s of slide, or, where the rod has not slid, to the
-/// plan's push direction turned back by the push angle of the file name (the planner's angle to the normal).
-/// `plan_direction` is the planned tip direction ({R}).
-std::shared_ptr<const ContactOutline> contact_outline_for(const SynchronisedPush& push, double t_s,
-                                                          const Eigen::Vector2d& plan_direction);
-
-/// The model's description of the object of `push`: nominal mass and inertia, CoF at the centroid, and `outline`.
-QuasiStaticObject quasi_static_object(const SynchronisedPush& push, std::shared_ptr<const ContactOutline> outline);
 
 /// Identifies the model online: feed the measured intervals one after another, ask for the parameters at any time.
 class QuasiStaticEstimator final : public OnlineParameterEstimator {
