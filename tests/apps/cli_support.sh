@@ -1,6 +1,7 @@
 # Sourced by the CLI tests: a scratch folder removed on exit, check helpers that count and print "N passed,
 # M failed" at the end, and where the tests find their real pushes (in $data, the data folder, when the test has
 # one).
+source "$(dirname "${BASH_SOURCE[0]}")/../support/skip_without_real_data.sh"
 passed=0
 failed=0
 tmp=$(mktemp -d)

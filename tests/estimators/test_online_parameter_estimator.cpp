@@ -10,6 +10,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/estimators/online_parameter_estimator.hpp"
 #include "pushpred/estimators/relation_estimator.hpp"
+#include "pushpred/observers/disturbance_estimator.hpp"
 #include "pushpred/prediction/quasi_static_identification.hpp"
 #include "pushpred/prediction/schedule.hpp"
 #include "pushpred/simulation/simulator.hpp"
@@ -51,7 +52,7 @@ Fed schedule_of(const SynchronisedPush& push) {
 /// Feeds every interval of `fed` to `estimator`, through the interface only.
 void feed(OnlineParameterEstimator& estimator, const SynchronisedPush& push, const Fed& fed) {
   for (std::size_t k = 0; k < fed.intervals.size(); ++k)
-    estimator.add_interval(IdentificationInterval{push, fed.intervals[k], fed.observer_output[k]});
+    estimator.add_interval(IdentificationInterval{push, fed.intervals[k], fed.observer_output[k].u, fed.observer_output[k].d_hat});
 }
 
 bool message_contains(const std::exception& e, const std::string& part) {
@@ -127,7 +128,7 @@ BOOST_AUTO_TEST_CASE(the_interface_reports_exactly_what_each_estimator_reports_i
     const std::unique_ptr<RelationEstimator> relation = make_relation_estimator(name);
     feed(*relation, push, fed);
     const std::unique_ptr<RelationEstimator> direct = make_relation_estimator(name);
-    for (const auto& out : fed.observer_output) direct->add_interval(out);
+    for (const auto& out : fed.observer_output) direct->add_interval(out.u, out.d_hat);
     const RelationParameters p = direct->parameters();
     const ParameterEstimate r = static_cast<const OnlineParameterEstimator&>(*relation).estimate();
     BOOST_TEST(r.estimator == name);
@@ -170,11 +171,11 @@ BOOST_AUTO_TEST_CASE(the_quasi_static_identification_refuses_an_interval_of_anot
   const Fed a = schedule_of(first), b = schedule_of(second);
   QuasiStaticEstimator estimator;
   OnlineParameterEstimator& common = estimator;
-  common.add_interval({first, a.intervals[0], a.observer_output[0]});
-  BOOST_CHECK_EXCEPTION(common.add_interval({second, b.intervals[1], b.observer_output[1]}), InputError,
+  common.add_interval({first, a.intervals[0], a.observer_output[0].u, a.observer_output[0].d_hat});
+  BOOST_CHECK_EXCEPTION(common.add_interval({second, b.intervals[1], b.observer_output[1].u, b.observer_output[1].d_hat}), InputError,
                         [](const InputError& x) { return message_contains(x, "another push"); });
   common.reset();
-  common.add_interval({second, b.intervals[0], b.observer_output[0]});
+  common.add_interval({second, b.intervals[0], b.observer_output[0].u, b.observer_output[0].d_hat});
   BOOST_TEST(common.estimate().intervals == 1);
 }
 

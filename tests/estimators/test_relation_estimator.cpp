@@ -5,6 +5,8 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/estimators/relation_estimator.hpp"
+#include "pushpred/preprocessing/synchronised_push.hpp"
+#include "pushpred/prediction/schedule.hpp"
 #include "relation_test_data.hpp"
 
 using namespace pushpred;
@@ -91,20 +93,20 @@ BOOST_AUTO_TEST_CASE(a_clone_continues_on_its_own_and_reset_forgets_everything) 
   }
 }
 
-BOOST_AUTO_TEST_CASE(an_observer_estimate_feeds_the_same_as_its_u_and_d_hat) {
+BOOST_AUTO_TEST_CASE(an_identification_interval_feeds_the_same_as_its_u_and_d_hat) {
   std::mt19937 rng(3);
   const auto intervals = test::synthetic_intervals(2, 100, {}, rng);
   auto by_matrices = make_relation_estimator("rls");
-  auto by_estimate = make_relation_estimator("rls");
+  auto by_interval = make_relation_estimator("rls");
+  const SynchronisedPush push;  // the relation reads only the observer's output
+  const TimeInterval span{0.0, 1.0};
   for (const auto& [u, d] : intervals) {
     by_matrices->add_interval(u, d);
-    DisturbanceEstimate e;
-    e.u = u;
-    e.d_hat = d;
-    by_estimate->add_interval(e);
+    const Eigen::MatrixX3d u3 = u, d3 = d;
+    static_cast<OnlineParameterEstimator&>(*by_interval).add_interval(IdentificationInterval{push, span, u3, d3});
   }
-  BOOST_TEST(by_estimate->parameters().beta == by_matrices->parameters().beta);
-  BOOST_TEST(by_estimate->parameters().eps == by_matrices->parameters().eps);
+  BOOST_TEST(by_interval->parameters().beta == by_matrices->parameters().beta);
+  BOOST_TEST(by_interval->parameters().eps == by_matrices->parameters().eps);
 }
 
 BOOST_AUTO_TEST_CASE(the_reference_least_squares_recovers_a_noise_free_relation) {

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the built pushpred into a scratch prefix and builds and runs a consumer project against it.
 set -eu
+source "$(dirname "${BASH_SOURCE[0]}")/../support/skip_without_real_data.sh"
 build=$1
 source_dir=$2
 data=$3

@@ -4,6 +4,7 @@
 # with `pip install --target`; then the module's tests run from that installed copy, which must load the
 # libpushpred inside the wheel, not the build's.
 set -eu
+source "$(dirname "${BASH_SOURCE[0]}")/../support/skip_without_real_data.sh"
 build=$1
 source_dir=$2
 data=$3

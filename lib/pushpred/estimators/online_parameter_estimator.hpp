@@ -17,15 +17,17 @@ namespace pushpred {
 
 struct SynchronisedPush;
 struct TimeInterval;
-struct DisturbanceEstimate;
 
 /// One identification interval as every estimator may read it: the push, the interval of it (times from the
-/// push's start [s]), and the study's disturbance-observer output over that interval. Each estimator reads what its
-/// model needs: the relation estimators the observer's (u, d_hat), the quasi-static identification the push.
+/// push's start [s]), and the study's disturbance-observer output over that interval (observers/
+/// disturbance_estimator.hpp: u the applied input, d_hat the estimated disturbance, rows the interval's samples,
+/// columns x [N], y [N], rotation [N m]). Each estimator reads what its model needs: the relation estimators the
+/// observer's (u, d_hat), the quasi-static identification the push.
 struct IdentificationInterval {
   const SynchronisedPush& push;
   const TimeInterval& interval;
-  const DisturbanceEstimate& observer_output;
+  const Eigen::MatrixX3d& observer_u;
+  const Eigen::MatrixX3d& observer_d_hat;
 };
 
 /// What an estimator knows after the intervals fed so far.

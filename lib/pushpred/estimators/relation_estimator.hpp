@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "pushpred/estimators/online_parameter_estimator.hpp"
-#include "pushpred/observers/disturbance_estimator.hpp"
 
 namespace pushpred {
 
@@ -51,9 +50,8 @@ class RelationEstimator : public OnlineParameterEstimator {
   /// Feeds one identification interval: u and d_hat are n x 3, one row per sample, channels as above.
   void add_interval(const Eigen::Ref<const Eigen::MatrixX3d>& u, const Eigen::Ref<const Eigen::MatrixX3d>& d_hat);
   /// Feeds an observer's output over one identification interval (its u and d_hat).
-  void add_interval(const DisturbanceEstimate& estimate) { add_interval(estimate.u, estimate.d_hat); }
   /// The common interface's interval: its observer output (the relation reads nothing else of the push).
-  void add_interval(const IdentificationInterval& interval) override { add_interval(interval.observer_output); }
+  void add_interval(const IdentificationInterval& interval) override { add_interval(interval.observer_u, interval.observer_d_hat); }
 
   // not_ready_reason() (OnlineParameterEstimator) is empty when parameters() can be asked; otherwise why not (e.g.
   // the input has been constant so far, so beta cannot be told apart from eps). reset() forgets every interval

@@ -93,7 +93,7 @@ void CorrectionPredictor::add_interval(const SynchronisedPush&, const TimeInterv
   DisturbanceEstimate cid = observer_->estimate(push_, interval.t0_s, interval.t1_s);
   velocity0_ = cid.velocity.row(cid.velocity.rows() - 1).transpose();
   correction_->remove_explained(push_, cid);
-  estimator_->add_interval(cid);
+  estimator_->add_interval(cid.u, cid.d_hat);
   identification_.push_back(std::move(cid));
   if (pushing_model_) pushing_estimator_.add_interval(interval);
 }
@@ -168,7 +168,7 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     const DisturbanceEstimate& id = study.identification.back();
     const auto fit_start = std::chrono::steady_clock::now();
     study.observer_seconds += std::chrono::duration<double>(fit_start - observer_start).count();
-    estimator->add_interval(id);
+    estimator->add_interval(id.u, id.d_hat);
     const bool ready = estimator->ready();
     RelationParameters relation;
     if (ready) relation = estimator->parameters();
