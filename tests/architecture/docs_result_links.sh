@@ -18,7 +18,7 @@ check() {
             *) continue ;;
             esac
             target="${target%%#*}"
-            if [ ! -f "$target" ]; then
+            if [ ! -e "$target" ]; then
                 echo "${doc#"$root"/}: links $link, which is not there (run scripts/docs-results.sh)"
                 failures=$((failures + 1))
             fi
