@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# How much faster `pushpred predict --jobs 2` is than `--jobs 1`, against what this machine allows (issue 12,
-# docs/performance.md).
+# How much faster `pushpred predict --jobs 2` is than `--jobs 1`, against what this machine allows
+# (docs/performance.md).
 #
 #   scripts/jobs-scaling.sh [--build DIR] [--data DIR] [--rounds N] [--other-build DIR]
 #
@@ -12,7 +12,7 @@
 #           nothing but the machine, so twice / alone is what running two things at once costs here (shared
 #           caches, memory bandwidth, the hypervisor); the best --jobs 2 can do is about 2 * alone / twice.
 # With --other-build DIR, the j1 and j2 runs of that build's pushpred are added to each round (alternating), to
-# compare two versions in the same session.
+# compare two versions in the same run.
 # Prints each round's wall times [s], then the medians and the ratios. Needs GNU time (/usr/bin/time).
 set -euo pipefail
 

@@ -1,6 +1,6 @@
 #!/bin/bash
 # Peak memory of `pushpred predict` over one set of pushes, run every way it can be split (docs/performance.md,
-# "Memory flat in the number of pushes"): a plain run, two shards and their merge, and mpirun -np 2 (each rank).
+# "Scale and memory"): a plain run, two shards and their merge, and mpirun -np 2 (each rank).
 # Prints one line per run (wall seconds, peak resident memory by GNU time) and checks that the merged and the MPI
 # outputs are the plain run's, byte for byte.
 #

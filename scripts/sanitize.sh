@@ -17,7 +17,7 @@ if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=cc
 start=$(date +%s)
 # -O1 keeps the instrumented suite fast enough for CI; benchmarks are not part of the suite. The Python module is
 # left out: under ASan the interpreter would need the runtime preloaded, and the C++ suite covers the same library.
-# So is MPI (Open MPI's run-time was not tried under the leak check; cli_mpi runs in the Release build): this build
+# So is MPI (Open MPI's run-time is not run under the leak check; cli_mpi runs in the Release build): this build
 # checks pushpred without it, where mpirun is refused and --shard / merge remain.
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
   -DPUSHPRED_BUILD_BENCHMARKS=OFF -DPUSHPRED_BUILD_PYTHON=OFF -DPUSHPRED_WARNINGS_AS_ERRORS=OFF -DPUSHPRED_WITH_MPI=OFF "${launcher[@]}" >/dev/null

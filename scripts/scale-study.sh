@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scale study (issue 12, docs/performance.md): simulate N pushes of random scenarios and time `pushpred predict`
+# Scale study (docs/performance.md): simulate N pushes of random scenarios and time `pushpred predict`
 # on them, with its peak memory, for several N and push lengths.
 #
 #   scripts/scale-study.sh [--build DIR] [--work DIR] [--counts "100 1000 10000"] [--lengths "0.02 0.04 0.08"]

@@ -74,8 +74,8 @@ BOOST_AUTO_TEST_CASE(a_users_predictor_is_selected_by_name_and_fed_every_interva
 }
 
 BOOST_AUTO_TEST_CASE(quasi_static_beats_the_naive_references_on_a_real_sliding_push) {
-  // ellip3 pushed at 10 mm/s 60 degrees off the normal: the rod slides along the edge (issue 11's example, where
-  // moving rigidly with the tip is 3 mm off).
+  // ellip3 pushed at 10 mm/s 60 degrees off the normal: the rod slides along the edge (moving rigidly with the tip
+  // is 3 mm off there).
   StudyOptions o;
   o.methods = {"quasi_static", "const_velocity", "hold"};
   const PushStudy study = run_prediction_study(load_push(real_file("shape=ellip3_a=0_v=10_i=0.000_s=0.000_t=1.047")), o);

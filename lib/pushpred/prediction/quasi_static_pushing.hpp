@@ -66,7 +66,7 @@ struct QuasiStaticParameters {
   /// tau: how fast the object's velocity follows the quasi-static one while pushed. Half the rig's measured
   /// 5-95 % speed ramp (0.049 s, docs/simulator.md; a first-order lag of tau has the mean delay of a ramp of 2 tau):
   /// the object keeps its measured velocity at a phase's start for that long and comes up to the pusher's speed
-  /// no faster than the rig changes speed (docs/prediction.md, "What was decided on which data"). Was 5 ms.
+  /// no faster than the rig changes speed (docs/prediction.md, "Fit half and held-out half").
   double relaxation_s = 0.025;
   double contact_band_m = 2e-4;    ///< the push's weight rises over this penetration
   double gap_time_s = 0.05;        ///< the gap keeper's time constant
@@ -199,7 +199,7 @@ class QuasiStaticPushSystem final : public ContinuousSystem {
 /// looser than the shared default (1e-8, 1e-10), which the observer's agreement with its exact discretisation set.
 /// The model has no exact solution; against a 1e-11 / 1e-13 integration these moved the predictions of the 77 ABS
 /// pushes by at most 1.5e-4 mm and 1.4e-4 deg (the shared default: 2.5e-6 mm), under a five-hundredth of the pose
-/// measurement's noise, and cut the integration's steps (docs/performance.md, "Tolerances of the pushing model").
+/// measurement's noise, and cut the integration's steps (docs/performance.md, "What the defaults integrate with").
 IntegratorOptions quasi_static_integrator_options();
 
 /// Predicted tracked poses (n x 3) at `output_times_s` from `pose0` and tracked-centre velocity `velocity0` at the
