@@ -137,7 +137,7 @@ expect_in "$tmp/err" "exists and is not a folder" "the output file is named"
 # then its whole group (the HDF5 reader's child too), so each run gets the signal twice, microseconds apart; runs
 # stopped at 20 moments from 0.45 to 1.4 s (reading, predicting, writing) must all leave nothing.
 mkdir -p "$tmp/sig"
-# Enough work to be still running when stopped: one pass over abs/ takes about a second since issue 12. A file given
+# Enough work to be still running when stopped: one pass over abs/ takes about a second. A file given
 # twice is studied once, and so is a file reached through hard links, so the 20 passes are over 20 copies.
 mkdir -p "$tmp/slow" && cp -r "$data/abs" "$tmp/slow/1"
 slow=("$tmp/slow/1")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# pushpred diagnose on real pushes: the outputs the issue names, --per-object over several objects, and every input
+# pushpred diagnose on real pushes: its outputs, --per-object over several objects, and every input
 # a user can get wrong.
 set -u
 bin=$1

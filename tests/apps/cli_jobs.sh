@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --jobs: every subcommand that takes several files writes the same bytes with 2 jobs as with 1 (issue 12), a
+# --jobs: every subcommand that takes several files writes the same bytes with 2 jobs as with 1, a
 # failing file included; the failures are listed in the same order.
 set -u
 bin=$1

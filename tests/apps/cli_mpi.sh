@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `mpirun -np 2 pushpred predict`, `validate-diagnosis` and `diagnose --per-object` (issue 12): the ranks split the
+# `mpirun -np 2 pushpred predict`, `validate-diagnosis` and `diagnose --per-object`: the ranks split the
 # pushes (trials, objects) and rank 0 writes what one process writes,
 # byte for byte (diff -r against --jobs 1), with the same stdout, failure list and exit code. Loopback only: the
 # shared-memory and self transports of Open MPI on this machine.

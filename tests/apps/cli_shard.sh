@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --shard I/N and `pushpred merge` (issue 12): the partial outputs of every shard, merged, are the output of one run
+# --shard I/N and `pushpred merge`: the partial outputs of every shard, merged, are the output of one run
 # byte for byte (diff -r), with the same stdout, failure list and exit code; bad shard specs, --shard on a
 # subcommand that cannot split (it does not list --shard), and parts that are not every shard of one run are refused
 # with exit 2 and no output.

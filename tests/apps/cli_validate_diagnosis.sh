@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# pushpred validate-diagnosis: a tiny blind validation writes its report and JSON with the keys; bad
+# pushpred validate-diagnosis: a tiny blind validation writes its report and JSON with its documented keys; bad
 # arguments give a clear error, exit 2 and no output.
 set -u
 bin=$1

@@ -1,4 +1,4 @@
-// Writes the corpus of bad inputs of issue 13 into a folder, each derived from a real recording (read here, never
+// Writes a corpus of bad inputs into a folder, each derived from a real recording (read here, never
 // copied into the repository) or synthesized: what a hostile but fair user might hand pushpred. The CLI test
 // tests/apps/cli_bad_input.sh runs the commands on them. Usage: make_bad_inputs REAL.h5 OUT_FOLDER
 //
@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
   };
   const std::map<std::string, Rows> good = arrays_of(real);
 
-  // JSON: "{" then random bytes, invalid UTF-8 among them (the issue's batch-killer).
+  // JSON: "{" then random bytes, invalid UTF-8 among them (once a batch-killer).
   std::mt19937 rng(13);
   std::string garbage = "{";
   for (int i = 0; i < 64; ++i) garbage += static_cast<char>(rng() % 256);

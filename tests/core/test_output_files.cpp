@@ -227,7 +227,7 @@ BOOST_AUTO_TEST_CASE(a_second_stop_signal_during_the_clean_up_still_leaves_nothi
 }
 
 BOOST_AUTO_TEST_CASE(two_stop_signals_back_to_back_to_a_busy_run_leave_nothing) {
-  // The cause of the staging folders left after `timeout` (issue 13). timeout sends its signal to the process and
+  // The cause of the staging folders left after `timeout`. timeout sends its signal to the process and
   // at once to its group, so the process gets it twice, microseconds apart. With SA_RESETHAND the kernel restores
   // the default action when it takes the first signal, a moment before it blocks the signal for the handler; a
   // second one arriving in between found a fatal default action and ended the process at once: no handler ran,

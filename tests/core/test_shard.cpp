@@ -182,7 +182,7 @@ BOOST_AUTO_TEST_CASE(a_folder_that_is_no_partial_output_says_so) {
 }
 
 BOOST_AUTO_TEST_CASE(a_bundle_unpacked_into_a_folder_reads_back_byte_for_byte) {
-  // MPI rank 0 writes each rank's bundle into a scratch folder as it arrives and reads it back from there (issue 12).
+  // MPI rank 0 writes each rank's bundle into a scratch folder as it arrives and reads it back from there.
   // A plot is binary (PNG: bytes above 127, NUL); JSON text alone would replace what is not UTF-8.
   std::string png("\x89PNG\r\n\x1a\n", 8);
   png += std::string("\0\xff\xfe", 3);

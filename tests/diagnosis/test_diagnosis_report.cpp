@@ -1,4 +1,4 @@
-// diagnosis.json carries every key the issue names, for every candidate; report.md is written beside it, and
+// diagnosis.json carries every documented key, for every candidate; report.md is written beside it, and
 // nothing is left half-written.
 #include <boost/test/unit_test.hpp>
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The library of candidate effects: every kind the issue asks for is there, a user can add and remove effects,
+// The library of candidate effects: every documented kind is there, a user can add and remove effects,
 // the footprint friction law is the simulator's, and the corrected prediction model's quasi-static law keeps a
 // pushed object moving and stops it when the push ends.
 #include <boost/test/unit_test.hpp>

@@ -55,7 +55,7 @@ BOOST_AUTO_TEST_CASE(the_rest_of_a_pressing_rod_is_not_force_free_and_a_gap_is_m
 }
 
 BOOST_AUTO_TEST_CASE(a_preload_does_not_give_a_bias) {
-  // The reproduction: paper case 4 (the rod pressing with 2 N from the start), seeds 100-104. Reading that
+  // Paper case 4 (the rod pressing with 2 N from the start), seeds 100-104. Reading that
   // preload as a bias gave "force_offset 2.13 N" and a corrected mu of 0.265 where the simulator uses 0.47.
   std::vector<PushScenario> scenarios;
   for (std::uint64_t seed = 100; seed <= 104; ++seed) {
