@@ -134,8 +134,8 @@ BOOST_AUTO_TEST_CASE(the_planned_tip_velocity_is_the_mean_velocity_of_each_plan_
   BOOST_TEST(tip.signal.values().row(0).norm() < 0.07);
 }
 
-  // A real case the pusher_stop part is for (docs/diagnosis.md, the base model): in the last phase of this 75 mm/s push the
-  // docs/diagnosis.md, "Where the corrected model still loses", kind 3: in the last phase of this 75 mm/s push the
+BOOST_AUTO_TEST_CASE(on_the_traced_ellip3_push_the_pusher_stops_while_it_keeps_pressing) {
+  // The real case pusher_stop is for (docs/diagnosis.md, the base model): in the last phase of this 75 mm/s push the
   // pusher stops, yet presses on with more than half the push's force, so the force criterion alone reads a push.
   const SynchronisedPush push = load_push(pushpred::testing::real_file("ellip3_a=0_v=75_i=0.000_s=0.775_t=-0.698"));
   const std::vector<TimeInterval> intervals = split_into_intervals(push, {});
