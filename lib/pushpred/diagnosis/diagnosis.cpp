@@ -1,11 +1,6 @@
 #include "pushpred/diagnosis/diagnosis.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <limits>
-#include <map>
-#include <optional>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis_pipeline.hpp"
@@ -91,4 +86,5 @@ DiagnosisResult diagnose(const std::vector<SynchronisedPush>& pushes, const Effe
         AdequacyOutcome{});
   return diagnosis_result(input, paper, laws.floors, confirmed, errors, adequacy, traces);
 }
+
 }  // namespace pushpred
