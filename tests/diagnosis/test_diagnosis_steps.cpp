@@ -146,6 +146,34 @@ BOOST_AUTO_TEST_CASE(a_found_mass_centre_offset_moves_the_pushing_models_centre_
   BOOST_TEST(CorrectedPrediction(ModelCorrection{}).free_slide_terms(pushes.front(), Eigen::Vector3d::Zero()).empty());
 }
 
+BOOST_AUTO_TEST_CASE(alternate_pushes_sorted_by_name_are_fit_and_test_pushes_and_a_frozen_sensor_is_left_out) {
+  std::mt19937_64 rng(30);
+  std::vector<SynchronisedPush> pushes = simulate_all(draw_scenarios(rng, 5, {}));
+  for (std::size_t k = 0; k < pushes.size(); ++k) pushes[k].source = "push_" + std::to_string(4 - k);  // reversed
+  pushes[2].flags.frozen_force_sensor = true;                                                          // push_2
+  const DiagnosisInput input = split_pushes(pushes, EffectLibrary::standard(), fast_options());
+  const auto sources = [](const std::vector<SynchronisedPush>& v) {
+    std::vector<std::string> out;
+    for (const auto& p : v) out.push_back(p.source);
+    return out;
+  };
+  BOOST_TEST(sources(input.fit_pushes) == (std::vector<std::string>{"push_0", "push_3"}),
+             boost::test_tools::per_element());
+  BOOST_TEST(sources(input.test_pushes) == (std::vector<std::string>{"push_1", "push_4"}),
+             boost::test_tools::per_element());
+  BOOST_TEST_REQUIRE(input.failures.size() == 1u);
+  BOOST_TEST(input.failures[0].source == "push_2");
+  BOOST_TEST(input.failures[0].reason.find("frozen") != std::string::npos, input.failures[0].reason);
+  BOOST_TEST(input.caution.empty(), "four usable pushes are what the validation covers");
+  // The paper's method runs on all of them: the context holds the same split, and the residual per fit push.
+  const PaperMethodOutcome paper = paper_method(input);
+  BOOST_TEST(sources(paper.context.fit_pushes) == sources(input.fit_pushes), boost::test_tools::per_element());
+  BOOST_TEST(paper.failures.empty());
+  BOOST_TEST(paper.residual_before.size() == 2u);
+  BOOST_TEST(paper.model.terms.empty());
+  BOOST_TEST(paper.context.hold_position_mm > 1e-3);
+}
+
 BOOST_AUTO_TEST_CASE(the_friction_base_fits_mu_on_clean_pushes_and_measures_the_floors_with_it) {
   std::mt19937_64 rng(31);
   const Steps s(simulate_all(draw_scenarios(rng, 4, {})));
@@ -346,6 +374,11 @@ BOOST_AUTO_TEST_CASE(a_step_that_fails_is_reported_and_the_diagnosis_goes_on) {
   BOOST_TEST(std::isfinite(report(r, "broken").score));
   check_base_model(r);  // the later steps ran
   BOOST_TEST(r.error_after.phases > 0);
+  // The failed step gave nothing: the pipeline went on with its input, so nothing was found and its search's
+  // decisions are not in the report (every candidate it would have tested is as the earlier steps left it).
+  BOOST_TEST(effects_found(r).empty(), findings_text(r));
+  BOOST_TEST(!report(r, "viscous_friction").passed_test);
+  BOOST_TEST(report(r, "viscous_friction").score == 0.0);
 
   // Without a friction law in the library the friction base cannot be fitted: reported, and the rest goes on.
   EffectLibrary no_law = EffectLibrary::standard();
