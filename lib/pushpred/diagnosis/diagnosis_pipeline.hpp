@@ -1,19 +1,23 @@
 #pragma once
-// The diagnosis (diagnosis.hpp) as a pipeline of steps, each a function from typed inputs to a typed output; every
-// step reads the immutable DiagnosisContext and what earlier steps returned, and none writes another's state. Each
-// returns what it decided as a DiagnosisTrace (diagnosis_decisions.hpp); the report is rendered from the traces
-// at the end. diagnose() runs:
-//   input      = split_pushes(pushes, library, options)    fit and test pushes; pushes left out and why
-//   paper      = paper_method(input)                       the paper's method; the context of every later step
-//   base       = friction_base(context, paper.model)       the base friction law fitted, the floors measured
-//   direct     = direct_effects(context, base)             effects with a test of their own (force and time offset)
-//   laws       = force_laws(context, direct.model, floors) greedy forward selection of the force laws
-//   structure  = base_structure(context, laws.model)       the base model's prediction structure and its settings
-//   confirmed  = motion_confirmation(context, ...)         effects that claim to change the motion, checked on it
-//   errors     = held_out(context, confirmed)              the test phases; what each found effect contributes
-//   adequacy   = model_adequacy(context, ...)              whether the corrected model leaves structure unexplained
-// A step that throws is reported (DiagnosisResult::step_failures) and the pipeline goes on with its input as if
+// The diagnosis (diagnosis.hpp) as a pipeline of steps, each a function from typed inputs to a typed output. Every
+// step reads the immutable DiagnosisContext and what earlier steps returned, and none writes another's state; each
+// returns what it decided as a DiagnosisTrace (diagnosis_decisions.hpp), rendered into the report only at the end
+// (diagnosis_result). diagnose() is:
+//   input     = split_pushes(pushes, library, options)            fit and test pushes; pushes left out and why
+//   paper     = paper_method(input)                               the paper's method; the context of later steps
+//   base      = friction_base(context, paper.model)               base friction law fitted, floors measured
+//   direct    = direct_effects(context, base.model, base.floors)  force and time offset, each by its own test
+//   laws      = force_laws(context, direct.model, base.floors)    greedy forward selection of the force laws
+//   structure = base_structure(context, laws.model)               the base prediction structure's settings
+//   confirmed = motion_confirmation(context, laws.model, structure, laws.floors)
+//                                                                 effects claiming to change the motion, checked
+//   errors    = held_out(context, confirmed.model, confirmed.structure, paper.residual_before)
+//                                                                 test phases; each found effect's contribution
+//   adequacy  = model_adequacy(context, confirmed.model, laws.floors, errors.fit_phase_biases)
+//                                                                 structure the corrected model leaves unexplained
+// A step that throws is reported (DiagnosisResult::step_failures) and the pipeline goes on with its input, as if
 // the step had found nothing; paper_method and held_out are essential and their failure is an InputError.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -167,7 +171,7 @@ BaseStructure base_structure(const DiagnosisContext& context, const ModelState& 
 // again and the base structure chosen anew.
 struct MotionConfirmation {
   ModelState model;
-  BaseStructure structure;
+  BaseStructure structure;  ///< the structure of `model` (its decisions, when chosen anew, are in `trace`)
   std::vector<std::size_t> contradicted;  ///< candidates the motion ruled out
   DiagnosisTrace trace;
 };

@@ -66,6 +66,7 @@ void confirm(const DiagnosisContext& context, const FloorContext& floors, Motion
   out.model = drop_below_floor(context, std::move(out.model), floors, out.trace);
   out.structure = base_structure(context, out.model);
   out.trace.append(out.structure.trace);
+  out.structure.trace = {};
   // An effect of this kind that joined in the new search is held to the same test (one ruled out is not tried
   // again, so this ends).
   confirm(context, floors, out);
@@ -76,7 +77,7 @@ void confirm(const DiagnosisContext& context, const FloorContext& floors, Motion
 MotionConfirmation motion_confirmation(const DiagnosisContext& context, const ModelState& model,
                                        const BaseStructure& structure, const FloorContext& floors) {
   MotionConfirmation out{model, structure, {}, {}};
-  out.structure.trace = {};  // the structure's own decisions are in its step's trace already
+  out.structure.trace = {};  // its decisions are in base_structure's trace
   confirm(context, floors, out);
   return out;
 }
