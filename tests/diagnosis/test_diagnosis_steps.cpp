@@ -1,4 +1,5 @@
-// The diagnosis as named steps, and what evidence decides: each step can be run alone; the base model is part of
+// The diagnosis as a pipeline of typed steps, and what evidence decides: each step runs alone on its typed input and
+// returns its decisions; the base model is part of
 // every corrected model; an effect found below its floor is reported as significant but negligible; a step that
 // fails is reported and the diagnosis goes on; and a few blind trials of randomized physics (validation.hpp) name
 // the right kind at twice its floor and nothing on clean data. (The full validation, 20+ trials per kind on seeds
@@ -10,15 +11,15 @@
 #include <cmath>
 #include <random>
 
+#include "diagnosis_checks.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/corrected_prediction.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
-#include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/diagnosis_pipeline.hpp"
 #include "pushpred/diagnosis/validation.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "pushpred/simulation/simulator.hpp"
-#include "diagnosis_checks.hpp"
 #include "simulated_pushes.hpp"
 
 using namespace pushpred;
@@ -85,6 +86,27 @@ Trial blind_trial(std::uint64_t seed, int index, const std::string& kind) {
   return t;
 }
 
+/// The steps' shared context for `pushes`: split and the paper's method run.
+struct Steps {
+  explicit Steps(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options = fast_options())
+      : paper(paper_method(split_pushes(pushes, EffectLibrary::standard(), options))) {}
+  const DiagnosisContext& context() const { return paper.context; }
+  PaperMethodOutcome paper;
+};
+
+std::size_t index_of(const DiagnosisContext& context, const std::string& kind) {
+  const auto& effects = context.library.effects();
+  for (std::size_t i = 0; i < effects.size(); ++i)
+    if (effects[i]->kind() == kind) return i;
+  throw std::runtime_error("no effect " + kind);
+}
+
+const Selection* term(const std::vector<Selection>& terms, std::size_t candidate) {
+  for (const auto& t : terms)
+    if (t.candidate == candidate) return &t;
+  return nullptr;
+}
+
 /// A user's effect whose regressor cannot be computed: its failure must be reported, not scored.
 class BrokenEffect final : public ForceLawEffect {
  public:
@@ -124,31 +146,190 @@ BOOST_AUTO_TEST_CASE(a_found_mass_centre_offset_moves_the_pushing_models_centre_
   BOOST_TEST(CorrectedPrediction(ModelCorrection{}).free_slide_terms(pushes.front(), Eigen::Vector3d::Zero()).empty());
 }
 
-BOOST_AUTO_TEST_CASE(the_friction_base_step_alone_fits_the_simulated_support_friction) {
-  std::mt19937_64 rng(31);
-  const auto pushes = simulate_all(draw_scenarios(rng, 4, {}));
-  DiagnosisRun run(pushes, EffectLibrary::standard(), fast_options());
-  run.paper_method();
-  run.friction_base();
-  const EffectReport& mu = report(run.result(), "coulomb_friction");
-  check_near(mu.theta(0), mu.theta_std(0), 0.47, 0.1, "mu");
-  // The floors were measured with it: the friction force of the simulated object.
-  BOOST_TEST(run.result().floor_context.friction_force_N() == mu.theta(0) * 1.045 * 9.81, boost::test_tools::tolerance(1e-9));
-  BOOST_TEST(run.result().floor_context.sliding_speed_m_s > 0.02);
-  BOOST_TEST(run.result().floor_context.sliding_speed_m_s < 0.09);
+BOOST_AUTO_TEST_CASE(alternate_pushes_sorted_by_name_are_fit_and_test_pushes_and_a_frozen_sensor_is_left_out) {
+  std::mt19937_64 rng(30);
+  std::vector<SynchronisedPush> pushes = simulate_all(draw_scenarios(rng, 5, {}));
+  for (std::size_t k = 0; k < pushes.size(); ++k) pushes[k].source = "push_" + std::to_string(4 - k);  // reversed
+  pushes[2].flags.frozen_force_sensor = true;                                                          // push_2
+  const DiagnosisInput input = split_pushes(pushes, EffectLibrary::standard(), fast_options());
+  const auto sources = [](const std::vector<SynchronisedPush>& v) {
+    std::vector<std::string> out;
+    for (const auto& p : v) out.push_back(p.source);
+    return out;
+  };
+  BOOST_TEST(sources(input.fit_pushes) == (std::vector<std::string>{"push_0", "push_3"}),
+             boost::test_tools::per_element());
+  BOOST_TEST(sources(input.test_pushes) == (std::vector<std::string>{"push_1", "push_4"}),
+             boost::test_tools::per_element());
+  BOOST_TEST_REQUIRE(input.failures.size() == 1u);
+  BOOST_TEST(input.failures[0].source == "push_2");
+  BOOST_TEST(input.failures[0].reason.find("frozen") != std::string::npos, input.failures[0].reason);
+  BOOST_TEST(input.caution.empty(), "four usable pushes are what the validation covers");
+  // The paper's method runs on all of them: the context holds the same split, and the residual per fit push.
+  const PaperMethodOutcome paper = paper_method(input);
+  BOOST_TEST(sources(paper.context.fit_pushes) == sources(input.fit_pushes), boost::test_tools::per_element());
+  BOOST_TEST(paper.failures.empty());
+  BOOST_TEST(paper.residual_before.size() == 2u);
+  BOOST_TEST(paper.model.terms.empty());
+  BOOST_TEST(paper.context.hold_position_mm > 1e-3);
 }
 
-BOOST_AUTO_TEST_CASE(the_direct_effects_step_alone_finds_a_sensor_bias) {
+BOOST_AUTO_TEST_CASE(the_friction_base_fits_mu_on_clean_pushes_and_measures_the_floors_with_it) {
+  std::mt19937_64 rng(31);
+  const Steps s(simulate_all(draw_scenarios(rng, 4, {})));
+  const FrictionBase base = friction_base(s.context(), s.paper.model);
+  const std::size_t law = index_of(s.context(), "coulomb_friction");
+  const Selection* mu = term(base.model.terms, law);
+  BOOST_TEST_REQUIRE(mu != nullptr, "the friction law is in the base model");
+  check_near(mu->total(0), mu->std(0), 0.47, 0.1, "mu");
+  // The floors were measured with it: the friction force of the simulated object.
+  BOOST_TEST(base.floors.friction_force_N() == mu->total(0) * 1.045 * 9.81, boost::test_tools::tolerance(1e-9));
+  BOOST_TEST(base.floors.sliding_speed_m_s > 0.02);
+  BOOST_TEST(base.floors.sliding_speed_m_s < 0.09);
+  // The step found no physical effect, and its decisions say what it fitted.
+  for (const auto& t : base.model.terms) BOOST_TEST(s.context().is_base(t.candidate));
+  const auto decisions = base.trace.decisions_of(law);
+  BOOST_TEST_REQUIRE(decisions.size() == 1u);
+  BOOST_TEST((decisions[0].verdict == Verdict::BaseLawFitted));
+  BOOST_TEST(decisions[0].passed);
+}
+
+BOOST_AUTO_TEST_CASE(the_direct_effects_step_alone_finds_a_sensor_bias_and_applies_it) {
   std::mt19937_64 rng(32);
-  const auto pushes = simulate_all(draw_scenarios(rng, 4, {{"force_offset", 0.6}}));
-  DiagnosisRun run(pushes, EffectLibrary::standard(), fast_options());
-  run.paper_method();
-  run.friction_base();
-  run.direct_effects();
-  const EffectReport& e = report(run.result(), "force_offset");
-  BOOST_TEST(e.passed_test);
-  BOOST_TEST(!e.negligible);
-  check_near(e.theta(0), e.theta_std(0), 0.6, 0.1, "bias x [N]");
+  const Steps s(simulate_all(draw_scenarios(rng, 4, {{"force_offset", 0.6}})));
+  const FrictionBase base = friction_base(s.context(), s.paper.model);
+  const DirectEffects direct = direct_effects(s.context(), base.model, base.floors);
+  const std::size_t bias = index_of(s.context(), "force_offset");
+  const Selection* found = term(direct.model.terms, bias);
+  BOOST_TEST_REQUIRE(found != nullptr, "the bias should be found");
+  check_near(found->total(0), found->std(0), 0.6, 0.1, "bias x [N]");
+  const auto decisions = direct.trace.decisions_of(bias);
+  BOOST_TEST_REQUIRE(!decisions.empty());
+  BOOST_TEST((decisions.back().verdict == Verdict::Found));
+  BOOST_TEST(decisions.back().amount - decisions.back().amount_std > decisions.back().floor.amount);
+  // A found data correction is applied: the step's data are the pushes with the bias removed, not its input's.
+  BOOST_TEST_REQUIRE(direct.model.data.size() == base.model.data.size());
+  BOOST_TEST(!direct.model.data.front().push.force_N.isApprox(base.model.data.front().push.force_N));
+}
+
+BOOST_AUTO_TEST_CASE(
+    a_candidate_significant_but_below_its_floor_is_a_nuisance_not_a_finding_and_the_decision_says_why) {
+  // A 1 mm mass-centre offset on rect2 (floor: 5 % of the 41 mm radius of gyration, 2.1 mm): the torque channel
+  // resolves it, but it changes the motion less than the support's own variation.
+  std::mt19937_64 rng(34);
+  const Steps s(simulate_all(draw_scenarios(rng, 6, {{"com_offset", 0.001}})));
+  const FrictionBase base = friction_base(s.context(), s.paper.model);
+  const DirectEffects direct = direct_effects(s.context(), base.model, base.floors);
+  const ForceLaws laws = force_laws(s.context(), direct.model, base.floors);
+  const std::size_t com = index_of(s.context(), "com_offset");
+  BOOST_TEST(term(laws.model.terms, com) == nullptr, "not found");
+  const auto decisions = laws.trace.decisions_of(com);
+  const auto negligible = std::find_if(decisions.begin(), decisions.end(),
+                                       [](const SelectionDecision& d) { return d.verdict == Verdict::Negligible; });
+  BOOST_TEST_REQUIRE((negligible != decisions.end()), "the search should judge it negligible");
+  BOOST_TEST(negligible->score > s.context().options.bic_threshold, "significant");
+  BOOST_TEST(negligible->amount < negligible->floor.amount);
+  BOOST_TEST(negligible->floor.amount == 0.05 * std::sqrt(0.001808 / 1.045), boost::test_tools::tolerance(1e-9));
+  // The separate rendering pass turns the decision into the report's note and the log's line.
+  EffectReport r;
+  r.amount_unit = "m";
+  apply_decision(*negligible, 1.0, r);
+  BOOST_TEST(r.passed_test);
+  BOOST_TEST(r.negligible);
+  BOOST_TEST(r.note.rfind("significant, negligible: ", 0) == 0u, r.note);
+  BOOST_TEST(r.note.find("is below its floor") != std::string::npos, r.note);
+  BOOST_TEST(decision_log_line(*negligible, "com_offset")->find("does not clear its floor by the margin") !=
+             std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(a_trials_decisions_are_discarded_and_only_its_lines_kept) {
+  // A data correction that stands beside the refinements searched anew keeps the selection found with it: the trial's
+  // decisions must not reach the report, its narrative stays in the log, marked as a trial.
+  const EffectLibrary library = EffectLibrary::standard();
+  std::size_t drag = 0;
+  while (library.effects()[drag]->kind() != "viscous_friction") ++drag;
+  DiagnosisTrace trial;
+  trial.line("time_offset: tested again");
+  SelectionDecision joins = decision_about(drag, Verdict::Found, SearchStage::GreedyFriction);
+  joins.score = 12;
+  trial.decide(joins);
+  trial.decide(decision_about(drag, Verdict::Fitted, SearchStage::GreedyFriction));  // no line of its own
+  const DiagnosisTrace kept = trial.as_trial_lines(library, "  (trial) ");
+  DiagnosisResult r;
+  r.effects = blank_reports(library);
+  render_trace(kept, library, 1.0, r);
+  BOOST_TEST(r.log == (std::vector<std::string>{"  (trial) time_offset: tested again",
+                                                "  (trial) greedy (against the friction law): viscous_friction joins, "
+                                                "score 12.0"}),
+             boost::test_tools::per_element());
+  BOOST_TEST(!r.effects[drag].passed_test);
+  BOOST_TEST(kept.decisions_of(drag).empty());
+}
+
+BOOST_AUTO_TEST_CASE(the_base_structure_takes_every_base_prediction_part_and_chooses_only_its_settings) {
+  std::mt19937_64 rng(36);
+  DiagnosisOptions options = fast_options();
+  options.fit_base_settings = true;
+  const Steps s(simulate_all(draw_scenarios(rng, 4, {})), options);
+  const FrictionBase base = friction_base(s.context(), s.paper.model);
+  const BaseStructure structure = base_structure(s.context(), base.model);
+  std::vector<std::string> kinds;
+  for (const auto& p : structure.parts) kinds.push_back(s.context().effect(p.candidate).kind());
+  BOOST_TEST(kinds == (std::vector<std::string>{"initial_velocity", "quasi_static", "pusher_stop", "pushing_model"}),
+             boost::test_tools::per_element());
+  // The stop fraction chosen is the setting whose fallback predicts the fit phases best.
+  const std::size_t qs = index_of(s.context(), "quasi_static");
+  const auto error_at = [&](double setting) {
+    std::vector<Selection> with = base.model.terms;
+    for (auto p : structure.parts) {
+      if (p.candidate == qs) p.setting = setting;
+      with.push_back(p);
+    }
+    ModelCorrection fallback = s.context().correction_of(with, true);
+    fallback.pushing_model = false;
+    return s.context().fit_phase_error(fallback);
+  };
+  const Selection* chosen = term(structure.parts, qs);
+  BOOST_TEST_REQUIRE(chosen != nullptr);
+  const auto settings = s.context().effect(qs).settings();
+  BOOST_TEST_REQUIRE(settings.size() > 1u);
+  const double best = error_at(chosen->setting);
+  for (double setting : settings) BOOST_TEST(best <= error_at(setting), "stop fraction " << setting);
+}
+
+BOOST_AUTO_TEST_CASE(an_offset_the_fit_pushes_motion_does_not_show_is_ruled_out_and_the_decision_carries_both_errors) {
+  // Clean pushes, and a model that claims a 10 mm mass-centre offset (five times its floor on rect2): the pushing
+  // model's centre of friction moved by it predicts the fit pushes' motion worse, so the step rules it out.
+  std::mt19937_64 rng(37);
+  const Steps s(simulate_all(draw_scenarios(rng, 4, {})));
+  const FrictionBase base = friction_base(s.context(), s.paper.model);
+  const std::size_t com = index_of(s.context(), "com_offset");
+  ModelState claimed = base.model;
+  claimed.terms.push_back({com, 0.0, 0, Eigen::Vector2d(0.01, 0.0), Eigen::Vector2d(1e-4, 1e-4), 100.0, {}});
+  const BaseStructure structure = base_structure(s.context(), claimed);
+  const MotionConfirmation confirmed = motion_confirmation(s.context(), claimed, structure, base.floors);
+  BOOST_TEST(term(confirmed.model.terms, com) == nullptr);
+  BOOST_TEST(confirmed.contradicted == std::vector<std::size_t>{com}, boost::test_tools::per_element());
+  const auto decisions = confirmed.trace.decisions_of(com);
+  BOOST_TEST_REQUIRE(!decisions.empty());
+  BOOST_TEST((decisions.front().verdict == Verdict::ContradictedByMotion));
+  BOOST_TEST(decisions.front().error_with >= decisions.front().error_without);
+  // It is not tried again in the search that follows.
+  BOOST_TEST(decisions.size() == 1u);
+}
+
+BOOST_AUTO_TEST_CASE(held_out_without_findings_the_corrected_model_is_the_base_model) {
+  std::mt19937_64 rng(38);
+  const Steps s(simulate_all(draw_scenarios(rng, 4, {})));
+  const FrictionBase base = friction_base(s.context(), s.paper.model);
+  const BaseStructure structure = base_structure(s.context(), base.model);
+  const HeldOutErrors e = held_out(s.context(), base.model, structure, s.paper.residual_before);
+  BOOST_TEST(e.ablations.empty());
+  BOOST_TEST(e.error_after.phases > 0);
+  BOOST_TEST(e.error_base.pos_mm_mean == e.error_after.pos_mm_mean);
+  BOOST_TEST(e.error_after.pos_mm_mean < e.error_before.pos_mm_mean);
+  BOOST_TEST(e.correction.pushing_model);
+  BOOST_TEST(e.fit_phase_biases.size() > 0u);
 }
 
 BOOST_AUTO_TEST_CASE(the_base_model_is_in_every_corrected_model_and_nothing_is_named_on_clean_pushes) {
@@ -193,6 +374,11 @@ BOOST_AUTO_TEST_CASE(a_step_that_fails_is_reported_and_the_diagnosis_goes_on) {
   BOOST_TEST(std::isfinite(report(r, "broken").score));
   check_base_model(r);  // the later steps ran
   BOOST_TEST(r.error_after.phases > 0);
+  // The failed step gave nothing: the pipeline went on with its input, so nothing was found and its search's
+  // decisions are not in the report (every candidate it would have tested is as the earlier steps left it).
+  BOOST_TEST(effects_found(r).empty(), findings_text(r));
+  BOOST_TEST(!report(r, "viscous_friction").passed_test);
+  BOOST_TEST(report(r, "viscous_friction").score == 0.0);
 
   // Without a friction law in the library the friction base cannot be fitted: reported, and the rest goes on.
   EffectLibrary no_law = EffectLibrary::standard();

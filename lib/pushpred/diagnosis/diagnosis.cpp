@@ -1,14 +1,9 @@
 #include "pushpred/diagnosis/diagnosis.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <limits>
-#include <map>
-#include <optional>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/diagnosis_pipeline.hpp"
 
 namespace pushpred {
 
@@ -51,8 +46,45 @@ ErrorSummary summarise_errors(const std::vector<StudyPhase>& phases, const std::
 
 DiagnosisResult diagnose(const std::vector<SynchronisedPush>& pushes, const EffectLibrary& library,
                          const DiagnosisOptions& options) {
-  DiagnosisRun run(pushes, library, options);
-  return run.run();
+  const DiagnosisInput input = split_pushes(pushes, library, options);
+  const PaperMethodOutcome paper = paper_method(input);
+  const DiagnosisContext& context = paper.context;
+  std::vector<DiagnosisTrace> traces{paper.trace};
+  // A step that throws is reported, and the pipeline goes on with `unchanged`: its input, as if it found nothing.
+  const auto step = [&traces](const char* name, auto&& run, auto unchanged) {
+    try {
+      auto out = run();
+      traces.push_back(out.trace);
+      return out;
+    } catch (const std::exception& e) {
+      DiagnosisTrace failure;
+      failure.failed(name, e.what());
+      traces.push_back(failure);
+      return unchanged;
+    }
+  };
+  const FrictionBase base = step(
+      "friction_base", [&] { return friction_base(context, paper.model); }, FrictionBase{paper.model, {}, {}});
+  const DirectEffects direct = step(
+      "direct_effects", [&] { return direct_effects(context, base.model, base.floors); },
+      DirectEffects{base.model, {}});
+  const ForceLaws laws = step(
+      "force_laws", [&] { return force_laws(context, direct.model, base.floors); },
+      ForceLaws{direct.model, base.floors, {}});
+  const BaseStructure structure = step(
+      "base_structure", [&] { return base_structure(context, laws.model); }, BaseStructure{});
+  const MotionConfirmation confirmed = step(
+      "motion_confirmation", [&] { return motion_confirmation(context, laws.model, structure, laws.floors); },
+      MotionConfirmation{laws.model, structure, {}, {}});
+  const HeldOutErrors errors = held_out(context, confirmed.model, confirmed.structure, paper.residual_before);
+  traces.push_back(errors.trace);
+  AdequacyOutcome adequacy;
+  if (options.adequacy_replicates > 0)
+    adequacy = step(
+        "model_adequacy",
+        [&] { return model_adequacy(context, confirmed.model, laws.floors, errors.fit_phase_biases); },
+        AdequacyOutcome{});
+  return diagnosis_result(input, paper, laws.floors, confirmed, errors, adequacy, traces);
 }
 
 }  // namespace pushpred

@@ -7,7 +7,8 @@
 //   Effect parameters are physical constants fitted on the fit pushes and applied to the test pushes, where the
 //   paper's online relation estimator still runs per push as before;
 // - one push: the fit data are all intervals but the last; the test phase is the last prediction phase.
-// Steps (diagnosis_run.hpp runs them one by one):
+// Steps (diagnosis_pipeline.hpp: each a function from typed inputs to a typed output, diagnose() the pipeline that
+// passes them along; what each decides is a value, rendered into the report by a separate pass):
 // 1. The residuals of the paper's method: the observer's d_hat on the fit data less the relation beta Q u + eps
 //    (per push and channel), and the prediction errors of every phase (`dob`).
 // 2. The base model's friction law (Coulomb friction of the footprint, which stops the object when the push ends)
@@ -154,7 +155,7 @@ struct DiagnosisResult {
   /// Generic signatures ranked by the share of the residual they account for: hints where to look when the residual
   /// is unexplained, not findings (empty when the force residual was not tested).
   std::vector<ResidualHint> hints;
-  /// A step that failed (diagnosis_run.hpp) and why; the diagnosis went on without what it would have given.
+  /// A step that failed (diagnosis_pipeline.hpp) and why; the diagnosis went on without what it would have given.
   struct StepFailure {
     std::string step, what;
   };

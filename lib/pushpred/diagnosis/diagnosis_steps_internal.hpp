@@ -1,8 +1,11 @@
 #pragma once
-// Shared by the diagnosis step files only (not installed for users): formatting for the selection log.
+// Shared by the diagnosis step files only (not installed for users): the search the steps share, and formatting
+// for the notes and the log.
 #include <string>
+#include <vector>
 
 #include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/diagnosis/diagnosis_pipeline.hpp"
 
 namespace pushpred {
 
@@ -19,5 +22,41 @@ std::string negligible_note(const EffectReport& r, double margin_std, const std:
 /// uncorrelated (0 when std is empty too).
 double amount_standard_error(const CandidateEffect& effect, const Eigen::VectorXd& theta, const Eigen::VectorXd& std,
                              const std::vector<Eigen::MatrixXd>& covariances = {});
+
+/// What a greedy forward selection chose, and the significant candidates it judged negligible (kept as nuisance
+/// terms in every later fit: the joint test), with its decisions.
+struct SearchOutcome {
+  std::vector<Selection> selected;
+  std::vector<Selection> nuisance;
+  DiagnosisTrace trace;
+};
+
+/// Greedy forward selection in `group` on `data`, starting from `selected`: at each round every remaining candidate
+/// (at each of its settings) is fitted jointly with those selected and the nuisance terms; the best joins when its
+/// score exceeds the BIC threshold and its amount clears its floor (under `floors`) by the margin. A candidate
+/// significant but below its floor is not tried again and becomes a nuisance term. Candidates in `ruled_out` are not
+/// tried.
+SearchOutcome greedy_search(const DiagnosisContext& context, const std::vector<DiagnosisPush>& data,
+                            std::vector<Selection> selected, Relation group, const FloorContext& floors,
+                            const std::vector<std::size_t>& ruled_out = {});
+
+/// Applies the data corrections of `selected`, re-runs the observer and re-fits the regression terms jointly, until
+/// the data corrections' residual amounts are negligible against their standard errors; a term whose re-fit leaves
+/// the plausible range, or turns the support's friction torque negative, is dropped (decisions in `trace`).
+ModelState refit(const DiagnosisContext& context, std::vector<Selection> selected, DiagnosisTrace& trace);
+
+/// After terms were dropped: the rest re-fitted from scratch (the data corrections that are regression effects
+/// restart from zero, as the data are rebuilt without the dropped ones).
+ModelState refit_after_dropping(const DiagnosisContext& context, std::vector<Selection> selected,
+                                DiagnosisTrace& trace);
+
+/// The found terms whose amount no longer clears its floor by the margin after the joint re-fit: judged negligible
+/// and dropped, the rest re-fitted.
+ModelState drop_below_floor(const DiagnosisContext& context, ModelState model, const FloorContext& floors,
+                            DiagnosisTrace& trace);
+
+/// The base friction law fitted on `model.data` and the floors measured with it; `add_law` also puts the law and
+/// its resolved refinements into the model (otherwise only the floors and the law's report are restated).
+FrictionBase fit_friction_base(const DiagnosisContext& context, const ModelState& model, bool add_law);
 
 }  // namespace pushpred

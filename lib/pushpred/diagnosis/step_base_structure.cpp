@@ -6,81 +6,83 @@
 #include <cmath>
 #include <limits>
 
-#include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
 
-void DiagnosisRun::base_structure() {
-  const auto& effects = library_.effects();
-  prediction_structure_.clear();
-  std::vector<std::size_t> parts;
+BaseStructure base_structure(const DiagnosisContext& context, const ModelState& model) {
+  const auto& effects = context.library.effects();
+  BaseStructure out;
+  std::vector<Selection> parts;
   std::vector<std::vector<double>> grids;
   for (std::size_t i = 0; i < effects.size(); ++i) {
-    if (effects[i]->test() != EffectTest::Prediction || !is_base(i)) continue;
+    if (effects[i]->test() != EffectTest::Prediction || !context.is_base(i)) continue;
     Eigen::VectorXd t(0), sd(0);
     if (!effects[i]->parameters().empty()) {
-      const DirectFit f = effects[i]->fit_directly(fit_data_);
+      const DirectFit f = effects[i]->fit_directly(model.data);
       t = f.theta;
       sd = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-      if (!f.note.empty()) result_.effects[i].note = f.note;
+      if (!f.note.empty()) {
+        SelectionDecision d = decision_about(i, Verdict::BaseStructureNote, SearchStage::BaseStructure);
+        d.reason = f.note;
+        out.trace.decide(d);
+      }
     }
     std::vector<double> grid = effects[i]->settings();
     if (grid.empty()) grid.push_back(0.0);
-    if (!options_.fit_base_settings) grid = {grid[grid.size() / 2]};
-    parts.push_back(i);
+    if (!context.options.fit_base_settings) grid = {grid[grid.size() / 2]};
     grids.push_back(grid);
-    prediction_structure_.push_back({i, grid[grid.size() / 2], grid.size() > 1 ? 1 : 0, t, sd, 0.0, {}});
+    parts.push_back({i, grid[grid.size() / 2], grid.size() > 1 ? 1 : 0, t, sd, 0.0, {}});
   }
-  // Every combination of the parts' settings, scored on the fit phases (the parts themselves are not chosen).
+  // Every combination of the parts' settings, scored on the fit phases (the parts themselves are not chosen). The
+  // search reads only the fit pushes; there is none with a single combination.
+  bool single = true;
+  for (const auto& g : grids) single = single && g.size() == 1;
   std::vector<std::size_t> at(parts.size(), 0);
   double best = std::numeric_limits<double>::infinity();
-  std::vector<Selection> best_base = prediction_structure_;
+  out.parts = parts;
   int tried = 0, failed = 0;
-  while (true) {
-    std::vector<Selection> trial = prediction_structure_;
+  while (!single) {
+    std::vector<Selection> trial = parts;
     for (std::size_t q = 0; q < parts.size(); ++q) trial[q].setting = grids[q][at[q]];
-    std::vector<Selection> model = model_terms_;
-    model.insert(model.end(), trial.begin(), trial.end());
-    // The search reads only the fit pushes; skip it when there is a single combination.
-    bool single = true;
-    for (const auto& g : grids) single = single && g.size() == 1;
-    if (single) break;
+    std::vector<Selection> with = model.terms;
+    with.insert(with.end(), trial.begin(), trial.end());
     ++tried;
     try {
       // The settings are the relation model's (the pushing model's fallback): scored with that model predicting.
-      ModelCorrection fallback = correction_of(model, true);
+      ModelCorrection fallback = context.correction_of(with, true);
       fallback.pushing_model = false;
-      const double mean = fit_phase_error(fallback);
+      const double mean = context.fit_phase_error(fallback);
       if (mean < best) {
         best = mean;
-        best_base = trial;
+        out.parts = trial;
       }
     } catch (const std::exception& e) {
       ++failed;
-      fail("base_structure", std::string("a setting's prediction failed: ") + e.what());
+      out.trace.failed("base_structure", std::string("a setting's prediction failed: ") + e.what());
     }
     std::size_t q = 0;
     while (q < at.size() && ++at[q] == grids[q].size()) at[q++] = 0;
     if (q == at.size()) break;
   }
-  prediction_structure_ = best_base;
   std::string names;
-  for (const auto& s : prediction_structure_) {
-    EffectReport& r = result_.effects[s.candidate];
-    r.selected = true;
-    r.setting = s.setting;
-    r.theta = s.total;
-    r.theta_std = s.std;
+  for (const auto& s : out.parts) {
+    SelectionDecision d = decision_about(s.candidate, Verdict::BaseStructurePart, SearchStage::BaseStructure);
+    d.setting = s.setting;
+    d.theta = s.total;
+    d.theta_std = s.std;
+    out.trace.decide(d);
     names += (names.empty() ? "" : " + ") + effects[s.candidate]->kind() +
              (effects[s.candidate]->settings().size() > 1
                   ? " (" + effects[s.candidate]->setting_name().name + diagnosis_format(" %.3g)", s.setting)
                   : std::string());
   }
-  log("base model structure: " + (names.empty() ? std::string("none in the library") : names) +
-      (tried > 0 ? diagnosis_format(" (settings chosen on the fit phases: normalised error %.3f; %.0f of %.0f settings failed)",
-                                    best, failed, tried)
-                 : std::string()));
+  out.trace.line("base model structure: " + (names.empty() ? std::string("none in the library") : names) +
+                 (tried > 0 ? diagnosis_format(" (settings chosen on the fit phases: normalised error %.3f; %.0f of "
+                                               "%.0f settings failed)",
+                                               best, failed, tried)
+                            : std::string()));
+  return out;
 }
 
 }  // namespace pushpred

@@ -3,45 +3,55 @@
 // data correction is applied before the next effect is tested.
 #include <cmath>
 
-#include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
 
-void DiagnosisRun::direct_effects() {
-  const auto& effects = library_.effects();
+DirectEffects direct_effects(const DiagnosisContext& context, const ModelState& model, const FloorContext& floors) {
+  const auto& effects = context.library.effects();
+  DirectEffects out{model, {}};
   for (std::size_t i = 0; i < effects.size(); ++i) {
-    if (effects[i]->test() != EffectTest::Direct || is_base(i)) continue;
-    const DirectFit f = effects[i]->fit_directly(fit_data_);
-    EffectReport& r = result_.effects[i];
-    r.score = f.score;
-    r.theta = f.theta;
-    r.theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-    r.note = f.note;
-    log(effects[i]->kind() + diagnosis_format(": direct fit on %.0f samples (effective %.1f), score %.1f",
-                                              static_cast<double>(f.samples), f.effective_samples, f.score));
+    if (effects[i]->test() != EffectTest::Direct || context.is_base(i)) continue;
+    const DirectFit f = effects[i]->fit_directly(out.model.data);
+    SelectionDecision fitted = decision_about(i, Verdict::DirectFitted, SearchStage::Direct);
+    fitted.score = f.score;
+    fitted.theta = f.theta;
+    fitted.theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+    fitted.reason = f.note;
+    fitted.samples = static_cast<double>(f.samples);
+    fitted.effective_samples = f.effective_samples;
+    out.trace.decide(fitted);
     if (!std::isfinite(f.score)) {
-      if (r.note.empty()) r.note = "its test could not be made on these data";
+      SelectionDecision d = decision_about(i, Verdict::Untestable, SearchStage::Direct);
+      d.reason = f.note.empty() ? "its test could not be made on these data" : f.note;
+      out.trace.decide(d);
       continue;
     }
-    const std::string why = effects[i]->plausibility(f.theta, result_.floor_context).why_not;
+    const std::string why = effects[i]->plausibility(f.theta, floors).why_not;
     if (!why.empty()) {
-      r.note = "fitted outside the physical range (" + why + "): not this effect";
+      SelectionDecision d = decision_about(i, Verdict::Implausible, SearchStage::Direct);
+      d.reason = why;
+      out.trace.decide(d);
       continue;
     }
-    if (!(f.score > options_.bic_threshold)) continue;
-    r.passed_test = true;
-    const Selection found{i, 0.0, 0, f.theta, r.theta_std, f.score, {f.covariance}};
-    if (!above_floor(i, found)) {
-      r.negligible = true;
-      r.note = negligible_note(r, options_.floor_margin_std);
-      log("  significant, but it does not clear its floor by the margin: negligible");
+    if (!(f.score > context.options.bic_threshold)) {
+      SelectionDecision d = decision_about(i, Verdict::NotSignificant, SearchStage::Direct);
+      d.score = f.score;
+      out.trace.decide(d);
       continue;
     }
-    model_terms_.push_back(found);
-    log("  found");
-    rebuild_data(correction_of(model_terms_, false));
+    const Selection found{i, 0.0, 0, f.theta, fitted.theta_std, f.score, {f.covariance}};
+    SelectionDecision d = context.sized(SearchStage::Direct, Verdict::Found, found, floors);
+    if (!context.clears_floor(d)) {
+      d.verdict = Verdict::Negligible;
+      out.trace.decide(d);
+      continue;
+    }
+    out.trace.decide(d);
+    out.model.terms.push_back(found);
+    out.model.data = context.corrected_data(context.correction_of(out.model.terms, false));
   }
+  return out;
 }
 
 }  // namespace pushpred

@@ -3,135 +3,119 @@
 // delay re-tested beside the friction refinements found without it.
 #include <algorithm>
 
-#include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
 
-void DiagnosisRun::retest_direct(std::vector<Selection>& selected, double log_neff) {
-  const auto& effects = library_.effects();
-  const bool law = std::any_of(selected.begin(), selected.end(),
-                               [&](const Selection& x) { return replaces_relation(*effects[x.candidate]); });
-  if (!law) return;
+namespace {
+
+/// Each data correction found by its own test, tested again without its correction beside the friction law's
+/// refinements searched anew: kept when it still passes, otherwise not found and the model found without it kept.
+ModelState retest_direct(const DiagnosisContext& context, ModelState model, const FloorContext& floors,
+                         DiagnosisTrace& trace) {
+  const auto& effects = context.library.effects();
+  if (!context.has_friction_law(model.terms)) return model;
   std::vector<std::size_t> direct;
-  for (const auto& s : selected)
+  for (const auto& s : model.terms)
     if (effects[s.candidate]->test() == EffectTest::Direct && corrects_data(*effects[s.candidate]))
       direct.push_back(s.candidate);
   bool changed = false;
   for (const std::size_t candidate : direct) {
-    const auto at = std::find_if(selected.begin(), selected.end(), [&](const Selection& s) { return s.candidate == candidate; });
-    if (at == selected.end()) continue;
+    std::vector<Selection>& selected = model.terms;
+    if (std::none_of(selected.begin(), selected.end(), [&](const Selection& s) { return s.candidate == candidate; }))
+      continue;
     const auto& effect = effects[candidate];
     // Without the effect, and without the refinements found with its correction applied.
     std::vector<Selection> trial;
     for (const auto& s : selected) {
       if (s.candidate == candidate) continue;
-      const auto& e = effects[s.candidate];
-      if (e->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction && !replaces_relation(*e))
-        continue;
+      if (context.in_group(s.candidate, Relation::Friction) && !replaces_relation(*effects[s.candidate])) continue;
       trial.push_back(s);
     }
-    const std::vector<EffectReport> reports = result_.effects;
-    const std::size_t log_size = result_.log.size();
-    log(effect->kind() + ": tested again without its correction, beside the friction law's refinements searched anew");
-    rebuild_data(correction_of(trial, false));
-    std::vector<Selection> nuisance;
-    greedy(trial, Relation::Friction, log_neff, &nuisance);
-    refit(trial);
-    for (auto& d : fit_data_) d.friction_explained.setZero();
+    DiagnosisTrace attempt;
+    attempt.line(effect->kind() +
+                 ": tested again without its correction, beside the friction law's refinements searched anew");
+    SearchOutcome search = greedy_search(context, context.corrected_data(context.correction_of(trial, false)), trial,
+                                         Relation::Friction, floors);
+    attempt.append(search.trace);
+    ModelState refitted = refit(context, search.selected, attempt);
+    std::vector<DiagnosisPush>& data = refitted.data;
+    for (auto& d : data) d.friction_explained.setZero();
     // What the refinements explain, found or significant but negligible (the joint test: a lag must survive beside
     // both), fitted together with the friction law.
-    std::vector<Selection> refinements = trial;
-    refinements.insert(refinements.end(), nuisance.begin(), nuisance.end());
+    std::vector<Selection> refinements = refitted.terms;
+    refinements.insert(refinements.end(), search.nuisance.begin(), search.nuisance.end());
     std::vector<EffectColumns> storage;
     RegressionFit joint;
     joint.identifiable = false;
-    if (!nuisance.empty()) {
-      joint = fit_selected(refinements, Relation::Friction, storage);
+    if (!search.nuisance.empty()) {
+      joint = context.fit_selected(data, refinements, Relation::Friction, storage);
     } else {
       for (const auto& s : refinements)
-        if (effects[s.candidate]->test() == EffectTest::Regression && group_of(s.candidate) == Relation::Friction)
-          storage.push_back(columns(s.candidate, s.setting));
+        if (context.in_group(s.candidate, Relation::Friction))
+          storage.push_back(context.columns(data, s.candidate, s.setting));
     }
     Eigen::Index first = 0;
     std::size_t column = 0;
     for (const auto& s : refinements) {
       const auto& e = effects[s.candidate];
-      if (e->test() != EffectTest::Regression || group_of(s.candidate) != Relation::Friction) continue;
+      if (!context.in_group(s.candidate, Relation::Friction)) continue;
       const EffectColumns& cols = storage[column++];
       const auto k = static_cast<Eigen::Index>(cols.size());
       const bool joint_amounts = joint.identifiable && joint.theta.allFinite();
       const Eigen::VectorXd theta = joint_amounts ? joint.theta.segment(first, k).eval() : s.total;
       first += k;
       if (!e->needs_friction_base() || corrects_data(*e)) continue;
-      for (std::size_t p = 0; p < fit_data_.size(); ++p)
+      for (std::size_t p = 0; p < data.size(); ++p)
         for (std::size_t j = 0; j < cols.size(); ++j)
-          fit_data_[p].friction_explained += theta(static_cast<Eigen::Index>(j)) * cols[j][p];
+          data[p].friction_explained += theta(static_cast<Eigen::Index>(j)) * cols[j][p];
     }
-    const DirectFit f = effect->fit_directly(fit_data_);
-    for (auto& d : fit_data_) d.friction_explained.setZero();
-    log(effect->kind() + diagnosis_format(":   score %.1f beside them", f.score));
+    const DirectFit f = effect->fit_directly(data);
+    attempt.line(effect->kind() + diagnosis_format(":   score %.1f beside them", f.score));
     changed = true;
-    if (!(f.score > options_.bic_threshold) || !effect->plausibility(f.theta, result_.floor_context).plausible()) {
-      EffectReport& r = result_.effects[candidate];
-      r.passed_test = false;
-      r.note = "not found: with the friction law's refinements found without it, it no longer passes its test";
-      r.score = f.score;
-      r.theta = f.theta;
-      r.theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-      log("  not found: the refinements explain it");
-      selected = trial;
+    if (!(f.score > context.options.bic_threshold) || !effect->plausibility(f.theta, floors).plausible()) {
+      trace.append(attempt);
+      SelectionDecision d = decision_about(candidate, Verdict::NotFoundBesideRefinements, SearchStage::Retest);
+      d.score = f.score;
+      d.theta = f.theta;
+      d.theta_std = f.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+      trace.decide(d);
+      selected = refitted.terms;
       continue;
     }
-    // The effect stands: the selection found with its correction applied is kept.
-    const std::vector<std::string> trial_log(result_.log.begin() + static_cast<std::ptrdiff_t>(log_size), result_.log.end());
-    result_.effects = reports;
-    result_.log.resize(log_size);
-    for (const auto& line : trial_log) log("  (trial) " + line);
-    log("  kept");
+    // The effect stands: the selection found with its correction applied is kept, the trial's decisions discarded.
+    trace.append(attempt.as_trial_lines(context.library, "  (trial) "));
+    trace.line("  kept");
   }
-  if (changed) refit(selected);
+  if (changed) return refit(context, model.terms, trace);
+  return model;
 }
 
-void DiagnosisRun::force_laws() {
-  const auto& effects = library_.effects();
-  const auto any_regression = [&] {
-    return std::any_of(model_terms_.begin(), model_terms_.end(),
-                       [&](const Selection& s) { return effects[s.candidate]->test() == EffectTest::Regression; });
+}  // namespace
+
+ForceLaws force_laws(const DiagnosisContext& context, const ModelState& model, const FloorContext& floors) {
+  const auto& effects = context.library.effects();
+  ForceLaws out{model, floors, {}};
+  const auto any = [&](const auto& predicate) {
+    return std::any_of(out.model.terms.begin(), out.model.terms.end(),
+                       [&](const Selection& s) { return predicate(*effects[s.candidate]); });
   };
+  const auto regression = [](const CandidateEffect& e) { return e.test() == EffectTest::Regression; };
   // The floors of the force laws, measured on the data as the direct effects corrected them.
-  if (std::any_of(model_terms_.begin(), model_terms_.end(),
-                  [&](const Selection& s) { return corrects_data(*effects[s.candidate]); }))
-    measure_floors(false);
-  greedy(model_terms_, Relation::Linear, log_effective_samples_);
-  if (any_regression()) refit(model_terms_);
-  greedy(model_terms_, Relation::Friction, log_effective_samples_);
-  if (any_regression()) refit(model_terms_);
-  retest_direct(model_terms_, log_effective_samples_);
-  drop_below_floor();
-}
-
-void DiagnosisRun::drop_below_floor() {
-  const auto& effects = library_.effects();
-  // After the joint re-fit an amount may have fallen below its floor: then it is negligible, not found.
-  bool removed = false;
-  for (std::size_t k = 0; k < model_terms_.size();) {
-    const std::size_t i = model_terms_[k].candidate;
-    if (is_base(i) || above_floor(i, model_terms_[k])) {
-      ++k;
-      continue;
-    }
-    EffectReport& r = result_.effects[i];
-    r.negligible = true;
-    r.theta = model_terms_[k].total;
-    r.theta_std = model_terms_[k].std;
-    r.note = negligible_note(r, options_.floor_margin_std, " after the joint re-fit");
-    log(effects[i]->kind() + ": does not clear its floor by the margin after the joint re-fit: negligible");
-    if (corrects_data(*effects[i])) model_terms_[k].total.setZero();
-    model_terms_.erase(model_terms_.begin() + static_cast<std::ptrdiff_t>(k));
-    removed = true;
+  if (any([](const CandidateEffect& e) { return corrects_data(e); })) {
+    FrictionBase remeasured = fit_friction_base(context, out.model, false);
+    out.floors = remeasured.floors;
+    out.trace.append(remeasured.trace);
   }
-  if (removed) refit_after_dropping();
+  for (const Relation group : {Relation::Linear, Relation::Friction}) {
+    SearchOutcome search = greedy_search(context, out.model.data, out.model.terms, group, out.floors);
+    out.trace.append(search.trace);
+    out.model.terms = std::move(search.selected);
+    if (any(regression)) out.model = refit(context, out.model.terms, out.trace);
+  }
+  out.model = retest_direct(context, std::move(out.model), out.floors, out.trace);
+  out.model = drop_below_floor(context, std::move(out.model), out.floors, out.trace);
+  return out;
 }
 
 }  // namespace pushpred

@@ -5,66 +5,67 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
-#include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 #include "pushpred/diagnosis/effect_floor.hpp"
 
 namespace pushpred {
 
-void DiagnosisRun::friction_base() { measure_floors(true); }
+FrictionBase friction_base(const DiagnosisContext& context, const ModelState& model) {
+  return fit_friction_base(context, model, true);
+}
 
-// Fits the base friction law on the current data (so after the direct effects' corrections the floors use the
-// corrected friction) and measures the floors; `add_law` also puts the law into the model.
-void DiagnosisRun::measure_floors(bool add_law) {
-  const auto& effects = library_.effects();
+// The law is fitted on the data as given (after the direct effects' corrections the floors use the corrected
+// friction).
+FrictionBase fit_friction_base(const DiagnosisContext& context, const ModelState& model, bool add_law) {
+  const auto& effects = context.library.effects();
+  FrictionBase out{model, FloorContext{}, {}};
+  const std::vector<DiagnosisPush>& data = model.data;
   std::optional<std::size_t> law;
   for (std::size_t i = 0; i < effects.size() && !law; ++i)
     if (replaces_relation(*effects[i]) && effects[i]->test() == EffectTest::Regression) law = i;
   double mu = 0, spread = 0;
   if (!law) {
-    fail("friction_base", "the library has no friction law that replaces the relation (coulomb_friction): physical "
-                          "effects that need one are not tested, and the floors use no friction force");
+    out.trace.failed("friction_base",
+                     "the library has no friction law that replaces the relation (coulomb_friction): "
+                     "physical effects that need one are not tested, and the floors use no friction "
+                     "force");
   } else {
     const std::size_t i = *law;
-    const EffectColumns cols = columns(i, 0.0);
-    const ResidualRegression regression(fit_data_, Relation::Friction);
-    const RegressionFit f = regression.fit({&cols});
+    const EffectColumns cols = context.columns(data, i, 0.0);
+    const RegressionFit f = ResidualRegression(data, Relation::Friction).fit({&cols});
     if (!f.identifiable || !f.theta.allFinite())
       throw InputError("the friction law " + effects[i]->kind() + " is not identifiable on the fit pushes (the object "
                        "hardly slides)");
     const Eigen::Index k = f.theta.size();
-    EffectReport& r = result_.effects[i];
-    r.theta = f.theta;
-    r.theta_std = f.standard_error();
-    r.score = f.wald(0, k) - static_cast<double>(k) * log_effective_samples_;
-    r.passed_test = r.score > options_.bic_threshold;
+    SelectionDecision fitted = decision_about(i, Verdict::BaseLawFitted, SearchStage::FrictionBase);
+    fitted.theta = fitted.theta_alone = f.theta;
+    fitted.theta_std = f.standard_error();
+    fitted.score = f.wald(0, k) - static_cast<double>(k) * context.log_effective_samples;
+    fitted.passed = fitted.score > context.options.bic_threshold;
     mu = f.theta(0);
     if (add_law) {
-      model_terms_.push_back({i, 0.0, 0, f.theta, r.theta_std, r.score, f.covariance_blocks(0, f.theta.size())});
+      std::vector<Selection>& terms = out.model.terms;
+      terms.push_back({i, 0.0, 0, f.theta, fitted.theta_std, fitted.score, f.covariance_blocks(0, f.theta.size())});
       // The law's own refinements in the base model (friction_torque), fitted with it when the data resolve them.
       for (std::size_t j = 0; j < effects.size(); ++j) {
-        if (j == i || !is_base(j) || effects[j]->test() != EffectTest::Regression || group_of(j) != Relation::Friction)
-          continue;
+        if (j == i || !context.is_base(j) || !context.in_group(j, Relation::Friction)) continue;
         std::vector<EffectColumns> storage;
-        std::vector<Selection> trial = model_terms_;
+        std::vector<Selection> trial = terms;
         trial.push_back({j, 0.0, 0, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(effects[j]->parameters().size())),
                          Eigen::VectorXd(), 0.0, {}});
-        const RegressionFit g = fit_selected(trial, Relation::Friction, storage);
+        const RegressionFit g = context.fit_selected(data, trial, Relation::Friction, storage);
         const Eigen::Index kj = static_cast<Eigen::Index>(effects[j]->parameters().size());
         const Eigen::VectorXd tj = g.theta.tail(kj);
-        if (!g.identifiable || !g.theta.allFinite() ||
-            !effects[j]->plausibility(tj, result_.floor_context).plausible()) {
-          result_.effects[j].note = "not in the base model here: the fit pushes do not resolve it";
-          log(effects[j]->kind() + " (base model): not resolved by the fit pushes; left out");
+        if (!g.identifiable || !g.theta.allFinite() || !effects[j]->plausibility(tj, out.floors).plausible()) {
+          out.trace.decide(decision_about(j, Verdict::BaseRefinementUnresolved, SearchStage::FrictionBase));
           continue;
         }
         // As in the greedy search: a refinement that turns the support's friction torque negative would make the
         // free object spin up, whatever it does to the sliding samples' fit.
-        if (const double torque = support_torque_coefficient(trial, g); !(torque > 0)) {
-          result_.effects[j].note = "not in the base model here: with it the support's friction torque would drive "
-                                    "the rotation (mu + torque_excess = " + diagnosis_format("%.3g", torque) + ")";
-          log(effects[j]->kind() + diagnosis_format(" (base model): mu + torque_excess = %.3g, not positive; left out",
-                                                    torque));
+        if (const double torque = context.support_torque_coefficient(trial, g); !(torque > 0)) {
+          SelectionDecision d = decision_about(j, Verdict::BaseRefinementDrivesRotation, SearchStage::FrictionBase);
+          d.torque = torque;
+          out.trace.decide(d);
           continue;
         }
         trial.back().total = tj;
@@ -72,30 +73,27 @@ void DiagnosisRun::measure_floors(bool add_law) {
         trial.back().covariances = g.covariance_blocks(g.theta.size() - kj, kj);
         for (auto& t : trial)
           if (t.candidate == i) t.total = g.theta.head(k);  // the law's own parameters come first in the fit
-        result_.effects[j].theta = tj;
-        result_.effects[j].theta_std = trial.back().std;
-        model_terms_ = trial;
-        log(effects[j]->kind() + diagnosis_format(" (base model): %.4g +- %.2g", tj(0), trial.back().std(0)));
+        SelectionDecision in = decision_about(j, Verdict::BaseRefinementIn, SearchStage::FrictionBase);
+        in.theta = tj;
+        in.theta_std = trial.back().std;
+        out.trace.decide(in);
+        terms = trial;
       }
-      for (const auto& t : model_terms_)
+      for (const auto& t : terms)
         if (t.candidate == i) {
           mu = t.total(0);
-          r.theta = t.total;
+          fitted.theta = t.total;
         }
     }
-    log(effects[i]->kind() + diagnosis_format(" (base model): %.4g +- %.2g, score %.1f", f.theta(0), r.theta_std(0),
-                                              r.score));
+    out.trace.decide(fitted);
     // The surface's own variation: the law fitted on each push alone.
-    if (fit_data_.size() >= 3) {
+    if (data.size() >= 3) {
       std::vector<double> own;
-      for (const auto& d : fit_data_) {
+      for (std::size_t p = 0; p < data.size(); ++p) {
         try {
-          const std::vector<DiagnosisPush> one{d};
-          const EffectColumns c1 = [&] {
-            EffectColumns out(cols.size(), std::vector<Eigen::MatrixX3d>(1));
-            for (std::size_t j = 0; j < cols.size(); ++j) out[j][0] = cols[j][&d - fit_data_.data()];
-            return out;
-          }();
+          const std::vector<DiagnosisPush> one{data[p]};
+          EffectColumns c1(cols.size(), std::vector<Eigen::MatrixX3d>(1));
+          for (std::size_t j = 0; j < cols.size(); ++j) c1[j][0] = cols[j][p];
           const RegressionFit g = ResidualRegression(one, Relation::Friction).fit({&c1});
           if (g.identifiable && g.theta.allFinite()) own.push_back(g.theta(0));
         } catch (const std::exception&) {
@@ -109,15 +107,15 @@ void DiagnosisRun::measure_floors(bool add_law) {
       }
     }
   }
-  result_.floor_context = measure_floor_context(fit_data_, mu, spread, options_.relevance_fraction);
-  const FloorContext& c = result_.floor_context;
-  log(diagnosis_format("floors: friction force mu m g = %.2f N (mu %.3f, push-to-push spread %.3f), ", c.friction_force_N(),
-                       c.friction_coefficient, c.friction_spread) +
-      diagnosis_format("sliding speed %.1f mm/s, large acceleration %.2f m/s^2, ", 1e3 * c.sliding_speed_m_s,
-                       c.acceleration_m_s2) +
-      diagnosis_format("travel %.1f mm", 1e3 * c.travel_m));
-  for (std::size_t i = 0; i < effects.size(); ++i)
-    if (!is_base(i)) result_.effects[i].floor = effects[i]->floor(c);
+  out.floors = measure_floor_context(data, mu, spread, context.options.relevance_fraction);
+  const FloorContext& c = out.floors;
+  out.trace.line(diagnosis_format("floors: friction force mu m g = %.2f N (mu %.3f, push-to-push spread %.3f), ",
+                                  c.friction_force_N(), c.friction_coefficient, c.friction_spread) +
+                 diagnosis_format("sliding speed %.1f mm/s, large acceleration %.2f m/s^2, ", 1e3 * c.sliding_speed_m_s,
+                                  c.acceleration_m_s2) +
+                 diagnosis_format("travel %.1f mm", 1e3 * c.travel_m));
+  out.trace.measured(c);
+  return out;
 }
 
 }  // namespace pushpred

@@ -1,28 +1,27 @@
 // Step 7: the model-adequacy test (model_adequacy.hpp) on the fit pushes, after the found effects: the force residual
 // against the corrected friction model, and the corrected model's prediction bias on the fit phases.
-#include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
 
-void DiagnosisRun::model_adequacy() {
-  const auto& effects = library_.effects();
+AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState& model, const FloorContext& floors,
+                               const std::vector<PhaseBias>& fit_phase_biases) {
   // Every regression term whose amount the residual still carries (data corrections are applied to the data).
   std::vector<EffectColumns> storage;
-  for (const auto& s : model_terms_)
-    if (effects[s.candidate]->test() == EffectTest::Regression && !corrects_data(*effects[s.candidate]))
-      storage.push_back(columns(s.candidate, s.setting));
-  std::vector<const EffectColumns*> model;
-  for (const auto& c : storage) model.push_back(&c);
+  for (const auto& s : model.terms)
+    if (context.effect(s.candidate).test() == EffectTest::Regression && !corrects_data(context.effect(s.candidate)))
+      storage.push_back(context.columns(model.data, s.candidate, s.setting));
+  std::vector<const EffectColumns*> columns;
+  for (const auto& c : storage) columns.push_back(&c);
   AdequacyOptions options;
-  options.replicates = options_.adequacy_replicates;
-  options.alpha = options_.adequacy_alpha;
-  options.floor_margin_std = options_.floor_margin_std;
-  ModelAdequacy& a = result_.adequacy;
-  a = ModelAdequacy{};
-  result_.hints = test_residual_structure(fit_data_, model, result_.floor_context, options, a);
-  test_motion_bias(fit_phase_biases_, hold_position_mm_, hold_yaw_deg_, options_.relevance_fraction,
-                   result_.floor_context.radius_of_gyration_m, options, a);
+  options.replicates = context.options.adequacy_replicates;
+  options.alpha = context.options.adequacy_alpha;
+  options.floor_margin_std = context.options.floor_margin_std;
+  AdequacyOutcome out;
+  ModelAdequacy& a = out.adequacy;
+  out.hints = test_residual_structure(model.data, columns, floors, options, a);
+  test_motion_bias(fit_phase_biases, context.hold_position_mm, context.hold_yaw_deg, context.options.relevance_fraction,
+                   floors.radius_of_gyration_m, options, a);
   a.tested = a.force_tested || a.motion_tested;
   a.explained = !(a.force_unexplained || a.motion_unexplained);
   a.statistic = diagnosis_format(
@@ -33,18 +32,18 @@ void DiagnosisRun::model_adequacy() {
       "of the fit phases' mean signed errors, against random sign flips of the phases; each "
       "significant at p <= %.3g",
       a.replicates, options.block_s, a.alpha);
-  const FloorContext& c = result_.floor_context;
   a.basis = diagnosis_format("%.0f %% of the friction force mu m g (%.3g N) and of its torque mu m g rho; ",
-                             100 * c.relevance_fraction, c.friction_force_N()) +
+                             100 * floors.relevance_fraction, floors.friction_force_N()) +
             diagnosis_format("%.0f %% of how far the object moves in a fit phase (hold's error %.2f mm, %.2f deg)",
-                             100 * c.relevance_fraction, hold_position_mm_, hold_yaw_deg_);
-  log("model adequacy: " + a.verdict() +
-      diagnosis_format(" (force: largest standardised R^2 %.2f, null quantile %.2f, p %.3f; ", a.force_statistic,
-                       a.force_threshold, a.force_p_value) +
-      diagnosis_format("%.3g N, %.3g N m; ", a.force_N, a.torque_Nm) +
-      diagnosis_format("motion |t| %.2f, null quantile %.2f, p %.3f; ", a.motion_t, a.motion_t_threshold,
-                       a.motion_p_value) +
-      diagnosis_format("bias %.2f mm, %.2f deg)", a.position_bias_mm, a.yaw_bias_deg));
+                             100 * floors.relevance_fraction, context.hold_position_mm, context.hold_yaw_deg);
+  out.trace.line("model adequacy: " + a.verdict() +
+                 diagnosis_format(" (force: largest standardised R^2 %.2f, null quantile %.2f, p %.3f; ",
+                                  a.force_statistic, a.force_threshold, a.force_p_value) +
+                 diagnosis_format("%.3g N, %.3g N m; ", a.force_N, a.torque_Nm) +
+                 diagnosis_format("motion |t| %.2f, null quantile %.2f, p %.3f; ", a.motion_t, a.motion_t_threshold,
+                                  a.motion_p_value) +
+                 diagnosis_format("bias %.2f mm, %.2f deg)", a.position_bias_mm, a.yaw_bias_deg));
+  return out;
 }
 
 }  // namespace pushpred

@@ -8,68 +8,78 @@
 // a contradicted offset) deserves its test against the model that is kept.
 #include <algorithm>
 
-#include "pushpred/diagnosis/diagnosis_run.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
 
-void DiagnosisRun::motion_confirmation() {
-  const auto& effects = library_.effects();
+namespace {
+
+bool contains(const std::vector<std::size_t>& v, std::size_t i) { return std::find(v.begin(), v.end(), i) != v.end(); }
+
+/// One round: `out` holds the model, the structure and the candidates ruled out so far.
+void confirm(const DiagnosisContext& context, const FloorContext& floors, MotionConfirmation& out) {
+  const auto& effects = context.library.effects();
+  std::vector<Selection>& terms = out.model.terms;
   bool removed = false;
-  for (std::size_t k = 0; k < model_terms_.size();) {
-    const std::size_t i = model_terms_[k].candidate;
-    if (is_base(i) || !confirmed_by_motion(*effects[i])) {
+  for (std::size_t k = 0; k < terms.size();) {
+    const std::size_t i = terms[k].candidate;
+    if (context.is_base(i) || !confirmed_by_motion(*effects[i])) {
       ++k;
       continue;
     }
-    std::vector<Selection> with = model_terms_;
-    with.insert(with.end(), prediction_structure_.begin(), prediction_structure_.end());
+    std::vector<Selection> with = terms;
+    with.insert(with.end(), out.structure.parts.begin(), out.structure.parts.end());
     std::vector<Selection> without = with;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
-    const double error_with = fit_phase_error(correction_of(with, true));
-    const double error_without = fit_phase_error(correction_of(without, true));
-    if (error_with < error_without) {
-      log(effects[i]->kind() + diagnosis_format(": confirmed by the fit pushes' motion (normalised error %.3f with it, "
-                                                "%.3f without)",
-                                                error_with, error_without));
+    SelectionDecision d = decision_about(i, Verdict::ConfirmedByMotion, SearchStage::MotionConfirmation);
+    d.error_with = context.fit_phase_error(context.correction_of(with, true));
+    d.error_without = context.fit_phase_error(context.correction_of(without, true));
+    if (d.error_with < d.error_without) {
+      out.trace.decide(d);
       ++k;
       continue;
     }
-    EffectReport& r = result_.effects[i];
-    r.contradicted_by_motion = true;
-    r.theta = model_terms_[k].total;
-    r.theta_std = model_terms_[k].std;
-    r.note = "significant and above its floor, but the fit pushes' motion contradicts it: the corrected model "
-             "predicts their phases no better with it" +
-             diagnosis_format(" (normalised error %.3f with it, %.3f without)", error_with, error_without) +
-             "; a residual of its shape that is not this effect";
-    log(effects[i]->kind() + ": contradicted by the fit pushes' motion" +
-        diagnosis_format(" (normalised error %.3f with it, %.3f without): not found", error_with, error_without));
-    model_terms_.erase(model_terms_.begin() + static_cast<std::ptrdiff_t>(k));
+    d.verdict = Verdict::ContradictedByMotion;
+    d.theta = terms[k].total;
+    d.theta_std = terms[k].std;
+    out.trace.decide(d);
+    out.contradicted.push_back(i);
+    terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(k));
     removed = true;
   }
   if (!removed) return;
   // The others were fitted jointly with it, and searched for against a model that held it: the friction laws are
   // searched again without it (it is not tried again), as in step 4, and the base settings scored anew.
-  refit_after_dropping();
+  out.model = refit_after_dropping(context, out.model.terms, out.trace);
   // The new search's verdicts replace the first search's for every candidate it tries again.
   for (std::size_t i = 0; i < effects.size(); ++i) {
-    EffectReport& r = result_.effects[i];
-    const bool selected =
-        std::any_of(model_terms_.begin(), model_terms_.end(), [&](const Selection& s) { return s.candidate == i; });
-    if (selected || is_base(i) || r.contradicted_by_motion || effects[i]->test() != EffectTest::Regression ||
-        group_of(i) != Relation::Friction)
+    const bool selected = std::any_of(out.model.terms.begin(), out.model.terms.end(),
+                                      [&](const Selection& s) { return s.candidate == i; });
+    if (selected || context.is_base(i) || contains(out.contradicted, i) || !context.in_group(i, Relation::Friction))
       continue;
-    r.passed_test = r.negligible = false;
-    r.note.clear();
+    out.trace.decide(decision_about(i, Verdict::ReopenedForSearch, SearchStage::MotionConfirmation));
   }
-  greedy(model_terms_, Relation::Friction, log_effective_samples_);
-  refit(model_terms_);
-  drop_below_floor();
-  base_structure();
+  SearchOutcome search =
+      greedy_search(context, out.model.data, out.model.terms, Relation::Friction, floors, out.contradicted);
+  out.trace.append(search.trace);
+  out.model = refit(context, std::move(search.selected), out.trace);
+  out.model = drop_below_floor(context, std::move(out.model), floors, out.trace);
+  out.structure = base_structure(context, out.model);
+  out.trace.append(out.structure.trace);
+  out.structure.trace = {};
   // An effect of this kind that joined in the new search is held to the same test (one ruled out is not tried
   // again, so this ends).
-  motion_confirmation();
+  confirm(context, floors, out);
+}
+
+}  // namespace
+
+MotionConfirmation motion_confirmation(const DiagnosisContext& context, const ModelState& model,
+                                       const BaseStructure& structure, const FloorContext& floors) {
+  MotionConfirmation out{model, structure, {}, {}};
+  out.structure.trace = {};  // its decisions are in base_structure's trace
+  confirm(context, floors, out);
+  return out;
 }
 
 }  // namespace pushpred
