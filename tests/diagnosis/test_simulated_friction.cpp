@@ -104,9 +104,10 @@ BOOST_AUTO_TEST_CASE(a_friction_patch_on_the_way_is_diagnosed_as_position_fricti
 }
 
 BOOST_AUTO_TEST_CASE(a_mild_friction_patch_is_significant_but_negligible) {
-  // A fifth to two fifths more friction on a 2 cm patch: the gradient is measured, but about its mean (which the
-  // base model's mu takes up) it changes the friction by less than kappa, so it is reported, not found.
-  const PatchCase c = diagnose_patch(0.2, 0.4);
+  // 1.6 to 1.9 times the friction on a 2 cm patch (half to three quarters of the floor on these pushes, about 1.2):
+  // the gradient is measured, but about its mean (which the base model's mu takes up) it changes the friction by
+  // less than kappa, so it is reported, not found; its amount is still the patch's to a quarter.
+  const PatchCase c = diagnose_patch(0.6, 0.9);
   check_only(c.result, {});
   const EffectReport& e = report(c.result, "position_friction");
   BOOST_TEST(e.passed_test);

@@ -560,10 +560,33 @@ class PositionFrictionEffect final : public FootprintFrictionLaw {
   std::vector<EffectParameter> parameters() const override { return {{"g", "1/m"}}; }
   std::vector<double> settings() const override { return position_friction_onsets_m(); }
   EffectParameter setting_name() const override { return {"onset", "m"}; }
+  /// The law's force with each push's own mean over its sliding rows removed: the gradient is read from how the
+  /// friction changes within a push. Each push's sensor zero differs (a constant force per push, 0.6 N per axis on
+  /// the real rig, several times kappa mu m g), and a column with a mean of its own per push would read those
+  /// constants as friction changes between pushes that travel different distances.
+  std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double onset_m) const override {
+    std::vector<Eigen::MatrixX3d> out = ForceLawEffect::regressors(push, onset_m);
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    double n = 0;
+    for (Eigen::Index row = 0; row < push.rows(); ++row)
+      if (!push.stuck[static_cast<std::size_t>(row)]) {
+        sum += out[0].row(row);
+        n += 1;
+      }
+    if (n > 0)
+      for (Eigen::Index row = 0; row < push.rows(); ++row)
+        if (!push.stuck[static_cast<std::size_t>(row)]) out[0].row(row) -= sum / n;
+    return out;
+  }
   Eigen::Vector3d resolved_unit_force(int, double onset_m, const EffectState& s, const ShapeInfo& shape,
                                       const FrictionFootprint& footprint) const override {
-    return position_friction_travel(s.pose, s.start_pose, onset_m) *
-           coulomb_friction_wrench(s.pose, s.velocity, shape, footprint);
+    // The force only: where the friction differs under part of the footprint (a patch), its torque about the centre
+    // depends on which part, which the travel does not say; the uniform change's torque read the patch's torque as
+    // gradient (1.5 times the patch's gradient in the force on simulated patches, tests/diagnosis).
+    Eigen::Vector3d w = position_friction_travel(s.pose, s.start_pose, onset_m) *
+                        coulomb_friction_wrench(s.pose, s.velocity, shape, footprint);
+    w(2) = 0;
+    return w;
   }
 };
 

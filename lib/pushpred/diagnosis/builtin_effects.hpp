@@ -29,8 +29,10 @@
 //   measured position r0 (a table whose friction changes where the object slides: a patch of other friction that the
 //   object's leading edge reaches after s0, and that carries more of the footprint as it slides on; push-relative,
 //   so pushes in any direction share it). g is in mu's unit per metre (the relative gradient is g / mu); the
-//   regressor, the law's derivative in g, is s(r) times the unit Coulomb law. s0 is chosen on a grid (0, 5, 10 mm:
-//   s0 = 0 is a uniform gradient along the travel).
+//   regressor, the law's derivative in g, is s(r) times the unit Coulomb law's force (x, y [N per unit mu]); its
+//   torque is left out: a friction that differs under part of the footprint turns the object by a torque that
+//   depends on which part, which the travel does not tell. s0 is chosen on a grid (0, 5, 10 mm: s0 = 0 is a uniform
+//   gradient along the travel).
 // - com_offset [m]: the mass centre sits at delta (body frame) from the tracked centre, so the pusher's torque
 //   about it is u_theta - (R(theta) delta) x f_C; rotation-channel regressors -(R(theta) e_x) x f_C and
 //   -(R(theta) e_y) x f_C (the torque error of a wrong lever arm).
