@@ -41,18 +41,25 @@ double patch_gradient_per_unit_excess(const std::vector<SimulatedPush>& sims, do
     const PushedObjectSystem a(shape, ObjectProperties::nominal(shape), with, RodContact{}, path);
     const PushedObjectSystem b(shape, ObjectProperties::nominal(shape), without, RodContact{}, path);
     const FrictionFootprint footprint = FrictionFootprint::of(shape);
+    // The candidate's column is the ramp less its mean over the push's sliding samples (builtin_effects.cpp).
+    std::vector<Eigen::Vector2d> coulomb, ramp, extra;
+    Eigen::Vector2d ramp_sum = Eigen::Vector2d::Zero();
     for (Eigen::Index k = 0; k < sim.t_s.size(); ++k) {
       Eigen::VectorXd x(6);
       x << sim.tracked_pose.row(k).transpose(), sim.mass_centre_velocity.row(k).transpose();
       if (sliding_speed(x.tail<3>(), shape) < 5e-3) continue;
-      const Eigen::Vector2d extra = a.support_wrench(x).force_N - b.support_wrench(x).force_N;
+      extra.push_back(a.support_wrench(x).force_N - b.support_wrench(x).force_N);
       const double travelled = std::max(
           0.0, (sim.tracked_pose.row(k).head<2>() - sim.tracked_pose.row(0).head<2>()).norm() - onset_m);
-      const Eigen::Vector2d coulomb = coulomb_friction_wrench(x.head<3>(), x.tail<3>(), shape, footprint).head<2>();
+      coulomb.push_back(coulomb_friction_wrench(x.head<3>(), x.tail<3>(), shape, footprint).head<2>());
+      ramp.push_back(travelled * coulomb.back());
+      ramp_sum += ramp.back();
+    }
+    for (std::size_t k = 0; k < ramp.size(); ++k) {
       Eigen::Matrix2d columns;
-      columns << coulomb, travelled * coulomb;
+      columns << coulomb[k], ramp[k] - ramp_sum / static_cast<double>(ramp.size());
       normal += columns.transpose() * columns;
-      right += columns.transpose() * extra;
+      right += columns.transpose() * extra[k];
     }
   }
   return normal.ldlt().solve(right)(1);

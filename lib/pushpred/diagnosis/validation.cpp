@@ -177,20 +177,32 @@ FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes,
 
 double patch_gradient_per_excess(const std::vector<SimulatedPush>& sims, double onset_m) {
   // Least squares of the patch's force per unit excess on the candidate's two friction columns, the Coulomb law
-  // (mu, which takes the mean) and the travel times it (g), over the samples where the object slides.
+  // (mu, which takes the mean) and the travel times it (g) less its mean over the push's sliding samples, as the
+  // candidate's regressor is (builtin_effects.cpp), over the samples where the object slides.
   Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
   Eigen::Vector2d right = Eigen::Vector2d::Zero();
   for (const SimulatedPush& sim : sims) {
     const ShapeInfo& shape = ShapeTable::published().find(sim.scenario.shape);
     const FrictionFootprint footprint = FrictionFootprint::of(shape);
     const Eigen::MatrixX3d patch = patch_wrench_per_excess(sim);
+    std::vector<Eigen::Index> rows;
+    Eigen::MatrixX2d coulomb(sim.t_s.size(), 2), ramp(sim.t_s.size(), 2);
+    Eigen::RowVector2d ramp_sum = Eigen::RowVector2d::Zero();
     for (Eigen::Index k = 0; k < sim.t_s.size(); ++k) {
-      const Eigen::Vector3d pose = sim.tracked_pose.row(k).transpose(), velocity = sim.mass_centre_velocity.row(k).transpose();
+      const Eigen::Vector3d pose = sim.tracked_pose.row(k).transpose();
+      const Eigen::Vector3d velocity = sim.mass_centre_velocity.row(k).transpose();
       if (sliding_speed(velocity, shape) < kSlidingSpeed_m_s) continue;
       const double travelled = position_friction_travel(pose, sim.tracked_pose.row(0).transpose(), onset_m);
-      const Eigen::Vector2d coulomb = coulomb_friction_wrench(pose, velocity, shape, footprint).head<2>();
+      coulomb.row(k) = coulomb_friction_wrench(pose, velocity, shape, footprint).head<2>().transpose();
+      ramp.row(k) = travelled * coulomb.row(k);
+      ramp_sum += ramp.row(k);
+      rows.push_back(k);
+    }
+    if (rows.empty()) continue;
+    const Eigen::RowVector2d ramp_mean = ramp_sum / static_cast<double>(rows.size());
+    for (Eigen::Index k : rows) {
       Eigen::Matrix2d columns;
-      columns << coulomb, travelled * coulomb;
+      columns << coulomb.row(k).transpose(), (ramp.row(k) - ramp_mean).transpose();
       normal += columns.transpose() * columns;
       right += columns.transpose() * patch.row(k).head<2>().transpose();
     }

@@ -114,8 +114,9 @@ double simulator_floor(const std::string& kind, const FloorContext& context, con
 /// The friction gradient g [1/m] (in mu's unit per metre) along the travel that the simulator's friction patch of
 /// relative excess 1 gives on the simulated pushes `sims`: the patch's force per unit excess at the simulated states
 /// (patch_wrench_per_excess) fitted by least squares on position_friction's regressor with onset `onset_m`, the
-/// travel from the push's first pose beyond the onset times the unit Coulomb law, beside the Coulomb law itself (mu
-/// takes the mean), over the samples where the object slides. The patch's excess e then gives the gradient e times
+/// travel from the push's first pose beyond the onset times the unit Coulomb law's force less its mean over the
+/// push's sliding samples, beside the Coulomb law itself (mu takes the mean), over the samples where the object
+/// slides. The patch's excess e then gives the gradient e times
 /// this, in the candidate's own unit.
 double patch_gradient_per_excess(const std::vector<SimulatedPush>& sims, double onset_m);
 
