@@ -49,8 +49,8 @@ double patch_gradient_per_unit_excess(const std::vector<SimulatedPush>& sims, do
       x << sim.tracked_pose.row(k).transpose(), sim.mass_centre_velocity.row(k).transpose();
       if (sliding_speed(x.tail<3>(), shape) < 5e-3) continue;
       extra.push_back(a.support_wrench(x).force_N - b.support_wrench(x).force_N);
-      const double travelled = std::max(
-          0.0, (sim.tracked_pose.row(k).head<2>() - sim.tracked_pose.row(0).head<2>()).norm() - onset_m);
+      const double travelled =
+          std::max(0.0, (sim.tracked_pose.row(k).head<2>() - sim.tracked_pose.row(0).head<2>()).norm() - onset_m);
       coulomb.push_back(coulomb_friction_wrench(x.head<3>(), x.tail<3>(), shape, footprint).head<2>());
       ramp.push_back(travelled * coulomb.back());
       ramp_sum += ramp.back();

@@ -20,8 +20,8 @@ std::vector<SimulatedPush> simulate_with_states(const std::vector<PushScenario>&
 /// 2.5 cm beyond the object's leading point at the start), its extra support force per unit excess at the true
 /// states computed here from a support with and one without the patch, fitted by least squares on the Coulomb law
 /// (which takes the mean, as mu does) and on the candidate's regressor (the travel beyond `onset_m` times the unit
-/// Coulomb law's force, less its mean over each push's sliding samples), over the samples where the object slides. A patch of excess e gives the gradient e times this, so a
-/// fitted gradient over this is the excess the diagnosis saw.
+/// Coulomb law's force, less its mean over each push's sliding samples), over the samples where the object slides. A
+/// patch of excess e gives the gradient e times this, so a fitted gradient over this is the excess the diagnosis saw.
 double patch_gradient_per_unit_excess(const std::vector<SimulatedPush>& sims, double onset_m);
 
 }  // namespace pushpred::testing

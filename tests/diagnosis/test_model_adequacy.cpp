@@ -149,8 +149,7 @@ BOOST_AUTO_TEST_CASE(a_friction_patch_does_not_give_a_delay) {
   ranges.length_min_m = 0.04;
   ranges.length_max_m = 0.06;
   std::vector<SynchronisedPush> pushes;
-  const auto sims =
-      simulate_with_states(draw_scenarios(rng, 10, {{"position_friction", amount}}, ranges), pushes);
+  const auto sims = simulate_with_states(draw_scenarios(rng, 10, {{"position_friction", amount}}, ranges), pushes);
   const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
   log_result(r);
   BOOST_TEST(!report(r, "time_offset").selected, findings_text(r));
