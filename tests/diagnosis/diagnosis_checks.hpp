@@ -69,6 +69,15 @@ inline void check_near(double fitted, double fitted_std, double truth, double mo
              what << ": fitted " << fitted << " +- " << fitted_std << ", truth " << truth << ", allowed " << allowed);
 }
 
+/// |fitted - truth| within `share` of a truth known independently of the fit (e.g. the amount the simulator was
+/// given): a fixed tolerance, not one that grows with the fit's own standard error.
+inline void check_within_share(double fitted, double truth, double share, const std::string& what) {
+  const double allowed = share * std::abs(truth);
+  BOOST_TEST_MESSAGE("  " << what << ": fitted " << fitted << ", truth " << truth << ", allowed " << allowed);
+  BOOST_TEST(std::abs(fitted - truth) <= allowed,
+             what << ": fitted " << fitted << ", truth " << truth << ", allowed +- " << allowed);
+}
+
 inline void check_held_out_error_drops(const DiagnosisResult& r) {
   BOOST_TEST(r.error_after.phases > 0);
   BOOST_TEST(r.error_after.pos_mm_mean < r.error_before.pos_mm_mean,

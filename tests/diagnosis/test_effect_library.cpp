@@ -100,9 +100,10 @@ BOOST_AUTO_TEST_CASE(drag_and_a_friction_gradient_matter_only_beyond_what_a_chan
   FloorContext unlisted = c;
   unlisted.sliding_speeds_m_s.clear();
   BOOST_TEST(drag->floor(unlisted).amount == 0.05 * 0.4 * 9.81 / 0.045, boost::test_tools::tolerance(1e-12));
-  // A ramp g s over travels spread evenly over 0 to L = 30 mm: about its mean, RMS g L / sqrt(12) >= kappa.
+  // A ramp g s (g in mu's unit per metre) over travels spread evenly over 0 to L = 30 mm: about its mean, RMS
+  // g L / sqrt(12) >= kappa mu.
   const auto gradient = EffectLibrary::standard().find("position_friction");
-  BOOST_TEST(gradient->floor(c).amount == std::sqrt(12.0) * 0.05 / 0.03, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(gradient->floor(c).amount == std::sqrt(12.0) * 0.05 * 0.4 / 0.03, boost::test_tools::tolerance(1e-12));
 }
 
 BOOST_AUTO_TEST_CASE(a_significant_term_without_a_floor_is_not_called_negligible) {

@@ -12,6 +12,7 @@
 #include "pushpred/diagnosis/model_adequacy.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "simulated_pushes.hpp"
+#include "simulated_truth.hpp"
 
 using namespace pushpred;
 using namespace pushpred::testing;
@@ -140,17 +141,22 @@ BOOST_AUTO_TEST_CASE(a_kind_missing_from_the_catalogue_gives_unexplained_residua
 
 BOOST_AUTO_TEST_CASE(a_friction_patch_does_not_give_a_delay) {
   // A patch of half as much again to three times the friction: whatever position_friction is called (found or
-  // significant but negligible), neither a force-stream delay nor a low-speed friction is found.
+  // significant but negligible), neither a force-stream delay nor a low-speed friction is found, and its amount,
+  // put into the patch's excess (simulated_truth.hpp), is within a quarter of the excess simulated.
   std::mt19937_64 rng(230030);
   const double amount = draw(rng, 0.5, 2.0);
   DrawRanges ranges;
   ranges.length_min_m = 0.04;
   ranges.length_max_m = 0.06;
-  const auto pushes = simulate_all(draw_scenarios(rng, 10, {{"position_friction", amount}}, ranges));
+  std::vector<SynchronisedPush> pushes;
+  const auto sims = simulate_with_states(draw_scenarios(rng, 10, {{"position_friction", amount}}, ranges), pushes);
   const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
   log_result(r);
   BOOST_TEST(!report(r, "time_offset").selected, findings_text(r));
   BOOST_TEST(!report(r, "stribeck_friction").selected, findings_text(r));
+  const EffectReport& e = report(r, "position_friction");
+  BOOST_TEST(e.passed_test);
+  check_within_share(e.theta(0) / patch_gradient_per_unit_excess(sims, e.setting), amount, 0.25, "patch excess");
 }
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -126,6 +126,15 @@ Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eige
   return position_friction_wrench(pose, v, shape, FrictionFootprint::of(shape), origin_m, axis);
 }
 
+const std::vector<double>& position_friction_onsets_m() {
+  static const std::vector<double> onsets{0.0, 0.005, 0.01};
+  return onsets;
+}
+
+double position_friction_travel(const Eigen::Vector3d& pose, const Eigen::Vector3d& start_pose, double onset_m) {
+  return std::max(0.0, (pose.head<2>() - start_pose.head<2>()).norm() - onset_m);
+}
+
 double sliding_speed(const Eigen::Vector3d& v, const ShapeInfo& shape) {
   return limit_surface_sliding_speed(v.head<2>(), v(2), std::sqrt(shape.inertia_kgm2 / shape.mass_kg), 0.0);
 }
@@ -511,46 +520,73 @@ class StribeckFrictionEffect final : public FootprintFrictionLaw {
 
 class PositionFrictionEffect final : public FootprintFrictionLaw {
   double amount(const Eigen::VectorXd& theta) const override { return std::abs(theta(0)); }
-  /// The relative friction change g s along the travel, against kappa, where it differs from what a changed mu
-  /// gives: the base model's Coulomb friction, fitted on the same data, takes up its mean, so what is left to
-  /// matter is its spread about that mean, g L / sqrt(12) for travels spread evenly over 0 to the typical travel
-  /// L: g >= sqrt(12) kappa / L. Not against the push-to-push spread of mu: pushes that travel over different
+  /// The friction change g s along the travel (g in the friction coefficient's own unit per metre: the law is
+  /// (mu + g s) x the Coulomb law), against kappa mu, where it differs from what a changed mu gives: the base
+  /// model's Coulomb friction, fitted on the same data, takes up its mean, so what is left to matter is its spread
+  /// about that mean, g L / sqrt(12) for travels spread evenly over 0 to the typical travel L:
+  /// g >= sqrt(12) kappa mu / L. Not against the push-to-push spread of mu: pushes that travel over different
   /// stretches of a changing friction each fit their own mu, so that spread holds the effect itself (as for
   /// Stribeck friction).
   EffectFloor floor(const FloorContext& c) const override {
     if (!(c.travel_m > 0) || !(c.friction_coefficient > 0)) return unknown_floor("the travel");
     const double change = std::sqrt(12.0) * c.relevance_fraction;
-    return {change / c.travel_m,
-            printed("a friction change of %.0f %% over the typical travel %.1f mm (%.0f %% about its mean, which a "
-                    "changed mu takes up)",
-                    100 * change, 1e3 * c.travel_m, 100 * c.relevance_fraction)};
+    return {change * c.friction_coefficient / c.travel_m,
+            printed("a friction change of %.0f %% of mu = %.3f over the typical travel %.1f mm", 100 * change,
+                    c.friction_coefficient, 1e3 * c.travel_m) +
+                printed(" (%.0f %% about its mean, which a changed mu takes up)", 100 * c.relevance_fraction)};
   }
 
  public:
-  /// With the data's typical travel L: a friction that changes by less than its own value over L, |g| L < 1 (it
+  /// With the data's typical travel L: a friction that changes by less than its own value over L, |g| L < mu (it
   /// neither doubles nor vanishes along one push). The regressor is a linear ramp; a friction that changes in a step
   /// part-way along the travel (a patch) fits a ramp steeper than its mean gradient, up to about its step over half
-  /// the travel, which a fixed 1 per 20 cm refused on short pushes. Without a known travel: 1 per 20 cm.
+  /// the travel. Without a known travel or mu: 1 per 20 cm of a mu of 1.
   Plausibility plausibility(const Eigen::VectorXd& theta, const FloorContext& c) const override {
-    if (!(c.travel_m > 0))
+    if (!(c.travel_m > 0) || !(c.friction_coefficient > 0))
       return std::abs(theta(0)) < 5 ? Plausibility::yes()
                                     : Plausibility::no("a friction change of more than 1 per 20 cm");
-    return std::abs(theta(0)) * c.travel_m < 1
-               ? Plausibility::yes()
-               : Plausibility::no(printed("a friction change of %.0f %% or more over the typical travel %.1f mm",
-                                          100 * std::abs(theta(0)) * c.travel_m, 1e3 * c.travel_m));
+    const double change = std::abs(theta(0)) * c.travel_m / c.friction_coefficient;
+    return change < 1 ? Plausibility::yes()
+                      : Plausibility::no(printed("a friction change of %.0f %% of mu or more over the typical travel "
+                                                 "%.1f mm",
+                                                 100 * change, 1e3 * c.travel_m));
   }
   bool needs_friction_base() const override { return true; }
   std::string kind() const override { return "position_friction"; }
   std::string description() const override {
-    return "friction coefficient changing with the distance the object has travelled from where the push began: "
-           "g |r - r0| times the Coulomb law";
+    return "friction coefficient changing with the distance the object has travelled from where the push began, "
+           "beyond an onset s0: g max(0, |r - r0| - s0) times the Coulomb law";
   }
   std::vector<EffectParameter> parameters() const override { return {{"g", "1/m"}}; }
-  Eigen::Vector3d resolved_unit_force(int, double, const EffectState& s, const ShapeInfo& shape,
+  std::vector<double> settings() const override { return position_friction_onsets_m(); }
+  EffectParameter setting_name() const override { return {"onset", "m"}; }
+  /// The law's force with each push's own mean over its sliding rows removed: the gradient is read from how the
+  /// friction changes within a push. Each push's sensor zero differs (a constant force per push, 0.6 N per axis on
+  /// the real rig, several times kappa mu m g), and a column with a mean of its own per push would read those
+  /// constants as friction changes between pushes that travel different distances.
+  std::vector<Eigen::MatrixX3d> regressors(const DiagnosisPush& push, double onset_m) const override {
+    std::vector<Eigen::MatrixX3d> out = ForceLawEffect::regressors(push, onset_m);
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    double n = 0;
+    for (Eigen::Index row = 0; row < push.rows(); ++row)
+      if (!push.stuck[static_cast<std::size_t>(row)]) {
+        sum += out[0].row(row);
+        n += 1;
+      }
+    if (n > 0)
+      for (Eigen::Index row = 0; row < push.rows(); ++row)
+        if (!push.stuck[static_cast<std::size_t>(row)]) out[0].row(row) -= sum / n;
+    return out;
+  }
+  Eigen::Vector3d resolved_unit_force(int, double onset_m, const EffectState& s, const ShapeInfo& shape,
                                       const FrictionFootprint& footprint) const override {
-    return (s.pose.head<2>() - s.start_pose.head<2>()).norm() *
-           coulomb_friction_wrench(s.pose, s.velocity, shape, footprint);
+    // The force only: where the friction differs under part of the footprint (a patch), its torque about the centre
+    // depends on which part, which the travel does not say; the uniform change's torque read the patch's torque as
+    // gradient (1.5 times the patch's gradient in the force on simulated patches, tests/diagnosis).
+    Eigen::Vector3d w = position_friction_travel(s.pose, s.start_pose, onset_m) *
+                        coulomb_friction_wrench(s.pose, s.velocity, shape, footprint);
+    w(2) = 0;
+    return w;
   }
 };
 

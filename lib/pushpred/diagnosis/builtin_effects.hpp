@@ -24,9 +24,15 @@
 //   the data resolve it.
 // - stribeck_friction [-]: extra friction at low speed, mu_s exp(-(s / v_s)^2) times the Coulomb shape; v_s is
 //   chosen on a grid (5, 10, 20, 40 mm/s).
-// - position_friction [1/m]: friction coefficient changing along the way: g |r - r0| times the Coulomb law, |r - r0|
-//   the distance the tracked centre has travelled from the push's first measured position (a table whose friction
-//   changes where the object slides; push-relative, so pushes in any direction share it).
+// - position_friction [1/m]: the support's friction coefficient changing along the way, mu + g s(r), s(r) =
+//   max(0, |r - r0| - s0) [m] the distance the tracked centre has travelled beyond an onset s0 from the push's first
+//   measured position r0 (a table whose friction changes where the object slides: a patch of other friction that the
+//   object's leading edge reaches after s0, and that carries more of the footprint as it slides on; push-relative,
+//   so pushes in any direction share it). g is in mu's unit per metre (the relative gradient is g / mu); the
+//   regressor, the law's derivative in g, is s(r) times the unit Coulomb law's force (x, y [N per unit mu]); its
+//   torque is left out: a friction that differs under part of the footprint turns the object by a torque that
+//   depends on which part, which the travel does not tell. s0 is chosen on a grid (0, 5, 10 mm: s0 = 0 is a uniform
+//   gradient along the travel).
 // - com_offset [m]: the mass centre sits at delta (body frame) from the tracked centre, so the pusher's torque
 //   about it is u_theta - (R(theta) delta) x f_C; rotation-channel regressors -(R(theta) e_x) x f_C and
 //   -(R(theta) e_y) x f_C (the torque error of a wrong lever arm).
@@ -90,6 +96,11 @@ Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eige
                                          const ShapeInfo& shape, double speed_scale_m_s);
 Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
                                          const ShapeInfo& shape, const Eigen::Vector2d& origin_m, int axis);
+/// position_friction's onsets [m] (its setting, chosen on this grid): the travel before the friction starts to change.
+const std::vector<double>& position_friction_onsets_m();
+/// position_friction's travel variable [m]: how far the tracked centre at `pose` has travelled beyond `onset_m`
+/// from `start_pose` (the push's first measured pose), max(0, |r - r0| - onset).
+double position_friction_travel(const Eigen::Vector3d& pose, const Eigen::Vector3d& start_pose, double onset_m);
 /// coulomb_friction_wrench at yaw 0 (orientation matters only for the footprint's torque arms).
 Eigen::Vector3d limit_surface_friction(const Eigen::Vector3d& velocity, const ShapeInfo& shape);
 /// s / 1 of the limit surface without the regulariser: sqrt(|v|^2 + rho^2 omega^2) [m/s].

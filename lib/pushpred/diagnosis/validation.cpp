@@ -20,6 +20,9 @@ namespace pushpred {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Samples where the object moves slower than this are left out of the patch's truth (the friction's direction is
+/// the velocity's, undefined at rest) [m/s].
+constexpr double kSlidingSpeed_m_s = 5e-3;
 const std::vector<std::string> kShapes{"rect1", "rect2", "rect3", "ellip1", "ellip2", "ellip3", "hex"};
 const std::vector<double> kSpeeds_m_s{0.01, 0.02, 0.05, 0.075, 0.1, 0.15};
 const std::vector<double> kAccelerations_m_s2{0.2, 0.5, 1.0, 2.5};
@@ -172,43 +175,70 @@ FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes,
   return run.result().floor_context;
 }
 
-double patch_gradient_per_excess(const std::vector<PushScenario>& scenarios) {
-  if (scenarios.empty()) return 0;
-  const ShapeInfo& shape = ShapeTable::published().find(scenarios.front().shape);
-  const Outline outline(shape);
-  const Footprint footprint = make_footprint(outline);
-  double n = 0, s_sum = 0, r_sum = 0, sr = 0, ss = 0;
-  for (const auto& scenario : scenarios) {
-    const Outline::Closest side = outline.point_on_side(scenario.contact_side, scenario.contact_position);
-    const Eigen::Vector2d d = Eigen::Rotation2Dd(scenario.push_angle_rad) * (-side.normal);
-    const double ahead = outline.extent_along(d) + kFrictionPatchAhead_m;
-    constexpr int kSteps = 100;
-    for (int k = 0; k <= kSteps; ++k) {
-      const double s = scenario.motion.length_m * k / kSteps;
-      const Eigen::Vector2d patch = (ahead - s) * d;  // the patch's centre, body frame, after travel s
-      double on = 0;
-      for (std::size_t e = 0; e < footprint.area_m2.size(); ++e)
-        if ((footprint.centre_m[e] - patch).norm() < kFrictionPatchRadius_m) on += footprint.area_m2[e];
-      const double r = on / footprint.total_area_m2;
-      n += 1;
-      s_sum += s;
-      r_sum += r;
-      sr += s * r;
-      ss += s * s;
+double patch_gradient_per_excess(const std::vector<SimulatedPush>& sims, double onset_m) {
+  // Least squares of the patch's force per unit excess on the candidate's two friction columns, the Coulomb law
+  // (mu, which takes the mean) and the travel times it (g) less its mean over the push's sliding samples, as the
+  // candidate's regressor is (builtin_effects.cpp), over the samples where the object slides.
+  Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d right = Eigen::Vector2d::Zero();
+  for (const SimulatedPush& sim : sims) {
+    const ShapeInfo& shape = ShapeTable::published().find(sim.scenario.shape);
+    const FrictionFootprint footprint = FrictionFootprint::of(shape);
+    const Eigen::MatrixX3d patch = patch_wrench_per_excess(sim);
+    std::vector<Eigen::Index> rows;
+    Eigen::MatrixX2d coulomb(sim.t_s.size(), 2), ramp(sim.t_s.size(), 2);
+    Eigen::RowVector2d ramp_sum = Eigen::RowVector2d::Zero();
+    for (Eigen::Index k = 0; k < sim.t_s.size(); ++k) {
+      const Eigen::Vector3d pose = sim.tracked_pose.row(k).transpose();
+      const Eigen::Vector3d velocity = sim.mass_centre_velocity.row(k).transpose();
+      if (sliding_speed(velocity, shape) < kSlidingSpeed_m_s) continue;
+      const double travelled = position_friction_travel(pose, sim.tracked_pose.row(0).transpose(), onset_m);
+      coulomb.row(k) = coulomb_friction_wrench(pose, velocity, shape, footprint).head<2>().transpose();
+      ramp.row(k) = travelled * coulomb.row(k);
+      ramp_sum += ramp.row(k);
+      rows.push_back(k);
+    }
+    if (rows.empty()) continue;
+    const Eigen::RowVector2d ramp_mean = ramp_sum / static_cast<double>(rows.size());
+    for (Eigen::Index k : rows) {
+      Eigen::Matrix2d columns;
+      columns << coulomb.row(k).transpose(), (ramp.row(k) - ramp_mean).transpose();
+      normal += columns.transpose() * columns;
+      right += columns.transpose() * patch.row(k).head<2>().transpose();
     }
   }
-  const double var = ss - s_sum * s_sum / n;
-  return var > 0 ? (sr - s_sum * r_sum / n) / var : 0.0;
+  if (!(normal.determinant() > 1e-12 * normal.squaredNorm())) return 0;
+  return normal.ldlt().solve(right)(1);
 }
+
+namespace {
+
+/// The pushes of `scenarios` simulated (the truth) and as the diagnosis reads them.
+struct SimulatedTrial {
+  std::vector<SimulatedPush> sims;
+  std::vector<SynchronisedPush> pushes;
+};
+SimulatedTrial simulate_with_truth(const std::vector<PushScenario>& scenarios) {
+  SimulatedTrial t;
+  for (const auto& s : scenarios) {
+    t.sims.push_back(simulate_push(s));
+    t.pushes.push_back(synchronise(as_read(t.sims.back().recording), ShapeTable::published().find(s.shape)));
+  }
+  return t;
+}
+
+}  // namespace
 
 double measured_simulator_floor(const std::string& kind, const std::vector<PushScenario>& clean,
                                 const DiagnosisOptions& options, const std::string& shape) {
   double floor = kNaN;
   try {
-    const FloorContext context = measured_floor_context(simulate_trial(clean), options);
+    const SimulatedTrial simulated = simulate_with_truth(clean);
+    const FloorContext context = measured_floor_context(simulated.pushes, options);
     if (kind == "position_friction") {
-      // The patch's excess at which the candidate's own measure, the gradient g along the travel, is at its floor.
-      const double per_excess = patch_gradient_per_excess(clean);
+      // The patch's excess at which the candidate's own measure, the gradient g along the travel (in mu's unit per
+      // metre), is at its floor.
+      const double per_excess = patch_gradient_per_excess(simulated.sims, 0.0);  // the floor's onset
       const auto effect = EffectLibrary::standard().find(kind);
       if (per_excess > 1e-6) floor = effect->floor(context).amount / per_excess;
     } else {
@@ -356,17 +386,30 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
 namespace {
 
 /// The diagnosis's amount of `kind` in the simulator's unit.
-double fitted_in_simulator_units(const EffectReport& e, const std::string& kind, double mu) {
+double fitted_in_simulator_units(const EffectReport& e, const ValidationTrial& trial) {
+  const std::string& kind = trial.true_kind;
+  const double mu = trial.surface_friction;
   if (e.theta.size() == 0) return kNaN;
   if (kind == "force_offset") return e.theta.size() >= 2 ? 0.5 * (e.theta(0) + e.theta(1)) : kNaN;
   if (kind == "stribeck_friction") return e.theta(0) / mu;
-  if (kind == "position_friction") return kNaN;  // a step patch against a linear gradient: not comparable
+  if (kind == "position_friction") return kNaN;  // needs the simulated states: fitted_patch_excess
   if (kind == "inertia_mismatch") return 1 + e.theta(0);
   if (kind == "support_tilt") return kNaN;  // a force [N] against a tilt [deg]: compared through the floor only
   if (kind == "anisotropic_friction") {     // k = mu (r - 1) / (r + 1): the ratio r = (mu + k) / (mu - k)
     return mu > std::abs(e.theta(0)) ? (mu + e.theta(0)) / (mu - e.theta(0)) : kNaN;
   }
   return e.theta(0);  // time_offset, viscous_friction, com_offset (delta_x)
+}
+
+/// The patch's excess whose friction gradient along the travel of `sims`, from the onset the diagnosis chose, is
+/// the one it found (NaN when position_friction was not found): the fit in the simulator's unit.
+double fitted_patch_excess(const DiagnosisResult& r, const std::vector<SimulatedPush>& sims) {
+  for (const auto& e : r.effects) {
+    if (e.kind != "position_friction" || !e.selected || e.theta.size() == 0) continue;
+    const double per_excess = patch_gradient_per_excess(sims, e.setting);
+    return per_excess > 1e-9 ? e.theta(0) / per_excess : kNaN;
+  }
+  return kNaN;
 }
 
 /// The diagnosis's model-adequacy verdict (DiagnosisResult::adequacy).
@@ -380,7 +423,10 @@ void run_trial(const ValidationOptions& o, ValidationTrial& trial, const std::st
     const std::vector<PushScenario> scenarios = draw_validation_trial(o, trial.index, kind, trial);
     const EffectLibrary library = validation_library(o);
     trial.hidden = kind != "none" && !library.find(kind);
-    score_trial(diagnose(simulate_trial(scenarios), library, o.diagnosis), trial);
+    const SimulatedTrial simulated = simulate_with_truth(scenarios);
+    const DiagnosisResult result = diagnose(simulated.pushes, library, o.diagnosis);
+    score_trial(result, trial);
+    if (kind == "position_friction") trial.fitted_amount = fitted_patch_excess(result, simulated.sims);
   } catch (const std::exception& e) {
     trial.failure = e.what();
   }
@@ -407,7 +453,7 @@ void score_trial(const DiagnosisResult& r, ValidationTrial& trial) {
     if (e.structural) continue;
     if (e.selected) trial.named.push_back(e.kind);
     if (e.negligible) trial.negligible.push_back(e.kind);
-    if (e.kind == kind && e.selected) trial.fitted_amount = fitted_in_simulator_units(e, kind, trial.surface_friction);
+    if (e.kind == kind && e.selected) trial.fitted_amount = fitted_in_simulator_units(e, trial);
     if (e.kind == kind) {
       trial.true_score = e.score;
       trial.true_passed = e.passed_test;

@@ -23,7 +23,9 @@
 // the diagnosis itself would state there), then put into the simulator's units
 // (simulation/scenario.hpp): the force offset's sim amount is per axis (|b| = sqrt 2 x amount), Stribeck's is
 // relative to mu, and the friction patch's relative excess is the one whose friction gradient along the pushes'
-// travel (patch_gradient_per_excess) is the position_friction candidate's floor.
+// travel (patch_gradient_per_excess: the patch's own force at the simulated states, projected on the candidate's
+// regressor) is the position_friction candidate's floor. The fitted gradient is put into the patch's excess the same
+// way, at the onset the diagnosis chose, so that its amount error is measured against the excess simulated.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -31,6 +33,7 @@
 
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/simulation/scenario.hpp"
+#include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred {
 
@@ -108,11 +111,14 @@ FloorContext scenario_floor_context(const std::vector<PushScenario>& scenarios, 
 /// InputError for an unknown kind.
 double simulator_floor(const std::string& kind, const FloorContext& context, const std::string& shape);
 
-/// The friction gradient g [1/m] along the travel (position_friction's regressor: friction x (1 + g s), s the distance
-/// travelled, with mu taking the mean) that the simulator's friction patch of relative excess 1 gives on the pushes
-/// of `scenarios`: the share of the footprint's area on the patch (uniform pressure) as the object translates along
-/// each push's direction by its length, fitted by least squares against s. The object's rotation is left out.
-double patch_gradient_per_excess(const std::vector<PushScenario>& scenarios);
+/// The friction gradient g [1/m] (in mu's unit per metre) along the travel that the simulator's friction patch of
+/// relative excess 1 gives on the simulated pushes `sims`: the patch's force per unit excess at the simulated states
+/// (patch_wrench_per_excess) fitted by least squares on position_friction's regressor with onset `onset_m`, the
+/// travel from the push's first pose beyond the onset times the unit Coulomb law's force less its mean over the
+/// push's sliding samples, beside the Coulomb law itself (mu takes the mean), over the samples where the object
+/// slides. The patch's excess e then gives the gradient e times
+/// this, in the candidate's own unit.
+double patch_gradient_per_excess(const std::vector<SimulatedPush>& sims, double onset_m);
 
 /// The FloorContext the diagnosis measures on `pushes` (its paper_method and friction_base steps with `options`):
 /// what its floors are stated on. Throws what those steps throw.

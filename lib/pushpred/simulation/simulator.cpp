@@ -226,6 +226,29 @@ TimedStream tip_pose_stream(const PusherPath& path, const SensorDraws& draws, do
 
 }  // namespace
 
+Eigen::MatrixX3d patch_wrench_per_excess(const SimulatedPush& sim) {
+  const PushScenario& scenario = sim.scenario;
+  const ShapeInfo& shape = ShapeTable::published().find(scenario.shape);
+  const ObjectProperties object = perturbed_object(shape, scenario.effects);
+  const Outline outline(shape);
+  const RodContact contact = rod_contact(scenario);
+  const PushLayout layout = push_layout(scenario, outline, contact);
+  SupportFriction with = support_friction(scenario, outline, layout), without = with;
+  with.patch_excess = 1;
+  without.patch_excess = 0;
+  // Only the support's friction differs between the two systems; the rest of the wrench (drag, tilt) cancels.
+  const PushedObjectSystem a = pushed_object_system(scenario, shape, object, with, contact, layout.path);
+  const PushedObjectSystem b = pushed_object_system(scenario, shape, object, without, contact, layout.path);
+  Eigen::MatrixX3d out(sim.t_s.size(), 3);
+  for (Eigen::Index k = 0; k < sim.t_s.size(); ++k) {
+    Eigen::VectorXd x = a.state_at_rest(sim.tracked_pose.row(k).transpose());
+    x.segment<3>(3) = sim.mass_centre_velocity.row(k).transpose();
+    const PlanarWrench wa = a.support_wrench(x), wb = b.support_wrench(x);
+    out.row(k) << (wa.force_N - wb.force_N).transpose(), wa.torque_Nm - wb.torque_Nm;
+  }
+  return out;
+}
+
 SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sensors) {
   scenario.validate();
   const ShapeInfo& shape = ShapeTable::published().find(scenario.shape);

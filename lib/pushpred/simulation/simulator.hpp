@@ -43,6 +43,13 @@ struct SimulatedPush {
 /// Simulates `scenario` (validated first; InputError when invalid, SolverError when CVODE fails).
 SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sensors = SensorModel::mcube());
 
+/// The friction patch's share of the support's wrench per unit of its excess (scenario.hpp's position_friction) at
+/// each recorded state of `sim` (rows as sim.t_s): force [N] (world) and torque about the mass centre [N m] that the
+/// patch adds when its friction is mu (1 + 1) rather than mu, whatever excess `sim` was simulated with. The truth a
+/// position-friction diagnosis is measured against: the support's friction is linear in the patch's excess at given
+/// states (pushed_object_system.hpp: each element's mu (1 + excess x its smoothed share inside the disk)).
+Eigen::MatrixX3d patch_wrench_per_excess(const SimulatedPush& sim);
+
 /// The streams of `raw` as a reader returns them (sorted, repeated stamps dropped, repairs listed), for using a
 /// simulated push in memory without writing it.
 Recording as_read(const Recording& raw);
