@@ -175,6 +175,12 @@ result validation-honesty "Blind validation with preloads and per-push sensor ze
 result validation-honesty-no-offsets "The same without per-push sensor zeros, seeds 260000-260079" "" \
     validation.md -- "$bin" validate-diagnosis --trials 10 --seed 260000 --no-sensor-offsets --jobs "$jobs" \
     --out "$work/validation-honesty-no-offsets"
+result validation-patch "The friction patch alone, seeds 285000-285019 (tuned on 280000-284999)" "" \
+    validation.md -- "$bin" validate-diagnosis --kinds position_friction --trials 20 --seed 285000 --jobs "$jobs" \
+    --out "$work/validation-patch"
+result validation-patch-no-offsets "The friction patch alone without per-push sensor zeros, seeds 286000-286019" "" \
+    validation.md -- "$bin" validate-diagnosis --kinds position_friction --trials 20 --seed 286000 \
+    --no-sensor-offsets --jobs "$jobs" --out "$work/validation-patch-no-offsets"
 if wanted validation-hidden; then
     {
         echo "# Kinds hidden from the catalogue, seeds 264000-264005 per kind"

@@ -11,7 +11,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
-#include "pushpred/diagnosis/diagnosis_run.hpp"
+#include "pushpred/diagnosis/diagnosis_pipeline.hpp"
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
@@ -169,10 +169,8 @@ double simulator_floor(const std::string& kind, const FloorContext& c, const std
 }
 
 FloorContext measured_floor_context(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options) {
-  DiagnosisRun run(pushes, EffectLibrary::standard(), options);
-  run.paper_method();
-  run.friction_base();
-  return run.result().floor_context;
+  const PaperMethodOutcome paper = paper_method(split_pushes(pushes, EffectLibrary::standard(), options));
+  return friction_base(paper.context, paper.model).floors;
 }
 
 double patch_gradient_per_excess(const std::vector<SimulatedPush>& sims, double onset_m) {
