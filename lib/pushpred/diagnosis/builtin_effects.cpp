@@ -748,8 +748,8 @@ class QuasiStaticEffect final : public PredictionStructureEffect {
 /// pusher_stop_speed_m_s): the planned force alone cannot tell a pusher that has stopped but still presses on the
 /// object from one that pushes it, when the pressing force stays near the law's stop force. The stop speed, 5 mm/s,
 /// is half the slowest push's speed (10 mm/s) and far above the planned tip speed of a resting tip (under 0.1 mm/s
-/// on the real pushes). A grid of 2 and 5 mm/s was tried first: the fit phases chose 5 on every object, so the
-/// grid was reduced to it, which keeps the structure search's cost down.
+/// on the real pushes). It is a fixed setting, not a grid: on the real pushes' fit phases a grid of 2 and 5 mm/s
+/// chooses 5 on every object, and a single setting keeps the structure search's cost down.
 class PusherStopEffect final : public PredictionStructureEffect {
  public:
   std::string kind() const override { return "pusher_stop"; }

@@ -376,7 +376,7 @@ bool confirmed_by_motion(const CandidateEffect& effect);
 /// The candidate effects a diagnosis tests, in a fixed order. A user registers their own.
 class EffectLibrary {
  public:
-  /// Every effect the issue asks for: time_offset, force_offset, viscous_friction, stribeck_friction,
+  /// The standard catalogue: time_offset, force_offset, viscous_friction, stribeck_friction,
   /// position_friction, com_offset, inertia_mismatch, initial_velocity, coulomb_friction; and the prediction
   /// structure quasi_static with its refinement pusher_stop.
   static EffectLibrary standard();

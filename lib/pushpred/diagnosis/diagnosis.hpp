@@ -57,8 +57,7 @@ struct DiagnosisOptions {
   double relevance_fraction = 0.05;
   /// An effect is found when its amount exceeds its floor by this many of the amount's standard errors (its
   /// parameters' standard errors through the amount's gradient): the data must show it at least as large as what
-  /// matters, not merely put the point estimate there. 0: the point estimate alone (the rule before the eleventh
-  /// session). Chosen among 0, 1 and 2 on tuning seeds (docs/diagnosis.md).
+  /// matters, not merely put the point estimate there. 0: the point estimate alone. Chosen among 0, 1 and 2 on tuning seeds (docs/diagnosis.md).
   double floor_margin_std = 1.0;
   /// Step 5: fit the base model's settings (the quasi-static stop fraction) on the fit phases; off: each part's
   /// middle setting (faster, for tests and quick looks).

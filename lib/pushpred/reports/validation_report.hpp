@@ -2,7 +2,7 @@
 // The validation of the diagnosis (diagnosis/validation.hpp) as validation.json (every trial) and validation.md:
 // the confusion matrix (true kind x named kinds, "nothing" included), the detection rate against the amount in
 // floors, the amount error, the false findings on clean trials, and the held-out errors of the paper's method, the
-// base model, the base model plus what was found, and the references; and the targets, met or not.
+// base model, the base model plus what was found, and the references; and the targets, met or not.
 #include <nlohmann/json.hpp>
 #include <string>
 
