@@ -1,7 +1,5 @@
 #pragma once
-// Truths the simulator knows and a diagnosis has to find, computed from the simulator's own physics. (Kept out of
-// the test file: simulation/pushed_object_system.hpp and prediction/prediction_study.hpp both declare
-// kGravity_m_s2 and cannot share a translation unit.)
+// Truths the simulator knows and a diagnosis has to find, computed from the simulator's own physics.
 #include <vector>
 
 #include "pushpred/preprocessing/synchronised_push.hpp"

@@ -204,7 +204,7 @@ BOOST_AUTO_TEST_CASE(a_force_law_regressor_is_its_force_as_the_observer_sees_it)
 BOOST_AUTO_TEST_CASE(the_coulomb_law_has_the_weight_as_its_scale_and_opposes_the_motion) {
   for (const char* name : {"rect2", "ellip1", "hex", "butter"}) {
     const ShapeInfo& shape = ShapeTable::published().find(name);
-    const double weight = shape.mass_kg * kStandardGravity_m_s2;
+    const double weight = shape.mass_kg * kGravity_m_s2;
     // Pure translation: the whole weight resists it, along the velocity.
     const Eigen::Vector3d w = coulomb_friction_wrench(Eigen::Vector3d(0.3, 0.1, 0.4), Eigen::Vector3d(0.05, 0, 0), shape);
     BOOST_TEST(w(0) == -weight, boost::test_tools::tolerance(0.01));

@@ -25,7 +25,7 @@ BOOST_AUTO_TEST_CASE(the_anisotropy_regressor_is_the_derivative_of_elliptic_coul
   // frame; the regressor is df/dk at k = 0.
   const ShapeInfo& shape = ShapeTable::published().find("butter");
   BOOST_TEST_REQUIRE(!shape.has_outline());
-  const double mu = 0.4, weight = shape.mass_kg * kStandardGravity_m_s2, yaw = 0.6;
+  const double mu = 0.4, weight = shape.mass_kg * kGravity_m_s2, yaw = 0.6;
   const Eigen::Vector2d v_body(0.03, -0.045);
   const Eigen::Matrix2d R = Eigen::Rotation2Dd(yaw).toRotationMatrix();
   const auto law = [&](double k) {
@@ -53,7 +53,7 @@ BOOST_AUTO_TEST_CASE(a_tilted_support_is_diagnosed_as_a_constant_downhill_force)
   const EffectReport& e = report(r, "support_tilt");
   BOOST_TEST(e.selected, findings_text(r));
   const double force =
-      ShapeTable::published().find("rect2").mass_kg * kStandardGravity_m_s2 * std::sin(alpha_deg * M_PI / 180);
+      ShapeTable::published().find("rect2").mass_kg * kGravity_m_s2 * std::sin(alpha_deg * M_PI / 180);
   check_near(e.theta(0), e.theta_std(0), force * std::cos(downhill), 0.15, "f_x [N]");
   check_near(e.theta(1), e.theta_std(1), force * std::sin(downhill), 0.15, "f_y [N]");
   check_held_out_error_drops(r);

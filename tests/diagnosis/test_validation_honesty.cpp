@@ -37,7 +37,7 @@ BOOST_AUTO_TEST_CASE(a_compliant_pusher_floor_is_a_lag_of_kappa_of_the_travel_un
   c.relevance_fraction = 0.05;
   c.travel_m = 0.04;
   // c mu m g = kappa L: c = 0.05 x 0.04 / (0.4 x 9.81) m/N.
-  BOOST_TEST(simulator_floor("compliant_pusher", c, "rect2") == 0.05 * 0.04 / (0.4 * kStandardGravity_m_s2),
+  BOOST_TEST(simulator_floor("compliant_pusher", c, "rect2") == 0.05 * 0.04 / (0.4 * kGravity_m_s2),
              boost::test_tools::tolerance(1e-12));
   // The support's effects on the same yardstick: the tilt whose m g sin(alpha) is kappa mu m g, the anisotropy whose
   // friction along a body axis differs from mu by kappa mu.

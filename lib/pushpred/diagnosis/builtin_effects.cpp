@@ -84,7 +84,7 @@ Eigen::Vector3d limit_surface_friction(const Eigen::Vector3d& v, const ShapeInfo
 
 Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
                                         const FrictionFootprint& footprint) {
-  const double weight = shape.mass_kg * kStandardGravity_m_s2;
+  const double weight = shape.mass_kg * kGravity_m_s2;
   if (const FrictionElements* el = footprint.elements())
     return footprint_friction(*el, pose, v, weight, [](std::size_t, const Eigen::Vector2d&, double) { return 1.0; });
   return ellipsoid_friction(v, shape, weight);
@@ -96,7 +96,7 @@ Eigen::Vector3d coulomb_friction_wrench(const Eigen::Vector3d& pose, const Eigen
 
 Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
                                          const FrictionFootprint& footprint, double speed_scale_m_s) {
-  const double weight = shape.mass_kg * kStandardGravity_m_s2;
+  const double weight = shape.mass_kg * kGravity_m_s2;
   if (const FrictionElements* el = footprint.elements())
     return footprint_friction(*el, pose, v, weight, [&](std::size_t, const Eigen::Vector2d&, double speed) {
       const double r = speed / speed_scale_m_s;
@@ -113,7 +113,7 @@ Eigen::Vector3d stribeck_friction_wrench(const Eigen::Vector3d& pose, const Eige
 
 Eigen::Vector3d position_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& v, const ShapeInfo& shape,
                                          const FrictionFootprint& footprint, const Eigen::Vector2d& origin_m, int axis) {
-  const double weight = shape.mass_kg * kStandardGravity_m_s2;
+  const double weight = shape.mass_kg * kGravity_m_s2;
   if (const FrictionElements* el = footprint.elements())
     return footprint_friction(*el, pose, v, weight, [&](std::size_t, const Eigen::Vector2d& where, double) {
       return where(axis) - origin_m(axis);
@@ -408,12 +408,12 @@ class ViscousFrictionEffect final : public ForceLawEffect {
     if (!(c.friction_force_N() > 0)) return unknown_floor("the friction force");
     const double spread = c.sliding_speed_spread_m_s();
     if (spread > 0)
-      return {c.relevance_fraction * c.friction_coefficient * kStandardGravity_m_s2 / spread,
+      return {c.relevance_fraction * c.friction_coefficient * kGravity_m_s2 / spread,
               friction_basis(c) + printed(" at the spread of the sliding speeds about their mean, %.1f mm/s "
                                           "(a changed mu takes up the drag at the mean speed)",
                                           1e3 * spread)};
     if (!(c.sliding_speed_m_s > 0)) return unknown_floor("the sliding speed");
-    return {c.relevance_fraction * c.friction_coefficient * kStandardGravity_m_s2 / c.sliding_speed_m_s,
+    return {c.relevance_fraction * c.friction_coefficient * kGravity_m_s2 / c.sliding_speed_m_s,
             friction_basis(c) + printed(" at the typical sliding speed %.1f mm/s", 1e3 * c.sliding_speed_m_s)};
   }
  public:
@@ -638,7 +638,7 @@ class InertiaMismatchEffect final : public DataCorrectionEffect {
   /// The inertial force error |factor - 1| m a at the typical (RMS) acceleration against kappa mu m g.
   EffectFloor floor(const FloorContext& c) const override {
     if (!(c.acceleration_m_s2 > 0) || !(c.friction_coefficient > 0)) return unknown_floor("the acceleration");
-    return {c.relevance_fraction * c.friction_coefficient * kStandardGravity_m_s2 / c.acceleration_m_s2,
+    return {c.relevance_fraction * c.friction_coefficient * kGravity_m_s2 / c.acceleration_m_s2,
             friction_basis(c) + printed(" at the typical (RMS) acceleration %.2f m/s^2", c.acceleration_m_s2)};
   }
  public:
@@ -719,7 +719,7 @@ class QuasiStaticEffect final : public PredictionStructureEffect {
       double s = 0;
       long n = 0;
       for (Eigen::Index k = 0; k < d.rows(); ++k)
-        if (sliding_speed(d.estimate.velocity.row(k).transpose(), d.push.shape) > 5e-3) {
+        if (sliding_speed(d.estimate.velocity.row(k).transpose(), d.push.shape) > kClearlySlidingSpeed_m_s) {
           s += d.estimate.u.row(k).head<2>().norm();
           ++n;
         }

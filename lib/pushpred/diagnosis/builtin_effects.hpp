@@ -49,10 +49,10 @@
 #include <memory>
 
 #include "pushpred/diagnosis/candidate_effect.hpp"
+#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
-inline constexpr double kStandardGravity_m_s2 = 9.81;
 /// v_reg of the limit-surface friction [m/s].
 inline constexpr double kFrictionRegularisation_m_s = 5e-4;
 

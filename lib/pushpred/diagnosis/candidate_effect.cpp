@@ -7,10 +7,11 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
+#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
-double FloorContext::friction_force_N() const { return friction_coefficient * mass_kg * 9.81; }
+double FloorContext::friction_force_N() const { return friction_coefficient * mass_kg * kGravity_m_s2; }
 
 double FloorContext::low_speed_exposure(double v_s) const {
   if (sliding_speeds_m_s.empty()) return 0.0;

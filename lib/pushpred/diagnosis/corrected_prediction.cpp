@@ -66,7 +66,7 @@ void QuasiStaticPushTerm::add(const IntegrationInterval& interval, double t_s, c
   const double moving = moving_weight(interval, t_s);
   Eigen::Vector3d kinetic = Eigen::Vector3d::Zero();
   if (coulomb_from_stop_force_)
-    kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_, footprint_) * (stop_force_N_ / (shape_.mass_kg * kStandardGravity_m_s2));
+    kinetic = coulomb_friction_wrench(x.head<3>(), v, shape_, footprint_) * (stop_force_N_ / (shape_.mass_kg * kGravity_m_s2));
   if (!laws_.empty()) {
     EffectState st;
     st.pose = x.head<3>();
@@ -87,7 +87,7 @@ double push_force_level(const std::vector<DisturbanceEstimate>& identification, 
   long count = 0;
   for (const auto& e : identification)
     for (Eigen::Index k = 0; k < e.t_s.size(); ++k)
-      if (sliding_speed(e.velocity.row(k).transpose(), shape) > 5e-3) {
+      if (sliding_speed(e.velocity.row(k).transpose(), shape) > kClearlySlidingSpeed_m_s) {
         sum += e.u.row(k).head<2>().norm();
         ++count;
       }
@@ -184,7 +184,7 @@ void CorrectedPrediction::build_model(const SynchronisedPush& push,
     const auto& qs = correction_.quasi_static;
     const double fallback = qs.fallback_push_force_N > 0
                                 ? qs.fallback_push_force_N
-                                : qs.fallback_friction_coefficient * push.shape.mass_kg * kStandardGravity_m_s2;
+                                : qs.fallback_friction_coefficient * push.shape.mass_kg * kGravity_m_s2;
     const double level = push_force_level(identification, push.shape, fallback);
     const double stop = correction_.quasi_static.stop_fraction * level;
     if (stop > 0)

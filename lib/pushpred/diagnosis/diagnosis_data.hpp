@@ -55,6 +55,9 @@ struct DiagnosisPush {
 inline constexpr double kSmoothingBandwidth_rad_s = 100.0;
 /// Sliding speed (builtin_effects.hpp) below which a sample counts as stuck [m/s].
 inline constexpr double kStuckSpeed_m_s = 1.5e-3;
+/// Sliding speed above which the pusher's force on a sliding object is its friction's stop force (the quasi-static
+/// law's level: the object slides clearly, the friction is fully developed) [m/s].
+inline constexpr double kClearlySlidingSpeed_m_s = 5e-3;
 /// The smoother's time scale [s]: 2 / kSmoothingBandwidth_rad_s, about the width over which the forward-backward
 /// filter spreads a jump in speed.
 inline constexpr double kSpeedResolution_s = 2.0 / kSmoothingBandwidth_rad_s;

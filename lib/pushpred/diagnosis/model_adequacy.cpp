@@ -84,7 +84,7 @@ std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPu
     const DiagnosisPush& d = pushes[p];
     const Eigen::Index n = d.rows();
     const ShapeInfo& shape = d.push.shape;
-    const double weight = shape.mass_kg * kStandardGravity_m_s2;
+    const double weight = shape.mass_kg * kGravity_m_s2;
     const FrictionFootprint footprint = FrictionFootprint::of(shape);
     const double contact_s = d.push.has_contact ? d.push.contact_start_s : d.push.t_s(d.first);
     // The lever r_C - r_O in the body frame, smoothed without lag, and its rate: the tip's motion relative to the

@@ -88,7 +88,7 @@ class AnisotropicFrictionEffect final : public ForceLawEffect {
 
 Eigen::Vector3d anisotropic_friction_wrench(const Eigen::Vector3d& pose, const Eigen::Vector3d& velocity,
                                             const ShapeInfo& shape, const FrictionFootprint& footprint) {
-  const double weight = shape.mass_kg * kStandardGravity_m_s2;
+  const double weight = shape.mass_kg * kGravity_m_s2;
   const double c = std::cos(pose(2)), s = std::sin(pose(2));
   const auto to_body = [&](const Eigen::Vector2d& w) {
     return Eigen::Vector2d(c * w.x() + s * w.y(), -s * w.x() + c * w.y());

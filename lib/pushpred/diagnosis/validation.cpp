@@ -141,7 +141,7 @@ double yardstick_floor(const std::string& kind, const FloorContext& c, const std
   if (kind == "compliant_pusher") {
     const double mass = c.mass_kg > 0 ? c.mass_kg : ShapeTable::published().find(shape_name).mass_kg;
     const double travel = c.travel_m > 0 ? c.travel_m : 0.04;
-    return kappa * travel / (mu * mass * kStandardGravity_m_s2);  // [m/N]
+    return kappa * travel / (mu * mass * kGravity_m_s2);  // [m/N]
   }
   throw InputError("validation: no floor for the simulator's '" + kind + "'");
 }
@@ -153,7 +153,7 @@ double simulator_floor(const std::string& kind, const FloorContext& c, const std
   if (kind == "force_offset") return floor / std::sqrt(2.0);             // the sim's amount is per axis
   if (kind == "stribeck_friction") return floor / c.friction_coefficient;  // the sim's is relative to mu
   if (kind == "support_tilt") {  // the candidate's |f| [N] as the tilt whose downhill force it is [deg]
-    const double weight = ShapeTable::published().find(shape_name).mass_kg * kStandardGravity_m_s2;
+    const double weight = ShapeTable::published().find(shape_name).mass_kg * kGravity_m_s2;
     return std::asin(std::min(1.0, floor / weight)) * 180 / M_PI;
   }
   if (kind == "anisotropic_friction") return floor / c.friction_coefficient;  // k / mu = |A - 1|
@@ -272,7 +272,7 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
   const double downhill_rad = uniform(start_rng, -M_PI, M_PI);
   trial.preloaded_pushes = 0;
   const ShapeInfo& shape_info = ShapeTable::published().find(trial.shape);
-  const double friction_force_N = trial.surface_friction * shape_info.mass_kg * kStandardGravity_m_s2;
+  const double friction_force_N = trial.surface_friction * shape_info.mass_kg * kGravity_m_s2;
   const int sides = Outline(ShapeTable::published().find(trial.shape)).side_count();
   std::vector<PushScenario> out;
   for (int k = 0; k < trial.pushes; ++k) {
@@ -336,7 +336,7 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     // typical speed (c <= mu g / v), and a patch with at most four times the support's friction.
     const double typical_speed_m_s = scenario_floor_context(out, o.diagnosis.relevance_fraction).sliding_speed_m_s;
     const double max_drag_1_s = typical_speed_m_s > 0
-                                    ? trial.surface_friction * kStandardGravity_m_s2 / typical_speed_m_s
+                                    ? trial.surface_friction * kGravity_m_s2 / typical_speed_m_s
                                     : std::numeric_limits<double>::infinity();
     const auto capped = [&](double size) {
       if (kind == "inertia_mismatch") return std::min(size, sign < 0 ? 0.5 : 3.0);

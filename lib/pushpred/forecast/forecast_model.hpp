@@ -24,6 +24,7 @@
 
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/reading/shape_table.hpp"
+#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
@@ -98,7 +99,7 @@ struct ForecastSettings {
   double contact_slack_m = 2e-5;  ///< the rod pushes from this far off the outline
   double gap_steps = 4;           ///< the gap keeper's time constant, in steps
   double max_slide_s = 2.0;       ///< the slide to rest is cut off after this
-  double gravity_m_s2 = 9.81;
+  double gravity_m_s2 = kGravity_m_s2;
 };
 
 /// The planned tip path: a straight push (start, direction, cruise speed, length, with the rig's raised-cosine speed

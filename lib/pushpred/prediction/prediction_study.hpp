@@ -22,6 +22,7 @@
 #include "pushpred/prediction/predictor.hpp"
 #include "pushpred/prediction/quasi_static_identification.hpp"
 #include "pushpred/prediction/schedule.hpp"
+#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
@@ -29,7 +30,6 @@ namespace pushpred {
 /// average of 0.13-0.15). Throws InputError for a surface without a value (give --mu).
 double surface_friction_coefficient(const std::string& surface);
 
-inline constexpr double kGravity_m_s2 = 9.81;
 
 /// Names of the built-in prediction methods, in report order: the default of StudyOptions::methods
 /// (predictor.hpp has every registered one).

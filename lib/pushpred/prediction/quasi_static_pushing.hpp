@@ -50,6 +50,7 @@
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/systems/continuous_system.hpp"
 #include "pushpred/systems/cvode_integrator.hpp"
+#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
@@ -61,7 +62,7 @@ struct QuasiStaticParameters {
   double support_friction = 0.3;   ///< mu_s, object on support [-]
   double contact_offset_m = 0;     ///< added to the rod radius: the measured rod-outline distance in contact
   double rod_radius_m = kPusherRadius_m;
-  double gravity_m_s2 = 9.81;
+  double gravity_m_s2 = kGravity_m_s2;
   double stop_speed_m_s = 2e-3;    ///< a planned tip slower than this does not push
   /// tau: how fast the object's velocity follows the quasi-static one while pushed. Half the rig's measured
   /// 5-95 % speed ramp (0.049 s, docs/simulator.md; a first-order lag of tau has the mean delay of a ramp of 2 tau):

@@ -27,6 +27,7 @@
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/simulation/pusher_path.hpp"
 #include "pushpred/systems/continuous_system.hpp"
+#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
@@ -40,7 +41,7 @@ struct ObjectProperties {
 };
 
 struct SupportFriction {
-  double gravity_m_s2 = 9.81;  ///< the weight m g is what the surface carries
+  double gravity_m_s2 = kGravity_m_s2;  ///< the weight m g is what the surface carries
   double coefficient = 0.35;   ///< Coulomb mu between object and surface
   /// eps in v / sqrt(|v|^2 + eps^2). Under a load f below mu N a resting object creeps at about eps f / (mu N):
   /// at 1e-5 m/s that is under a micrometre over a rest period, below the tracker's noise.

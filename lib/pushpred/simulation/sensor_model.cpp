@@ -12,6 +12,7 @@
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/recording.hpp"
+#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
@@ -168,7 +169,7 @@ std::vector<double> mid_push_forces(const SynchronisedPush& p) {
 
 double mid_push_force_per_weight(const SynchronisedPush& p) {
   const std::vector<double> f = mid_push_forces(p);
-  return f.empty() ? NAN : median(f) / (p.shape.mass_kg * 9.81);
+  return f.empty() ? NAN : median(f) / (p.shape.mass_kg * kGravity_m_s2);
 }
 
 double mid_push_force_spread(const SynchronisedPush& p) {
