@@ -8,7 +8,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "pushpred/reports/diagnosis_batch.hpp"
 #include "study_arguments.hpp"
 

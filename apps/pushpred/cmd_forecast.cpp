@@ -14,7 +14,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "pushpred/reports/forecast_report.hpp"
 #include "pushpred/reports/plotting.hpp"
 

@@ -4,7 +4,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "pushpred/reports/inspection.hpp"
 
 namespace pushpred::app {

@@ -9,7 +9,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "pushpred/observers/observation.hpp"
 #include "pushpred/reports/observation_report.hpp"
 #include "pushpred/reports/plotting.hpp"

@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/mpi_world.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred::app {
 namespace {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred::app {
 

@@ -5,8 +5,8 @@
 
 #include "commands.hpp"
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/mpi_world.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "pushpred/core/version.hpp"
 
 namespace {
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : pushpred::app::kExitNothingDone;
   }
-  // A run stopped by a signal removes its half-written output (core/output_files.hpp).
+  // A run stopped by a signal removes its half-written output (runtime/output_files.hpp).
   pushpred::install_output_cleanup_on_signals();
   try {
     return pushpred::app::run_selected(app);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "pushpred/reports/prediction_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 #include "pushpred/reports/validation_batch.hpp"

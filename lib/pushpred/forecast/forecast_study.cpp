@@ -8,7 +8,7 @@
 #include <mutex>
 #include <thread>
 
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "pushpred/core/robust_statistics.hpp"
 
 namespace pushpred {

@@ -13,8 +13,8 @@
 #include <utility>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/mpi_world.hpp"
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "pushpred/diagnosis/push_groups.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "pushpred/reports/prediction_summary.hpp"

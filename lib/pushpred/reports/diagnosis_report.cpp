@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/shard.hpp"
 #include "pushpred/core/version.hpp"
 #include "pushpred/reports/plotting.hpp"
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "pushpred/prediction/predictor.hpp"
 #include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/prediction_summary.hpp"

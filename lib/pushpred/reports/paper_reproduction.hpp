@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "pushpred/prediction/prediction_study.hpp"
 
 namespace pushpred {

@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/mpi_world.hpp"
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 
 namespace fs = std::filesystem;

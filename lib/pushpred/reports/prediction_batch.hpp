@@ -1,7 +1,7 @@
 #pragma once
 // `pushpred predict` as a batch: the whole run over every input, one shard of it (`--shard I/N`, a partial output),
 // an MPI job (`mpirun -np N`, rank 0 writes), and `pushpred merge`, which turns the shards' partial outputs into
-// what the whole run writes, byte for byte (core/shard.hpp has the split and the partial format). The apps only
+// what the whole run writes, byte for byte (runtime/shard.hpp has the split and the partial format). The apps only
 // parse arguments and call these.
 #include <cstddef>
 #include <nlohmann/json.hpp>
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 #include "pushpred/prediction/prediction_study.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/mpi_world.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "pushpred/reports/validation_report.hpp"
 

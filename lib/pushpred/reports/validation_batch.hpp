@@ -1,13 +1,13 @@
 #pragma once
 // `pushpred validate-diagnosis` as a batch of trials: the whole run, one shard of it (`--shard I/N`: trial k goes to
 // shard k mod N + 1, a partial output), an MPI job (rank 0 writes), and the merge of the shards' partial outputs
-// into what the whole run writes, byte for byte (core/shard.hpp has the partial format).
+// into what the whole run writes, byte for byte (runtime/shard.hpp has the partial format).
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 #include "pushpred/diagnosis/validation.hpp"
 
 namespace pushpred {

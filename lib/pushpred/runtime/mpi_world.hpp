@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
 

@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/isolated_call.hpp"
+#include "pushpred/runtime/isolated_call.hpp"
 
 using namespace pushpred;
 

@@ -1,4 +1,4 @@
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "pushpred/core/version.hpp"
 
 namespace fs = std::filesystem;

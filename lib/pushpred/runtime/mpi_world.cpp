@@ -1,4 +1,4 @@
-#include "pushpred/core/mpi_world.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
 
 #include <algorithm>
 #include <cstdint>

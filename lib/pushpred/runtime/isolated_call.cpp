@@ -1,4 +1,4 @@
-#include "pushpred/core/isolated_call.hpp"
+#include "pushpred/runtime/isolated_call.hpp"
 
 #include <poll.h>
 #include <pthread.h>
@@ -13,7 +13,10 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <mutex>
+#include <utility>
 
 #include "pushpred/core/error.hpp"
 
@@ -358,5 +361,26 @@ std::string IsolatedServer::call(const std::string& source, const std::string& r
   }
   return reply.substr(1);
 }
+
+std::string ForkServerCaller::call(const std::string& what, IsolatedHandler handler, const std::string& source,
+                                   const std::string& request, double timeout_s) const {
+  // One child per thread and kind of job serves every call (the reader's one per thread, docs/performance.md).
+  thread_local std::map<std::pair<IsolatedHandler, std::string>, std::unique_ptr<IsolatedServer>> servers;
+  auto& server = servers[{handler, what}];
+  if (!server) server = std::make_unique<IsolatedServer>(what, handler);
+  return server->call(source, request, timeout_s);
+}
+
+const ForkServerCaller& fork_server_caller() {
+  static const ForkServerCaller caller;
+  return caller;
+}
+
+namespace {
+
+// libpushpred's readers isolate libhdf5 in a child process unless a caller is given another way.
+[[maybe_unused]] const bool fork_server_installed = (install_default_isolated_caller(&fork_server_caller()), true);
+
+}  // namespace
 
 }  // namespace pushpred
