@@ -2,8 +2,9 @@
 // the plausibility checks on whatever it accepts. Inputs are mutations of real recordings (the seed corpus).
 //
 // libhdf5 1.10.8 dereferences NULL on some corrupt files: the child then dies by SIGSEGV and the file is refused,
-// which is the isolation working, not a finding; so is a hang in libhdf5 stopped by the time-out. Any other way the child can end (an AddressSanitizer or UBSan
-// report in pushpred's code running there, an abort) is a finding, as is anything in this process.
+// which is the isolation working, not a finding; so is a hang in libhdf5 stopped by the time-out. Any other way the
+// child can end (an AddressSanitizer or UBSan report in pushpred's code running there, an abort) is a finding, as is
+// anything in this process.
 #include <cstdlib>
 #include <string>
 

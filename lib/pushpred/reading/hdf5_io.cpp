@@ -216,7 +216,8 @@ Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptio
   std::memcpy(request.data(), &max_rows, sizeof max_rows);
   std::memcpy(request.data() + sizeof max_rows, &options.max_span_s, sizeof options.max_span_s);
   request += source;
-  const std::string bytes = isolation.call("reading the HDF5 file", &read_request, source, request, options.hdf5_timeout_s);
+  const std::string bytes =
+      isolation.call("reading the HDF5 file", &read_request, source, request, options.hdf5_timeout_s);
   const StoredArrays arrays = decode(source, bytes);
   Recording r;
   r.source = source;

@@ -71,8 +71,8 @@ struct ReadOptions {
   /// columns are read, so that refusing a huge file costs a column, not the file (the bound of
   /// PlausibilityLimits::max_span_s, which checks every recording again after reading).
   double max_span_s = 600.0;
-  /// libhdf5 runs through `isolation`, in a child process (runtime/isolated_call.hpp) that is stopped after this long; a
-  /// real file takes milliseconds.
+  /// libhdf5 runs through `isolation`, in a child process (runtime/isolated_call.hpp) that is stopped after this long;
+  /// a real file takes milliseconds.
   double hdf5_timeout_s = 60.0;
   /// Where libhdf5 runs, so that a crash on a corrupt file costs that file only; nullptr: default_isolated_caller(),
   /// the runtime's fork server in libpushpred.

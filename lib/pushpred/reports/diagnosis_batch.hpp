@@ -12,12 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "pushpred/runtime/output_files.hpp"
-#include "pushpred/runtime/shard.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
+
+class MpiSession;
 
 inline constexpr const char* kDiagnoseCommand = "diagnose";
 
@@ -33,6 +35,7 @@ struct DiagnoseRun {
   bool plots = true;
   int jobs = 1;
   std::optional<ShardSpec> shard;  ///< given (1/1 included; --per-object only): a partial output of that share
+  const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the objects when it has several
 };
 
 /// Runs the diagnosis and writes its outputs: DIR/diagnosis.json, report.md, ... for one object; with --per-object

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "pushpred/runtime/output_files.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred {
 

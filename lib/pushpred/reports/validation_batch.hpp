@@ -6,11 +6,13 @@
 #include <optional>
 #include <string>
 
+#include "pushpred/diagnosis/validation.hpp"
 #include "pushpred/runtime/output_files.hpp"
 #include "pushpred/runtime/shard.hpp"
-#include "pushpred/diagnosis/validation.hpp"
 
 namespace pushpred {
+
+class MpiSession;
 
 inline constexpr const char* kValidationCommand = "validate-diagnosis";
 
@@ -24,6 +26,7 @@ struct ValidateRun {
   std::string out;
   std::optional<ShardSpec> shard;  ///< given: only that share of the trials, as a partial output
   bool progress = true;            ///< trials done on stderr
+  const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the trials when it has several
 };
 
 /// Runs the trials (all, the shard's, or this MPI rank's: launched by mpirun as one of N ranks, rank R runs the

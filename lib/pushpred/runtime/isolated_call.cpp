@@ -72,7 +72,8 @@ bool read_exactly(int fd, char* data, std::size_t size) {
       reply = "Eunexpected error";
     }
     const std::uint64_t n = reply.size();
-    if (!send_all(fd, reinterpret_cast<const char*>(&n), sizeof n) || !send_all(fd, reply.data(), reply.size())) _exit(0);
+    if (!send_all(fd, reinterpret_cast<const char*>(&n), sizeof n) || !send_all(fd, reply.data(), reply.size()))
+      _exit(0);
   }
 }
 
@@ -235,8 +236,8 @@ std::string run_isolated(const std::string& source, const std::string& what, con
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
   }
   if (timed_out)
-    throw InputError(about(source, what + " took longer than " + std::to_string(static_cast<int>(timeout_s)) +
-                                       " s and was stopped"));
+    throw InputError(about(
+        source, what + " took longer than " + std::to_string(static_cast<int>(timeout_s)) + " s and was stopped"));
   if (WIFSIGNALED(status))
     throw InputError(about(source, what + " crashed (signal " + std::to_string(WTERMSIG(status)) + ", " +
                                        strsignal(WTERMSIG(status)) + "): the file is corrupt"));
@@ -273,7 +274,8 @@ void IsolatedServer::start(const std::string& source) {
     throw InputError(about(source, what_ + ": cannot fork: " + std::strerror(errno)));
   }
   if (child == 0) {
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE}) signal(sig, SIG_DFL);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE})
+      signal(sig, SIG_DFL);
     // Ends with the thread that started it, even if that one dies without closing the socket.
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(0);
@@ -336,8 +338,8 @@ std::string IsolatedServer::call(const std::string& source, const std::string& r
   }
   if (timed_out) {
     stop(true);
-    throw InputError(about(source, what_ + " took longer than " + std::to_string(static_cast<int>(timeout_s)) +
-                                       " s and was stopped"));
+    throw InputError(about(
+        source, what_ + " took longer than " + std::to_string(static_cast<int>(timeout_s)) + " s and was stopped"));
   }
   if (ended) {
     close(socket_);
