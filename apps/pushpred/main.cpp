@@ -50,11 +50,11 @@ int main(int argc, char** argv) {
   }
   // A run stopped by a signal removes its half-written output (runtime/output_files.hpp).
   pushpred::install_output_cleanup_on_signals();
-  // Started by an MPI launcher as one of several processes: MPI from here to the end of the run (the session
-  // finalises it), for the commands that split their work over the ranks; the others refuse to run so.
+  // Started by an MPI launcher: MPI from here to the end of the run (the session finalises it), for the commands
+  // that split their work over the ranks; the others refuse to run as one of several processes.
   std::optional<pushpred::MpiSession> mpi;
   try {
-    if (pushpred::mpi_launch_size() > 1) mpi.emplace();
+    if (pushpred::mpi_launched()) mpi.emplace();
     return pushpred::app::run_selected(app, mpi ? &*mpi : nullptr);
   } catch (const pushpred::InputError& e) {
     return report_error(e, pushpred::app::kExitNothingDone, mpi ? &*mpi : nullptr);

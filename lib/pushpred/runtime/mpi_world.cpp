@@ -30,10 +30,6 @@ int env_count(const char* name) {
 }
 
 #ifdef PUSHPRED_HAVE_MPI
-bool launched() {
-  return env_count("OMPI_COMM_WORLD_SIZE") > 0 || env_count("PMI_SIZE") > 0 || std::getenv("PMIX_RANK") != nullptr;
-}
-
 // Texts go in pieces of at most this many bytes (an MPI count is an int).
 constexpr std::uint64_t kPiece = 1u << 30;
 #endif
@@ -48,6 +44,10 @@ bool mpi_built() {
 #endif
 }
 
+bool mpi_launched() {
+  return env_count("OMPI_COMM_WORLD_SIZE") > 0 || env_count("PMI_SIZE") > 0 || std::getenv("PMIX_RANK") != nullptr;
+}
+
 int mpi_launch_size() {
   const int n = std::max(env_count("OMPI_COMM_WORLD_SIZE"), env_count("PMI_SIZE"));
   return n > 0 ? n : 1;
@@ -57,7 +57,7 @@ int mpi_launch_rank() { return std::max(env_count("OMPI_COMM_WORLD_RANK"), env_c
 
 MpiSession::MpiSession() {
 #ifdef PUSHPRED_HAVE_MPI
-  if (!launched()) return;
+  if (!mpi_launched()) return;
   int provided = 0;
   // Only the main thread calls MPI; worker threads (--jobs) never do.
   if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)

@@ -21,6 +21,9 @@ namespace pushpred {
 /// True when this build was made with MPI.
 bool mpi_built();
 
+/// True when a launcher started this process (one of OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK is set): a program
+/// then makes its MpiSession. Reads the environment only.
+bool mpi_launched();
 /// The number of processes a launcher says this one is part of (OMPI_COMM_WORLD_SIZE or PMI_SIZE), 1 when not
 /// launched by one. Reads the environment only; does not initialise MPI.
 int mpi_launch_size();
