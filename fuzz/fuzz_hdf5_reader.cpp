@@ -1,9 +1,10 @@
-// libFuzzer target: the HDF5 reader as the program runs it (libhdf5 in a child process, core/isolated_call.hpp) and
+// libFuzzer target: the HDF5 reader as the program runs it (libhdf5 in a child process, runtime/isolated_call.hpp) and
 // the plausibility checks on whatever it accepts. Inputs are mutations of real recordings (the seed corpus).
 //
 // libhdf5 1.10.8 dereferences NULL on some corrupt files: the child then dies by SIGSEGV and the file is refused,
-// which is the isolation working, not a finding; so is a hang in libhdf5 stopped by the time-out. Any other way the child can end (an AddressSanitizer or UBSan
-// report in pushpred's code running there, an abort) is a finding, as is anything in this process.
+// which is the isolation working, not a finding; so is a hang in libhdf5 stopped by the time-out. Any other way the
+// child can end (an AddressSanitizer or UBSan report in pushpred's code running there, an abort) is a finding, as is
+// anything in this process.
 #include <cstdlib>
 #include <string>
 
@@ -11,11 +12,13 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/preprocessing/plausibility.hpp"
 #include "pushpred/reading/recording.hpp"
+#include "pushpred/runtime/isolated_call.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const auto path = pushpred::fuzz::input_file(data, size, ".h5");
   try {
     pushpred::ReadOptions options;
+    options.isolation = &pushpred::fork_server_caller();  // as the program reads: libhdf5 in a child
     options.hdf5_timeout_s = 5;  // under the fuzzer's own 10 s limit: a hang in libhdf5 is stopped, as in the program
     const pushpred::Recording r = pushpred::read_recording_hdf5(path, options);
     pushpred::check_plausible(r);

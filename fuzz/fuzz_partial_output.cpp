@@ -10,7 +10,7 @@
 
 #include "fuzz_support.hpp"
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::filesystem::path file = pushpred::fuzz::input_file(data, size, ".json");

@@ -6,9 +6,9 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/estimator_comparison.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "study_arguments.hpp"
 
 namespace pushpred::app {

@@ -8,8 +8,8 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/diagnosis_batch.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "study_arguments.hpp"
 
 namespace pushpred::app {
@@ -43,6 +43,7 @@ int run_diagnose(const DiagnoseArgs& a) {
   run.per_object = a.per_object;
   run.plots = !a.no_plots;
   run.jobs = a.jobs;
+  run.mpi = mpi_session();
   return finish_outcome(pushpred::run_diagnose(run));
 }
 

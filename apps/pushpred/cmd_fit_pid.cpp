@@ -12,9 +12,9 @@
 #include "flags.hpp"
 #include "pushpred/calibration/pid_gain_fit.hpp"
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/pid_fit_report.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred::app {
 namespace {

@@ -14,9 +14,9 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/reports/forecast_report.hpp"
 #include "pushpred/reports/plotting.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred::app {
 namespace {

@@ -7,10 +7,10 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/forecast_report.hpp"
 #include "pushpred/reports/plotting.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred::app {
 namespace {

@@ -4,8 +4,8 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/inspection.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred::app {
 namespace {

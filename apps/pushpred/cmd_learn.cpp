@@ -12,9 +12,9 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/forecast/forecast_study.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred::app {
 namespace {

@@ -9,10 +9,10 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/observers/observation.hpp"
 #include "pushpred/reports/observation_report.hpp"
 #include "pushpred/reports/plotting.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred::app {
 namespace {

@@ -12,9 +12,9 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/reports/plotting.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "study_arguments.hpp"
 
 namespace pushpred::app {

@@ -6,8 +6,8 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/prediction_batch.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "study_arguments.hpp"
 
 namespace pushpred::app {
@@ -31,6 +31,7 @@ int run_predict(const PredictArgs& a) {
   run.out = a.out;
   run.shape = a.shape;
   run.jobs = a.jobs;
+  run.mpi = mpi_session();
   return finish_outcome(pushpred::run_predict(run));
 }
 

@@ -22,6 +22,7 @@ int run_validate(const ValidateArgs& a) {
   ValidateRun run;
   run.options = a.options;
   run.out = a.out;
+  run.mpi = mpi_session();
   if (a.shard_given) run.shard = parse_shard_spec(a.shard);
   return finish_outcome(run_validation(run));
 }

@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/mpi_world.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred::app {
 namespace {
@@ -70,7 +70,14 @@ std::optional<int> refuse_unknown_command(const CLI::App& app, const std::string
   return kExitNothingDone;
 }
 
-int run_selected(CLI::App& app) {
+namespace {
+const MpiSession* the_mpi_session = nullptr;
+}  // namespace
+
+const MpiSession* mpi_session() { return the_mpi_session; }
+
+int run_selected(CLI::App& app, const MpiSession* mpi) {
+  the_mpi_session = mpi;
   for (const CLI::App* sub : app.get_subcommands()) {
     const std::string& name = sub->get_name();
     // Several processes started by mpirun would each do the whole job and write the same output.

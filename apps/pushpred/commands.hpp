@@ -11,7 +11,11 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/shard.hpp"
+
+namespace pushpred {
+class MpiSession;
+}
 
 namespace pushpred::app {
 
@@ -19,7 +23,11 @@ using Runner = std::function<int()>;
 using AddCommand = std::function<void(CLI::App&, Runner&)>;
 
 std::vector<std::function<void(CLI::App&)>> all_commands();
-int run_selected(CLI::App& app);
+/// Runs the selected command. `mpi`: the program's MPI session (main makes it when a launcher started this process
+/// as one of several), handed to the commands that split their work over ranks (mpi_session()).
+int run_selected(CLI::App& app, const MpiSession* mpi);
+/// The session run_selected was given (nullptr: a plain run).
+const MpiSession* mpi_session();
 
 struct CommandRegistration {
   explicit CommandRegistration(AddCommand add);

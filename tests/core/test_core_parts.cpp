@@ -1,20 +1,17 @@
+#define BOOST_TEST_MODULE core
 // The rest of core/: plain-text messages, the data folder's resolution, the listing of recordings, and the batch
 // runner that turns each failure into a named line. Expected values are written out by hand.
 #include <sys/stat.h>
 
-#include <atomic>
 #include <boost/test/unit_test.hpp>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
-#include <thread>
 
 #include "pushpred/core/batch.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "test_support.hpp"
 
 using namespace pushpred;
@@ -192,57 +189,6 @@ BOOST_AUTO_TEST_CASE(each_failure_is_one_named_plain_line_and_the_batch_goes_on)
   BOOST_TEST(b.failures[1].reason == "garbage \\xFF  here");
   BOOST_TEST(b.failures[2].source == "other.h5");
   BOOST_TEST(b.failures[2].reason == "unexpected error");
-}
-
-BOOST_AUTO_TEST_CASE(a_batch_on_two_threads_hands_each_outcome_over_in_input_order_one_at_a_time) {
-  // The first input is the slowest, so the other thread finishes later inputs first; they must wait for it.
-  const std::vector<fs::path> inputs{"slow.h5", "a.h5", "bad.h5", "b.h5", "c.h5", "d.h5"};
-  std::vector<std::size_t> order;
-  std::vector<std::string> seen;
-  std::atomic<int> consuming{0};
-  bool overlapped = false;
-  run_batch_in_order(
-      inputs,
-      [](std::size_t index, const fs::path& p) -> int {
-        if (p == "slow.h5") std::this_thread::sleep_for(std::chrono::milliseconds(200));
-        if (p == "bad.h5") throw InputError("bad.h5: no pose");
-        return static_cast<int>(index);
-      },
-      [&](std::size_t index, BatchItem<int>&& item) {
-        if (consuming.fetch_add(1) != 0) overlapped = true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        order.push_back(index);
-        seen.push_back(item.result ? std::to_string(*item.result) : item.failure->source + ": " + item.failure->reason);
-        consuming.fetch_sub(1);
-      },
-      2, nullptr);
-  BOOST_TEST(order == (std::vector<std::size_t>{0, 1, 2, 3, 4, 5}), boost::test_tools::per_element());
-  BOOST_TEST(seen == (std::vector<std::string>{"0", "1", "bad.h5: no pose", "3", "4", "5"}),
-             boost::test_tools::per_element());
-  BOOST_TEST(!overlapped);
-}
-
-BOOST_AUTO_TEST_CASE(an_error_while_consuming_stops_the_batch_and_reaches_the_caller) {
-  const std::vector<fs::path> inputs{"a.h5", "b.h5", "c.h5", "d.h5", "e.h5"};
-  for (int jobs : {1, 2}) {
-    std::atomic<int> started{0};
-    std::vector<std::size_t> consumed;
-    BOOST_CHECK_EXCEPTION(run_batch_in_order(
-                              inputs,
-                              [&](std::size_t index, const fs::path&) {
-                                ++started;
-                                return static_cast<int>(index);
-                              },
-                              [&](std::size_t index, BatchItem<int>&&) {
-                                if (index == 1) throw std::runtime_error("disk full");
-                                consumed.push_back(index);
-                              },
-                              jobs, nullptr),
-                          std::runtime_error,
-                          [](const std::runtime_error& e) { return std::string(e.what()) == "disk full"; });
-    BOOST_TEST(consumed == std::vector<std::size_t>{0}, boost::test_tools::per_element());
-    if (jobs == 1) BOOST_TEST(started.load() == 2);  // nothing is started after the failure
-  }
 }
 
 BOOST_AUTO_TEST_SUITE_END()

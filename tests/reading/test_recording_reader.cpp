@@ -47,6 +47,37 @@ BOOST_AUTO_TEST_CASE(a_written_recording_reads_back_identically) {
   BOOST_TEST((copy.tip_pose.values == original.tip_pose.values));
 }
 
+namespace {
+
+/// Runs every job in this process and counts them, so that a test sees which caller the reader used.
+class CountingCaller final : public IsolatedCaller {
+ public:
+  std::string call(const std::string& what, IsolatedHandler handler, const std::string& source,
+                   const std::string& request, double timeout_s) const override {
+    ++calls;
+    last_what = what;
+    return InProcessCaller().call(what, handler, source, request, timeout_s);
+  }
+  mutable int calls = 0;
+  mutable std::string last_what;
+};
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_reader_runs_libhdf5_through_the_caller_it_is_given_and_reads_the_same) {
+  const auto path = real_file("shape=hex_a=0_v=50");
+  CountingCaller counting;
+  ReadOptions options;
+  options.isolation = &counting;
+  const Recording through_given = read_recording(path, options);
+  BOOST_TEST(counting.calls == 1);
+  BOOST_TEST(counting.last_what == "reading the HDF5 file");
+  const Recording by_default = read_recording(path);
+  BOOST_TEST(counting.calls == 1);  // the default is not the one given before
+  BOOST_TEST((through_given.ft_wrench.values == by_default.ft_wrench.values));
+  BOOST_TEST((through_given.object_pose.t_s == by_default.object_pose.t_s));
+}
+
 BOOST_AUTO_TEST_CASE(out_of_order_stamps_in_real_files_are_sorted_and_reported) {
   int files_with_repairs = 0, files = 0;
   for (const auto& p : list_recordings(resolve_data_folder(), "abs")) {

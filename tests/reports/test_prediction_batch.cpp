@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/reports/prediction_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 #include "pushpred/reports/validation_batch.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 using namespace pushpred;
 

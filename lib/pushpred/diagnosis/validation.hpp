@@ -147,7 +147,7 @@ ValidationResult validate_diagnosis(const ValidationOptions& options,
 /// The number of trials of a whole run: trials_per_kind times the kinds (default_validation_kinds when empty).
 int validation_trial_count(const ValidationOptions& options);
 /// validate_diagnosis on the trials `indices` only (0-based, each below validation_trial_count; a shard of the
-/// run, core/shard.hpp): each trial is the whole run's trial of that index; result.trials holds them in the order
+/// run, runtime/shard.hpp): each trial is the whole run's trial of that index; result.trials holds them in the order
 /// given, result.options has the kinds filled in as validate_diagnosis's.
 ValidationResult validate_diagnosis_trials(const ValidationOptions& options, const std::vector<int>& indices,
                                            const std::function<void(int, int)>& progress = {});

@@ -8,8 +8,8 @@
 #include <mutex>
 #include <thread>
 
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/core/robust_statistics.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred {
 

@@ -11,7 +11,7 @@
 #include <random>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/isolated_call.hpp"
+#include "pushpred/core/isolated_caller.hpp"
 #include "pushpred/reading/recording.hpp"
 
 namespace pushpred {
@@ -147,7 +147,7 @@ struct StoredArrays {
   std::array<std::int64_t, 3> stored_bits{64, 64, 64};
 };
 
-/// The three arrays, as read by libhdf5 (in the child process of run_isolated).
+/// The three arrays, as read by libhdf5 (in the isolated caller's child process).
 StoredArrays read_arrays(const std::string& source, long long max_rows, double max_span_s) {
   silence_hdf5_errors();
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
@@ -209,14 +209,15 @@ Recording read_recording_hdf5(const std::filesystem::path& path, const ReadOptio
   const std::string source = path.string();
   check_readable_file(path);
   // libhdf5 (1.10.8) dereferences NULL on some corrupt files: it runs in a child process, so that such a file is one
-  // failure of the batch, not the end of it. One child per thread serves every file (core/isolated_call.hpp).
-  thread_local IsolatedServer reader("reading the HDF5 file", &read_request);
+  // failure of the batch, not the end of it (the fork server of runtime/isolated_call.hpp, unless told otherwise).
+  const IsolatedCaller& isolation = options.isolation ? *options.isolation : default_isolated_caller();
   std::string request(sizeof(std::int64_t) + sizeof(double), '\0');
   const std::int64_t max_rows = options.max_rows;
   std::memcpy(request.data(), &max_rows, sizeof max_rows);
   std::memcpy(request.data() + sizeof max_rows, &options.max_span_s, sizeof options.max_span_s);
   request += source;
-  const std::string bytes = reader.call(source, request, options.hdf5_timeout_s);
+  const std::string bytes =
+      isolation.call("reading the HDF5 file", &read_request, source, request, options.hdf5_timeout_s);
   const StoredArrays arrays = decode(source, bytes);
   Recording r;
   r.source = source;

@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "pushpred/core/isolated_caller.hpp"
+
 namespace pushpred {
 
 /// One stream: rows [t, a, b, c], t in Unix seconds, strictly increasing after reading.
@@ -69,9 +71,12 @@ struct ReadOptions {
   /// columns are read, so that refusing a huge file costs a column, not the file (the bound of
   /// PlausibilityLimits::max_span_s, which checks every recording again after reading).
   double max_span_s = 600.0;
-  /// libhdf5 runs in a child process (core/isolated_call.hpp) that is stopped after this long; a real file takes
-  /// milliseconds.
+  /// libhdf5 runs through `isolation`, in a child process (runtime/isolated_call.hpp) that is stopped after this long;
+  /// a real file takes milliseconds.
   double hdf5_timeout_s = 60.0;
+  /// Where libhdf5 runs, so that a crash on a corrupt file costs that file only; nullptr: default_isolated_caller(),
+  /// the runtime's fork server in libpushpred.
+  const IsolatedCaller* isolation = nullptr;
 };
 
 /// Reads an HDF5 or JSON recording, chosen by content (not by extension). Only regular files are opened (a FIFO

@@ -1,23 +1,21 @@
 #include "pushpred/reports/diagnosis_batch.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/mpi_world.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/diagnosis/push_groups.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
+#include "pushpred/runtime/batch_runner.hpp"
 
 namespace fs = std::filesystem;
 
@@ -33,6 +31,7 @@ struct ObjectDone {
   std::string printed;
   std::string complaints;
   std::size_t left_out = 0;
+  std::vector<std::string> files;  ///< what its report wrote, relative to the output (a shard's or rank's only)
 };
 
 // --- An object's outcome in a partial output: what the overview and the printed report read of it, exactly.
@@ -153,36 +152,58 @@ BatchRunOutcome finish_per_object(std::vector<ObjectDone> objects, std::size_t p
   return outcome;
 }
 
-BatchRunOutcome merged_diagnoses(const MergedParts& merged, StagedOutput& out, bool list_read_failures) {
-  if (merged.command != kDiagnoseCommand)
-    throw InputError("merge: the parts are partial outputs of `" + plain_text(merged.command) +
-                     "`, not of `diagnose`");
-  const std::string first = merged.items.empty() ? std::string("the parts") : merged.items.front().part->name;
+/// The objects of a per-object run, in order, made into its overview. What was read (how many pushes, which inputs
+/// failed) comes from the run's options (options_json); a merge of shards lists the unreadable inputs, which a whole
+/// run and an MPI job's rank 0 listed as they read them.
+class DiagnosisRenderer final : public BatchRenderer<ObjectDone> {
+ public:
+  DiagnosisRenderer(StagedOutput& out, std::size_t pushes_read, std::vector<BatchFailure> read_failures, bool list)
+      : out_(out), pushes_read_(pushes_read), read_failures_(std::move(read_failures)), list_(list) {}
+  void add(std::size_t, ObjectDone&& done) override { objects_.push_back(std::move(done)); }
+  void add_failure(std::size_t, BatchFailure&& failure) override {
+    ObjectDone d;  // an object's diagnosis catches its input errors: only the unexpected reaches here
+    d.outcome.name = failure.source;
+    d.outcome.error = failure.reason;
+    d.complaints = "FAILED " + failure.source + ": " + failure.reason + "\n";
+    objects_.push_back(std::move(d));
+  }
+  BatchRunOutcome finish() override {
+    return finish_per_object(std::move(objects_), pushes_read_, !read_failures_.empty(),
+                             list_ ? failure_lines(read_failures_) : std::string(), out_);
+  }
+
+ private:
+  StagedOutput& out_;
+  std::size_t pushes_read_;
+  std::vector<BatchFailure> read_failures_;
+  bool list_;
+  std::vector<ObjectDone> objects_;
+};
+
+std::unique_ptr<BatchRenderer<ObjectDone>> diagnosis_renderer(StagedOutput& out, const nlohmann::json& options,
+                                                              RenderFor mode) {
   std::size_t pushes_read = 0;
   std::vector<BatchFailure> read_failures;
   try {
-    if (!merged.options.at("per_object").get<bool>()) throw InputError("not --per-object");
-    const auto& read = merged.options.at("read");
+    if (!options.at("per_object").get<bool>()) throw InputError("not --per-object");
+    const auto& read = options.at("read");
     pushes_read = read.at("pushes").get<std::size_t>();
     for (const auto& f : read.at("failures"))
       read_failures.push_back({f.at("source").get<std::string>(), f.at("reason").get<std::string>()});
   } catch (const std::exception&) {
-    throw InputError("merge: " + plain_text(first) + ": its partial.json's options are not those of `diagnose "
-                                                     "--per-object`");
+    throw InputError("its partial.json's options are not those of `diagnose --per-object`");
   }
-  std::vector<ObjectDone> objects;
-  for (const auto& m : merged.items) {
-    try {
-      objects.push_back(object_from_exact_json(m.result()));
-    } catch (const std::exception& e) {
-      throw InputError(about(plain_text(m.part->name),
-                             "object " + std::to_string(m.index + 1) + " is not readable: " + e.what()));
-    }
-  }
-  for (const auto& m : merged.items)
-    for (const auto& file : m.files) write_text_atomically(out.path(file), m.part->read_file(file));
-  return finish_per_object(std::move(objects), pushes_read, !read_failures.empty(),
-                           list_read_failures ? failure_lines(read_failures) : std::string(), out);
+  return std::make_unique<DiagnosisRenderer>(out, pushes_read, std::move(read_failures),
+                                             mode == RenderFor::shard_merge);
+}
+
+PartialCodec<ObjectDone> diagnosis_codec() {
+  PartialCodec<ObjectDone> codec;
+  codec.encode = object_exact_json;
+  codec.decode = object_from_exact_json;
+  codec.files = [](std::size_t, const ObjectDone& d) { return d.files; };
+  codec.name = [](std::size_t index) { return "object " + std::to_string(index + 1); };
+  return codec;
 }
 
 /// The files under `folder`, as sorted paths relative to its parent (`name/...`).
@@ -247,116 +268,20 @@ BatchRunOutcome diagnose_single_object(const DiagnoseRun& run, const EffectLibra
   return outcome;
 }
 
-/// The positions of the groups this process diagnoses: all of them, or the shard's (the sorted groups dealt out as
-/// shard_positions deals out inputs).
-std::vector<std::size_t> groups_of_this_process(const std::vector<fs::path>& names, bool partial,
-                                                const ShardSpec& shard) {
-  if (partial) return shard_positions(names, shard);
-  std::vector<std::size_t> mine;
-  for (std::size_t i = 0; i < names.size(); ++i) mine.push_back(i);
-  return mine;
-}
-
-/// Diagnoses the groups at `mine`, shared out over the jobs, each written to folder_of(its name): an object that
-/// cannot be diagnosed is reported and the others go on. What each prints is kept, in the objects' order, whatever
-/// the jobs.
-std::vector<ObjectDone> diagnose_objects(std::vector<PushGroup>& groups, const std::vector<std::size_t>& mine,
-                                         const DiagnoseRun& run, const EffectLibrary& library,
-                                         const std::function<fs::path(const std::string&)>& folder_of,
-                                         const std::string& label, bool speaks) {
-  const DiagnosisOptions& o = run.options;
-  std::vector<ObjectDone> done(mine.size());
-  BatchProgress progress(label, "objects", mine.size(), speaks);
-  std::atomic<std::size_t> next{0};
-  const auto one_object = [&](std::size_t k) {
-    PushGroup& g = groups[mine[k]];
-    ObjectDone& d = done[k];
-    d.outcome = DiagnosisGroupOutcome{g.name(), g.pushes.size(), std::nullopt, ""};
-    try {
-      DiagnosisResult result = diagnose(g.pushes, library, o);
-      write_diagnosis_report(result, o, folder_of(g.name()), run.plots);
-      d.printed = diagnosis_summary_text(result);
-      for (const auto& f : result.failures) d.complaints += "LEFT OUT " + f.source + ": " + f.reason + "\n";
-      d.left_out = result.failures.size();
-      d.outcome.result = std::move(result);
-    } catch (const InputError& e) {
-      d.outcome.error = e.what();
-      d.complaints += "FAILED " + g.name() + ": " + e.what() + "\n";
-    }
-    progress.item_done();
-  };
-  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(1, run.jobs)), mine.size());
-  std::vector<std::thread> pool;
-  for (std::size_t t = 0; t < threads; ++t)
-    pool.emplace_back([&] {
-      for (std::size_t k = next++; k < mine.size(); k = next++) one_object(k);
-    });
-  for (auto& t : pool) t.join();
-  progress.finish();
-  return done;
-}
-
-std::string progress_label(bool mpi, bool partial, const MpiWorld& world, const ShardSpec& shard) {
-  return mpi       ? "diagnose (rank 0 of " + std::to_string(world.size()) + " ranks)"
-         : partial ? "diagnose (shard " + shard.text() + ")"
-                   : std::string("diagnose");
-}
-
-/// This process's share of a split per-object run, as the items of its partial output.
-struct PartialShare {
-  std::vector<PartialItem> items;
-  std::vector<std::string> files;  ///< every file of this rank's objects (relative paths), for MPI rank 0
-  bool anything_failed = false;
-  std::string complaints;
-  std::size_t diagnosed = 0;
-};
-
-PartialShare partial_share(const std::vector<ObjectDone>& done, const std::vector<std::size_t>& mine, bool read_failed,
-                           const std::function<fs::path(const std::string&)>& folder_of) {
-  PartialShare share;
-  share.anything_failed = read_failed;
-  for (std::size_t k = 0; k < mine.size(); ++k) {
-    const ObjectDone& d = done[k];
-    PartialItem item;
-    item.index = mine[k];
-    item.result_json = partial_result_text(object_exact_json(d));
-    item.files = files_under(folder_of(d.outcome.name), d.outcome.name);
-    share.files.insert(share.files.end(), item.files.begin(), item.files.end());
-    share.anything_failed = share.anything_failed || !d.outcome.result || d.left_out > 0;
-    share.diagnosed += d.outcome.result ? 1 : 0;
-    share.complaints += d.complaints;
-    share.items.push_back(std::move(item));
-  }
-  return share;
-}
-
-/// The outcome of a shard (not an MPI rank): what it prints once its partial output is written.
-BatchRunOutcome shard_outcome(const PartialShare& share, std::size_t objects_here, std::size_t objects_in_all,
-                              const ShardSpec& shard, const StagedOutput& out) {
-  BatchRunOutcome outcome;
-  outcome.partial = true;
-  outcome.report = "diagnosed " + std::to_string(share.diagnosed) + " of the " + std::to_string(objects_here) +
-                   " objects of shard " + shard.text() + " (" + std::to_string(objects_in_all) +
-                   " objects in all); partial output in " + out.destination().string() +
-                   "; when every shard is done: pushpred merge --out DIR PART...\n";
-  outcome.notes = share.complaints;
-  outcome.exit_code = share.anything_failed ? 1 : 0;
-  return outcome;
-}
-
 }  // namespace
 
 BatchRunOutcome write_merged_diagnoses(const MergedParts& merged, StagedOutput& out) {
-  return merged_diagnoses(merged, out, true);
+  if (merged.command != kDiagnoseCommand)
+    throw InputError("merge: the parts are partial outputs of `" + plain_text(merged.command) + "`, not of `diagnose`");
+  return merge_batch<ObjectDone>(merged, out, diagnosis_codec(), diagnosis_renderer);
 }
 
 BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   run.options.validate();
   const EffectLibrary library = effect_library(run);
-  const MpiWorld& world = MpiWorld::get();
-  const bool mpi = world.size() > 1;
-  check_split(run, mpi);
-  const bool speaks = !mpi || world.root();
+  const BatchSplit split{run.shard, run.mpi};
+  check_split(run, split.over_ranks());
+  const bool speaks = split.speaks();
 
   // Every shard and every rank reads every input: the groups are known only once the files are read.
   const auto inputs = expand_inputs(run.inputs);
@@ -372,7 +297,6 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
     }
     throw InputError("no push could be read; nothing written");
   }
-  const std::size_t loaded_count = loaded.results.size();
   std::vector<PushGroup> groups = group_by_object(loaded.results);
   if (!run.per_object) {
     check_one_object(groups);
@@ -380,35 +304,58 @@ BatchRunOutcome run_diagnose(const DiagnoseRun& run) {
   }
 
   // One diagnosis per object: all of them, or the shard's, or this rank's.
-  const bool partial = mpi || run.shard.has_value();
-  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : run.shard.value_or(ShardSpec{});
-  std::vector<fs::path> names;
-  for (const auto& g : groups) names.emplace_back(g.name());
-  const std::vector<std::size_t> mine = groups_of_this_process(names, partial, shard);
-
-  std::optional<StagedOutput> out;  // under MPI only rank 0 writes
-  open_output_at_root(world, run.out, out);
-  std::optional<ScratchFolder> scratch;  // under MPI each rank's objects go from there to rank 0
-  if (mpi) scratch.emplace("diagnose-rank" + std::to_string(world.rank()));
-  const std::function<fs::path(const std::string&)> folder_of = [&](const std::string& name) {
-    return mpi ? scratch->path() / name : out->path(name);
-  };
-  std::vector<ObjectDone> done =
-      diagnose_objects(groups, mine, run, library, folder_of, progress_label(mpi, partial, world, shard), speaks);
-  if (!partial) return finish_per_object(std::move(done), loaded_count, !loaded.failures.empty(), "", *out);
-
-  PartialShare share = partial_share(done, mine, !loaded.failures.empty(), folder_of);
+  BatchJob<ObjectDone> job;
+  job.command = job.label = kDiagnoseCommand;
+  job.unit = "objects";
+  for (const auto& g : groups) job.units.emplace_back(g.name());
   // The units are the objects; the fingerprint covers the input files as given and the objects they make.
   std::vector<fs::path> listed = inputs;
   listed.emplace_back("");
-  listed.insert(listed.end(), names.begin(), names.end());
-  std::string manifest = partial_manifest(kDiagnoseCommand, shard, groups.size(), inputs_fingerprint(listed),
-                                          options_json(run, loaded_count, loaded.failures), std::move(share.items));
-  if (mpi)
-    return merge_at_root(world, std::move(manifest), scratch->path(), share.files,
-                         [&](const MergedParts& merged) { return merged_diagnoses(merged, *out, false); });
-  write_partial_output(*out, manifest);
-  return shard_outcome(share, mine.size(), groups.size(), shard, *out);
+  listed.insert(listed.end(), job.units.begin(), job.units.end());
+  job.fingerprint = inputs_fingerprint(listed);
+  job.options = options_json(run, loaded.results.size(), loaded.failures);
+  job.jobs = run.jobs;
+  const bool partial = split.partial();
+  // An object that cannot be diagnosed is reported in the overview and the others go on.
+  job.item = [&](std::size_t index, FileSink& files) {
+    const PushGroup& g = groups[index];
+    ObjectDone d;
+    d.outcome = DiagnosisGroupOutcome{g.name(), g.pushes.size(), std::nullopt, ""};
+    try {
+      DiagnosisResult result = diagnose(g.pushes, library, run.options);
+      write_diagnosis_report(result, run.options, files.path(g.name()), run.plots);
+      d.printed = diagnosis_summary_text(result);
+      for (const auto& f : result.failures) d.complaints += "LEFT OUT " + f.source + ": " + f.reason + "\n";
+      d.left_out = result.failures.size();
+      d.outcome.result = std::move(result);
+    } catch (const InputError& e) {
+      d.outcome.error = e.what();
+      d.complaints += "FAILED " + g.name() + ": " + e.what() + "\n";
+    }
+    if (partial) d.files = files_under(files.path(g.name()), g.name());
+    return d;
+  };
+  job.codec = diagnosis_codec();
+  job.note = [](const ObjectDone& d) {
+    ShardNote note;
+    note.counted = d.outcome.result.has_value();
+    note.failed = !d.outcome.result || d.left_out > 0;
+    note.text = d.complaints;
+    return note;
+  };
+  const bool read_failed = !loaded.failures.empty();
+  job.shard_outcome = [read_failed](const ShardDone& done) {
+    BatchRunOutcome outcome;
+    outcome.partial = true;
+    outcome.report = "diagnosed " + std::to_string(done.counted) + " of the " + std::to_string(done.here) +
+                     " objects of shard " + done.shard.text() + " (" + std::to_string(done.all) +
+                     " objects in all); partial output in " + done.destination +
+                     "; when every shard is done: pushpred merge --out DIR PART...\n";
+    outcome.notes = done.notes;
+    outcome.exit_code = read_failed || done.failed > 0 || !done.failures.empty() ? 1 : 0;
+    return outcome;
+  };
+  return run_batch_job<ObjectDone>(job, split, run.out, diagnosis_renderer);
 }
 
 }  // namespace pushpred

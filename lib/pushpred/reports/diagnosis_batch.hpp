@@ -2,7 +2,7 @@
 // `pushpred diagnose` as a batch: one diagnosis of one object, or (--per-object) one diagnosis per object and
 // surface, the whole run, one shard of it (`--shard I/N`, a partial output), an MPI job (`mpirun -np N`, rank 0
 // writes), and `pushpred merge`, which turns the shards' partial outputs into what the whole run writes, byte for
-// byte (core/shard.hpp has the partial format). The apps only parse arguments and call these.
+// byte (runtime/shard.hpp has the partial format). The apps only parse arguments and call these.
 //
 // With --per-object the unit of work is one object group (PushGroup, sorted by name): the k-th group goes to shard
 // k mod N + 1. Every shard (and every MPI rank) reads every input file, since which groups there are is known only
@@ -12,12 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/shard.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
+
+class MpiSession;
 
 inline constexpr const char* kDiagnoseCommand = "diagnose";
 
@@ -33,6 +35,7 @@ struct DiagnoseRun {
   bool plots = true;
   int jobs = 1;
   std::optional<ShardSpec> shard;  ///< given (1/1 included; --per-object only): a partial output of that share
+  const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the objects when it has several
 };
 
 /// Runs the diagnosis and writes its outputs: DIR/diagnosis.json, report.md, ... for one object; with --per-object

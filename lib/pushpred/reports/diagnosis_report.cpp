@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/shard.hpp"
 #include "pushpred/core/version.hpp"
 #include "pushpred/reports/plotting.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
 nlohmann::json error_summary_json(const ErrorSummary& e);

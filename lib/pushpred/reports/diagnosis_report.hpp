@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred {
 
@@ -71,7 +71,7 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
 /// overview.json: per object its `found`, `error_before`, `error_after` and `error_references`, or its `error`.
 nlohmann::json diagnosis_overview_json(const std::vector<DiagnosisGroupOutcome>& groups);
 
-/// An ErrorSummary as a partial output carries it (core/shard.hpp): [phases, the six values], each double exactly
+/// An ErrorSummary as a partial output carries it (runtime/shard.hpp): [phases, the six values], each double exactly
 /// (exact_number_json), so that a merged run writes what one run writes, byte for byte.
 nlohmann::json error_summary_exact_json(const ErrorSummary& e);
 /// The ErrorSummary error_summary_exact_json wrote; throws InputError for anything else.

@@ -5,10 +5,10 @@
 #include <cstdio>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/prediction/predictor.hpp"
 #include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred {
 

@@ -36,7 +36,7 @@ const std::vector<std::string>& default_comparison_methods();
 /// Runs the prediction study with each estimator on each input, with the methods of `options` (empty:
 /// default_comparison_methods(); InputError for an unknown name before any work). A push that fails with any estimator
 /// is listed once among the failures and left out of every row, so that all rows cover the same pushes. `jobs` pushes
-/// are studied in parallel (core/parallel_batch.hpp), with a progress report on stderr when it is given (> 0); the
+/// are studied in parallel (runtime/parallel_batch.hpp), with a progress report on stderr when it is given (> 0); the
 /// results do not depend on it.
 EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, const std::vector<std::string>& estimators,
                                        const StudyOptions& options, const std::string& shape_override = "",

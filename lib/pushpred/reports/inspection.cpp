@@ -1,6 +1,6 @@
 #include "pushpred/reports/inspection.hpp"
 
-#include "pushpred/core/parallel_batch.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -13,7 +13,7 @@ namespace pushpred {
 struct InspectionOptions {
   std::string shape_override;
   PreprocessOptions preprocess;
-  int jobs = 1;           ///< files read in parallel (core/parallel_batch.hpp); the result does not depend on it
+  int jobs = 1;           ///< files read in parallel (runtime/parallel_batch.hpp); the result does not depend on it
   bool progress = false;  ///< a progress report on stderr (BatchProgress)
 };
 

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/prediction/prediction_study.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred {
 

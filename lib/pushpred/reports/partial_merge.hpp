@@ -1,10 +1,10 @@
 #pragma once
-// `pushpred merge --out DIR PART...`: the partial outputs of `--shard 1/N` ... `N/N` runs (core/shard.hpp) combined
+// `pushpred merge --out DIR PART...`: the partial outputs of `--shard 1/N` ... `N/N` runs (runtime/shard.hpp) combined
 // into what one run writes, for every subcommand that can shard (predict, validate-diagnosis, diagnose --per-object).
 #include <string>
 #include <vector>
 
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
 

@@ -8,13 +8,13 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/mpi_world.hpp"
-#include "pushpred/core/parallel_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
+#include "pushpred/runtime/batch_runner.hpp"
 
 namespace fs = std::filesystem;
 
@@ -191,13 +191,46 @@ std::vector<std::string> studied_file_names(const std::vector<std::string>& stem
   return names;
 }
 
-}  // namespace
+/// What a push leaves for the outputs once studied: its study without samples. Its predictions file is written by
+/// the item under its input's position (pending_predictions_file).
+struct StudiedPush {
+  PushStudy study;
+};
 
-BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput& out) {
-  if (merged.command != kCommand)
-    throw InputError("merge: the parts are partial outputs of `" + merged.command + "`, which cannot be merged");
-  // What the summary and the printed report read of the options, checked before anything is written.
-  const nlohmann::json& options = merged.options.contains("summary") ? merged.options["summary"] : merged.options;
+/// The outputs of a whole run from its pushes in input order, as they finish or as a merge reads them back: each
+/// push's summary entry and errors as it comes, its predictions file named at the end, among the pushes studied.
+class PredictionRenderer final : public BatchRenderer<StudiedPush> {
+ public:
+  PredictionRenderer(StagedOutput& out, nlohmann::json summary_options)
+      : out_(out), outputs_(out, std::move(summary_options)) {}
+  void add(std::size_t index, StudiedPush&& push) override {
+    pending_.push_back(pending_predictions_file(index));
+    outputs_.add(push.study);
+  }
+  void add_failure(std::size_t, BatchFailure&& failure) override { outputs_.add_failure(std::move(failure)); }
+  BatchRunOutcome finish() override {
+    const std::vector<std::string> names = studied_file_names(outputs_.stems());
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      std::error_code ec;
+      fs::rename(out_.path(pending_[k]), out_.path(names[k]), ec);
+      if (ec) throw InputError(about(names[k], "cannot be written: " + ec.message()));
+    }
+    std::error_code ec;
+    fs::remove(out_.staging_folder() / kPendingFolder, ec);  // empty now; absent when nothing was studied
+    return outputs_.finish();
+  }
+
+ private:
+  StagedOutput& out_;
+  PredictionOutputs outputs_;
+  std::vector<std::string> pending_;
+};
+
+/// The renderer from a run's options (predict_options_json): what the summary and the printed report read of them,
+/// checked before anything is written.
+std::unique_ptr<BatchRenderer<StudiedPush>> prediction_renderer(StagedOutput& out, const nlohmann::json& run_options,
+                                                                RenderFor) {
+  const nlohmann::json& options = run_options.contains("summary") ? run_options["summary"] : run_options;
   const auto is_names = [](const nlohmann::json& list) {
     if (!list.is_array()) return false;
     for (const auto& n : list)
@@ -207,38 +240,20 @@ BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput
   if (!options.is_object() || !options.contains("intervals") || !options["intervals"].is_number_integer() ||
       !options.contains("span") || !options["span"].is_string() || !options.contains("methods") ||
       !is_names(options["methods"]))
-    throw InputError("merge: " + plain_text(merged.items.empty() ? std::string("the parts")
-                                                                 : merged.items.front().part->name) +
-                     ": its partial.json's options are not those of `predict`");
-  PredictionOutputs outputs(out, options);
-  for (const auto& m : merged.items) {
-    if (m.failure) {
-      outputs.add_failure(*m.failure);
-      continue;
-    }
-    PushStudy study;
-    try {
-      study = push_study_from_exact_json(m.result());
-    } catch (const std::exception& e) {
-      throw InputError(about(plain_text(m.part->name), "the result of input " + std::to_string(m.index + 1) +
-                                                           " is not readable: " + e.what()));
-    }
-    outputs.add(study);
-  }
-  // The per-push files, named among the pushes studied (as one process names them), each read from its part.
-  const std::vector<std::string> names = studied_file_names(outputs.stems());
-  std::size_t studied = 0;
-  for (const auto& m : merged.items) {
-    if (m.failure) continue;
-    if (m.files.size() != 1)
-      throw InputError(about(plain_text(m.part->name), "input " + std::to_string(m.index + 1) +
-                                                           " does not hold one predictions file"));
-    write_text_atomically(out.path(names[studied++]), m.part->read_file(m.files.front()));
-  }
-  return outputs.finish();
+    throw InputError("its partial.json's options are not those of `predict`");
+  return std::make_unique<PredictionRenderer>(out, options);
 }
 
-namespace {
+PartialCodec<StudiedPush> prediction_codec() {
+  PartialCodec<StudiedPush> codec;
+  codec.encode = [](const StudiedPush& p) { return push_study_exact_json(p.study); };
+  codec.decode = [](const nlohmann::json& j) { return StudiedPush{push_study_from_exact_json(j)}; };
+  codec.files = [](std::size_t index, const StudiedPush&) {
+    return std::vector<std::string>{pending_predictions_file(index)};
+  };
+  codec.name = [](std::size_t index) { return "the result of input " + std::to_string(index + 1); };
+  return codec;
+}
 
 nlohmann::json predict_options_json(const PredictRun& run) {
   // "summary": what summary.json says; "settings": the rest that changes a result, so that a merge refuses parts
@@ -250,13 +265,13 @@ nlohmann::json predict_options_json(const PredictRun& run) {
             {"rate_hz", num(run.preprocess.rate_hz)}}}};
 }
 
-struct StudiedPush {
-  PushStudy study;            ///< empty in a shard or rank, which keeps only result_json
-  std::string file;           ///< its predictions CSV, relative to the output
-  std::string result_json{};  ///< a shard's or rank's: the study as its partial output holds it
-};
-
 }  // namespace
+
+BatchRunOutcome write_merged_predictions(const MergedParts& merged, StagedOutput& out) {
+  if (merged.command != kCommand)
+    throw InputError("merge: the parts are partial outputs of `" + merged.command + "`, which cannot be merged");
+  return merge_batch<StudiedPush>(merged, out, prediction_codec(), prediction_renderer);
+}
 
 nlohmann::json push_study_exact_json(const PushStudy& s) {
   nlohmann::json intervals = nlohmann::json::array();
@@ -334,116 +349,35 @@ PushStudy push_study_from_exact_json(const nlohmann::json& j) {
 
 BatchRunOutcome run_predict(const PredictRun& run) {
   const std::vector<fs::path> inputs = expand_inputs(run.inputs);
-  const MpiWorld& world = MpiWorld::get();
-  const bool mpi = world.size() > 1;
-  if (mpi && run.shard)
-    throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the inputs already; use one or "
-                     "the other");
-  const bool partial = mpi || run.shard.has_value();
-  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : run.shard.value_or(ShardSpec{});
-
-  // The output folder first, so that a bad one fails before any work (under MPI, only rank 0 writes; if its folder
-  // is bad, it stops the whole job).
-  std::optional<StagedOutput> out;
-  open_output_at_root(world, run.out, out);
-  std::optional<ScratchFolder> scratch;  // under MPI, each rank's files go there, and from there to rank 0
-  std::optional<FileSink> sink;
-  if (mpi) {
-    scratch.emplace("predict-rank" + std::to_string(world.rank()));
-    sink.emplace(scratch->path());
-  } else {
-    sink.emplace(*out);
-  }
-
+  const BatchSplit split{run.shard, run.mpi};
+  split.refuse_shard_under_mpi("inputs");
+  BatchJob<StudiedPush> job;
+  job.command = job.label = kCommand;
+  job.unit = "pushes";
+  job.units = inputs;
+  job.options = predict_options_json(run);
+  job.jobs = run.jobs;
   // Each push's predictions are written under its input's position while the batch runs (threads, shards and ranks
   // finish in any order) and named at the end, once it is known which inputs were studied (studied_file_names).
-  const auto job = [&](std::size_t position, const fs::path& path) {
-    StudiedPush p{run_prediction_study(load_push(path, run.shape, run.preprocess), run.study),
-                  pending_predictions_file(position)};
-    sink->write(p.file, predictions_csv(p.study));
+  job.item = [&](std::size_t index, FileSink& files) {
+    StudiedPush p{run_prediction_study(load_push(inputs[index], run.shape, run.preprocess), run.study)};
+    files.write(pending_predictions_file(index), predictions_csv(p.study));
     drop_samples(p.study);  // the summary and tables need only errors and parameters
-    if (partial) {  // a shard or rank keeps the study only as its partial output's text
-      p.result_json = partial_result_text(push_study_exact_json(p.study));
-      p.study = PushStudy{};
-    }
     return p;
   };
-
-  if (!partial) {
-    // Each push goes into the outputs as soon as it and every push before it are done, and is dropped.
-    BatchProgress progress(kCommand, "pushes", inputs.size());
-    PredictionOutputs outputs(*out, prediction_options_json(run.study));
-    std::vector<std::string> pending;
-    run_batch_in_order(
-        inputs, job,
-        [&](std::size_t, BatchItem<StudiedPush>&& item) {
-          if (item.result) {
-            pending.push_back(std::move(item.result->file));
-            outputs.add(item.result->study);
-          }
-          if (item.failure) outputs.add_failure(std::move(*item.failure));
-        },
-        run.jobs, &progress);
-    const std::vector<std::string> names = studied_file_names(outputs.stems());
-    for (std::size_t k = 0; k < names.size(); ++k) {
-      std::error_code ec;
-      fs::rename(out->path(pending[k]), out->path(names[k]), ec);
-      if (ec) throw InputError(about(names[k], "cannot be written: " + ec.message()));
-    }
-    std::error_code ec;
-    fs::remove(out->staging_folder() / kPendingFolder, ec);  // empty now; absent when nothing was studied
-    return outputs.finish();
-  }
-
-  const std::vector<std::size_t> positions = shard_positions(inputs, shard);
-  std::vector<fs::path> mine;
-  for (std::size_t k : positions) mine.push_back(inputs[k]);
-  // partial.json is written as the pushes finish (in their order), so that a shard holds no result once its push is
-  // done: into the staged output of a shard, or into the rank's scratch folder (read back whole at the end, to be sent
-  // to rank 0).
-  const fs::path manifest_path = mpi ? scratch->path() / kPartialManifestName : out->path(kPartialManifestName);
-  std::ofstream manifest_file(manifest_path, std::ios::binary | std::ios::trunc);
-  if (!manifest_file) throw InputError(about(manifest_path.string(), "cannot be written"));
-  PartialManifestWriter manifest(manifest_file, kCommand, shard, inputs.size(), inputs_fingerprint(inputs),
-                                 predict_options_json(run));
-  BatchRunOutcome outcome;
-  outcome.partial = true;
-  {
-    const std::string label = mpi ? "predict (rank 0 of " + std::to_string(world.size()) + " ranks)"
-                                  : "predict (shard " + shard.text() + ")";
-    BatchProgress progress(label, "pushes", mine.size(), world.root());
-    run_batch_in_order(
-        mine, [&](std::size_t k, const fs::path& path) { return job(positions[k], path); },
-        [&](std::size_t k, BatchItem<StudiedPush>&& outcome_k) {
-          PartialItem item;
-          item.index = positions[k];
-          if (outcome_k.result) {
-            item.result_json = std::move(outcome_k.result->result_json);
-            item.files = {std::move(outcome_k.result->file)};
-            ++outcome.used;
-          } else {
-            item.failure = outcome_k.failure;
-            outcome.failures.push_back(std::move(*outcome_k.failure));
-          }
-          manifest.add(std::move(item));
-          require_written(manifest_file, manifest_path);
-        },
-        run.jobs, &progress);
-  }
-  manifest.finish();
-  manifest_file.close();
-  require_written(manifest_file, manifest_path);
-
-  if (mpi)
-    return merge_at_root(world, scratch->path(), sink->names(),
-                         [&](const MergedParts& merged) { return write_merged_predictions(merged, *out); });
-
-  out->commit();
-  outcome.report = "predicted " + std::to_string(outcome.used) + " of the " + std::to_string(mine.size()) +
-                   " pushes of shard " + shard.text() + " (" + std::to_string(inputs.size()) +
-                   " inputs in all); partial output in " + out->destination().string() +
-                   "; when every shard is done: pushpred merge --out DIR PART...\n";
-  return outcome;
+  job.codec = prediction_codec();
+  job.shard_outcome = [](const ShardDone& done) {
+    BatchRunOutcome outcome;
+    outcome.partial = true;
+    outcome.failures = done.failures;
+    outcome.used = done.counted;
+    outcome.report = "predicted " + std::to_string(done.counted) + " of the " + std::to_string(done.here) +
+                     " pushes of shard " + done.shard.text() + " (" + std::to_string(done.all) +
+                     " inputs in all); partial output in " + done.destination +
+                     "; when every shard is done: pushpred merge --out DIR PART...\n";
+    return outcome;
+  };
+  return run_batch_job<StudiedPush>(job, split, run.out, prediction_renderer);
 }
 
 }  // namespace pushpred

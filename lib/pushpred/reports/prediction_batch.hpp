@@ -1,8 +1,8 @@
 #pragma once
-// `pushpred predict` as a batch: the whole run over every input, one shard of it (`--shard I/N`, a partial output),
-// an MPI job (`mpirun -np N`, rank 0 writes), and `pushpred merge`, which turns the shards' partial outputs into
-// what the whole run writes, byte for byte (core/shard.hpp has the split and the partial format). The apps only
-// parse arguments and call these.
+// `pushpred predict` as a batch of pushes (runtime/batch_runner.hpp runs it whole, as a shard or over MPI ranks): the
+// item function that studies one push, the codec of a study in a partial output, and the outputs made from the
+// studies in input order (summary.json, tables.md, predictions/NAME.csv), for a whole run and a merge alike. The
+// apps only parse arguments and call these.
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -10,12 +10,14 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/shard.hpp"
 #include "pushpred/prediction/prediction_study.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
+
+class MpiSession;
 
 /// A study as exact JSON, for a partial output: every field drop_samples keeps, doubles written so that they read
 /// back to the same bits (non-finite ones as "nan", "inf", "-inf").
@@ -33,6 +35,7 @@ struct PredictRun {
   PreprocessOptions preprocess;
   int jobs = 1;
   std::optional<ShardSpec> shard;  ///< given (1/1 included): a partial output of that share; none: the whole run
+  const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the inputs when it has several
 };
 
 /// Runs the study on every input (or on the shard's, or on this MPI rank's) and writes the outputs: summary.json,

@@ -10,10 +10,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/core/version.hpp"
 #include "pushpred/reading/recording.hpp"
 #include "pushpred/reports/markdown_table.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred {
 

@@ -4,13 +4,15 @@
 
 #include <exception>
 #include <iostream>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/mpi_world.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "pushpred/reports/validation_report.hpp"
+#include "pushpred/runtime/batch_runner.hpp"
 
 namespace fs = std::filesystem;
 
@@ -169,76 +171,97 @@ ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
   }
 }
 
+namespace {
+
+/// The trials of a run, in order, made into validation.json and validation.md.
+class ValidationRenderer final : public BatchRenderer<ValidationTrial> {
+ public:
+  ValidationRenderer(StagedOutput& out, ValidationOptions options) : out_(out) { result_.options = std::move(options); }
+  void add(std::size_t index, ValidationTrial&& trial) override {
+    if (trial.index != static_cast<int>(index))
+      throw InputError("trial " + std::to_string(index) + ": its index differs");
+    result_.trials.push_back(std::move(trial));
+  }
+  void add_failure(std::size_t index, BatchFailure&& failure) override {
+    ValidationTrial trial;  // a trial catches what a diagnosis throws: only the unexpected reaches here
+    trial.index = static_cast<int>(index);
+    trial.failure = failure.reason;
+    result_.trials.push_back(std::move(trial));
+  }
+  BatchRunOutcome finish() override { return write_validation_outputs(result_, out_); }
+
+ private:
+  StagedOutput& out_;
+  ValidationResult result_;
+};
+
+PartialCodec<ValidationTrial> validation_codec() {
+  PartialCodec<ValidationTrial> codec;
+  codec.encode = validation_trial_exact_json;
+  codec.decode = validation_trial_from_exact_json;
+  codec.name = [](std::size_t index) { return "trial " + std::to_string(index); };
+  return codec;
+}
+
+/// The renderer of a whole run (its options as given, kinds filled in), or of a merge (the options its parts record).
+RendererFactory<ValidationTrial> validation_renderer(std::optional<ValidationOptions> whole_run) {
+  return [whole_run](StagedOutput& out, const nlohmann::json& options, RenderFor mode) {
+    return std::make_unique<ValidationRenderer>(
+        out, mode == RenderFor::whole_run && whole_run ? *whole_run : options_from(options));
+  };
+}
+
+}  // namespace
+
 BatchRunOutcome run_validation(const ValidateRun& run) {
   run.options.validate();  // before any work: a bad kind or range is an input error, nothing written
-  const MpiWorld& world = MpiWorld::get();
-  const bool mpi = world.size() > 1;
-  if (mpi && run.shard)
-    throw InputError("--shard " + run.shard->text() + " under mpirun: the ranks split the trials already; use one or "
-                     "the other");
-  std::optional<StagedOutput> out;  // checked before the long run
-  open_output_at_root(world, run.out, out);
-  if (!mpi && !run.shard)
-    return write_validation_outputs(validate_diagnosis(run.options, progress_printer(run.progress)), *out);
-
-  const ShardSpec shard = mpi ? ShardSpec{world.rank() + 1, world.size()} : *run.shard;
-  const int count = validation_trial_count(run.options);
-  std::vector<int> mine;
-  for (int k = 0; k < count; ++k)
-    if (k % shard.count == shard.index - 1) mine.push_back(k);
-  const ValidationResult r =
-      validate_diagnosis_trials(run.options, mine, progress_printer(run.progress && world.root()));
-  std::vector<PartialItem> items;
-  for (const auto& t : r.trials) {
-    PartialItem item;
-    item.index = static_cast<std::size_t>(t.index);
-    item.result_json = partial_result_text(validation_trial_exact_json(t));
-    items.push_back(std::move(item));
-  }
+  const BatchSplit split{run.shard, run.mpi};
+  split.refuse_shard_under_mpi("trials");
+  // The options as a whole run reports them (the kinds filled in); each trial runs on one thread of the batch.
+  const ValidationOptions options = validate_diagnosis_trials(run.options, {}).options;
+  ValidationOptions one_trial = options;
+  one_trial.jobs = 1;
+  const int count = validation_trial_count(options);
+  BatchJob<ValidationTrial> job;
+  job.command = job.label = kValidationCommand;
+  job.unit = "trials";
   // The trials are the inputs: their count is what a merge compares (the options carry the seed and the kinds).
-  std::vector<fs::path> trials;
-  for (int k = 0; k < count; ++k) trials.emplace_back("trial " + std::to_string(k));
-  std::string manifest =
-      partial_manifest(kValidationCommand, shard, trials, options_json(r.options), std::move(items));
-
-  if (mpi) {
-    const ScratchFolder part("validate-rank" + std::to_string(world.rank()));  // rank 0's part: no files, a manifest
-    return merge_at_root(world, std::move(manifest), part.path(), {},
-                         [&](const MergedParts& merged) { return write_merged_validation(merged, *out); });
+  // Trial k goes to shard k mod N + 1.
+  for (int k = 0; k < count; ++k) job.units.emplace_back("trial " + std::to_string(k));
+  job.dealt_in_order = true;
+  job.options = options_json(options);
+  job.jobs = run.options.jobs;
+  job.item = [&](std::size_t index, FileSink&) {
+    return validate_diagnosis_trials(one_trial, {static_cast<int>(index)}).trials.front();
+  };
+  job.codec = validation_codec();
+  job.note = [](const ValidationTrial& t) {
+    ShardNote note;
+    note.failed = !t.failure.empty();
+    return note;
+  };
+  job.shard_outcome = [](const ShardDone& done) {
+    BatchRunOutcome outcome;
+    outcome.partial = true;
+    outcome.report = "ran " + std::to_string(done.counted) + " of the " + std::to_string(done.all) + " trials (shard " +
+                     done.shard.text() + "); partial output in " + done.destination +
+                     "; when every shard is done: pushpred merge --out DIR PART...\n";
+    if (done.failed > 0)
+      outcome.notes = std::to_string(done.failed) + " trial(s) of this shard could not be diagnosed\n";
+    outcome.exit_code = done.failed > 0 ? 1 : 0;
+    return outcome;
+  };
+  if (run.progress) {
+    const auto print = progress_printer(true);
+    job.progress = [print](std::size_t done, std::size_t total) {
+      print(static_cast<int>(done), static_cast<int>(total));
+    };
   }
-
-  write_partial_output(*out, manifest);
-  int failed = 0;
-  for (const auto& t : r.trials) failed += !t.failure.empty();
-  BatchRunOutcome outcome;
-  outcome.partial = true;
-  outcome.report = "ran " + std::to_string(r.trials.size()) + " of the " + std::to_string(count) +
-                   " trials (shard " + shard.text() + "); partial output in " + out->destination().string() +
-                   "; when every shard is done: pushpred merge --out DIR PART...\n";
-  if (failed > 0) outcome.notes = std::to_string(failed) + " trial(s) of this shard could not be diagnosed\n";
-  outcome.exit_code = failed > 0 ? 1 : 0;
-  return outcome;
+  return run_batch_job<ValidationTrial>(job, split, run.out, validation_renderer(options));
 }
 
 BatchRunOutcome write_merged_validation(const MergedParts& merged, StagedOutput& out) {
-  ValidationResult r;
-  try {
-    r.options = options_from(merged.options);
-  } catch (const InputError& e) {
-    throw InputError("merge: " + plain_text(merged.items.empty() ? std::string("the parts")
-                                                                 : merged.items.front().part->name) +
-                     ": " + e.what());
-  }
-  for (const auto& m : merged.items) {
-    try {
-      r.trials.push_back(validation_trial_from_exact_json(m.result()));
-      if (r.trials.back().index != static_cast<int>(m.index)) throw InputError("its index differs");
-    } catch (const std::exception& e) {
-      throw InputError(about(plain_text(m.part->name),
-                             "trial " + std::to_string(m.index) + " is not readable: " + e.what()));
-    }
-  }
-  return write_validation_outputs(r, out);
+  return merge_batch<ValidationTrial>(merged, out, validation_codec(), validation_renderer(std::nullopt));
 }
 
 }  // namespace pushpred

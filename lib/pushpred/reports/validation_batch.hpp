@@ -1,16 +1,18 @@
 #pragma once
 // `pushpred validate-diagnosis` as a batch of trials: the whole run, one shard of it (`--shard I/N`: trial k goes to
 // shard k mod N + 1, a partial output), an MPI job (rank 0 writes), and the merge of the shards' partial outputs
-// into what the whole run writes, byte for byte (core/shard.hpp has the partial format).
+// into what the whole run writes, byte for byte (runtime/shard.hpp has the partial format).
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/shard.hpp"
 #include "pushpred/diagnosis/validation.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
+
+class MpiSession;
 
 inline constexpr const char* kValidationCommand = "validate-diagnosis";
 
@@ -24,6 +26,7 @@ struct ValidateRun {
   std::string out;
   std::optional<ShardSpec> shard;  ///< given: only that share of the trials, as a partial output
   bool progress = true;            ///< trials done on stderr
+  const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the trials when it has several
 };
 
 /// Runs the trials (all, the shard's, or this MPI rank's: launched by mpirun as one of N ranks, rank R runs the

@@ -1,4 +1,4 @@
-#include "pushpred/core/isolated_call.hpp"
+#include "pushpred/runtime/isolated_call.hpp"
 
 #include <poll.h>
 #include <pthread.h>
@@ -13,7 +13,10 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <mutex>
+#include <utility>
 
 #include "pushpred/core/error.hpp"
 
@@ -69,7 +72,8 @@ bool read_exactly(int fd, char* data, std::size_t size) {
       reply = "Eunexpected error";
     }
     const std::uint64_t n = reply.size();
-    if (!send_all(fd, reinterpret_cast<const char*>(&n), sizeof n) || !send_all(fd, reply.data(), reply.size())) _exit(0);
+    if (!send_all(fd, reinterpret_cast<const char*>(&n), sizeof n) || !send_all(fd, reply.data(), reply.size()))
+      _exit(0);
   }
 }
 
@@ -232,8 +236,8 @@ std::string run_isolated(const std::string& source, const std::string& what, con
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
   }
   if (timed_out)
-    throw InputError(about(source, what + " took longer than " + std::to_string(static_cast<int>(timeout_s)) +
-                                       " s and was stopped"));
+    throw InputError(about(
+        source, what + " took longer than " + std::to_string(static_cast<int>(timeout_s)) + " s and was stopped"));
   if (WIFSIGNALED(status))
     throw InputError(about(source, what + " crashed (signal " + std::to_string(WTERMSIG(status)) + ", " +
                                        strsignal(WTERMSIG(status)) + "): the file is corrupt"));
@@ -270,7 +274,8 @@ void IsolatedServer::start(const std::string& source) {
     throw InputError(about(source, what_ + ": cannot fork: " + std::strerror(errno)));
   }
   if (child == 0) {
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE}) signal(sig, SIG_DFL);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE})
+      signal(sig, SIG_DFL);
     // Ends with the thread that started it, even if that one dies without closing the socket.
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(0);
@@ -333,8 +338,8 @@ std::string IsolatedServer::call(const std::string& source, const std::string& r
   }
   if (timed_out) {
     stop(true);
-    throw InputError(about(source, what_ + " took longer than " + std::to_string(static_cast<int>(timeout_s)) +
-                                       " s and was stopped"));
+    throw InputError(about(
+        source, what_ + " took longer than " + std::to_string(static_cast<int>(timeout_s)) + " s and was stopped"));
   }
   if (ended) {
     close(socket_);
@@ -358,5 +363,26 @@ std::string IsolatedServer::call(const std::string& source, const std::string& r
   }
   return reply.substr(1);
 }
+
+std::string ForkServerCaller::call(const std::string& what, IsolatedHandler handler, const std::string& source,
+                                   const std::string& request, double timeout_s) const {
+  // One child per thread and kind of job serves every call (the reader's one per thread, docs/performance.md).
+  thread_local std::map<std::pair<IsolatedHandler, std::string>, std::unique_ptr<IsolatedServer>> servers;
+  auto& server = servers[{handler, what}];
+  if (!server) server = std::make_unique<IsolatedServer>(what, handler);
+  return server->call(source, request, timeout_s);
+}
+
+const ForkServerCaller& fork_server_caller() {
+  static const ForkServerCaller caller;
+  return caller;
+}
+
+namespace {
+
+// libpushpred's readers isolate libhdf5 in a child process unless a caller is given another way.
+[[maybe_unused]] const bool fork_server_installed = (install_default_isolated_caller(&fork_server_caller()), true);
+
+}  // namespace
 
 }  // namespace pushpred

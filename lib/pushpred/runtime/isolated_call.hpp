@@ -6,6 +6,8 @@
 #include <string>
 #include <utility>
 
+#include "pushpred/core/isolated_caller.hpp"
+
 namespace pushpred {
 
 /// Runs `job` in a forked child and returns the bytes it returned. An exception in the child is rethrown here as an
@@ -56,7 +58,7 @@ class ForkSafeThreadStarts {
 class IsolatedServer {
  public:
   /// `handler` runs in the child; a plain function, since the child keeps only what fork copied.
-  using Handler = std::string (*)(const std::string& request);
+  using Handler = IsolatedHandler;
   IsolatedServer(std::string what, Handler handler) : what_(std::move(what)), handler_(handler) {}
   ~IsolatedServer();
   IsolatedServer(const IsolatedServer&) = delete;
@@ -74,5 +76,16 @@ class IsolatedServer {
   int socket_ = -1;  // the parent's end of the socket pair
   int child_ = -1;   // pid_t
 };
+
+/// The reader's isolation as a program runs it: each thread keeps one IsolatedServer per handler and `what`, forked on
+/// its first call. libpushpred installs it as the default isolated caller when it is loaded (isolated_call.cpp).
+class ForkServerCaller final : public IsolatedCaller {
+ public:
+  std::string call(const std::string& what, IsolatedHandler handler, const std::string& source,
+                   const std::string& request, double timeout_s) const override;
+};
+
+/// The one ForkServerCaller, the default installed.
+const ForkServerCaller& fork_server_caller();
 
 }  // namespace pushpred

@@ -1,8 +1,8 @@
 #pragma once
 // Splitting a batch over processes and putting it back together (issue 12): `--shard I/N` runs share I of N of a
-// command's inputs (of `diagnose --per-object`'s objects, reports/diagnosis_batch.hpp) and writes a *partial output*; `pushpred merge` combines the partial outputs of shards 1..N into
-// exactly what one run over every input writes; an MPI run (mpi_world.hpp) does both in one job, its ranks sending
-// their partial outputs to rank 0.
+// command's inputs (of `diagnose --per-object`'s objects, reports/diagnosis_batch.hpp) and writes a *partial output*;
+// `pushpred merge` combines the partial outputs of shards 1..N into exactly what one run over every input writes; an
+// MPI run (mpi_world.hpp) does both in one job, its ranks sending their partial outputs to rank 0.
 //
 // The split: the expanded inputs (expand_inputs, in the order given) are sorted by path, and the k-th of the sorted
 // list (k = 0, 1, ...) goes to shard (k mod N) + 1. Each item keeps its position in the list as given, so that a
@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred {
 
@@ -90,6 +90,8 @@ class FileSink {
   void write(const std::string& name, const std::string& text);
   /// The relative paths written so far, sorted.
   std::vector<std::string> names() const;
+  /// Where the relative path `name` is, for a writer that makes its own files there (names() does not list them).
+  std::filesystem::path path(const std::string& name) const;
 
  private:
   const StagedOutput* out_ = nullptr;
@@ -185,14 +187,13 @@ std::string file_bundle_of(const std::string& name, const std::filesystem::path&
 /// the folders it needs, and returns that path. `name` names the sender in messages ("rank 1"); throws InputError
 /// when the bundle is not one (its first line, its length line, a length beyond its end, bytes after its file) or
 /// its file's name is not a path inside the output (nothing is then written).
-std::string unpack_file_bundle(const std::string& name, const std::string& bundle,
-                               const std::filesystem::path& folder);
+std::string unpack_file_bundle(const std::string& name, const std::string& bundle, const std::filesystem::path& folder);
 
 /// The items of every part, checked to be one whole batch, in input order: the same command, version, inputs and
 /// options in every part; shards 1..N each given once; every input's item present exactly once. Each item comes with
 /// the part that holds it (MergedParts owns the parts). Throws InputError naming the part and the problem otherwise.
 struct MergedItem {
-  std::size_t index = 0;                ///< position among all inputs
+  std::size_t index = 0;                 ///< position among all inputs
   std::optional<std::size_t> result_at;  ///< the item's result: its position among its part's (result_text)
   std::vector<std::string> files;        ///< relative paths in its part
   std::optional<BatchFailure> failure;

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/isolated_call.hpp"
+#include "pushpred/runtime/isolated_call.hpp"
 
 using namespace pushpred;
 
@@ -72,4 +72,15 @@ BOOST_AUTO_TEST_CASE(servers_on_several_threads_end_with_them) {
     const std::string sent = "thread " + std::to_string(t);
     BOOST_TEST(replies[static_cast<std::size_t>(t)] == std::string(sent.rbegin(), sent.rend()));
   }
+}
+
+BOOST_AUTO_TEST_CASE(libpushpred_makes_the_fork_server_the_readers_default_and_a_crash_costs_one_call) {
+  BOOST_TEST(&default_isolated_caller() == static_cast<const IsolatedCaller*>(&fork_server_caller()));
+  const IsolatedCaller& caller = default_isolated_caller();
+  BOOST_TEST(caller.call("reading", &handler, "f.h5", "pid", 60.0) != std::to_string(getpid()));  // another process
+  BOOST_CHECK_EXCEPTION(caller.call("reading the HDF5 file", &handler, "f.h5", "crash", 60.0), InputError,
+                        [](const InputError& e) {
+                          return std::string(e.what()).rfind("f.h5: reading the HDF5 file crashed (signal 11", 0) == 0;
+                        });
+  BOOST_TEST(caller.call("reading", &handler, "f.h5", "abc", 60.0) == "cba");
 }

@@ -1,4 +1,4 @@
-#define BOOST_TEST_MODULE core
+#define BOOST_TEST_MODULE runtime
 // Output folders appear whole or not at all, replace an earlier run as a whole, never replace a folder pushpred did
 // not write, and leave nothing behind when a run fails or is stopped by a signal.
 #include <sys/wait.h>
@@ -14,8 +14,8 @@
 #include <thread>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/isolated_call.hpp"
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/isolated_call.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "test_support.hpp"
 
 using namespace pushpred;

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/core/isolated_call.hpp"
+#include "pushpred/runtime/isolated_call.hpp"
 
 namespace pushpred {
 

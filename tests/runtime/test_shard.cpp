@@ -1,4 +1,4 @@
-// core/shard.hpp: the --shard I/N spec, the split of the inputs, the checks a merge makes on the partial outputs
+// runtime/shard.hpp: the --shard I/N spec, the split of the inputs, the checks a merge makes on the partial outputs
 // (every shard of one run, once), and an MPI rank's bundle written into a folder and read back. Expected values are
 // written out by hand.
 #include <boost/test/unit_test.hpp>
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/output_files.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 using namespace pushpred;
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-#include "pushpred/core/mpi_world.hpp"
+#include "pushpred/runtime/mpi_world.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -30,16 +30,6 @@ int env_count(const char* name) {
 }
 
 #ifdef PUSHPRED_HAVE_MPI
-bool launched() {
-  return env_count("OMPI_COMM_WORLD_SIZE") > 0 || env_count("PMI_SIZE") > 0 || std::getenv("PMIX_RANK") != nullptr;
-}
-
-void finalise_mpi() {
-  int finalised = 0;
-  MPI_Finalized(&finalised);
-  if (!finalised) MPI_Finalize();
-}
-
 // Texts go in pieces of at most this many bytes (an MPI count is an int).
 constexpr std::uint64_t kPiece = 1u << 30;
 #endif
@@ -54,6 +44,10 @@ bool mpi_built() {
 #endif
 }
 
+bool mpi_launched() {
+  return env_count("OMPI_COMM_WORLD_SIZE") > 0 || env_count("PMI_SIZE") > 0 || std::getenv("PMIX_RANK") != nullptr;
+}
+
 int mpi_launch_size() {
   const int n = std::max(env_count("OMPI_COMM_WORLD_SIZE"), env_count("PMI_SIZE"));
   return n > 0 ? n : 1;
@@ -61,15 +55,14 @@ int mpi_launch_size() {
 
 int mpi_launch_rank() { return std::max(env_count("OMPI_COMM_WORLD_RANK"), env_count("PMI_RANK")); }
 
-MpiWorld::MpiWorld() {
+MpiSession::MpiSession() {
 #ifdef PUSHPRED_HAVE_MPI
-  if (!launched()) return;
+  if (!mpi_launched()) return;
   int provided = 0;
   // Only the main thread calls MPI; worker threads (--jobs) never do.
   if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
     throw InputError("MPI could not be initialised (launched by mpirun, but MPI_Init_thread failed)");
   initialised_ = true;
-  std::atexit(finalise_mpi);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 #else
@@ -80,13 +73,17 @@ MpiWorld::MpiWorld() {
 #endif
 }
 
-MpiWorld& MpiWorld::get() {
-  static MpiWorld world;
-  return world;
+MpiSession::~MpiSession() {
+#ifdef PUSHPRED_HAVE_MPI
+  if (!initialised_) return;
+  int finalised = 0;
+  MPI_Finalized(&finalised);
+  if (!finalised) MPI_Finalize();
+#endif
 }
 
-void MpiWorld::send_to_root(const std::function<std::optional<std::string>()>& next,
-                            const std::function<void(int rank, const std::string& text)>& take) const {
+void MpiSession::send_to_root(const std::function<std::optional<std::string>()>& next,
+                              const std::function<void(int rank, const std::string& text)>& take) const {
   if (root())
     while (auto text = next()) take(0, *text);
   if (size_ == 1) return;
@@ -119,26 +116,26 @@ void MpiWorld::send_to_root(const std::function<std::optional<std::string>()>& n
 #endif
 }
 
-void MpiWorld::abort(int code) const {
+void MpiSession::abort(int code) const {
 #ifdef PUSHPRED_HAVE_MPI
   if (initialised_) MPI_Abort(MPI_COMM_WORLD, code);
 #endif
   std::exit(code);
 }
 
-void open_output_at_root(const MpiWorld& world, const std::string& out, std::optional<StagedOutput>& staged) {
-  const bool mpi = world.size() > 1;
-  if (mpi && !world.root()) return;
+void open_output_at_root(const MpiSession* session, const std::string& out, std::optional<StagedOutput>& staged) {
+  const bool mpi = session && session->size() > 1;
+  if (mpi && !session->root()) return;
   try {
     staged.emplace(out);
   } catch (const std::exception& e) {
     if (!mpi) throw;
     std::cerr << "pushpred: error: " << plain_text(e.what()) << "\n";
-    world.abort(2);
+    session->abort(2);
   }
 }
 
-BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const std::filesystem::path& files_folder,
+BatchRunOutcome merge_at_root(const MpiSession& world, std::string manifest, const std::filesystem::path& files_folder,
                               const std::vector<std::string>& files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
   try {
@@ -152,7 +149,7 @@ BatchRunOutcome merge_at_root(const MpiWorld& world, std::string manifest, const
   return merge_at_root(world, files_folder, files, write_merged);
 }
 
-BatchRunOutcome merge_at_root(const MpiWorld& world, const std::filesystem::path& files_folder,
+BatchRunOutcome merge_at_root(const MpiSession& world, const std::filesystem::path& files_folder,
                               const std::vector<std::string>& files,
                               const std::function<BatchRunOutcome(const MergedParts&)>& write_merged) {
   if (!world.root()) {

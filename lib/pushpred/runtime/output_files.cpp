@@ -1,4 +1,4 @@
-#include "pushpred/core/output_files.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 #include <dirent.h>
 #include <fcntl.h>

@@ -1,4 +1,4 @@
-#include "pushpred/core/shard.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +14,8 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/core/output_files.hpp"
 #include "pushpred/core/version.hpp"
+#include "pushpred/runtime/output_files.hpp"
 
 namespace fs = std::filesystem;
 
@@ -85,12 +85,10 @@ double exact_number(const nlohmann::json& j) {
 ShardSpec parse_shard_spec(const std::string& text) {
   const std::string shown = "--shard '" + plain_text(text) + "'";
   const auto slash = text.find('/');
-  if (slash == std::string::npos)
-    throw InputError(shown + ": expected I/N, share I of N (e.g. 1/4), 1 <= I <= N");
+  if (slash == std::string::npos) throw InputError(shown + ": expected I/N, share I of N (e.g. 1/4), 1 <= I <= N");
   const auto index = small_count(text.substr(0, slash));
   const auto count = small_count(text.substr(slash + 1));
-  if (!index || !count)
-    throw InputError(shown + ": expected I/N with I and N whole numbers (e.g. 1/4), 1 <= I <= N");
+  if (!index || !count) throw InputError(shown + ": expected I/N with I and N whole numbers (e.g. 1/4), 1 <= I <= N");
   if (*count < 1 || *count > 1000000) throw InputError(shown + ": N must be between 1 and 1000000");
   if (*index < 1 || *index > *count)
     throw InputError(shown + ": I must be between 1 and N (" + std::to_string(*count) + "); shards count from 1");
@@ -125,11 +123,15 @@ std::string inputs_fingerprint(const std::vector<fs::path>& inputs) {
 }
 
 void FileSink::write(const std::string& name, const std::string& text) {
-  if (out_) write_text_atomically(out_->path(name), text);
-  else write_under(folder_, name, text.data(), text.size());
+  if (out_)
+    write_text_atomically(out_->path(name), text);
+  else
+    write_under(folder_, name, text.data(), text.size());
   const std::lock_guard<std::mutex> lock(mutex_);
   names_.insert(name);
 }
+
+std::filesystem::path FileSink::path(const std::string& name) const { return out_ ? out_->path(name) : folder_ / name; }
 
 std::vector<std::string> FileSink::names() const {
   const std::lock_guard<std::mutex> lock(mutex_);
@@ -162,7 +164,8 @@ PartialManifestWriter::PartialManifestWriter(std::ostream& out, const std::strin
 
 void PartialManifestWriter::add(PartialItem item) {
   nlohmann::json entry = {{"index", item.index}};
-  if (item.result_json) entry["files"] = item.files;
+  if (item.result_json)
+    entry["files"] = item.files;
   else if (item.failure) {
     entry["failure"] = {{"source", item.failure->source}, {"reason", item.failure->reason}};
     if (item.failure->skipped) entry["failure"]["skipped"] = true;
@@ -178,9 +181,7 @@ void PartialManifestWriter::add(PartialItem item) {
   }
 }
 
-void PartialManifestWriter::finish() {
-  out_ << (first_ ? "]" : "\n  ]") << tail_;
-}
+void PartialManifestWriter::finish() { out_ << (first_ ? "]" : "\n  ]") << tail_; }
 
 std::string partial_manifest(const std::string& command, const ShardSpec& shard, std::size_t count,
                              const std::string& fingerprint, const nlohmann::json& options,
@@ -222,7 +223,8 @@ struct ResultSpan {
 std::string read_span(const fs::path& path, const ResultSpan& span) {
   std::ifstream in(path, std::ios::binary);
   std::string text(static_cast<std::size_t>(span.to - span.from), '\0');
-  if (!in.seekg(static_cast<std::streamoff>(span.from)) || !in.read(text.data(), static_cast<std::streamsize>(text.size())))
+  if (!in.seekg(static_cast<std::streamoff>(span.from)) ||
+      !in.read(text.data(), static_cast<std::streamsize>(text.size())))
     throw InputError(about(plain_text(path.string()), "changed or gone while merging"));
   const std::size_t value = text.find_first_not_of(" \t\r\n:");
   text.erase(0, value == std::string::npos ? text.size() : value);
@@ -293,7 +295,8 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
       const auto it = parsed.find("result");
       if (it == parsed.end()) return true;
       const std::size_t k = spans->size();
-      if (span_closed) spans->push_back(span);
+      if (span_closed)
+        spans->push_back(span);
       else {
         spans->push_back({});
         (*kept)[k] = dump(*it, -1);
@@ -310,7 +313,8 @@ PartialOutput read_partial_output(const fs::path& folder, const std::string& sho
   }
   part.results = spans->size();
   part.result_text = [manifest_path, spans, kept](std::size_t k) {
-    if (k >= spans->size()) throw InputError(about(plain_text(manifest_path.string()), "holds no result " + std::to_string(k)));
+    if (k >= spans->size())
+      throw InputError(about(plain_text(manifest_path.string()), "holds no result " + std::to_string(k)));
     const auto text = kept->find(k);
     return text != kept->end() ? text->second : read_span(manifest_path, (*spans)[k]);
   };
@@ -384,7 +388,8 @@ std::string unpack_file_bundle(const std::string& name, const std::string& bundl
   if (data_bytes < bundle.size() - at - name_bytes) throw unreadable("bytes after its file");
   const std::string relative = bundle.substr(at, name_bytes);
   if (!relative_inside(relative))
-    throw InputError(about(plain_text(name), "its file '" + plain_text(relative) + "' is not a path inside the output"));
+    throw InputError(
+        about(plain_text(name), "its file '" + plain_text(relative) + "' is not a path inside the output"));
   write_under(folder, relative, bundle.data() + at + name_bytes, data_bytes);
   return relative;
 }
@@ -416,8 +421,8 @@ MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
       const std::size_t inputs = m.at("inputs").at("count").get<std::size_t>();
       const std::string print = m.at("inputs").at("fingerprint").get<std::string>();
       const std::string version = m.at("pushpred_version").get<std::string>();
-      if (n < 1 || index < 1 || index > n) throw InputError("its shard " + std::to_string(index) + "/" +
-                                                            std::to_string(n) + " is not a share I/N");
+      if (n < 1 || index < 1 || index > n)
+        throw InputError("its shard " + std::to_string(index) + "/" + std::to_string(n) + " is not a share I/N");
       if (&part == &first) {
         merged.command = command;
         merged.options = m.at("options");

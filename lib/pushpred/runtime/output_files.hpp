@@ -14,8 +14,8 @@
 // input's name stay within the file system's limit (bounded_file_name).
 #include <filesystem>
 #include <functional>
-#include <ostream>
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <string>
 #include <vector>
 
