@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# The batch runner and the HDF5 reader's fork server under ThreadSanitizer (g++ -fsanitize=thread): test_runtime's
-# `batch` suite (outcomes handed over in input order from two threads, an error while consuming) and
-# test_isolated_server (servers on several threads, a crash or a hang in a child). Any data race fails the run.
+# The runtime stage under ThreadSanitizer (g++ -fsanitize=thread): all of test_runtime (the batch pool handing
+# outcomes over in input order from several threads, the one batch runner, staged output folders and their clean-up
+# on stop signals, shards, the fork gate that waits until no other worker is inside an item) and
+# test_isolated_server (fork servers on several threads, a crash or a hang in a child). Any data race fails the run.
 # CI runs it after the other sanitizers (.ci/run). Usage: bash scripts/tsan.sh [BUILD_DIR]   (default build-tsan)
 #
-# Not run under it, and why (docs/robustness.md):
-# - test_runtime's staged-output tests, which stop processes with signals and fork children that take them: under
-#   ThreadSanitizer they did not finish within minutes, and `a_fork_waits_until_no_other_worker_is_inside_an_item`
-#   draws a report of a signal-unsafe call (an exception allocated inside a signal handler's reach) still to be
-#   traced; the AddressSanitizer build runs them.
+# scripts/tsan.supp holds the one suppression and why. Not run under it, and why (docs/robustness.md):
+# - `two_stop_signals_back_to_back_to_a_busy_run_leave_nothing`: its child spins in a loop without a call, and the
+#   tool delivers an asynchronous signal only at the next call it intercepts, so the child never takes the signal
+#   (the test hangs by construction); the Release and AddressSanitizer builds run it.
 # - `--jobs 2` end to end (cli_jobs) and the Python module under threads (an interpreter not built with the tool
 #   reports races inside itself): the Release build runs them.
 # - MPI (Open MPI's progress threads are not instrumented): cli_mpi runs in the Release build.
@@ -18,7 +18,7 @@ build=${1:-build-tsan}
 export CXXFLAGS="-fsanitize=thread -fno-omit-frame-pointer"
 export LDFLAGS="-fsanitize=thread"
 # halt_on_error: the first race ends the test with a report. second_deadlock_stack: both stacks of a lock-order report.
-export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/scripts/tsan.supp"
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 start=$(date +%s)
@@ -28,7 +28,9 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1
 cmake --build "$build" -j2 --target test_runtime test_isolated_server
 built=$(date +%s)
 status=0
-(cd "$build/tests/runtime" && timeout 600 ./test_runtime --run_test=batch --report_level=short) || status=$?
+(cd "$build/tests/runtime" && timeout 600 ./test_runtime \
+  --run_test='!staged_output/two_stop_signals_back_to_back_to_a_busy_run_leave_nothing' --report_level=short) ||
+  status=$?
 (cd "$build/tests/runtime" && timeout 600 ./test_isolated_server --report_level=short) || status=$?
 done_at=$(date +%s)
 echo "tsan: build $((built - start)) s, tests $((done_at - built)) s"

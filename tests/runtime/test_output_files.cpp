@@ -417,9 +417,12 @@ BOOST_AUTO_TEST_CASE(a_fork_waits_until_no_other_worker_is_inside_an_item) {
   });
   while (!other_inside) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   std::string seen;
-  {
+  try {
     const ForkSafeWork item;
     seen = run_isolated("f.h5", "reading", [] { return std::string(other_done ? "after" : "during"); });
+  } catch (...) {
+    other.join();  // a failed call must fail the test, not end the process with a joinable thread
+    throw;
   }
   other.join();
   BOOST_TEST(seen == "after");
