@@ -228,7 +228,7 @@ TimedStream tip_pose_stream(const PusherPath& path, const SensorDraws& draws, do
 
 SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sensors) {
   scenario.validate();
-  const ShapeInfo& shape = ShapeTable::published().find(scenario.shape);
+  const ShapeInfo& shape = ShapeTable::known().find(scenario.shape);
   const Effects& fx = scenario.effects;
   const ObjectProperties object = perturbed_object(shape, fx);
   const Outline outline(shape);
