@@ -79,7 +79,13 @@ void complete_polygon(ShapeInfo& s, bool centroid_given) {
   }
   s.dim1_m = hi.x() - lo.x();
   s.dim2_m = hi.y() - lo.y();
-  if (!centroid_given) s.centroid_m = area_centroid(s.vertices_m);
+  if (!centroid_given) {
+    // A symmetric outline's centroid comes out as rounding noise (1e-18 m): zero, as the dataset writes it.
+    s.centroid_m = area_centroid(s.vertices_m);
+    const double size = std::max(s.dim1_m, s.dim2_m);
+    for (int k = 0; k < 2; ++k)
+      if (std::abs(s.centroid_m(k)) < 1e-12 * size) s.centroid_m(k) = 0;
+  }
 }
 }  // namespace detail
 

@@ -99,8 +99,12 @@ ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string&
       if (f[8].empty())
         throw InputError(about(where, "a polygon row names its vertex file in the column outline_file"));
       const std::filesystem::path outline = folder / f[8];
-      s.vertices_m = detail::read_vertices_csv(outline);
-      validate_shape(s, about(where, "outline_file " + outline.string()));
+      try {
+        s.vertices_m = detail::read_vertices_csv(outline);
+        validate_shape(s, outline.string());
+      } catch (const InputError& e) {
+        throw InputError(about(where, e.what()));
+      }
       detail::complete_polygon(s, !f[3].empty() || !f[4].empty());
     } else if (!f[8].empty()) {
       throw InputError(about(where, "outline_file is for polygon rows only"));
