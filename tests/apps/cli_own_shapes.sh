@@ -52,6 +52,12 @@ expect_in "$tmp/out" "myhex" "inspect names the own object"
 expect_exit 0 "diagnose with an own object" -- "$bin" diagnose $hex --shapes "$tmp/own.json" --shape myhex --out "$tmp/dg"
 expect_in "$tmp/dg/report.md" "myhex" "the diagnosis names the own object"
 
+# learn writes an own object's outline into the object file, which forecast then reads without the shape file.
+expect_exit 0 "learn an own object" -- "$bin" learn $hex --shapes "$tmp/own.json" --out "$tmp/object.json"
+expect_in "$tmp/object.json" '"kind": "polygon"' "the object file holds the own polygon"
+expect_exit 0 "forecast from it without the shape file" -- \
+  "$bin" forecast --model "$tmp/object.json" --object-pose 0,0,0 --tip -70,0 --direction 0 --speed 50 --out "$tmp/fc"
+
 # The made-up objects of examples/own_shapes.json simulate, and their recordings predict.
 for shape in bracket puck wedge; do
   mkdir -p "$tmp/sim_$shape"
