@@ -148,6 +148,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--step", a->step_s, "Output step [s] (default 0.01)")->check(kPositiveNumber);
   sub->add_flag("--samples", a->samples, "Also write samples.csv: the ensemble's trajectories");
   sub->add_option("--data", a->data, "Data folder (butter's outline); default: PUSHPRED_DATA or ../shared/data/mcube");
+  add_shapes(*sub);
   add_out_folder(*sub, a->out);
   sub->callback([a, &run] { run = [a] { return run_forecast(*a); }; });
 });

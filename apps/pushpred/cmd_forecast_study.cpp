@@ -71,6 +71,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_recordings(*sub, a->files);
   add_out_folder(*sub, a->out);
   sub->add_option("--data", a->data, "Data folder (butter's outline); default: PUSHPRED_DATA or ../shared/data/mcube");
+  add_shapes(*sub);
   sub->add_option("--central", a->central,
                   "The central forecast: ensemble_mean (the learned pushes' own forecasts averaged, default) or median "
                   "(the forecast of their parameters' median)")

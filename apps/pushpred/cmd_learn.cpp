@@ -86,10 +86,12 @@ int run_learn(const LearnArgs& a) {
     return code == 0 ? kExitNothingDone : code;
   }
   const RecordedForecastCase& first = in.cases.front();
-  const std::string source =
-      own ? first.forecast_object.outline->description()
-          : (ShapeTable::published().find(first.object).has_outline() ? "shape table: " + first.object
-                                                                      : "data folder: butter_outline.csv");
+  const ShapeInfo& shape = ShapeTable::known().find(first.object);
+  // An own shape's outline is written into the object file (which then needs no shape file to be read).
+  const std::string source = own                   ? first.forecast_object.outline->description()
+                             : shape.own           ? "shape file: " + first.object
+                             : shape.has_outline() ? "shape table: " + first.object
+                                                   : "data folder: butter_outline.csv";
   LearnOptions options;
   options.central = central_forecast_named(a.central);
   const ObjectModel model =
@@ -112,6 +114,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_recordings(*sub, a->files);
   sub->add_option("--out", a->out, "The object file to write (JSON)")->required();
   sub->add_option("--data", a->data, "Data folder (butter's outline); default: PUSHPRED_DATA or ../shared/data/mcube");
+  add_shapes(*sub);
   sub->add_option("--outline", a->outline_file, "The object's own outline: CSV of x_m,y_m, counter-clockwise");
   sub->add_option("--circle", a->circle_m, "The object's own outline: a circle of this radius [m]")
       ->check(kPositiveNumber);

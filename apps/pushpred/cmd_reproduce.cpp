@@ -44,6 +44,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto* sub = app.add_subcommand("reproduce", "Reproduce the paper's study (six rect2 cases) and run it on the real ABS pushes");
   add_out_folder(*sub, a->out, "Output folder (report.md, summary.json, figures)");
   sub->add_option("--data", a->data, "Real recordings folder (default: PUSHPRED_DATA or ../shared/data/mcube)");
+  add_shapes(*sub);
   sub->add_flag("--no-real", a->no_real, "Only the six paper cases, not the real pushes");
   sub->add_option("--cases", a->cases, "Six real rect2 recordings for cases 1-6 (default: simulate them)")
       ->expected(6);

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/reports/simulation_comparison.hpp"
@@ -143,7 +144,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--case", a->paper_case, "One of the paper's cases, 1 to 6");
   sub->add_option("--config", a->config, "Scenario file (JSON, see data/paper/case1.json)");
   sub->add_option("--out", a->out, "Output .h5 file, or a folder (then the dataset's file name is used)");
-  sub->add_option("--shape", a->shape, "Object from the shape table (rect1..3, tri1..3, ellip1..3, hex)");
+  sub->add_option("--shape", a->shape, "Object: the dataset's (rect1..3, tri1..3, ellip1..3, hex) or one of --shapes");
+  add_shapes(*sub);
   sub->add_option("--surface", a->surface, "Surface name for the file name");
   sub->add_option("--mu", a->mu, "Surface friction coefficient");
   sub->add_option("--contact-mu", a->contact_mu, "Rod-object friction coefficient");

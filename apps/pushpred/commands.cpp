@@ -6,6 +6,7 @@
 #include "pushpred/core/batch.hpp"
 #include "pushpred/runtime/mpi_world.hpp"
 #include "pushpred/runtime/output_files.hpp"
+#include "pushpred/reading/shape_table.hpp"
 
 namespace pushpred::app {
 namespace {
@@ -86,6 +87,9 @@ int run_selected(CLI::App& app, const MpiSession* mpi) {
       throw InputError("`" + name + "` does not run under mpirun (only `predict`, `validate-diagnosis` and `diagnose "
                        "--per-object` split their work over MPI ranks); run it as one process");
     // Inputs that reach a push twice are studied once (expand_inputs): said once per job, on stderr.
+    // A user's own objects join the known shapes before any input is read (flags.hpp, add_shapes).
+    const CLI::Option* shapes = sub->get_option_no_throw("--shapes");
+    if (shapes && shapes->count() > 0) ShapeTable::use_own_shapes(ShapeTable::from_file(shapes->as<std::string>()));
     const CLI::Option* files = sub->get_option_no_throw("files");
     if (files && files->count() > 0 && mpi_launch_rank() == 0)
       std::cerr << repeated_inputs_note(files->as<std::vector<std::string>>());

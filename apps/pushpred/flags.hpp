@@ -37,9 +37,22 @@ inline CLI::Option* add_out_folder(CLI::App& sub, std::string& out, const std::s
   return sub.add_option("--out", out, help)->required();
 }
 
-/// `--shape NAME`, for files whose name does not carry the shape.
+/// `--shapes FILE`: a user's own objects (CSV or JSON, docs/own-objects.md), added to the dataset's shapes and
+/// replacing those of the same name. run_selected reads the file before the subcommand runs, so that a bad one stops
+/// the run with exit 2 before any input is read.
+inline CLI::Option* add_shapes(CLI::App& sub) {
+  return sub
+      .add_option("--shapes",
+                  "Own objects: a shape file (CSV or JSON, docs/own-objects.md) whose shapes add to "
+                  "and override the dataset's")
+      ->type_name("FILE");
+}
+
+/// `--shape NAME`, for files whose name does not carry the shape, with `--shapes FILE` for own objects.
 inline CLI::Option* add_shape(CLI::App& sub, std::string& shape) {
-  return sub.add_option("--shape", shape, "Object shape, for files whose name does not carry it");
+  add_shapes(sub);
+  return sub.add_option("--shape", shape,
+                        "Object shape, for files whose name does not carry it: the dataset's or one of --shapes");
 }
 
 /// `--rate HZ` (positive): the rate the streams are resampled to.

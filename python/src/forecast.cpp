@@ -149,9 +149,10 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
             if (c.object != in.cases.front().object || c.surface != in.cases.front().surface)
               throw InputError("learn_object_model: the pushes are of several objects or surfaces");
           const RecordedForecastCase& first = in.cases.front();
-          const std::string source = ShapeTable::published().find(first.object).has_outline()
-                                         ? "shape table: " + first.object
-                                         : "data folder: butter_outline.csv";
+          const ShapeInfo& shape = ShapeTable::known().find(first.object);
+          const std::string source = shape.own             ? "shape file: " + first.object
+                                     : shape.has_outline() ? "shape table: " + first.object
+                                                           : "data folder: butter_outline.csv";
           return learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits);
         });
       },

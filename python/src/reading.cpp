@@ -1,6 +1,7 @@
 // Reading and preprocessing: pushpred.load_push gives a Push, the synchronised record every later stage reads.
 #include <optional>
 #include <string>
+#include <variant>
 
 #include "conversions.hpp"
 #include "pushpred/core/data_folder.hpp"
@@ -32,7 +33,7 @@ py::dict parameters_dict(const PushParameters& p) {
 }
 
 py::dict shape_dict(const ShapeInfo& s) {
-  static const char* geometry[] = {"rectangle", "right_triangle", "ellipse", "hexagon", "unlisted"};
+  static const char* geometry[] = {"rectangle", "right_triangle", "ellipse", "hexagon", "unlisted", "polygon"};
   py::dict d;
   d["name"] = s.name;
   d["mass_kg"] = s.mass_kg;
@@ -41,7 +42,36 @@ py::dict shape_dict(const ShapeInfo& s) {
   d["geometry"] = geometry[static_cast<int>(s.geometry)];
   d["dim1_m"] = s.dim1_m;
   d["dim2_m"] = s.dim2_m;
+  d["own"] = s.own;
+  if (s.geometry == Geometry::Polygon) {
+    Eigen::MatrixX2d v(static_cast<Eigen::Index>(s.vertices_m.size()), 2);
+    for (size_t i = 0; i < s.vertices_m.size(); ++i) v.row(static_cast<Eigen::Index>(i)) = s.vertices_m[i].transpose();
+    d["vertices_m"] = array(v);
+  }
   return d;
+}
+
+/// A shape argument: a name (empty: the file name's) or a dict in the shape file's JSON form (docs/own-objects.md).
+using ShapeArgument = std::variant<std::string, py::dict>;
+
+/// The own shape a dict describes, checked; InputError naming the Python argument `argument` otherwise.
+std::optional<ShapeInfo> own_shape(const ShapeArgument& shape, const std::string& argument) {
+  if (const auto* d = std::get_if<py::dict>(&shape)) {
+    std::string text;
+    try {
+      text = py::str(py::module_::import("json").attr("dumps")(*d));
+    } catch (const py::error_already_set& e) {
+      throw InputError(argument + ": the dict does not convert to JSON (" + std::string(e.what()) + ")");
+    }
+    return shape_from_json_text(text, argument);
+  }
+  return std::nullopt;
+}
+
+const std::string& shape_name(const ShapeArgument& shape) {
+  static const std::string none;
+  const auto* s = std::get_if<std::string>(&shape);
+  return s ? *s : none;
 }
 
 /// A stream from Python columns: rows [t_s, a, b, c], as the reader checks and repairs them.
@@ -112,15 +142,22 @@ negative of the sensor reading). t_s counts from t0_unix_s.)doc")
 
   m.def(
       "load_push",
-      [](const std::filesystem::path& path, const std::string& shape, double rate_hz) {
+      [](const std::filesystem::path& path, const ShapeArgument& shape, double rate_hz) {
         PreprocessOptions options;
         options.rate_hz = rate_hz;
-        return without_gil([&] { return load_push(path, shape, options); });
+        const std::optional<ShapeInfo> own = own_shape(shape, "shape");
+        return without_gil([&] {
+          if (!own) return load_push(path, shape_name(shape), options);
+          return synchronise(read_recording(path), *own, options);
+        });
       },
       py::arg("path"), py::arg("shape") = "", py::arg("rate_hz") = 250.0, R"doc(
 Reads an MCube recording (HDF5 or JSON) and synchronises its three streams onto a uniform grid of rate_hz [Hz].
-shape overrides the shape named by the file name (needed for files not named like the dataset's).
-Raises InputError naming the file and the problem for anything malformed.)doc");
+shape overrides the shape named by the file name (needed for files not named like the dataset's): a name from
+pushpred.shapes(), or an own object as a dict {"name", "mass_kg", "inertia_kgm2", "centroid_m" (optional),
+"outline": {"kind": "polygon", "vertices_m": [[x, y], ...]} | {"kind": "circle", "radius_m"} | {"kind": "ellipse",
+"semi_axes_m": [a, b]} | {"kind": "rectangle", "sides_m": [x, y]}} (SI units, body frame; docs/own-objects.md).
+Raises InputError naming the file (or the shape argument) and the problem for anything malformed.)doc");
 
   m.def(
       "read_recording",
@@ -145,7 +182,8 @@ dict of arrays), parameters (from the file name, or None) and repairs.)doc");
   m.def(
       "push_from_streams",
       [](const Eigen::MatrixXd& tip_pose, const Eigen::MatrixXd& object_pose, const Eigen::MatrixXd& ft_wrench,
-         const std::string& shape, const std::string& source, double rate_hz) {
+         const ShapeArgument& shape, const std::string& source, double rate_hz) {
+        const std::optional<ShapeInfo> own = own_shape(shape, "shape");
         return without_gil([&] {
           Recording r;
           r.source = source;
@@ -155,21 +193,48 @@ dict of arrays), parameters (from the file name, or None) and repairs.)doc");
           r.ft_wrench = stream_from(source, "ft_wrench", ft_wrench, r.repairs);
           PreprocessOptions options;
           options.rate_hz = rate_hz;
-          return synchronise(r, shape_for(r, shape), options);
+          return synchronise(r, own ? *own : shape_for(r, shape_name(shape)), options);
         });
       },
       py::arg("tip_pose"), py::arg("object_pose"), py::arg("ft_wrench"), py::arg("shape") = "",
       py::arg("source") = "arrays", py::arg("rate_hz") = 250.0, R"doc(
 A Push from your own streams, each an n x 4 array of rows [t [s, Unix], a, b, c] in the robot frame:
 tip_pose and object_pose (x [m], y [m], yaw [rad]) and ft_wrench (fx [N], fy [N], tz [N m], the reaction on the
-pusher as the sensor reads it). shape names an object of the shape table (pushpred.shapes()); it may be left
-empty when source is a dataset file name. The streams are checked, repaired and synchronised as a file's are.)doc");
+pusher as the sensor reads it). shape names an object of pushpred.shapes(), or is an own object's dict (as
+load_push's); it may be left empty when source is a dataset file name. The streams are checked, repaired and synchronised as a file's are.)doc");
 
-  m.def("shapes", [] {
-    py::dict d;
-    for (const auto& s : ShapeTable::published().shapes()) d[py::str(s.name)] = shape_dict(s);
-    return d;
-  }, "the published shape table: name -> mass_kg, inertia_kgm2, geometry, dimensions [m]");
+  m.def(
+      "shapes",
+      [] {
+        py::dict d;
+        for (const auto& s : ShapeTable::known().shapes()) d[py::str(s.name)] = shape_dict(s);
+        return d;
+      },
+      "the known shapes: the dataset's and those given to use_shapes; name -> mass_kg, inertia_kgm2, centroid_m, "
+      "geometry, dimensions [m], own, vertices_m (polygons)");
+
+  m.def(
+      "use_shapes",
+      [](const std::variant<std::filesystem::path, py::dict, py::list>& shapes) {
+        ShapeTable own;
+        if (const auto* path = std::get_if<std::filesystem::path>(&shapes)) {
+          own = ShapeTable::from_file(*path);
+        } else {
+          const py::object value = std::holds_alternative<py::dict>(shapes) ? py::object(std::get<py::dict>(shapes))
+                                                                            : py::object(std::get<py::list>(shapes));
+          own = ShapeTable::from_json_text(py::str(py::module_::import("json").attr("dumps")(value)), "shapes");
+        }
+        ShapeTable::use_own_shapes(own);
+      },
+      py::arg("shapes"), R"doc(
+Adds own objects to the known shapes for the rest of the process, as the program's --shapes FILE: a shape file
+(CSV or JSON, docs/own-objects.md), one shape dict (as load_push's shape) or a list of them. A shape of a known
+name replaces it; every later lookup by name (a file name's shape=, shape="name", simulate's shape) finds them.
+Raises InputError naming the file or the argument and the problem.)doc");
+
+  m.def(
+      "shape_from_dict", [](const py::dict& shape) { return shape_dict(*own_shape(shape, "shape")); }, py::arg("shape"),
+      "An own object's dict (as load_push's shape) checked and completed: its dict as shapes() gives it.");
 
   m.def(
       "parse_push_filename",

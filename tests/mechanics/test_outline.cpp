@@ -97,4 +97,31 @@ BOOST_AUTO_TEST_CASE(a_side_or_position_that_does_not_exist_is_an_input_error) {
   BOOST_CHECK_THROW(Outline(ShapeTable::published().find("butter")), InputError);
 }
 
+BOOST_AUTO_TEST_CASE(an_own_polygon_with_a_reflex_corner_has_the_l_shapes_area_and_contact_geometry) {
+  // An L: a 40 x 20 mm bar with a 20 x 20 mm square on its left end. By hand: area 1200 mm^2, area centroid
+  // (50/3, 50/3) mm; the reflex corner at (20, 20) mm.
+  ShapeInfo l;
+  l.name = "ell";
+  l.mass_kg = 0.3;
+  l.inertia_kgm2 = 1e-4;
+  l.geometry = Geometry::Polygon;
+  l.vertices_m = {{0, 0}, {0.04, 0}, {0.04, 0.02}, {0.02, 0.02}, {0.02, 0.04}, {0, 0.04}};
+  const Outline outline(l);
+  BOOST_TEST(!outline.is_convex_polygon());
+  BOOST_TEST(outline.side_count() == 6);
+  BOOST_TEST(outline.contains({0.01, 0.03}));
+  BOOST_TEST(!outline.contains({0.03, 0.03}));  // in the notch
+  const Outline::Closest notch = outline.closest({0.03, 0.025});
+  BOOST_TEST(notch.signed_distance_m == 0.005, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(notch.normal.y() == 1.0, boost::test_tools::tolerance(1e-12));  // the bar's top side faces up
+  const Outline::Closest inside = outline.closest({0.015, 0.015});
+  // Nearest the reflex corner, 5 mm away along each axis (the sides it joins end there).
+  BOOST_TEST(inside.signed_distance_m == -std::hypot(0.005, 0.005), boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(inside.normal.x() == std::sqrt(0.5), boost::test_tools::tolerance(1e-12));
+  const Footprint f = make_footprint(outline, 40, 8);
+  BOOST_TEST(f.total_area_m2 == 1.2e-3, boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(f.centroid_m.x() == 0.05 / 3, boost::test_tools::tolerance(1e-3));
+  BOOST_TEST(f.centroid_m.y() == 0.05 / 3, boost::test_tools::tolerance(1e-3));
+}
+
 BOOST_AUTO_TEST_SUITE_END()

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <limits>
@@ -76,13 +77,27 @@ BOOST_AUTO_TEST_CASE(a_push_with_a_frozen_force_sensor_is_refused) {
   BOOST_CHECK_THROW(run_prediction_study(load_push(real_file("shape=rect1_a=0_v=75"))), InputError);
 }
 
-BOOST_AUTO_TEST_CASE(an_unknown_surface_needs_a_friction_coefficient) {
+BOOST_AUTO_TEST_CASE(on_an_unknown_surface_only_the_method_needing_its_friction_coefficient_is_skipped) {
   const SynchronisedPush push = load_push(resolve_data_folder() / "plywood" /
                                           "motion_surface=plywood_shape=hex_a=0_v=150_i=1.000_s=0.000_t=-0.349.json");
-  BOOST_CHECK_THROW(run_prediction_study(push), InputError);
+  BOOST_CHECK_THROW(surface_friction_coefficient("plywood"), MissingCoefficient);
+  const PushStudy without = run_prediction_study(push);
+  BOOST_TEST(std::count(without.methods.begin(), without.methods.end(), "simple") == 0);
+  BOOST_TEST(std::count(without.methods.begin(), without.methods.end(), "dob") == 1);
+  BOOST_TEST(without.phases.size() == 3u);
   StudyOptions o;
   o.friction_coefficient = 0.3;
-  BOOST_TEST(run_prediction_study(push, o).phases.size() == 3u);
+  const PushStudy with = run_prediction_study(push, o);
+  BOOST_TEST(with.phases.size() == 3u);
+  for (size_t k = 0; k < with.phases.size(); ++k) {
+    const PhaseResult& a = without.phases[k];
+    BOOST_TEST(!a.predicted.count("simple"));
+    BOOST_TEST(a.method_notes.at("simple").rfind("skipped: no friction coefficient known for surface 'plywood'", 0) ==
+               0);
+    BOOST_TEST(with.phases[k].predicted.count("simple") == 1u);
+    // The methods that need no coefficient predict the same with or without it.
+    BOOST_TEST(a.errors.at("dob").pos_mm_mean == with.phases[k].errors.at("dob").pos_mm_mean);
+  }
 }
 
 BOOST_AUTO_TEST_CASE(a_friction_coefficient_that_is_not_finite_is_refused_not_read_as_from_the_surface) {

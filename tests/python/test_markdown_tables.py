@@ -1,11 +1,13 @@
 """Every Markdown table the program writes renders: each row has as many cells as its header.
 
 A `|` inside a cell (the `max |dbeta|` column of compare.md, a file name) must be escaped (`\\|`), or the row
-splits into more cells than the header and the table does not render. The tables of predict, compare, fit-pid
-and reproduce (report.md) are rendered here from runs on real pushes, among them one whose force sensor is frozen
-(a listed skip). The diagnosis and validation reports (reports/diagnosis_*, reports/validation_*) are not covered
-here."""
+splits into more cells than the header and the table does not render. The tables of predict, compare, fit-pid,
+diagnose (one object, and per object with its overview), forecast-study, validate-diagnosis and reproduce (report.md)
+are rendered here from runs on real pushes (among them one whose force sensor is frozen, a listed skip) and on a few
+simulated trials, and predict's with an own object (--shapes)."""
+import json
 import re
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -90,3 +92,44 @@ def test_every_table_of_the_reproduction_renders(executable, data_dir, tmp_path)
     report = (out / "report.md").read_text()
     # No table cell or figure caption prints a negative zero.
     assert not re.search(r"(?<![0-9.])-0\.0+(?![0-9]*[1-9])\b", report), "report.md prints -0.0"
+
+
+@pytest.mark.parametrize("command", [
+    ["diagnose", "{files}", "--out", "{out}", "--jobs", "1"],
+    ["diagnose", "{files}", "--out", "{out}", "--per-object", "--jobs", "1"],
+    ["forecast-study", "{files}", "--out", "{out}", "--jobs", "1"],
+])
+def test_every_table_of_the_diagnosis_and_forecast_renders(executable, data_dir, tmp_path, command):
+    abs_dir = data_dir / "abs"
+    files = [str(f) for f in sorted(abs_dir.glob("*shape=hex_a=0_v=50*.h5"))[:4]]
+    if "--per-object" in command:
+        files += [str(f) for f in sorted(abs_dir.glob("*shape=ellip1_a=0_v=20*.h5"))[:4]]
+    out = tmp_path / command[0]
+    args = []
+    for a in command:
+        args += files if a == "{files}" else [str(out) if a == "{out}" else a]
+    proc = subprocess.run([executable, *args], capture_output=True, text=True)
+    assert proc.returncode in (0, 1), proc.stderr
+    bad, count = bad_rows(out)
+    assert count > 0, f"{command[0]} wrote no Markdown table"
+    assert not bad, "rows whose cell count is not their header's:\n" + "\n".join(f"{f}: {h}\n  {r}" for f, h, r in bad)
+
+
+def test_every_table_of_the_validation_renders(executable, tmp_path):
+    out = tmp_path / "validation"
+    run_cli(executable, "validate-diagnosis", "--trials", "1", "--kinds", "none,viscous_friction", "--out", out,
+            "--jobs", "1")
+    bad, count = bad_rows(out)
+    assert count >= 4, f"validation.md holds {count} tables"
+    assert not bad, "rows whose cell count is not their header's:\n" + "\n".join(f"{f}: {h}\n  {r}" for f, h, r in bad)
+
+
+def test_the_tables_of_an_own_object_render(executable, pushes, tmp_path):
+    shapes = tmp_path / "own.json"
+    shapes.write_text(json.dumps({"shapes": [{"name": "puck", "mass_kg": 0.9, "inertia_kgm2": 0.0012,
+                                              "outline": {"kind": "circle", "radius_m": 0.0525}}]}))
+    out = tmp_path / "predict"
+    run_cli(executable, "predict", pushes[1], "--shapes", shapes, "--shape", "puck", "--out", out, "--jobs", "1")
+    bad, count = bad_rows(out)
+    assert count > 0 and not bad, bad
+    assert (out / "tables.md").exists()

@@ -625,7 +625,7 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
     const std::string kind = ol.value("kind", std::string());
     if (kind == "shape_table") {
       const std::string shape = ol.value("shape", std::string());
-      const ShapeInfo& info = ShapeTable::published().find(shape);
+      const ShapeInfo& info = ShapeTable::known().find(shape);
       m.object.outline = dataset_forecast_object(info, data_folder).outline;
       m.outline_source = info.has_outline() ? "shape table: " + shape : "data folder: butter_outline.csv";
     } else if (kind == "circle") {

@@ -87,10 +87,24 @@ Outline::Outline(const ShapeInfo& shape) {
     lower_ = lower_.cwiseMin(vertices_[i]);
     upper_ = upper_.cwiseMax(vertices_[i]);
   }
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d in = vertices_[i] - vertices_[(i + n - 1) % n], out = vertices_[(i + 1) % n] - vertices_[i];
+    if (in.x() * out.y() - in.y() * out.x() < 0) convex_ = false;
+  }
 }
 
 bool Outline::contains(const Eigen::Vector2d& p) const {
   if (ellipse_) return (p.x() / a_) * (p.x() / a_) + (p.y() / b_) * (p.y() / b_) <= 1.0;
+  if (!convex_) {
+    // Crossing number: a horizontal ray from p crosses the outline an odd number of times from inside.
+    bool inside = false;
+    for (size_t i = 0, j = vertices_.size() - 1; i < vertices_.size(); j = i++) {
+      const Eigen::Vector2d &a = vertices_[j], &b = vertices_[i];
+      if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+        inside = !inside;
+    }
+    return inside;
+  }
   for (size_t i = 0; i < vertices_.size(); ++i)
     if ((p - vertices_[i]).dot(normals_[i]) > 0) return false;
   return true;
@@ -115,6 +129,32 @@ Outline::Closest Outline::closest(const Eigen::Vector2d& p) const {
     return c;
   }
   const size_t n = vertices_.size();
+  if (!convex_) {
+    // The nearest point over all sides; at a vertex the normal points from the point to it (away from inside).
+    double best = std::numeric_limits<double>::infinity(), best_t = 0;
+    size_t best_side = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d& a = vertices_[i];
+      const Eigen::Vector2d ab = vertices_[(i + 1) % n] - a;
+      const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      const double d = (p - (a + t * ab)).norm();
+      if (d < best) {
+        best = d;
+        best_t = t;
+        best_side = i;
+        c.point_m = a + t * ab;
+      }
+    }
+    const bool inside = contains(p);
+    c.signed_distance_m = inside ? -best : best;
+    if (best_t > 0 && best_t < 1)
+      c.normal = normals_[best_side];
+    else if (best > 0)
+      c.normal = (inside ? c.point_m - p : p - c.point_m) / best;
+    else
+      c.normal = normals_[best_side];
+    return c;
+  }
   bool inside = true;
   double best = std::numeric_limits<double>::infinity(), largest_side = -best;
   size_t nearest_side = 0;
@@ -217,8 +257,8 @@ Footprint make_footprint(const Outline& outline, int cells_across, int subsample
   for (int i = 0; i < cells_across; ++i)
     for (int j = 0; j < cells_across; ++j) {
       const Eigen::Vector2d c0 = lo + Eigen::Vector2d(i * cell.x(), j * cell.y());
-      if (!outline.is_ellipse()) {
-        // Polygons: the exact part of the cell inside, by clipping the cell with every side.
+      if (outline.is_convex_polygon()) {
+        // Convex polygons: the exact part of the cell inside, by clipping the cell with every side.
         std::vector<Eigen::Vector2d> piece{c0, c0 + Eigen::Vector2d(cell.x(), 0), c0 + cell,
                                            c0 + Eigen::Vector2d(0, cell.y())};
         for (int k = 0; k < outline.side_count() && !piece.empty(); ++k) {
@@ -233,7 +273,7 @@ Footprint make_footprint(const Outline& outline, int cells_across, int subsample
         f.area_m2.push_back(area);
         continue;
       }
-      // Ellipses: the share of a grid of sample points inside.
+      // Ellipses and polygons with a reflex corner: the share of a grid of sample points inside.
       Eigen::Vector2d sum = Eigen::Vector2d::Zero();
       int inside = 0;
       for (int u = 0; u < subsamples; ++u)

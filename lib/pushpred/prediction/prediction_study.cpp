@@ -1,5 +1,6 @@
 #include "pushpred/prediction/prediction_study.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -19,7 +20,8 @@ std::unique_ptr<DisturbanceEstimator> study_observer(const std::string& name, co
 
 double surface_friction_coefficient(const std::string& surface) {
   if (surface == "abs") return 0.14;
-  throw InputError("no friction coefficient known for surface '" + surface + "' (give --mu)");
+  throw MissingCoefficient("no friction coefficient known for surface '" + surface +
+                           "', and the study gives none (the friction coefficient option)");
 }
 
 double simple_friction_coefficient(const SynchronisedPush& push, const StudyOptions& options) {
@@ -152,7 +154,19 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     predictors.push_back(std::move(p));
     study.methods.push_back(kCorrectedMethod);
   }
-  for (auto& p : predictors) p->start_push(push, o);
+  // A method that lacks a coefficient for this push is left out of it, with a note in every phase.
+  std::map<std::string, std::string> skipped;
+  for (auto it = predictors.begin(); it != predictors.end();) {
+    try {
+      (*it)->start_push(push, o);
+      ++it;
+    } catch (const MissingCoefficient& e) {
+      const std::string name = (*it)->name();
+      skipped[name] = std::string("skipped: ") + e.what();
+      study.methods.erase(std::remove(study.methods.begin(), study.methods.end(), name), study.methods.end());
+      it = predictors.erase(it);
+    }
+  }
 
   for (size_t k = 1; k < study.intervals.size(); ++k) {
     const TimeInterval& previous = study.intervals[k - 1];
@@ -187,6 +201,7 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
     r.measured = push.pose.middleRows(first, i1 - first + 1);
     const Eigen::Vector3d pose0 = push.pose.row(push.index_at(phase.t0_s)).transpose();
     r.initial_velocity = id.velocity.row(id.velocity.rows() - 1).transpose();
+    r.method_notes = skipped;
     if (ready) r.relation = relation;
     else r.note = "relation not identifiable yet (" + estimator->not_ready_reason() + "); dob predicts with beta = eps = 0";
 

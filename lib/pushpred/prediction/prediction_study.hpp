@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pushpred/core/error.hpp"
 #include "pushpred/estimators/relation_estimator.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
@@ -27,9 +28,16 @@
 namespace pushpred {
 
 /// Coulomb friction coefficient of a support surface for the `simple` baseline: abs 0.14 (the paper's
-/// average of 0.13-0.15). Throws InputError for a surface without a value (give --mu).
+/// average of 0.13-0.15). Throws MissingCoefficient for a surface without a value.
 double surface_friction_coefficient(const std::string& surface);
 
+/// A coefficient a prediction method needs is not known for a push (the friction coefficient of a surface other than
+/// the dataset's, when the study gives none): the study runs the push without that method, noting why in each
+/// phase's method_notes ("skipped: ..."), rather than failing the push.
+class MissingCoefficient : public UnsuitableInput {
+ public:
+  using UnsuitableInput::UnsuitableInput;
+};
 
 /// Names of the built-in prediction methods, in report order: the default of StudyOptions::methods
 /// (predictor.hpp has every registered one).
@@ -113,7 +121,7 @@ struct StudyOptions {
 };
 
 /// mu of the `simple` baseline for `push`: options.friction_coefficient where set (>= 0), otherwise the push's
-/// surface's (surface_friction_coefficient, which throws InputError for a surface without one).
+/// surface's (surface_friction_coefficient, which throws MissingCoefficient for a surface without one).
 double simple_friction_coefficient(const SynchronisedPush& push, const StudyOptions& options);
 
 /// The `simple` baseline's model for an object of `shape`: Newton's law with Coulomb friction mu m g

@@ -96,8 +96,9 @@ const ShapeInfo& shape_for(const Recording& r, const std::string& shape_override
     }
   }
   if (!r.push)
-    throw InputError(about(r.source, "file name does not parse as motion_surface=S_shape=O_a=A_v=V_i=I_s=P_t=T; "
-                                     "give the shape with --shape"));
+    throw InputError(about(r.source,
+                           "file name does not parse as motion_surface=S_shape=O_a=A_v=V_i=I_s=P_t=T; "
+                           "give the shape with --shape (in Python: shape=)"));
   try {
     return table.find(r.push->shape);
   } catch (const InputError& e) {

@@ -90,9 +90,9 @@ SynchronisedPush synchronise(const Recording& recording, const ShapeInfo& shape,
 void check_plausible_motion(const SynchronisedPush& push, const PlausibilityLimits& limits = {});
 
 /// The shape named by the file name, or `shape_override` when given; throws InputError when neither
-/// exists or the name is not in `table`.
+/// exists or the name is not in `table` (by default the known shapes: the published ones and the user's own).
 const ShapeInfo& shape_for(const Recording& recording, const std::string& shape_override,
-                           const ShapeTable& table = ShapeTable::published());
+                           const ShapeTable& table = ShapeTable::known());
 
 /// Reads and synchronises in one call.
 SynchronisedPush load_push(const std::filesystem::path& path, const std::string& shape_override = "",

@@ -10,6 +10,9 @@
 namespace pushpred {
 namespace detail {
 extern const char* const kPublishedShapesCsv;
+std::string read_text_file(const std::filesystem::path& path, const std::string& what);
+std::vector<Eigen::Vector2d> read_vertices_csv(const std::filesystem::path& path);
+void complete_polygon(ShapeInfo& shape, bool centroid_given);
 }
 
 namespace {
@@ -41,15 +44,20 @@ double parse_number(const std::string& text, const std::string& where, bool allo
 Geometry parse_geometry(const std::string& g, const std::string& where) {
   if (g == "rect") return Geometry::Rectangle;
   if (g == "tri") return Geometry::RightTriangle;
-  if (g == "ellip") return Geometry::Ellipse;
+  if (g == "ellip" || g == "circle") return Geometry::Ellipse;
   if (g == "hex") return Geometry::Hexagon;
+  if (g == "polygon") return Geometry::Polygon;
   if (g == "butter" || g.empty()) return Geometry::Unlisted;
-  throw InputError(about(where, "unknown geometry '" + g + "'"));
+  throw InputError(about(where, "unknown geometry '" + plain_text(g) + "' (rect, tri, ellip, circle, hex, polygon)"));
 }
+
+const std::vector<std::string> kColumns = {"shape",    "mass_kg", "inertia_kgm2", "centroid_x_m", "centroid_y_m",
+                                           "geometry", "dim1_m",  "dim2_m",       "outline_file"};
 
 }  // namespace
 
-ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string& source) {
+ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string& source,
+                                     const std::filesystem::path& folder) {
   ShapeTable table;
   std::istringstream in(text);
   std::string line;
@@ -62,22 +70,47 @@ ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string&
     const std::string where = source + ":" + std::to_string(line_no);
     auto f = split_csv_line(line);
     if (!header_seen) {
-      if (f.empty() || f[0] != "shape") throw InputError(about(where, "expected the header line 'shape,mass_kg,...'"));
+      const bool eight = f.size() == 8 && std::equal(f.begin(), f.end(), kColumns.begin());
+      if (!eight && f != kColumns)
+        throw InputError(about(where,
+                               "expected the header line "
+                               "'shape,mass_kg,inertia_kgm2,centroid_x_m,centroid_y_m,geometry,dim1_m,dim2_m' "
+                               "(and ',outline_file' for polygons), got '" +
+                                   plain_text(line) + "'"));
       header_seen = true;
       continue;
     }
-    if (f.size() < 8) f.resize(8);
+    if (f.size() > kColumns.size())
+      throw InputError(about(
+          where, "expected at most " + std::to_string(kColumns.size()) + " fields, got " + std::to_string(f.size())));
+    if (f.size() < 3) throw InputError(about(where, "expected at least shape,mass_kg,inertia_kgm2"));
+    f.resize(kColumns.size());
     if (f[0].empty()) throw InputError(about(where, "empty shape name"));
     ShapeInfo s;
+    s.own = true;
     s.name = f[0];
     s.mass_kg = parse_number(f[1], where, false);
     s.inertia_kgm2 = parse_number(f[2], where, false);
     s.centroid_m = {parse_number(f[3], where, true), parse_number(f[4], where, true)};
     s.geometry = parse_geometry(f[5], where);
     s.dim1_m = parse_number(f[6], where, true);
-    s.dim2_m = parse_number(f[7], where, true);
-    if (s.mass_kg <= 0 || s.inertia_kgm2 <= 0)
-      throw InputError(about(where, "mass and inertia of '" + s.name + "' must be positive"));
+    s.dim2_m = f[5] == "circle" ? s.dim1_m : parse_number(f[7], where, true);
+    if (s.geometry == Geometry::Polygon) {
+      if (f[8].empty())
+        throw InputError(about(where, "a polygon row names its vertex file in the column outline_file"));
+      const std::filesystem::path outline = folder / f[8];
+      try {
+        s.vertices_m = detail::read_vertices_csv(outline);
+        validate_shape(s, outline.string());
+      } catch (const InputError& e) {
+        throw InputError(about(where, e.what()));
+      }
+      detail::complete_polygon(s, !f[3].empty() || !f[4].empty());
+    } else if (!f[8].empty()) {
+      throw InputError(about(where, "outline_file is for polygon rows only"));
+    }
+    validate_shape(s, where);
+    if (table.contains(s.name)) throw InputError(about(where, "shape '" + plain_text(s.name) + "' is given twice"));
     table.shapes_.push_back(s);
   }
   if (table.shapes_.empty()) throw InputError(about(source, "no shapes in table"));
@@ -85,15 +118,15 @@ ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string&
 }
 
 ShapeTable ShapeTable::from_csv_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(about(path.string(), "cannot open shape table"));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return from_csv_text(ss.str(), path.string());
+  return from_csv_text(detail::read_text_file(path, "a shape table"), path.string(), path.parent_path());
 }
 
 const ShapeTable& ShapeTable::published() {
-  static const ShapeTable table = from_csv_text(detail::kPublishedShapesCsv, "data/shapes.csv");
+  static const ShapeTable table = [] {
+    ShapeTable t = from_csv_text(detail::kPublishedShapesCsv, "data/shapes.csv");
+    for (auto& s : t.shapes_) s.own = false;
+    return t;
+  }();
   return table;
 }
 
@@ -108,7 +141,8 @@ const ShapeInfo& ShapeTable::find(const std::string& name) const {
     if (s.name == name) return s;
   std::string known;
   for (const auto& s : shapes_) known += (known.empty() ? "" : ", ") + s.name;
-  throw InputError("unknown shape '" + name + "' (known: " + known + ")");
+  throw InputError("unknown shape '" + plain_text(name) + "' (known: " + known +
+                   "; an own object is given in a shape file, docs/own-objects.md)");
 }
 
 std::vector<Eigen::Vector2d> outline_polygon(const ShapeInfo& s, int points_per_curve) {
@@ -138,6 +172,9 @@ std::vector<Eigen::Vector2d> outline_polygon(const ShapeInfo& s, int points_per_
       v = {Eigen::Vector2d(0, 0) + shift, Eigen::Vector2d(s.dim1_m, 0) + shift, Eigen::Vector2d(0, s.dim2_m) + shift};
       break;
     }
+    case Geometry::Polygon:
+      v = s.vertices_m;
+      break;
     case Geometry::Unlisted:
       throw InputError("shape '" + s.name + "': outline is not listed in the shape table");
   }

@@ -9,6 +9,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/version.hpp"
+#include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/plotting.hpp"
 #include "pushpred/runtime/shard.hpp"
 
@@ -86,8 +87,8 @@ std::string effect_parameters_text(const EffectReport& r) {
 }
 
 std::string error_row(const std::string& name, const ErrorSummary& e) {
-  return "| " + name + " | " + fixed(e.pos_mm_mean) + " | " + fixed(e.x_mm_mean) + " | " + fixed(e.y_mm_mean) + " | " +
-         fixed(e.theta_deg_mean) + " | " + fixed(e.final_pos_mm) + " | " + fixed(e.final_theta_deg) + " |\n";
+  return markdown_row({name, fixed(e.pos_mm_mean), fixed(e.x_mm_mean), fixed(e.y_mm_mean), fixed(e.theta_deg_mean),
+                       fixed(e.final_pos_mm), fixed(e.final_theta_deg)});
 }
 
 /// Writes plots/NAME.gp and runs gnuplot on it (file names relative to the plots folder, so it can be rerun where
@@ -164,12 +165,13 @@ std::string phase_by_phase(const DiagnosisResult& r) {
   std::sort(losses.begin(), losses.end(), [](const Loss& a, const Loss& b) { return a.excess > b.excess; });
   md << " It loses to the better reference in " << losses.size()
      << " phase(s) by more than 2 %; the worst (mean errors over the phase, pos [mm] / yaw [deg]):\n\n"
-     << "| push | phase | starts at [s] | corrected | better reference | worse in |\n|---|---|---|---|---|---|\n";
+     << markdown_header({"push", "phase", "starts at [s]", "corrected", "better reference", "worse in"});
   for (std::size_t k = 0; k < losses.size() && k < 10; ++k) {
     const Loss& l = losses[k];
-    md << "| `" << std::filesystem::path(l.phase->source).filename().string() << "` | " << l.phase->phase << " | "
-       << fixed(l.phase->t0_s) << " | " << fixed(l.corrected_pos) << " / " << fixed(l.corrected_yaw) << " | "
-       << fixed(l.best_pos) << " / " << fixed(l.best_yaw) << " | " << l.worse_in << " |\n";
+    md << markdown_row({"`" + std::filesystem::path(l.phase->source).filename().string() + "`",
+                        std::to_string(l.phase->phase), fixed(l.phase->t0_s),
+                        fixed(l.corrected_pos) + " / " + fixed(l.corrected_yaw),
+                        fixed(l.best_pos) + " / " + fixed(l.best_yaw), l.worse_in});
   }
   md << "\n";
   return md.str();
@@ -493,17 +495,18 @@ std::string adequacy_markdown(const DiagnosisResult& r) {
     return md.str();
   }
   md << "**" << a.verdict() << ".** " << a.statistic << ". Floors: " << a.basis << ".\n\n"
-     << "| part | statistic | null threshold | p | size | floor | verdict |\n|---|---|---|---|---|---|---|\n";
+     << markdown_header({"part", "statistic", "null threshold", "p", "size", "floor", "verdict"});
   if (a.force_tested)
-    md << "| force residual | z " << fixed(a.force_statistic) << " | " << fixed(a.force_threshold) << " | "
-       << general(a.force_p_value) << " | " << general(a.force_N) << " N, " << general(a.torque_Nm) << " N m | "
-       << general(a.force_floor_N) << " N, " << general(a.torque_floor_Nm) << " N m | "
-       << (a.force_unexplained ? "unexplained" : "explained") << " |\n";
+    md << markdown_row({"force residual", "z " + fixed(a.force_statistic), fixed(a.force_threshold),
+                        general(a.force_p_value), general(a.force_N) + " N, " + general(a.torque_Nm) + " N m",
+                        general(a.force_floor_N) + " N, " + general(a.torque_floor_Nm) + " N m",
+                        a.force_unexplained ? "unexplained" : "explained"});
   if (a.motion_tested)
-    md << "| motion (" << a.phases << " fit phases) | max abs t " << fixed(a.motion_t) << " | "
-       << fixed(a.motion_t_threshold) << " | " << general(a.motion_p_value) << " | " << fixed(a.position_bias_mm)
-       << " mm, " << fixed(a.yaw_bias_deg) << " deg | " << fixed(a.position_floor_mm) << " mm, "
-       << fixed(a.yaw_floor_deg) << " deg | " << (a.motion_unexplained ? "unexplained" : "explained") << " |\n";
+    md << markdown_row({"motion (" + std::to_string(a.phases) + " fit phases)", "max abs t " + fixed(a.motion_t),
+                        fixed(a.motion_t_threshold), general(a.motion_p_value),
+                        fixed(a.position_bias_mm) + " mm, " + fixed(a.yaw_bias_deg) + " deg",
+                        fixed(a.position_floor_mm) + " mm, " + fixed(a.yaw_floor_deg) + " deg",
+                        a.motion_unexplained ? "unexplained" : "explained"});
   md << "\n";
   if (!a.note.empty()) md << a.note << ".\n\n";
   const auto hints = hint_lines(r, r.hints.size());
@@ -542,8 +545,7 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
      << "(`dob`: relation identified online, initial velocity zero); `base` is the corrected base model (initial "
      << "velocity from the observer, quasi-static push that ends when the pusher stops, friction that stops the "
      << "object); `after` is the base model plus the effects found.\n\n"
-     << "| method | pos [mm] | x [mm] | y [mm] | yaw [deg] | final pos [mm] | final yaw [deg] |\n"
-     << "|---|---|---|---|---|---|---|\n"
+     << markdown_header({"method", "pos [mm]", "x [mm]", "y [mm]", "yaw [deg]", "final pos [mm]", "final yaw [deg]"})
      << error_row("before (paper `dob`)", r.error_before) << error_row("base model", r.error_base)
      << error_row("after (base + found)", r.error_after) << error_row("`hold`", r.hold)
      << error_row("`const_velocity`", r.const_velocity) << error_row("`dob_velinit`", r.dob_velinit)
@@ -559,20 +561,24 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
   }
 
   md << "## Candidate effects\n\n"
-     << "| effect | test | significant | amount / floor | in the model | score | parameters (± 1 std) | held-out pos / yaw without it | note |\n"
-     << "|---|---|---|---|---|---|---|---|---|\n";
+     << markdown_header({"effect", "test", "significant", "amount / floor", "in the model", "score",
+                         "parameters (± 1 std)", "held-out pos / yaw without it", "note"});
   for (const auto& e : r.effects)
-    md << "| " << e.kind << " | " << effect_test_name(e.test) << " | " << (e.structural ? "—" : e.passed_test ? "yes" : "no")
-       << " | "
-       << (e.structural ? std::string("base model")
-                        : general(e.amount) + " / " + general(e.floor.amount) + " " + e.amount_unit +
-                              (e.negligible ? " (negligible)" : e.contradicted_by_motion ? " (contradicted)" : ""))
-       << " | " << (e.selected ? (e.structural ? "base" : "**found**") : "no") << " | "
-       << (std::isfinite(e.score) ? general(e.score) : std::string("—")) << " | " << effect_parameters_text(e) << " | "
-       << (e.has_ablation ? fixed(e.held_out_without.pos_mm_mean) + " mm / " + fixed(e.held_out_without.theta_deg_mean) +
-                                " deg"
-                          : std::string("—"))
-       << " | " << e.note << " |\n";
+    md << markdown_row({e.kind, effect_test_name(e.test),
+                        e.structural    ? "—"
+                        : e.passed_test ? "yes"
+                                        : "no",
+                        e.structural ? std::string("base model")
+                                     : general(e.amount) + " / " + general(e.floor.amount) + " " + e.amount_unit +
+                                           (e.negligible               ? " (negligible)"
+                                            : e.contradicted_by_motion ? " (contradicted)"
+                                                                       : ""),
+                        e.selected ? (e.structural ? "base" : "**found**") : "no",
+                        std::isfinite(e.score) ? general(e.score) : std::string("—"), effect_parameters_text(e),
+                        e.has_ablation ? fixed(e.held_out_without.pos_mm_mean) + " mm / " +
+                                             fixed(e.held_out_without.theta_deg_mean) + " deg"
+                                       : std::string("—"),
+                        e.note});
   md << "\nScore: for regression and direct effects the drop of the BIC when the effect joins (robust Wald "
         "statistic minus k ln N_eff; direct effects: their own likelihood ratio), for prediction effects the relative "
         "drop of the fit phases' normalised prediction error. Significant: its own test passed; found: significant, "
@@ -589,11 +595,10 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
 
   md << "\n## Residual of the disturbance regression (fit data)\n\n"
      << "Samples " << r.samples / 3 << " (x 3 channels), effective " << fixed(r.effective_samples, 1) << ".\n\n"
-     << "| channel | std before | std after |\n|---|---|---|\n"
-     << "| x [N] | " << general(r.residual_std_before(0)) << " | " << general(r.residual_std_after(0)) << " |\n"
-     << "| y [N] | " << general(r.residual_std_before(1)) << " | " << general(r.residual_std_after(1)) << " |\n"
-     << "| rotation [N m] | " << general(r.residual_std_before(2)) << " | " << general(r.residual_std_after(2))
-     << " |\n\n"
+     << markdown_header({"channel", "std before", "std after"})
+     << markdown_row({"x [N]", general(r.residual_std_before(0)), general(r.residual_std_after(0))})
+     << markdown_row({"y [N]", general(r.residual_std_before(1)), general(r.residual_std_after(1))})
+     << markdown_row({"rotation [N m]", general(r.residual_std_before(2)), general(r.residual_std_after(2))}) << "\n"
      << "Before: d_hat less the paper's relation beta Q u + eps per push; after: with the data corrections and the "
         "effects tested against that relation.";
   if (r.friction_residual_std.allFinite())
@@ -605,8 +610,7 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
   md << phase_by_phase(r);
 
   md << "## In-sample: the fit pushes' phases\n\n"
-     << "| method | pos [mm] | x [mm] | y [mm] | yaw [deg] | final pos [mm] | final yaw [deg] |\n"
-     << "|---|---|---|---|---|---|---|\n"
+     << markdown_header({"method", "pos [mm]", "x [mm]", "y [mm]", "yaw [deg]", "final pos [mm]", "final yaw [deg]"})
      << error_row("before (paper `dob`)", r.fit_before) << error_row("after (corrected)", r.fit_after)
      << error_row("`hold`", r.fit_hold) << error_row("`const_velocity`", r.fit_const_velocity) << "\n";
 
@@ -671,20 +675,18 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
      << "pushpred " << kVersion << ". One diagnosis per object and surface; each has its own report in the folder "
      << "named in the first column. Errors: mean over the held-out phases of the per-phase mean position error [mm] "
      << "/ yaw error [deg].\n\n"
-     << "| object | pushes | held-out phases | found | residual | before (paper `dob`) | base model | after (base + "
-        "found) | "
-        "`hold` | `const_velocity` | after beats both | `quasi_static` (pushing model) |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+     << markdown_header({"object", "pushes", "held-out phases", "found", "residual", "before (paper `dob`)",
+                         "base model", "after (base + found)", "`hold`", "`const_velocity`", "after beats both",
+                         "`quasi_static` (pushing model)"});
   const auto pair = [](const ErrorSummary& e) { return fixed(e.pos_mm_mean) + " / " + fixed(e.theta_deg_mean); };
   for (const auto& g : groups) {
     if (!g.result) continue;
     const DiagnosisResult& r = *g.result;
     const auto found = effects_found(r);
-    md << "| [" << g.name << "](" << g.name << "/report.md) | " << g.pushes << " | " << r.error_after.phases << " | "
-       << (found.empty() ? std::string("nothing") : joined(found)) << " | " << adequacy_word(r.adequacy) << " | "
-       << pair(r.error_before) << " | " << pair(r.error_base) << " | " << pair(r.error_after) << " | " << pair(r.hold)
-       << " | " << pair(r.const_velocity) << " | " << (beats_both(r) ? "yes" : "**no**") << " | "
-       << pair(r.quasi_static) << " |\n";
+    md << markdown_row({"[" + g.name + "](" + g.name + "/report.md)", std::to_string(g.pushes),
+                        std::to_string(r.error_after.phases), found.empty() ? std::string("nothing") : joined(found),
+                        adequacy_word(r.adequacy), pair(r.error_before), pair(r.error_base), pair(r.error_after),
+                        pair(r.hold), pair(r.const_velocity), beats_both(r) ? "yes" : "**no**", pair(r.quasi_static)});
   }
   // All objects: every held-out phase weighs alike.
   ErrorSummary all[6];
@@ -709,9 +711,10 @@ std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>
       e.pos_mm_mean /= e.phases;
       e.theta_deg_mean /= e.phases;
     }
-    md << "| all " << objects << " objects (phases weighed alike) | | " << all[1].phases << " | | | " << pair(all[0])
-       << " | " << pair(all[4]) << " | " << pair(all[1]) << " | " << pair(all[2]) << " | " << pair(all[3]) << " | "
-       << (beats_references(all[1], all[2], all[3]).both() ? "yes" : "**no**") << " | " << pair(all[5]) << " |\n";
+    md << markdown_row({"all " + std::to_string(objects) + " objects (phases weighed alike)", "",
+                        std::to_string(all[1].phases), "", "", pair(all[0]), pair(all[4]), pair(all[1]), pair(all[2]),
+                        pair(all[3]), beats_references(all[1], all[2], all[3]).both() ? "yes" : "**no**",
+                        pair(all[5])});
   }
   md << "\nThe base model, in every corrected model:\n\n";
   for (const auto& g : groups)

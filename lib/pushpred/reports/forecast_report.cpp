@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "pushpred/core/robust_statistics.hpp"
+#include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/plotting.hpp"
 
 namespace pushpred {
@@ -253,18 +254,18 @@ std::string forecast_study_tables(const nlohmann::json& s) {
   std::ostringstream md;
   md << "# Forecast study (leave one push out)\n\n" << s.at("inputs_note").get<std::string>() << "\n\n";
   auto row = [&](const std::string& label, const nlohmann::json& m) {
-    md << "| " << label << " | " << m.at("pushes").get<std::size_t>() << " | " << fixed(m.at("final_pos_mm_mean"), 2)
-       << " | " << fixed(m.at("final_yaw_deg_mean"), 2) << " | " << fixed(m.at("final_pos_mm_median"), 2) << " | "
-       << fixed(m.at("final_yaw_deg_median"), 2) << " | " << fixed(m.at("trajectory_pos_mm_mean"), 2) << " | "
-       << fixed(m.at("trajectory_yaw_deg_mean"), 2) << " | " << fixed(m.at("coverage90_pos"), 3) << " | "
-       << fixed(m.at("coverage90_yaw"), 3) << " | " << fixed(m.at("coverage90_pos_final"), 3) << " | "
-       << fixed(m.at("coverage90_yaw_final"), 3) << " | " << fixed(m.at("region90_radius_mm_median"), 2) << " | "
-       << fixed(m.at("region90_yaw_halfwidth_deg_median"), 2) << " |\n";
+    md << markdown_row({label, std::to_string(m.at("pushes").get<std::size_t>()), fixed(m.at("final_pos_mm_mean"), 2),
+                        fixed(m.at("final_yaw_deg_mean"), 2), fixed(m.at("final_pos_mm_median"), 2),
+                        fixed(m.at("final_yaw_deg_median"), 2), fixed(m.at("trajectory_pos_mm_mean"), 2),
+                        fixed(m.at("trajectory_yaw_deg_mean"), 2), fixed(m.at("coverage90_pos"), 3),
+                        fixed(m.at("coverage90_yaw"), 3), fixed(m.at("coverage90_pos_final"), 3),
+                        fixed(m.at("coverage90_yaw_final"), 3), fixed(m.at("region90_radius_mm_median"), 2),
+                        fixed(m.at("region90_yaw_halfwidth_deg_median"), 2)});
   };
   const std::string head =
-      "| | pushes | final mm | final deg | final mm (median) | final deg (median) | trajectory mm | trajectory deg | "
-      "cov90 pos | cov90 yaw | cov90 pos (final) | cov90 yaw (final) | region radius mm (median) | region yaw deg "
-      "(median) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      markdown_header({"", "pushes", "final mm", "final deg", "final mm (median)", "final deg (median)",
+                       "trajectory mm", "trajectory deg", "cov90 pos", "cov90 yaw", "cov90 pos (final)",
+                       "cov90 yaw (final)", "region radius mm (median)", "region yaw deg (median)"});
   md << "## All pushes\n\n" << head;
   for (const auto& [name, m] : s.at("methods").items()) row(name, m);
   md << "\n## Per object\n\n" << head;

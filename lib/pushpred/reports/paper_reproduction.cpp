@@ -485,7 +485,7 @@ void write_real_push_figures(std::ostream& md, const Batch<PushStudy>& real, con
     if (s.phases.empty() || std::find(s.methods.begin(), s.methods.end(), best_method) == s.methods.end()) continue;
     // Figure 11 draws the outline: among the objects whose outline the shape table lists (not butter).
     const std::string shape = shape_of(s.source);
-    if (!ShapeTable::published().contains(shape) || !ShapeTable::published().find(shape).has_outline()) continue;
+    if (!ShapeTable::known().contains(shape) || !ShapeTable::known().find(shape).has_outline()) continue;
     double sum = 0;
     for (const PhaseResult& ph : s.phases) sum += mean_position_error(ph.errors.at(best_method));
     by_error.emplace_back(sum / static_cast<double>(s.phases.size()), &s);

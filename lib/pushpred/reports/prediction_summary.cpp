@@ -81,24 +81,26 @@ void add_errors(PredictionErrors& sum, const PredictionErrors& e) {
   sum.final_theta_deg += e.final_theta_deg;
 }
 
-/// Each key of each method's sum divided by `count`.
-void divide_errors(std::map<std::string, PredictionErrors>& sums, int count) {
+/// Each key of each method's sum divided by that method's phase count (a method skipped on some pushes, for want of
+/// a coefficient, is averaged over the phases it predicted).
+void divide_errors(std::map<std::string, PredictionErrors>& sums, const std::map<std::string, int>& counts) {
   for (auto& [name, a] : sums)
     for (double* v : {&a.pos_mm_mean, &a.x_mm_mean, &a.x_mm_std, &a.y_mm_mean, &a.y_mm_std, &a.theta_deg_mean,
                       &a.theta_deg_std, &a.final_pos_mm, &a.final_theta_deg})
-      *v /= count;
+      *v /= counts.at(name);
 }
 
 }  // namespace
 
 std::map<std::string, PredictionErrors> aggregate_errors(const std::vector<const PushStudy*>& studies) {
   std::map<std::string, PredictionErrors> sum;
-  int count = 0;
+  std::map<std::string, int> count;
   for (const PushStudy* s : studies)
-    for (const auto& r : s->phases) {
-      ++count;
-      for (const auto& [name, e] : r.errors) add_errors(sum[name], e);
-    }
+    for (const auto& r : s->phases)
+      for (const auto& [name, e] : r.errors) {
+        add_errors(sum[name], e);
+        ++count[name];
+      }
   divide_errors(sum, count);
   return sum;
 }
@@ -186,13 +188,16 @@ void PredictionTables::Group::add(const PushStudy& study) {
   ++pushes;
   for (const auto& r : study.phases) {
     ++phases;
-    for (const auto& [name, e] : r.errors) add_errors(sums[name], e);
+    for (const auto& [name, e] : r.errors) {
+      add_errors(sums[name], e);
+      ++counts[name];
+    }
   }
 }
 
 std::map<std::string, PredictionErrors> PredictionTables::Group::mean() const {
   std::map<std::string, PredictionErrors> out = sums;
-  divide_errors(out, static_cast<int>(phases));  // as aggregate_errors divides
+  divide_errors(out, counts);  // as aggregate_errors divides
   return out;
 }
 

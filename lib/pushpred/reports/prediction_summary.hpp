@@ -66,6 +66,7 @@ class PredictionTables {
   struct Group {
     std::size_t pushes = 0, phases = 0;
     std::map<std::string, PredictionErrors> sums;  ///< per method, over the group's phases
+    std::map<std::string, int> counts;             ///< per method, the phases it predicted
     void add(const PushStudy& study);
     std::map<std::string, PredictionErrors> mean() const;
   };

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "pushpred/core/version.hpp"
+#include "pushpred/reports/markdown_table.hpp"
 
 namespace pushpred {
 
@@ -121,10 +122,10 @@ std::string validation_markdown(const ValidationResult& r) {
     md << " Hidden from the diagnosis's catalogue (simulated, not a candidate): " << hidden << ".";
   }
   if (s.failed > 0) md << " " << s.failed << " trial(s) could not be diagnosed (listed at the end).";
-  md << "\n\n## Targets\n\n| target | result | met |\n|---|---|---|\n";
+  md << "\n\n## Targets\n\n" << markdown_header({"target", "result", "met"});
   const auto row = [&](const std::string& what, int a, int b, double need) {
     const bool met = b > 0 && a >= need * b;
-    md << "| " << what << " | " << percent(a, b) << " | " << (met ? "yes" : "**no**") << " |\n";
+    md << markdown_row({what, percent(a, b), met ? "yes" : "**no**"});
   };
   row("right kind named, amount at least twice its floor (>= 90 %)", s.named_at_twice_floor,
       s.effect_trials_at_twice_floor, 0.9);
@@ -156,11 +157,11 @@ std::string validation_markdown(const ValidationResult& r) {
     for (const auto& n : t.named)
       if (std::find(columns.begin(), columns.end(), n) == columns.end()) columns.push_back(n);
   md << "\n## Confusion matrix\n\nRows: the kind the simulator carried; columns: what the diagnosis named (a trial "
-        "naming two kinds counts in both columns).\n\n| true \\ named | nothing";
-  for (const auto& c : columns) md << " | " << c;
-  md << " | trials |\n|---|---";
-  for (std::size_t k = 0; k <= columns.size(); ++k) md << "|---";
-  md << "|\n";
+        "naming two kinds counts in both columns).\n\n";
+  std::vector<std::string> header = {"true \\ named", "nothing"};
+  header.insert(header.end(), columns.begin(), columns.end());
+  header.push_back("trials");
+  md << markdown_header(header);
   for (const auto& kind : o.kinds) {
     int n = 0, nothing = 0;
     std::map<std::string, int> named;
@@ -170,14 +171,17 @@ std::string validation_markdown(const ValidationResult& r) {
       nothing += t.named.empty();
       for (const auto& x : t.named) ++named[x];
     }
-    md << "| " << kind << " | " << nothing;
-    for (const auto& c : columns) md << " | " << (c == kind ? "**" + std::to_string(named[c]) + "**" : std::to_string(named[c]));
-    md << " | " << n << " |\n";
+    std::vector<std::string> cells = {kind, std::to_string(nothing)};
+    for (const auto& c : columns)
+      cells.push_back(c == kind ? "**" + std::to_string(named[c]) + "**" : std::to_string(named[c]));
+    cells.push_back(std::to_string(n));
+    md << markdown_row(cells);
   }
 
   md << "\n## Detection rate against the amount\n\nShare of trials naming the true kind, by the drawn amount in "
         "floors; median relative amount error |fitted - truth| / |truth| where the diagnosis found it and the "
-        "amounts are comparable.\n\n| kind | below 2 floors | 2-3 | 3-5 | median amount error |\n|---|---|---|---|---|\n";
+        "amounts are comparable.\n\n"
+     << markdown_header({"kind", "below 2 floors", "2-3", "3-5", "median amount error"});
   for (const auto& kind : o.kinds) {
     if (kind == "none") continue;
     int hit[3] = {0, 0, 0}, all[3] = {0, 0, 0};
@@ -198,8 +202,7 @@ std::string validation_markdown(const ValidationResult& r) {
       std::sort(errors.begin(), errors.end());
       median = fixed(100 * errors[errors.size() / 2], 0) + " %";
     }
-    md << "| " << kind << " | " << percent(hit[0], all[0]) << " | " << percent(hit[1], all[1]) << " | "
-       << percent(hit[2], all[2]) << " | " << median << " |\n";
+    md << markdown_row({kind, percent(hit[0], all[0]), percent(hit[1], all[1]), percent(hit[2], all[2]), median});
   }
 
   md << "\n## False findings on clean trials\n\n";
@@ -216,7 +219,7 @@ std::string validation_markdown(const ValidationResult& r) {
 
   md << "\n## Held-out prediction error\n\nMean over trials of each trial's mean per-phase error, pos [mm] / yaw "
         "[deg]. `base`: the corrected base model; `after`: the base model plus what was found.\n\n"
-        "| true kind | paper `dob` | base | after | `hold` | `const_velocity` |\n|---|---|---|---|---|---|\n";
+     << markdown_header({"true kind", "paper `dob`", "base", "after", "`hold`", "`const_velocity`"});
   for (const auto& kind : o.kinds) {
     double sums[5][2] = {};
     int n = 0;
@@ -230,9 +233,9 @@ std::string validation_markdown(const ValidationResult& r) {
       }
     }
     if (n == 0) continue;
-    md << "| " << kind;
-    for (int m = 0; m < 5; ++m) md << " | " << fixed(sums[m][0] / n) << " / " << fixed(sums[m][1] / n);
-    md << " |\n";
+    std::vector<std::string> cells = {kind};
+    for (int m = 0; m < 5; ++m) cells.push_back(fixed(sums[m][0] / n) + " / " + fixed(sums[m][1] / n));
+    md << markdown_row(cells);
   }
   if (s.failed > 0) {
     md << "\n## Trials that could not be diagnosed\n\n";

@@ -156,7 +156,7 @@ PushParameters PushScenario::push_parameters() const {
 }
 
 void PushScenario::validate() const {
-  const ShapeInfo& s = ShapeTable::published().find(shape);
+  const ShapeInfo& s = ShapeTable::known().find(shape);
   require(s.has_outline(), "shape '" + shape + "' has no outline in the shape table and cannot be simulated");
   require(
       !surface.empty() && surface.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789") ==

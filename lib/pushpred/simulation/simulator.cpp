@@ -251,7 +251,7 @@ Eigen::MatrixX3d patch_wrench_per_excess(const SimulatedPush& sim) {
 
 SimulatedPush simulate_push(const PushScenario& scenario, const SensorModel& sensors) {
   scenario.validate();
-  const ShapeInfo& shape = ShapeTable::published().find(scenario.shape);
+  const ShapeInfo& shape = ShapeTable::known().find(scenario.shape);
   const Effects& fx = scenario.effects;
   const ObjectProperties object = perturbed_object(shape, fx);
   const Outline outline(shape);
