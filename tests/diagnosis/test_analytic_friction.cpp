@@ -17,7 +17,7 @@ using namespace pushpred;
 
 namespace {
 
-constexpr double kGravity_m_s2 = 9.81;
+constexpr double kTruthGravity_m_s2 = 9.81;  // the truth's own g, written here, not the library's
 constexpr double kRate_hz = 250;
 
 /// One push of rect1 (90 mm square) along its body x axis, at yaw `yaw_rad`, `speed_m_s` cruise: 0.3 s at rest, a
@@ -26,7 +26,7 @@ constexpr double kRate_hz = 250;
 /// 0.05 mm (seeded), like a quiet rig.
 SynchronisedPush sliding_block(double mu, double yaw_rad, double speed_m_s, double cruise_s, unsigned seed) {
   const double rise_s = 0.1, rest_s = 0.3;
-  const double slide_s = speed_m_s / (mu * kGravity_m_s2);
+  const double slide_s = speed_m_s / (mu * kTruthGravity_m_s2);
   const double release_s = rest_s + rise_s + cruise_s;
   const double end_s = release_s + slide_s + 0.3;
   const auto n = static_cast<Eigen::Index>(std::floor(end_s * kRate_hz)) + 1;
@@ -61,9 +61,9 @@ SynchronisedPush sliding_block(double mu, double yaw_rad, double speed_m_s, doub
       pushed = true;
     } else if (t <= release_s + slide_s) {
       const double tau = t - release_s;
-      v = speed_m_s - mu * kGravity_m_s2 * tau;
-      s = release_distance + speed_m_s * tau - 0.5 * mu * kGravity_m_s2 * tau * tau;
-      a = -mu * kGravity_m_s2;
+      v = speed_m_s - mu * kTruthGravity_m_s2 * tau;
+      s = release_distance + speed_m_s * tau - 0.5 * mu * kTruthGravity_m_s2 * tau * tau;
+      a = -mu * kTruthGravity_m_s2;
     } else {
       s = release_distance + 0.5 * speed_m_s * slide_s;
     }
@@ -74,7 +74,7 @@ SynchronisedPush sliding_block(double mu, double yaw_rad, double speed_m_s, doub
     p.tip_m.row(k) = tip.transpose();
     const bool sliding = v > 0;
     const Eigen::Vector2d f =
-        pushed ? Eigen::Vector2d((m * a + (sliding ? mu * m * kGravity_m_s2 : 0.0)) * dir) : Eigen::Vector2d::Zero();
+        pushed ? Eigen::Vector2d((m * a + (sliding ? mu * m * kTruthGravity_m_s2 : 0.0)) * dir) : Eigen::Vector2d::Zero();
     p.force_N.row(k) << f.x() + force_noise(rng), f.y() + force_noise(rng);
     p.lever_m.row(k) = (tip - centre).transpose();
     // Through the centre: the push's moment about it is zero but for the noise.
