@@ -124,8 +124,9 @@ std::string validation_markdown(const ValidationResult& r) {
   if (s.failed > 0) md << " " << s.failed << " trial(s) could not be diagnosed (listed at the end).";
   md << "\n\n## Targets\n\n" << markdown_header({"target", "result", "met"});
   const auto row = [&](const std::string& what, int a, int b, double need) {
-    const bool met = b > 0 && a >= need * b;
-    md << markdown_row({what, percent(a, b), met ? "yes" : "**no**"});
+    // No trial of the kind: the target was not tested, which is neither met nor missed.
+    const std::string met = b == 0 ? "not tested" : (a >= need * b ? "yes" : "**no**");
+    md << markdown_row({what, percent(a, b), met});
   };
   row("right kind named, amount at least twice its floor (>= 90 %)", s.named_at_twice_floor,
       s.effect_trials_at_twice_floor, 0.9);
