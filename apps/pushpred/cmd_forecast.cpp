@@ -86,13 +86,7 @@ int run_forecast(const ForecastArgs& a) {
   const std::vector<double> pose = numbers(a.pose, 3, "--object-pose");
   const std::vector<double> tip = a.tip.empty() ? std::vector<double>() : numbers(a.tip, 2, "--tip");
   if (straight && tip.empty()) throw InputError("a straight push needs --tip X_MM,Y_MM (where the tip starts)");
-  const std::filesystem::path data = [&] {
-    try {
-      return resolve_data_folder(a.data.empty() ? std::nullopt : std::optional(a.data));
-    } catch (const InputError&) {
-      return std::filesystem::path();  // only butter's outline needs it, and says so by name
-    }
-  }();
+  const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
   StagedOutput out(a.out);  // checks the destination before any work
   const ObjectModel model = read_object_model(a.model, data);
   TipPlan plan = straight ? TipPlan::straight(1e-3 * Eigen::Vector2d(tip[0], tip[1]),

@@ -24,7 +24,7 @@ struct StudyArgs {
 
 int run_study(const StudyArgs& a) {
   StagedOutput out(a.out);
-  const std::filesystem::path data = resolve_data_folder(a.data.empty() ? std::nullopt : std::optional(a.data));
+  const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
   const ForecastInputs in = load_forecast_inputs(a.files, data, a.jobs);
   ForecastStudyOptions options;
   options.jobs = a.jobs;

@@ -68,7 +68,7 @@ int run_learn(const LearnArgs& a) {
   const std::filesystem::path parent = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
   if (!std::filesystem::is_directory(parent, ec)) throw InputError(about(a.out, "its folder does not exist"));
   const std::unique_ptr<ForecastObject> own = own_object(a);
-  const std::filesystem::path data = resolve_data_folder(a.data.empty() ? std::nullopt : std::optional(a.data));
+  const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
   ForecastInputs in = load_forecast_inputs(a.files, data, a.jobs, own.get());
   for (const auto& e : in.excluded) std::cerr << "excluded " << e.first << ": " << e.second << "\n";
   std::set<std::pair<std::string, std::string>> groups;

@@ -33,6 +33,15 @@ fs::path resolve_data_folder(const std::optional<std::string>& explicit_folder) 
   throw InputError("no data folder found (tried " + list + "); give one with --data or PUSHPRED_DATA");
 }
 
+fs::path data_folder_if_any(const std::optional<std::string>& explicit_folder) {
+  if (explicit_folder && !explicit_folder->empty()) return resolve_data_folder(explicit_folder);
+  try {
+    return resolve_data_folder();
+  } catch (const InputError&) {
+    return {};
+  }
+}
+
 bool has_recording_extension(const fs::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });

@@ -11,6 +11,10 @@ namespace pushpred {
 
 /// The data folder to use; throws InputError naming every place tried when none exists.
 std::filesystem::path resolve_data_folder(const std::optional<std::string>& explicit_folder = std::nullopt);
+/// The data folder for a command that needs it only for some inputs (butter's outline, read from it): an explicit
+/// folder must exist (InputError otherwise); without one, the default when there is one, else an empty path, so
+/// that only an input that needs the folder fails, naming it.
+std::filesystem::path data_folder_if_any(const std::optional<std::string>& explicit_folder = std::nullopt);
 
 /// True for the recordings' extensions, .h5 and .json in any case (.H5, .Json).
 bool has_recording_extension(const std::filesystem::path& path);
