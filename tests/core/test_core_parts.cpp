@@ -100,6 +100,18 @@ BOOST_AUTO_TEST_CASE(the_environment_variable_comes_next) {
   else unsetenv("PUSHPRED_DATA");
 }
 
+BOOST_AUTO_TEST_CASE(a_folder_needed_for_some_inputs_only_is_empty_when_none_is_found_but_an_explicit_one_must_exist) {
+  TempFolder tmp;
+  const char* before = std::getenv("PUSHPRED_DATA");
+  const std::string saved = before ? before : "";
+  setenv("PUSHPRED_DATA", (tmp / "gone").c_str(), 1);
+  BOOST_TEST(data_folder_if_any().empty());
+  BOOST_TEST(data_folder_if_any(tmp.path().string()) == tmp.path());
+  BOOST_CHECK_THROW(data_folder_if_any((tmp / "nowhere").string()), InputError);
+  if (before) setenv("PUSHPRED_DATA", saved.c_str(), 1);
+  else unsetenv("PUSHPRED_DATA");
+}
+
 BOOST_AUTO_TEST_CASE(recordings_are_listed_sorted_with_odd_entries_kept_and_folder_links_not_followed) {
   TempFolder tmp;
   const fs::path root = tmp / "abs";
