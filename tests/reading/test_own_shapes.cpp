@@ -81,7 +81,7 @@ BOOST_AUTO_TEST_CASE(a_csv_polygon_reads_its_vertices_from_the_outline_file) {
   std::ofstream(folder / "tri.csv") << "# a right triangle\nx_m,y_m\n0,0\n0.1,0\n0,0.05\n";
   std::ofstream(folder / "shapes.csv") << kHeader.substr(0, kHeader.size() - 1) << ",outline_file\n"
                                        << "tri9,0.5,0.0004,,,polygon,,,tri.csv\n";
-  const ShapeInfo& s = ShapeTable::from_file(folder / "shapes.csv").find("tri9");
+  const ShapeInfo s = ShapeTable::from_file(folder / "shapes.csv").find("tri9");  // a copy: the table is a temporary
   BOOST_TEST((s.geometry == Geometry::Polygon));
   BOOST_TEST(s.vertices_m.size() == 3u);
   BOOST_TEST(s.centroid_m.x() == 0.1 / 3, boost::test_tools::tolerance(1e-12));
