@@ -8,14 +8,14 @@
 #include "pushpred/core/error.hpp"
 
 namespace pushpred {
-namespace {
-
-std::string number(double value) {
+std::string three_significant_digits(double value) {
   std::ostringstream s;
   s.precision(3);
   s << value;
   return s.str();
 }
+
+namespace {
 
 void check_times(const std::string& source, const std::string& name, const TimedStream& s,
                  const PlausibilityLimits& limits) {
@@ -24,7 +24,7 @@ void check_times(const std::string& source, const std::string& name, const Timed
   if (n < 2) throw InputError(about(source, where + " has fewer than two samples"));
   const double largest = std::max(std::abs(s.start_s()), std::abs(s.end_s()));
   if (largest > limits.max_time_s)
-    throw InputError(about(source, where + " has time stamps near " + number(largest) +
+    throw InputError(about(source, where + " has time stamps near " + three_significant_digits(largest) +
                                        ", which are not Unix seconds (milliseconds?); the format stores seconds"));
   std::vector<double> steps(static_cast<size_t>(n - 1));
   Eigen::Index widest = 0;
@@ -36,18 +36,18 @@ void check_times(const std::string& source, const std::string& name, const Timed
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   const double rate = 1.0 / steps[steps.size() / 2];
   if (rate < limits.min_rate_hz || rate > limits.max_rate_hz)
-    throw InputError(about(source, where + " runs at " + number(rate) + " Hz (median step " +
-                                       number(1.0 / rate) + " s), outside " + number(limits.min_rate_hz) + " to " +
-                                       number(limits.max_rate_hz) +
+    throw InputError(about(source, where + " runs at " + three_significant_digits(rate) + " Hz (median step " +
+                                       three_significant_digits(1.0 / rate) + " s), outside " + three_significant_digits(limits.min_rate_hz) + " to " +
+                                       three_significant_digits(limits.max_rate_hz) +
                                        " Hz; the dataset's streams run near 250 Hz with time stamps in seconds"));
   if (gap > limits.max_gap_s)
-    throw InputError(about(source, where + " has a gap of " + number(gap) + " s between rows " +
+    throw InputError(about(source, where + " has a gap of " + three_significant_digits(gap) + " s between rows " +
                                        std::to_string(widest) + " and " + std::to_string(widest + 1) +
-                                       " (the rest of the stream spans " + number(s.end_s() - s.start_s() - gap) +
-                                       " s); at most " + number(limits.max_gap_s) + " s is accepted"));
+                                       " (the rest of the stream spans " + three_significant_digits(s.end_s() - s.start_s() - gap) +
+                                       " s); at most " + three_significant_digits(limits.max_gap_s) + " s is accepted"));
   if (s.end_s() - s.start_s() > limits.max_span_s)
-    throw InputError(about(source, where + " spans " + number(s.end_s() - s.start_s()) + " s, longer than the " +
-                                       number(limits.max_span_s) + " s a push may last"));
+    throw InputError(about(source, where + " spans " + three_significant_digits(s.end_s() - s.start_s()) + " s, longer than the " +
+                                       three_significant_digits(limits.max_span_s) + " s a push may last"));
 }
 
 void check_column(const std::string& source, const std::string& name, const TimedStream& s, int column,
@@ -55,9 +55,9 @@ void check_column(const std::string& source, const std::string& name, const Time
   Eigen::Index row = 0;
   const double largest = s.values.col(column).cwiseAbs().maxCoeff(&row);
   if (!(largest <= bound))
-    throw InputError(about(source, "stream '" + name + "' has " + what + " " + number(s.values(row, column)) + " " +
+    throw InputError(about(source, "stream '" + name + "' has " + what + " " + three_significant_digits(s.values(row, column)) + " " +
                                        unit + " at row " + std::to_string(row) + ", beyond the plausible " +
-                                       number(bound) + " " + unit));
+                                       three_significant_digits(bound) + " " + unit));
 }
 
 }  // namespace

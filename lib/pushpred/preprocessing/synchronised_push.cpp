@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/preprocessing/plausibility.hpp"
 
 namespace pushpred {
 
@@ -198,25 +199,13 @@ SynchronisedPush load_push(const std::filesystem::path& path, const std::string&
   return synchronise(r, shape_for(r, shape_override), options);
 }
 
-namespace {
-
-/// Three significant digits, for the plausibility messages.
-std::string three_digits(double value) {
-  std::ostringstream s;
-  s.precision(3);
-  s << value;
-  return s.str();
-}
-
-}  // namespace
-
 void check_plausible_motion(const SynchronisedPush& p, const PlausibilityLimits& limits) {
   const Eigen::Index n = p.size();
   if (n < 2 || !(p.rate_hz > 0)) return;
   const Eigen::Index w =
       std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::lround(limits.motion_window_s * p.rate_hz)));
   const auto at = [&](Eigen::Index k) {
-    return "at t = " + three_digits(p.t_s(k)) + " s (grid sample " + std::to_string(k) + ")";
+    return "at t = " + three_significant_digits(p.t_s(k)) + " s (grid sample " + std::to_string(k) + ")";
   };
   const auto refuse = [&](const std::string& what) {
     throw InputError(about(p.source, what + "; docs/robustness.md says why such motion is refused"));
@@ -228,23 +217,23 @@ void check_plausible_motion(const SynchronisedPush& p, const PlausibilityLimits&
   for (Eigen::Index k = 0; k + w < n; ++k) {
     const double speed = (p.pose.row(k + w).head<2>() - p.pose.row(k).head<2>()).norm() / (p.t_s(k + w) - p.t_s(k));
     if (speed > limits.max_speed_m_s)
-      refuse("object_pose moves at " + three_digits(speed) + " m/s " + at(k) + ", beyond the " +
-             three_digits(limits.max_speed_m_s) + " m/s a pushed object can");
+      refuse("object_pose moves at " + three_significant_digits(speed) + " m/s " + at(k) + ", beyond the " +
+             three_significant_digits(limits.max_speed_m_s) + " m/s a pushed object can");
   }
   for (Eigen::Index k = 0; max_yaw_rate > 0 && k + w < n; ++k) {
     const double yaw_rate = std::abs(p.pose(k + w, 2) - p.pose(k, 2)) / (p.t_s(k + w) - p.t_s(k));
     if (yaw_rate > max_yaw_rate)
-      refuse("object_pose turns at " + three_digits(yaw_rate) + " rad/s " + at(k) + ", beyond the " + three_digits(max_yaw_rate) +
-             " rad/s at which a point of " + p.shape.name + " one radius of gyration (" + three_digits(1e3 * rho) +
-             " mm) from its centre would move at " + three_digits(limits.max_speed_m_s) + " m/s");
+      refuse("object_pose turns at " + three_significant_digits(yaw_rate) + " rad/s " + at(k) + ", beyond the " + three_significant_digits(max_yaw_rate) +
+             " rad/s at which a point of " + p.shape.name + " one radius of gyration (" + three_significant_digits(1e3 * rho) +
+             " mm) from its centre would move at " + three_significant_digits(limits.max_speed_m_s) + " m/s");
   }
   for (Eigen::Index k = 0; k + 2 * w < n; ++k) {
     const double h = 0.5 * (p.t_s(k + 2 * w) - p.t_s(k));
     const double acceleration =
         (p.pose.row(k + 2 * w).head<2>() - 2 * p.pose.row(k + w).head<2>() + p.pose.row(k).head<2>()).norm() / (h * h);
     if (acceleration > limits.max_acceleration_m_s2)
-      refuse("object_pose accelerates at " + three_digits(acceleration) + " m/s^2 " + at(k + w) + ", beyond the " +
-             three_digits(limits.max_acceleration_m_s2) + " m/s^2 a push force and friction can give it");
+      refuse("object_pose accelerates at " + three_significant_digits(acceleration) + " m/s^2 " + at(k + w) + ", beyond the " +
+             three_significant_digits(limits.max_acceleration_m_s2) + " m/s^2 a push force and friction can give it");
   }
   if (!p.shape.has_outline()) return;
   for (Eigen::Index k = 0; k < n; ++k) {
@@ -253,8 +242,8 @@ void check_plausible_motion(const SynchronisedPush& p, const PlausibilityLimits&
     const Eigen::Vector2d body(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
     const double penetration = kPusherRadius_m - signed_distance_to_outline(p.shape, body);
     if (penetration > limits.max_tip_penetration_m)
-      refuse("the rod's surface lies " + three_digits(1e3 * penetration) + " mm inside " + p.shape.name + "'s outline " +
-             at(k) + ", more than the " + three_digits(1e3 * limits.max_tip_penetration_m) +
+      refuse("the rod's surface lies " + three_significant_digits(1e3 * penetration) + " mm inside " + p.shape.name + "'s outline " +
+             at(k) + ", more than the " + three_significant_digits(1e3 * limits.max_tip_penetration_m) +
              " mm a pressed contact allows: the object pose is not the object's");
   }
 }
