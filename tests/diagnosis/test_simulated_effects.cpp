@@ -33,7 +33,7 @@ BOOST_AUTO_TEST_CASE(clean_pushes_show_none_of_the_simulators_effects) {
   BOOST_TEST(findings_text(r).rfind("nothing found", 0) == 0u, findings_text(r));
   // The structure fix the paper's model lacks is found on clean data too: Coulomb friction at the simulated mu.
   BOOST_TEST(report(r, "coulomb_friction").passed_test);
-  check_near(report(r, "coulomb_friction").theta(0), report(r, "coulomb_friction").theta_std(0), 0.47, 0.05, "mu");
+  check_within_share(report(r, "coulomb_friction").theta(0), 0.47, 0.05, "mu");
 }
 
 BOOST_AUTO_TEST_CASE(a_lagging_force_stream_is_diagnosed_as_a_time_offset) {
@@ -44,7 +44,7 @@ BOOST_AUTO_TEST_CASE(a_lagging_force_stream_is_diagnosed_as_a_time_offset) {
   log_result(r);
   check_only(r, {"time_offset"});
   const EffectReport& e = report(r, "time_offset");
-  check_near(e.theta(0), e.theta_std(0), amount, 0.1, "delay [s]");
+  check_within_share(e.theta(0), amount, 0.25, "delay [s]");
   check_held_out_error_drops(r);
 }
 
@@ -56,8 +56,8 @@ BOOST_AUTO_TEST_CASE(a_biased_force_sensor_is_diagnosed_as_a_force_offset) {
   log_result(r);
   check_only(r, {"force_offset"});
   const EffectReport& e = report(r, "force_offset");
-  check_near(e.theta(0), e.theta_std(0), amount, 0.1, "bias x [N]");
-  check_near(e.theta(1), e.theta_std(1), amount, 0.1, "bias y [N]");
+  check_within_share(e.theta(0), amount, 0.25, "bias x [N]");
+  check_within_share(e.theta(1), amount, 0.25, "bias y [N]");
   check_held_out_error_drops(r);
 }
 
@@ -69,8 +69,8 @@ BOOST_AUTO_TEST_CASE(a_mass_centre_off_the_tracked_centre_is_diagnosed_as_a_com_
   log_result(r);
   check_only(r, {"com_offset"});
   const EffectReport& e = report(r, "com_offset");
-  check_near(e.theta(0), e.theta_std(0), amount, 0.1, "delta_x [m]");
-  check_near(e.theta(1), e.theta_std(1), 0.0, 0.0, "delta_y [m]");  // no offset across: three standard errors
+  check_within_share(e.theta(0), amount, 0.25, "delta_x [m]");
+  check_below_half_floor(e.theta(1), e, "delta_y [m]");  // no offset across
   check_held_out_error_drops(r);
 }
 
@@ -81,8 +81,8 @@ BOOST_AUTO_TEST_CASE(two_effects_together_are_both_found) {
   const DiagnosisResult r = diagnose(pushes, EffectLibrary::standard(), fast_options());
   log_result(r);
   check_only(r, {"time_offset", "com_offset"});
-  check_near(report(r, "time_offset").theta(0), report(r, "time_offset").theta_std(0), delay, 0.1, "delay [s]");
-  check_near(report(r, "com_offset").theta(0), report(r, "com_offset").theta_std(0), offset, 0.1, "delta_x [m]");
+  check_within_share(report(r, "time_offset").theta(0), delay, 0.25, "delay [s]");
+  check_within_share(report(r, "com_offset").theta(0), offset, 0.25, "delta_x [m]");
   check_held_out_error_drops(r);
 }
 
@@ -115,7 +115,7 @@ BOOST_AUTO_TEST_CASE(an_effect_a_user_registers_is_tested_and_found) {
   log_result(r);
   const EffectReport& e = report(r, "lever_error");
   BOOST_TEST(e.passed_test);
-  check_near(e.theta(0), e.theta_std(0), amount, 0.1, "d [m]");
+  check_within_share(e.theta(0), amount, 0.25, "d [m]");
 }
 
 BOOST_AUTO_TEST_SUITE_END()

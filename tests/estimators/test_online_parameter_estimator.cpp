@@ -85,11 +85,10 @@ BOOST_AUTO_TEST_CASE(the_quasi_static_identification_recovers_mu_p_and_c_through
   BOOST_TEST(e.units[static_cast<std::size_t>(e.index_of("torque_ratio_m"))] == "m");
   BOOST_TEST_REQUIRE(e.identified("pusher_friction"));
   BOOST_TEST_REQUIRE(e.identified("torque_ratio_m"));
-  // The uncertainty stated by test_quasi_static_identification.cpp for this push: three standard deviations plus the
-  // model's own error against the simulator (25 % for mu_p, 10 % for c), which the covariance cannot see.
-  BOOST_TEST(std::abs(e.value_of("pusher_friction") - mu_p) < 3 * e.standard_error_of("pusher_friction") + 0.25 * mu_p);
-  BOOST_TEST(std::abs(e.value_of("torque_ratio_m") - c_true) <
-             3 * e.standard_error_of("torque_ratio_m") + 0.10 * c_true);
+  // The accuracy stated by test_quasi_static_identification.cpp for this push: the model's own error against the
+  // simulator (25 % for mu_p, 10 % for c), a fixed share of the truth; the standard errors are bounded below.
+  BOOST_TEST(std::abs(e.value_of("pusher_friction") - mu_p) < 0.25 * mu_p);
+  BOOST_TEST(std::abs(e.value_of("torque_ratio_m") - c_true) < 0.10 * c_true);
   BOOST_TEST(e.standard_error_of("pusher_friction") < 0.1 * mu_p);
   BOOST_TEST(e.standard_error_of("torque_ratio_m") < 0.1 * c_true);
   // A covariance: symmetric, positive semi-definite, with the correlation of mu_p and c that the cone's edge

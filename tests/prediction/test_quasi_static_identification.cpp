@@ -73,14 +73,13 @@ BOOST_AUTO_TEST_CASE(a_sliding_push_off_centre_gives_mu_p_c_and_mu_s) {
   BOOST_TEST_REQUIRE(id.sources[1] == "identified");
   BOOST_TEST_REQUIRE(id.sources[2] == "identified");
   BOOST_TEST(id.sliding_samples > 50);
-  // The stated uncertainty: three standard deviations (the sensor noise) plus the model's own error against the
-  // simulator, which the covariance cannot see: the ellipsoid is up to 7 % off the footprint's exact limit surface
-  // (test_quasi_static_pushing.cpp) and the rod is compliant. Measured here: mu_p +22 %, c +5 %, mu_s -11 %; the
-  // model-error allowances are 25 %, 10 % and 15 % (docs/prediction.md). A first allowance of 7 % for all three
-  // was too small for mu_p and mu_s.
-  BOOST_TEST(std::abs(p.pusher_friction - mu_p) < 3 * id.std(0) + 0.25 * mu_p);
-  BOOST_TEST(std::abs(p.torque_ratio_m - c_true) < 3 * id.std(1) + 0.10 * c_true);
-  BOOST_TEST(std::abs(p.support_friction - mu_s) < 3 * id.std(2) + 0.15 * mu_s);
+  // Held to the model's own error against the simulator, a fixed share of the truth (never the fit's standard
+  // error, which cannot see it): the ellipsoid is up to 7 % off the footprint's exact limit surface
+  // (test_quasi_static_pushing.cpp) and the rod is compliant; the allowances are 25 % for mu_p, 10 % for c and 15 %
+  // for mu_s (docs/prediction.md). The standard errors are bounded separately below.
+  BOOST_TEST(std::abs(p.pusher_friction - mu_p) < 0.25 * mu_p);
+  BOOST_TEST(std::abs(p.torque_ratio_m - c_true) < 0.10 * c_true);
+  BOOST_TEST(std::abs(p.support_friction - mu_s) < 0.15 * mu_s);
   BOOST_TEST(id.std(0) < 0.1 * mu_p);
   BOOST_TEST(id.std(1) < 0.1 * c_true);
 }
@@ -126,7 +125,7 @@ BOOST_AUTO_TEST_CASE(without_the_prior_an_undetermined_mu_p_is_fixed_at_its_defa
   BOOST_TEST(id.std(0) == 0.0);
   BOOST_TEST(id.sources[0].rfind("default", 0) == 0);
   BOOST_TEST(id.sources[2] == "identified");
-  BOOST_TEST(std::abs(id.parameters.support_friction - 0.4) < 0.15 * 0.4 + 3 * id.std(2));
+  BOOST_TEST(std::abs(id.parameters.support_friction - 0.4) < 0.15 * 0.4);
 }
 
 BOOST_AUTO_TEST_CASE(without_contact_samples_every_parameter_is_a_default_and_says_so) {
