@@ -167,6 +167,28 @@ BOOST_AUTO_TEST_CASE(position_friction_grows_as_the_object_runs_onto_the_patch) 
   BOOST_TEST(rise(0.048, 0.052) == patch_share, boost::test_tools::tolerance(0.05));
 }
 
+BOOST_AUTO_TEST_CASE(the_patch_has_the_size_and_place_the_scenario_gives) {
+  PushScenario s = central_push(0.05, 0.03);
+  const auto rise = [&](const PushScenario& u, double excess) {
+    return force_at_travel(run(u, "position_friction", excess), 0.010, 0.020) / force_at_travel(run(u), 0.010, 0.020);
+  };
+  // A disk of 30 cm radius centred 2.5 cm ahead of rect2's leading side covers the whole footprint: the support's
+  // friction is mu (1 + excess) everywhere.
+  s.friction_patch_radius_m = 0.3;
+  BOOST_TEST(rise(s, 0.5) == 1.5, boost::test_tools::tolerance(0.01));
+  // A disk of 3 cm centred 4 cm behind the leading side lies under the object throughout: the rise is the excess
+  // times the disk's share of the (uniform) load.
+  const ShapeInfo& rect2 = ShapeTable::published().find("rect2");
+  s.friction_patch_radius_m = 0.03;
+  s.friction_patch_ahead_m = -0.04;
+  BOOST_TEST(rise(s, 0.5) == 1 + 0.5 * M_PI * 0.03 * 0.03 / (rect2.dim1_m * rect2.dim2_m),
+             boost::test_tools::tolerance(0.01));
+  // A disk beyond the push's reach changes nothing.
+  s.friction_patch_radius_m = 0.01;
+  s.friction_patch_ahead_m = 0.3;
+  BOOST_TEST(rise(s, 0.5) == 1.0, boost::test_tools::tolerance(1e-6));
+}
+
 BOOST_AUTO_TEST_CASE(com_offset_turns_a_push_through_the_tracked_centre) {
   const PushScenario s = central_push(0.05, 0.05);
   const SimulatedPush clean = run(s), right = run(s, "com_offset", 0.01), left = run(s, "com_offset", -0.01);

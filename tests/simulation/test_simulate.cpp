@@ -190,8 +190,10 @@ BOOST_AUTO_TEST_CASE(a_scenario_survives_a_json_round_trip) {
   s.effects.set("com_offset", 0.01);
   s.effects.set("time_offset", -0.02);
   s.sensors.noise_scale = 0.5;
+  s.friction_patch_radius_m = 0.05;
   const PushScenario t = scenario_from_json(scenario_to_json(s), "round trip");
   BOOST_TEST(scenario_to_json(t).dump() == scenario_to_json(s).dump());
+  BOOST_TEST(t.friction_patch_radius_m == 0.05);
   BOOST_TEST(t.effects.com_offset_m == 0.01);
   BOOST_TEST(t.effects.time_offset_s == -0.02);
 }
@@ -211,6 +213,7 @@ BOOST_AUTO_TEST_CASE(bad_scenarios_are_input_errors_that_name_the_problem) {
   BOOST_TEST(error_of({{"effects", {{"wind", 1.0}}}}).find("unknown effect 'wind'") != std::string::npos);
   BOOST_TEST(error_of({{"effects", {{"inertia_mismatch", -1.0}}}}).find("positive") != std::string::npos);
   BOOST_TEST(error_of({{"contact_side", 5}}).find("side 5") != std::string::npos);
+  BOOST_TEST(error_of({{"friction_patch_radius_m", -0.01}}).find("friction patch radius") != std::string::npos);
   BOOST_TEST(error_of({{"speed_m_s", "fast"}}).find("must be a number") != std::string::npos);
   BOOST_TEST(error_of({{"speed_m_s", 0.01}, {"acceleration_m_s2", 1.0}}).find("not both") != std::string::npos);
   BOOST_TEST(error_of({{"push_angle_rad", 2.0}}).find("push angle") != std::string::npos);

@@ -188,6 +188,8 @@ void PushScenario::validate() const {
   require(sensors.push_offset_N.allFinite() && sensors.push_offset_N.cwiseAbs().maxCoeff() <= 20,
           "the force sensor's push offset must be finite and within 20 N on each axis");
   require(std::isfinite(support_tilt_direction_rad), "support tilt direction must be finite");
+  require(friction_patch_radius_m > 0 && friction_patch_radius_m <= 1.0, "friction patch radius must be in (0, 1] m");
+  require(std::abs(friction_patch_ahead_m) <= 1.0, "friction patch distance ahead must be within 1 m");
   for (const auto& [name, amount] : effects.active()) Effects().set(name, amount);  // the range checks
 }
 
@@ -209,6 +211,8 @@ PushScenario scenario_from_json(const nlohmann::json& j, const std::string& sour
                                               "push_angle_rad",
                                               "approach_gap_m",
                                               "support_tilt_direction_rad",
+                                              "friction_patch_radius_m",
+                                              "friction_patch_ahead_m",
                                               "initial_pose",
                                               "rest_before_s",
                                               "rest_after_s",
@@ -262,6 +266,8 @@ PushScenario scenario_from_json(const nlohmann::json& j, const std::string& sour
     s.push_angle_rad = number("push_angle_rad", s.push_angle_rad);
     s.approach_gap_m = number("approach_gap_m", s.approach_gap_m);
     s.support_tilt_direction_rad = number("support_tilt_direction_rad", s.support_tilt_direction_rad);
+    s.friction_patch_radius_m = number("friction_patch_radius_m", s.friction_patch_radius_m);
+    s.friction_patch_ahead_m = number("friction_patch_ahead_m", s.friction_patch_ahead_m);
     if (j.contains("initial_pose")) {
       const auto& p = j["initial_pose"];
       require(p.is_array() && p.size() == 3 && p[0].is_number() && p[1].is_number() && p[2].is_number(),
@@ -343,6 +349,10 @@ nlohmann::json scenario_to_json(const PushScenario& s) {
   j["approach_gap_m"] = s.approach_gap_m;
   if (s.effects.support_tilt_deg != 0 || s.support_tilt_direction_rad != 0)
     j["support_tilt_direction_rad"] = s.support_tilt_direction_rad;
+  if (s.friction_patch_radius_m != kFrictionPatchRadius_m || s.friction_patch_ahead_m != kFrictionPatchAhead_m) {
+    j["friction_patch_radius_m"] = s.friction_patch_radius_m;
+    j["friction_patch_ahead_m"] = s.friction_patch_ahead_m;
+  }
   j["initial_pose"] = {s.initial_x_m, s.initial_y_m, s.initial_yaw_rad};
   j["rest_before_s"] = s.rest_before_s;
   j["rest_after_s"] = s.rest_after_s;

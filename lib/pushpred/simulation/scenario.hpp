@@ -9,8 +9,9 @@
 //   force_offset       [N]      sensor bias added to every fx and fy reading (visible while not touching)
 //   viscous_friction   [1/s]    extra drag -amount m v and -amount I omega (N s/m per kg of object)
 //   stribeck_friction  [-]      mu(v) = mu (1 + amount exp(-(v / 0.01 m/s)^2)) for each footprint element
-//   position_friction  [-]      mu (1 + amount) inside a 2 cm radius disk on the push line, centred 2.5 cm
-//                               beyond the object's leading point at the start (the object runs onto it)
+//   position_friction  [-]      mu (1 + amount) inside a disk on the push line (friction_patch_radius_m, 2 cm by
+//                               default), centred friction_patch_ahead_m (2.5 cm) beyond the object's leading point
+//                               at the start (the object runs onto it)
 //   com_offset         [m]      the mass centre sits `amount` along the body x axis from its nominal place
 //                               (pressure shifts with it); inertia about the mass centre unchanged
 //   inertia_mismatch   [-]      true mass and inertia are `amount` times the shape table's (weight too)
@@ -33,8 +34,8 @@
 
 namespace pushpred {
 
-/// The position_friction patch: a disk of this radius on the push line, its centre this far beyond the object's
-/// leading point at the start [m].
+/// The position_friction patch's default place: a disk of this radius on the push line, its centre this far beyond
+/// the object's leading point at the start [m] (PushScenario::friction_patch_radius_m, friction_patch_ahead_m).
 inline constexpr double kFrictionPatchRadius_m = 0.02;
 inline constexpr double kFrictionPatchAhead_m = 0.025;
 
@@ -102,6 +103,10 @@ struct PushScenario {
   double approach_gap_m = 0.001;
   /// The downhill direction of a tilted support (effect support_tilt), as an angle from the robot's x axis [rad].
   double support_tilt_direction_rad = 0;
+  /// The patch of the effect position_friction: a disk of this radius [m] on the push line, its centre this far
+  /// beyond the object's leading point at the start [m]. A larger patch carries more of the footprint.
+  double friction_patch_radius_m = kFrictionPatchRadius_m;
+  double friction_patch_ahead_m = kFrictionPatchAhead_m;
   double initial_x_m = 0.35, initial_y_m = 0.0, initial_yaw_rad = 0.0;  ///< tracked centre, robot frame
   double rest_before_s = 0.18;                                          ///< recording before the rod moves
   double rest_after_s = 0.27;                                           ///< recording after the rod stops

@@ -29,10 +29,6 @@ TimedStream make_stream(const Eigen::VectorXd& t, const Eigen::MatrixX3d& values
   return s;
 }
 
-// Where the position-friction patch sits, from the effect's definition (scenario.hpp).
-constexpr double kPatchRadius_m = kFrictionPatchRadius_m;
-constexpr double kPatchAlongPath_m = kFrictionPatchAhead_m;
-
 /// The object as the scenario's effects change it from the published one.
 ObjectProperties perturbed_object(const ShapeInfo& shape, const Effects& fx) {
   ObjectProperties object = ObjectProperties::nominal(shape);
@@ -79,11 +75,12 @@ SupportFriction support_friction(const PushScenario& scenario, const Outline& ou
   support.pressure_rim_weight = scenario.pressure_rim_weight;
   support.stribeck_excess = fx.stribeck_excess;
   support.patch_excess = fx.position_friction_excess;
-  // The patch lies on the push line, kPatchAlongPath_m beyond the object's leading point at the start: the object
-  // runs onto it during the push.
-  support.patch_centre_m = layout.pose0.head<2>() +
-                           (outline.extent_along(layout.direction_body) + kPatchAlongPath_m) * layout.direction_world;
-  support.patch_radius_m = kPatchRadius_m;
+  // The patch lies on the push line, friction_patch_ahead_m beyond the object's leading point at the start: the
+  // object runs onto it during the push.
+  support.patch_centre_m =
+      layout.pose0.head<2>() +
+      (outline.extent_along(layout.direction_body) + scenario.friction_patch_ahead_m) * layout.direction_world;
+  support.patch_radius_m = scenario.friction_patch_radius_m;
   support.tilt_rad = fx.support_tilt_deg * M_PI / 180;
   support.downhill = rotation(scenario.support_tilt_direction_rad) * Eigen::Vector2d::UnitX();
   support.anisotropy = fx.friction_anisotropy;
