@@ -244,4 +244,30 @@ BOOST_AUTO_TEST_CASE(the_quasi_static_law_keeps_a_pushed_object_moving_and_stops
   BOOST_TEST(std::abs(p(2, 0) - p(1, 0)) < 1e-4);
 }
 
+BOOST_AUTO_TEST_CASE(two_own_polygons_of_one_name_and_size_have_their_own_footprints) {
+  // The same name and bounding box (4 cm square), different outlines: a square and a triangle within it. The
+  // footprint's centre of area differs, so their elements must.
+  ShapeInfo square;
+  square.name = "block";
+  square.geometry = Geometry::Polygon;
+  square.dim1_m = square.dim2_m = 0.04;
+  square.vertices_m = {{-0.02, -0.02}, {0.02, -0.02}, {0.02, 0.02}, {-0.02, 0.02}};
+  ShapeInfo triangle = square;
+  triangle.vertices_m = {{-0.02, -0.02}, {0.02, -0.02}, {-0.02, 0.02}};
+  const FrictionElements* a = FrictionFootprint::of(square).elements();
+  const FrictionElements* b = FrictionFootprint::of(triangle).elements();
+  BOOST_TEST_REQUIRE(a != nullptr);
+  BOOST_TEST_REQUIRE(b != nullptr);
+  BOOST_TEST(a != b);
+  const auto mean_x = [](const FrictionElements& e) {
+    double x = 0;
+    for (std::size_t k = 0; k < e.share.size(); ++k) x += e.share[k] * e.centre_m[k].x();
+    return x;
+  };
+  BOOST_TEST(std::abs(mean_x(*a)) < 1e-4);                                  // the square's centre of area
+  BOOST_TEST(mean_x(*b) == -0.02 / 3, boost::test_tools::tolerance(0.05));  // the triangle's: a third of the way
+  // The same outline again is the same footprint (the cache still serves it).
+  BOOST_TEST(FrictionFootprint::of(square).elements() == a);
+}
+
 BOOST_AUTO_TEST_SUITE_END()

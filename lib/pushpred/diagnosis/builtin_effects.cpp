@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -28,9 +29,19 @@ FrictionFootprint FrictionFootprint::of(const ShapeInfo& shape) {
   static std::mutex mutex;
   // Only the first resolution of a shape builds its elements; the key needs no allocation to be looked up.
   static std::map<std::string, std::unique_ptr<FrictionElements>, std::less<>> cache;
-  char key[160];
-  const int length = std::snprintf(key, sizeof key, "%s/%d/%.9g/%.9g", shape.name.c_str(),
-                                   static_cast<int>(shape.geometry), shape.dim1_m, shape.dim2_m);
+  // A user's polygon may share its name and bounding box with another one: its vertices are part of the key
+  // (FNV-1a over their bits, which needs no allocation).
+  std::uint64_t vertex_hash = 1469598103934665603ull;
+  for (const Eigen::Vector2d& v : shape.vertices_m)
+    for (const double c : {v.x(), v.y()}) {
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, &c, sizeof bits);
+      for (int b = 0; b < 8; ++b) vertex_hash = (vertex_hash ^ ((bits >> (8 * b)) & 0xff)) * 1099511628211ull;
+    }
+  char key[200];
+  const int length = std::snprintf(key, sizeof key, "%s/%d/%.9g/%.9g/%zu/%016llx", shape.name.c_str(),
+                                   static_cast<int>(shape.geometry), shape.dim1_m, shape.dim2_m,
+                                   shape.vertices_m.size(), static_cast<unsigned long long>(vertex_hash));
   const std::string_view key_view(key, static_cast<std::size_t>(std::clamp(length, 0, static_cast<int>(sizeof key) - 1)));
   const std::lock_guard<std::mutex> lock(mutex);
   const auto found = cache.find(key_view);

@@ -69,8 +69,8 @@ struct FrictionElements {
 /// ellipsoidal limit surface of its mass and inertia.
 class FrictionFootprint {
  public:
-  /// The footprint of `shape` (keyed by its name, geometry and dimensions; mass and inertia do not matter). Takes
-  /// a lock and, on a shape's first use, builds the elements: call it when building, not while integrating.
+  /// The footprint of `shape` (keyed by its name, geometry, dimensions and vertices; mass and inertia do not matter).
+  /// Takes a lock and, on a shape's first use, builds the elements: call it when building, not while integrating.
   static FrictionFootprint of(const ShapeInfo& shape);
   /// The elements, or null for a shape without an outline.
   const FrictionElements* elements() const { return elements_; }
