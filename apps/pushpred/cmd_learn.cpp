@@ -104,6 +104,15 @@ int run_learn(const LearnArgs& a) {
       model.push_to_push_sd(0), 1e3 * model.parameters.torque_ratio_m, 1e3 * model.push_to_push_sd(1),
       model.parameters.support_friction, model.push_to_push_sd(2), model.regions.position_scale[2],
       model.regions.yaw_scale[2], model.regions.pushes);
+  if (model.centre_of_friction_pushes > 0)
+    std::printf("centre of friction (x, y) in the body frame: %.2f +- %.2f, %.2f +- %.2f mm, learned from %d pushes\n",
+                1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.centre_of_friction_standard_error_m.x(),
+                1e3 * model.object.centre_of_friction_m.y(), 1e3 * model.centre_of_friction_standard_error_m.y(),
+                model.centre_of_friction_pushes);
+  else
+    std::printf("centre of friction: the outline's centroid (%.2f, %.2f mm; not learned from %zu pushes)\n",
+                1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.object.centre_of_friction_m.y(),
+                model.pushes.size());
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }

@@ -148,8 +148,8 @@ BOOST_AUTO_TEST_CASE(bad_object_files_are_refused_naming_the_file_and_the_proble
     BOOST_FAIL("accepted a bad object file (" + expected + ")");
   };
   nlohmann::json j = good;
-  j["version"] = 2;
-  refused(j, "version 2");
+  j["version"] = kObjectModelVersion + 1;
+  refused(j, "version " + std::to_string(kObjectModelVersion + 1));
   j = good;
   j["object"]["outline"] = {{"kind", "shape_table"}, {"shape", "teapot"}};
   refused(j, "teapot");
