@@ -25,6 +25,11 @@ def test_learned_model_matches_the_cli(executable, hex_files, model, tmp_path):
     assert model.name == "hex" and model.surface == "abs"
     again = pushpred.read_object_model(str(tmp_path / "hex.json"))
     assert again.parameters == model.parameters
+    # The centre of friction learned over the six pushes, as the file keeps it.
+    assert model.centre_of_friction_pushes == 6
+    np.testing.assert_allclose(model.centre_of_friction_m, from_cli["object"]["centre_of_friction_m"], atol=1e-12)
+    np.testing.assert_allclose(again.centre_of_friction_standard_error_m,
+                               from_cli["object"]["centre_of_friction"]["standard_error_m"], atol=1e-12)
 
 
 def test_forecast_matches_the_cli_and_its_regions_grow(executable, model, tmp_path):
