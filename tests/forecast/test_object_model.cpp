@@ -4,6 +4,7 @@
 // 310000-310199.
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "pushpred/core/data_folder.hpp"
@@ -159,6 +160,58 @@ BOOST_AUTO_TEST_CASE(the_centre_of_friction_is_recovered_from_pushes_whose_press
       BOOST_TEST(yaw_learned < yaw_centroid);
     }
   }
+}
+
+BOOST_AUTO_TEST_CASE(learning_the_centre_of_friction_helps_on_simulated_objects_with_and_without_an_offset) {
+  // The choice of LearnOptions' default (learn the centre always, or only when cross-validation over the learned
+  // pushes prefers it, or never) on simulated pushes, seeds 310200-310299: rect1, ellip2 and hex, each with its own
+  // mass-centre offset (0, 2.5 or 5 mm along body x; the pressure follows it) and friction and pressure varying from
+  // push to push, forecast leaving one out. `--log_level=message` prints the errors.
+  std::map<std::string, double> total;
+  const std::vector<std::pair<const char*, double>> objects{{"rect1", 2.5e-3}, {"ellip2", 5e-3}, {"hex", 0.0}};
+  for (const auto& [name, offset_m] : objects) {
+    const ShapeInfo& shape = ShapeTable::published().find(name);
+    const Outline outline(shape);
+    std::mt19937_64 rng(310200);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<RecordedForecastCase> cases;
+    std::vector<PushFit> fits;
+    for (int k = 0; k < 12; ++k) {
+      PushScenario s;
+      s.shape = name;
+      s.effects.com_offset_m = offset_m;
+      s.surface_friction = 0.35 + 0.25 * unit(rng);
+      s.contact_friction = 0.15 + 0.3 * unit(rng);
+      s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
+      s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
+      s.motion.length_m = 0.05;
+      s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
+      s.contact_position = 0.2 + 0.6 * unit(rng);
+      s.push_angle_rad = -1.0 + 2.0 * unit(rng);
+      s.seed = 310200 + static_cast<std::uint64_t>(k);
+      const SimulatedPush sim = simulate_push(s);
+      cases.push_back(
+          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
+      cases.back().name = std::to_string(k);
+      fits.push_back(fit_push_parameters(cases.back()));
+    }
+    for (const char* choice : {"chosen", "learned", "centroid"}) {
+      ForecastStudyOptions options;
+      set_centre_of_friction_choice(options.learn, choice);
+      const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
+      double position = 0, yaw = 0;
+      for (const auto& p : study) {
+        position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+        yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+      }
+      BOOST_TEST_MESSAGE(name << ", offset " << 1e3 * offset_m << " mm, centre of friction " << choice << ": final "
+                              << position << " mm, " << yaw << " deg");
+      total[choice] += position + yaw;
+    }
+  }
+  BOOST_TEST_MESSAGE("sums of final mm and deg: chosen " << total["chosen"] << ", learned " << total["learned"]
+                                                         << ", centroid " << total["centroid"]);
+  BOOST_TEST(total[kCentreOfFrictionDefaultChoice] < total["centroid"]);
 }
 
 BOOST_AUTO_TEST_CASE(a_version_1_object_file_still_reads_with_its_stored_centre_of_friction) {

@@ -564,6 +564,83 @@ const char* central_forecast_name(CentralForecast c) {
   return c == CentralForecast::EnsembleMean ? "ensemble_mean" : "median";
 }
 
+namespace {
+
+/// How well `members` (weighted by bandwidth h) forecast the recorded push `c` by their central forecast: its final
+/// and trajectory-mean errors, 1 mm and 1 degree alike. What learn chooses its settings by.
+double held_out_score(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
+                      const RecordedForecastCase& c, const ForecastSettings& settings, CentralForecast central,
+                      Eigen::MatrixX3d& member) {
+  std::vector<Eigen::Index> idx;
+  const Eigen::VectorXd times = scoring_times(c, idx);
+  Eigen::MatrixX3d mean(times.size(), 3);
+  Eigen::VectorXd ps(times.size()), ys(times.size());
+  ForecastRun run;
+  central_and_spread(object, members, h, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run, central,
+                     false);
+  double pos = 0, yaw = 0;
+  for (std::size_t k = 0; k < idx.size(); ++k) {
+    pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
+    yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
+  }
+  const Eigen::Index last = times.size() - 1;
+  return 1e3 * (pos / static_cast<double>(idx.size()) +
+                (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
+         180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
+}
+
+/// Whether a learned centre of friction forecasts the learned pushes better than `object`'s own: `folds`-fold
+/// cross-validation over them (push i in fold i mod folds), each fold forecast by the others' ensemble (all alike)
+/// with the centre fitted on those others, against the others' own fits about the object's centre.
+bool learned_centre_forecasts_better(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
+                                     const std::vector<PushFit>& fits, const LearnOptions& options,
+                                     Eigen::MatrixX3d& member) {
+  const int folds = options.centre_of_friction_folds;
+  CentreOfFrictionOptions cof = options.centre_of_friction;
+  cof.fit.settings = options.settings;
+  double own = 0, learned = 0;
+  for (int fold = 0; fold < folds; ++fold) {
+    std::vector<RecordedForecastCase> train_cases;
+    std::vector<PushFit> train_fits;
+    std::vector<std::size_t> test;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      if (static_cast<int>(i % static_cast<std::size_t>(folds)) == fold) {
+        test.push_back(i);
+      } else {
+        train_cases.push_back(cases[i]);
+        train_fits.push_back(fits[i]);
+      }
+    }
+    if (test.empty() || train_fits.empty()) continue;
+    const CentreOfFrictionFit fit = fit_centre_of_friction(object, train_cases, train_fits, cof);
+    ForecastObject moved = object;
+    moved.centre_of_friction_m = fit.centre_m;
+    std::vector<const PushFit*> own_members, learned_members;
+    for (const auto& f : train_fits) own_members.push_back(&f);
+    for (const auto& f : fit.fits) learned_members.push_back(&f);
+    for (std::size_t q : test) {
+      own += held_out_score(object, own_members, 0, cases[q], options.settings, options.central, member);
+      learned += held_out_score(moved, learned_members, 0, cases[q], options.settings, options.central, member);
+    }
+  }
+  return learned < own;
+}
+
+}  // namespace
+
+void set_centre_of_friction_choice(LearnOptions& options, const std::string& choice) {
+  const LearnOptions defaults;
+  options.centre_of_friction_min_pushes = defaults.centre_of_friction_min_pushes;
+  options.centre_of_friction_folds = defaults.centre_of_friction_folds;
+  if (choice == "learned") {
+    options.centre_of_friction_folds = 0;
+  } else if (choice == "centroid") {
+    options.centre_of_friction_min_pushes = 0;
+  } else if (choice != "chosen") {
+    throw InputError("centre of friction: 'chosen', 'learned' or 'centroid', not '" + choice + "'");
+  }
+}
+
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
                                const std::vector<PushFit>& fits, const LearnOptions& options) {
@@ -579,8 +656,18 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   model.outline_source = outline_source;
   model.pushes = fits;
   model.settings = settings;
-  if (options.centre_of_friction_min_pushes > 0 &&
-      fits.size() >= static_cast<std::size_t>(options.centre_of_friction_min_pushes)) {
+  Eigen::MatrixX3d member;
+  const bool enough = options.centre_of_friction_min_pushes > 0 &&
+                      fits.size() >= static_cast<std::size_t>(options.centre_of_friction_min_pushes);
+  if (options.centre_of_friction_min_pushes > 0 && !enough)
+    model.centre_of_friction_method = "the object's own (too few pushes to learn it from)";
+  const bool better = enough && (options.centre_of_friction_folds < 2 ||
+                                 learned_centre_forecasts_better(object, cases, fits, options, member));
+  if (enough && !better)
+    model.centre_of_friction_method = "the object's own (a learned one forecast the learned pushes worse in " +
+                                      std::to_string(options.centre_of_friction_folds) + "-fold cross-validation)";
+  if (better) {
+    model.centre_of_friction_method = "fitted jointly over the learned pushes, each with its own parameters";
     CentreOfFrictionOptions cof = options.centre_of_friction;
     cof.fit.settings = settings;
     CentreOfFrictionFit learned = fit_centre_of_friction(object, cases, fits, cof);
@@ -612,34 +699,15 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       if (i != q) others.push_back(&learned_fits[i]);
     return others;
   };
-  Eigen::MatrixX3d member;
-  Eigen::VectorXd no_spread;
+
   // The bandwidth: the candidate whose leave-one-out forecasts of the learned pushes err least (final and trajectory
   // mean, mm and degrees alike).
   if (fits.size() >= 4 && bandwidths.size() > 1) {
     double best = std::numeric_limits<double>::infinity();
     for (double h : bandwidths) {
       double score = 0;
-      for (std::size_t q = 0; q < fits.size(); ++q) {
-        const RecordedForecastCase& c = cases[q];
-        std::vector<Eigen::Index> idx;
-        const Eigen::VectorXd times = scoring_times(c, idx);
-        Eigen::MatrixX3d mean(times.size(), 3);
-        Eigen::VectorXd ps(times.size()), ys(times.size());
-        ForecastRun run;
-        central_and_spread(learned_object, others_of(q), h, c.plan, c.start_pose, times, settings, mean, ps, ys, member,
-                           run, options.central, false);
-        double pos = 0, yaw = 0;
-        for (std::size_t k = 0; k < idx.size(); ++k) {
-          pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
-          yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
-        }
-        const Eigen::Index last = times.size() - 1;
-        score +=
-            1e3 * (pos / static_cast<double>(idx.size()) +
-                   (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
-            180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
-      }
+      for (std::size_t q = 0; q < fits.size(); ++q)
+        score += held_out_score(learned_object, others_of(q), h, cases[q], settings, options.central, member);
       if (score < best - 1e-9) {
         best = score;
         model.similarity_bandwidth = h;
@@ -746,9 +814,7 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
   j["object"]["centre_of_friction"] = {
       {"learned_from_pushes", m.centre_of_friction_pushes},
       {"standard_error_m", {m.centre_of_friction_standard_error_m.x(), m.centre_of_friction_standard_error_m.y()}},
-      {"method", m.centre_of_friction_pushes > 0
-                     ? "fitted jointly over the learned pushes, each with its own parameters"
-                     : "the outline's centroid (not learned)"}};
+      {"method", m.centre_of_friction_method}};
   nlohmann::json params;
   for (int i = 0; i < 3; ++i)
     params[ForecastParameters::name(i)] = {{"value", m.parameters.vector()(i)},
@@ -815,6 +881,7 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       const auto& cof = o.at("centre_of_friction");
       if (!cof.is_object()) throw InputError("object: 'centre_of_friction' must be an object");
       m.centre_of_friction_pushes = cof.value("learned_from_pushes", 0);
+      m.centre_of_friction_method = cof.value("method", m.centre_of_friction_method);
       if (m.centre_of_friction_pushes < 0)
         throw InputError("object: centre_of_friction: 'learned_from_pushes' must not be negative");
       if (cof.contains("standard_error_m")) {

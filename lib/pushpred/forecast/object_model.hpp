@@ -168,6 +168,7 @@ struct ObjectModel {
   /// outline's centroid).
   Eigen::Vector2d centre_of_friction_standard_error_m = Eigen::Vector2d::Zero();
   int centre_of_friction_pushes = 0;
+  std::string centre_of_friction_method = "the object's own (not learned)";
 };
 
 struct LearnOptions {
@@ -177,11 +178,22 @@ struct LearnOptions {
   /// Learn the centre of friction (fit_centre_of_friction) from this many pushes on (0: never; the object's own
   /// centre is kept, and so are the per-push fits).
   int centre_of_friction_min_pushes = 4;
+  /// Keep the learned centre only when it forecasts the learned pushes better than the object's own centre in this
+  /// many-fold cross-validation over them (fewer than 2: always keep it).
+  int centre_of_friction_folds = 3;
   CentreOfFrictionOptions centre_of_friction;
 };
 
+/// Sets how `options` learns the centre of friction: "chosen" (the defaults: learned when cross-validation over the
+/// learned pushes prefers it), "learned" (always, from centre_of_friction_min_pushes on) or "centroid" (never).
+/// InputError otherwise.
+void set_centre_of_friction_choice(LearnOptions& options, const std::string& choice);
+/// The choice LearnOptions' defaults make.
+inline constexpr const char* kCentreOfFrictionDefaultChoice = "chosen";
+
 /// Learns the object from the fits of its pushes (at least one; with `centre_of_friction_min_pushes` or more the
-/// centre of friction is fitted jointly and the pushes' own parameters refitted under it; with three or more the
+/// centre of friction is fitted jointly and the pushes' own parameters refitted under it, when it forecasts the
+/// learned pushes better in cross-validation (`centre_of_friction_folds`); with three or more the
 /// regions are calibrated, leaving each push out, which forecasts `cases`, the same pushes in the same order; with
 /// four or more the similarity bandwidth is chosen the same way). `bandwidths`: the candidates (empty: 0, 2, 1, 0.5).
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
