@@ -20,6 +20,7 @@ struct StudyArgs {
   std::string out, data;
   int jobs = default_jobs();
   std::string central = "ensemble_mean";
+  std::string centre_of_friction = "chosen";
 };
 
 int run_study(const StudyArgs& a) {
@@ -29,6 +30,7 @@ int run_study(const StudyArgs& a) {
   ForecastStudyOptions options;
   options.jobs = a.jobs;
   options.learn.central = central_forecast_named(a.central);
+  set_centre_of_friction_choice(options.learn, a.centre_of_friction);
   std::vector<std::pair<std::string, std::string>> excluded = in.excluded;
   const std::vector<ForecastStudyPush> pushes = run_forecast_study(in.cases, in.fits, options, &excluded);
   if (pushes.empty()) {
@@ -76,6 +78,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "The central forecast: ensemble_mean (the learned pushes' own forecasts averaged, default) or median "
                   "(the forecast of their parameters' median)")
       ->check(CLI::IsMember({"ensemble_mean", "median"}));
+  sub->add_option("--centre-of-friction", a->centre_of_friction,
+                  "chosen (default: learned jointly over the pushes when that forecasts them better in "
+                  "cross-validation, else the centroid), learned (always) or centroid (never learned)")
+      ->check(CLI::IsMember({"chosen", "learned", "centroid"}));
   add_jobs(*sub, a->jobs,
            "Pushes fitted and forecast in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_study(*a); }; });

@@ -25,6 +25,7 @@ struct LearnArgs {
   double circle_m = 0, mass_kg = 0, inertia_kgm2 = 0;
   int jobs = default_jobs();
   std::string central = "ensemble_mean";
+  std::string centre_of_friction = "chosen";
 };
 
 /// The user's own object, or null for the dataset's.
@@ -94,6 +95,7 @@ int run_learn(const LearnArgs& a) {
                                                    : "data folder: butter_outline.csv";
   LearnOptions options;
   options.central = central_forecast_named(a.central);
+  set_centre_of_friction_choice(options, a.centre_of_friction);
   const ObjectModel model =
       learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
   write_text_atomically(out, json_text(object_model_to_json(model)));
@@ -104,6 +106,15 @@ int run_learn(const LearnArgs& a) {
       model.push_to_push_sd(0), 1e3 * model.parameters.torque_ratio_m, 1e3 * model.push_to_push_sd(1),
       model.parameters.support_friction, model.push_to_push_sd(2), model.regions.position_scale[2],
       model.regions.yaw_scale[2], model.regions.pushes);
+  if (model.centre_of_friction_pushes > 0)
+    std::printf("centre of friction (x, y) in the body frame: %.2f +- %.2f, %.2f +- %.2f mm, learned from %d pushes\n",
+                1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.centre_of_friction_standard_error_m.x(),
+                1e3 * model.object.centre_of_friction_m.y(), 1e3 * model.centre_of_friction_standard_error_m.y(),
+                model.centre_of_friction_pushes);
+  else
+    std::printf("centre of friction (x, y) in the body frame: %.2f, %.2f mm, %s\n",
+                1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.object.centre_of_friction_m.y(),
+                model.centre_of_friction_method.c_str());
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }
@@ -127,6 +138,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "The central forecast: ensemble_mean (the learned pushes' own forecasts averaged, default) or median "
                   "(the forecast of their parameters' median)")
       ->check(CLI::IsMember({"ensemble_mean", "median"}));
+  sub->add_option("--centre-of-friction", a->centre_of_friction,
+                  "chosen (default: learned jointly over the pushes when that forecasts them better in "
+                  "cross-validation, else the centroid), learned (always) or centroid (never learned)")
+      ->check(CLI::IsMember({"chosen", "learned", "centroid"}));
   add_jobs(*sub, a->jobs, "Pushes fitted in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_learn(*a); }; });
 });

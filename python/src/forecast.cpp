@@ -74,6 +74,16 @@ file's content.)doc")
                                d["support_friction"] = o.parameters.support_friction;
                                return d;
                              })
+      .def_property_readonly(
+          "centre_of_friction_m", [](const ObjectModel& o) { return Eigen::Vector2d(o.object.centre_of_friction_m); },
+          "The centre of friction in the body frame [m]: learned jointly over the pushes (see "
+          "centre_of_friction_pushes), or the outline's centroid")
+      .def_property_readonly(
+          "centre_of_friction_standard_error_m",
+          [](const ObjectModel& o) { return Eigen::Vector2d(o.centre_of_friction_standard_error_m); })
+      .def_property_readonly(
+          "centre_of_friction_pushes", [](const ObjectModel& o) { return o.centre_of_friction_pushes; },
+          "How many pushes the centre of friction was learned from (0: not learned)")
       .def("to_dict", [](const ObjectModel& o) { return from_json(object_model_to_json(o)); })
       .def(
           "forecast",

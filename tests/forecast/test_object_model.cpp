@@ -1,8 +1,10 @@
 // Learning an object and forecasting with its 90 % regions: against the project's simulator (distributed Coulomb
 // support friction and a compliant rod, not the forecast's own equations) with known parameters, the object file's
-// round trip, and its refusal of bad files by name. Simulated seeds 270000-270099.
+// round trip, and its refusal of bad files by name. Simulated seeds 270000-270099; the centre of friction's
+// 310000-310199.
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "pushpred/core/data_folder.hpp"
@@ -18,8 +20,9 @@ namespace {
 /// rect1 pushed 50 mm at 50 mm/s from side `side` at `position`, `angle` off the normal, on a support of friction
 /// mu_s with a rod of friction mu_p; sensors as the rig's.
 RecordedForecastCase simulated_case(int side, double position, double angle, double mu_s, double mu_p,
-                                    std::uint64_t seed) {
+                                    std::uint64_t seed, double com_offset_m = 0) {
   PushScenario s;
+  s.effects.com_offset_m = com_offset_m;
   s.name = "simulated";
   s.shape = "rect1";
   s.surface_friction = mu_s;
@@ -45,7 +48,7 @@ struct SimulatedSet {
   std::vector<PushFit> fits;
 };
 SimulatedSet simulated_set(int count, std::uint64_t first_seed, double mu_s_lo, double mu_s_hi, double mu_p_lo,
-                           double mu_p_hi) {
+                           double mu_p_hi, double com_offset_m = 0) {
   std::mt19937_64 rng(first_seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   SimulatedSet set;
@@ -53,7 +56,8 @@ SimulatedSet simulated_set(int count, std::uint64_t first_seed, double mu_s_lo, 
     const int side = k % 4;
     const double position = 0.3 + 0.4 * unit(rng), angle = -0.35 + 0.7 * unit(rng);
     const double mu_s = mu_s_lo + (mu_s_hi - mu_s_lo) * unit(rng), mu_p = mu_p_lo + (mu_p_hi - mu_p_lo) * unit(rng);
-    set.cases.push_back(simulated_case(side, position, angle, mu_s, mu_p, first_seed + static_cast<std::uint64_t>(k)));
+    set.cases.push_back(
+        simulated_case(side, position, angle, mu_s, mu_p, first_seed + static_cast<std::uint64_t>(k), com_offset_m));
     set.fits.push_back(fit_push_parameters(set.cases.back()));
   }
   return set;
@@ -112,6 +116,9 @@ BOOST_AUTO_TEST_CASE(the_object_file_round_trips_and_forecasts_the_same) {
   BOOST_TEST(model.regions.pushes == 3);
   const ObjectModel back = object_model_from_json(object_model_to_json(model), "object.json", "");
   BOOST_TEST(back.parameters.vector().isApprox(model.parameters.vector()));
+  BOOST_TEST(back.object.centre_of_friction_m.isApprox(model.object.centre_of_friction_m));
+  BOOST_TEST(back.centre_of_friction_standard_error_m.isApprox(model.centre_of_friction_standard_error_m));
+  BOOST_TEST(back.centre_of_friction_pushes == model.centre_of_friction_pushes);
   BOOST_TEST(back.pushes.size() == 3u);
   const RecordedForecastCase& c = set.cases[1];
   const ForecastDistribution a = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
@@ -121,6 +128,115 @@ BOOST_AUTO_TEST_CASE(the_object_file_round_trips_and_forecasts_the_same) {
   // The batch call agrees with the single forecasts' final poses.
   const BatchForecast batch = forecast_batch(model, {c.plan, set.cases[2].plan}, c.start_pose);
   BOOST_TEST((batch.final_pose.row(0) - a.mean.bottomRows<1>()).cwiseAbs().maxCoeff() < 1e-12);
+}
+
+BOOST_AUTO_TEST_CASE(the_centre_of_friction_is_recovered_from_pushes_whose_pressure_centre_is_offset) {
+  // The simulator moves rect1's mass centre 5 mm along body x and tilts its (otherwise uniform) support pressure until
+  // the pressure's centre lies under it: the true centre of friction is the centroid plus (5, 0) mm, a fact of the
+  // scenario, not of the forecast's model. Ten pushes from all four sides; the same pushes without the offset.
+  const ShapeInfo& rect1 = ShapeTable::published().find("rect1");
+  const Eigen::Vector2d centroid = rect1.centroid_m;
+  for (const double offset_m : {5e-3, 0.0}) {
+    const SimulatedSet set = simulated_set(10, offset_m > 0 ? 310000 : 310100, 0.4, 0.55, 0.2, 0.3, offset_m);
+    const CentreOfFrictionFit fit = fit_centre_of_friction(set.cases[0].forecast_object, set.cases, set.fits);
+    const Eigen::Vector2d truth = centroid + Eigen::Vector2d(offset_m, 0);
+    BOOST_TEST_MESSAGE("offset " << 1e3 * offset_m << " mm: centre of friction found at "
+                                 << 1e3 * (fit.centre_m - centroid).transpose() << " mm from the centroid (+- "
+                                 << 1e3 * fit.standard_error_m.transpose() << ")");
+    BOOST_TEST((fit.centre_m - truth).norm() < 1.5e-3);
+    BOOST_TEST(fit.fits.size() == set.fits.size());
+    BOOST_TEST((fit.standard_error_m.array() > 0).all());
+    if (offset_m > 0) {
+      // Learned, the forecasts of the same pushes (each left out) turn as the pushes did; at the centroid they do not.
+      ForecastStudyOptions at_centroid, learned;
+      at_centroid.learn.centre_of_friction_min_pushes = 0;
+      double yaw_centroid = 0, yaw_learned = 0;
+      for (const auto& p : run_forecast_study(set.cases, set.fits, at_centroid))
+        yaw_centroid += p.errors[0].final_yaw_rad * 180 / M_PI / 10;
+      for (const auto& p : run_forecast_study(set.cases, set.fits, learned))
+        yaw_learned += p.errors[0].final_yaw_rad * 180 / M_PI / 10;
+      BOOST_TEST_MESSAGE("final yaw error, leaving one out: " << yaw_centroid << " deg at the centroid, " << yaw_learned
+                                                              << " deg with the learned centre");
+      BOOST_TEST(yaw_learned < yaw_centroid);
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(learning_the_centre_of_friction_helps_on_simulated_objects_with_and_without_an_offset) {
+  // The choice of LearnOptions' default (learn the centre always, or only when cross-validation over the learned
+  // pushes prefers it, or never) on simulated pushes, seeds 310200-310299: rect1, ellip2 and hex, each with its own
+  // mass-centre offset (0, 2.5 or 5 mm along body x; the pressure follows it) and friction and pressure varying from
+  // push to push, forecast leaving one out. `--log_level=message` prints the errors.
+  std::map<std::string, double> total;
+  const std::vector<std::pair<const char*, double>> objects{{"rect1", 2.5e-3}, {"ellip2", 5e-3}, {"hex", 0.0}};
+  for (const auto& [name, offset_m] : objects) {
+    const ShapeInfo& shape = ShapeTable::published().find(name);
+    const Outline outline(shape);
+    std::mt19937_64 rng(310200);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<RecordedForecastCase> cases;
+    std::vector<PushFit> fits;
+    for (int k = 0; k < 12; ++k) {
+      PushScenario s;
+      s.shape = name;
+      s.effects.com_offset_m = offset_m;
+      s.surface_friction = 0.35 + 0.25 * unit(rng);
+      s.contact_friction = 0.15 + 0.3 * unit(rng);
+      s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
+      s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
+      s.motion.length_m = 0.05;
+      s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
+      s.contact_position = 0.2 + 0.6 * unit(rng);
+      s.push_angle_rad = -1.0 + 2.0 * unit(rng);
+      s.seed = 310200 + static_cast<std::uint64_t>(k);
+      const SimulatedPush sim = simulate_push(s);
+      cases.push_back(
+          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
+      cases.back().name = std::to_string(k);
+      fits.push_back(fit_push_parameters(cases.back()));
+    }
+    for (const char* choice : {"chosen", "learned", "centroid"}) {
+      ForecastStudyOptions options;
+      set_centre_of_friction_choice(options.learn, choice);
+      const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
+      double position = 0, yaw = 0;
+      for (const auto& p : study) {
+        position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+        yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+      }
+      BOOST_TEST_MESSAGE(name << ", offset " << 1e3 * offset_m << " mm, centre of friction " << choice << ": final "
+                              << position << " mm, " << yaw << " deg");
+      total[choice] += position + yaw;
+    }
+  }
+  BOOST_TEST_MESSAGE("sums of final mm and deg: chosen " << total["chosen"] << ", learned " << total["learned"]
+                                                         << ", centroid " << total["centroid"]);
+  BOOST_TEST(total[kCentreOfFrictionDefaultChoice] < total["centroid"]);
+}
+
+BOOST_AUTO_TEST_CASE(a_version_1_object_file_still_reads_with_its_stored_centre_of_friction) {
+  const nlohmann::json v1 = {{"format", "pushpred-object-model"},
+                             {"version", 1},
+                             {"object",
+                              {{"name", "disc"},
+                               {"mass_kg", 1.0},
+                               {"inertia_kgm2", 1e-3},
+                               {"centre_of_friction_m", {0.001, -0.002}},
+                               {"outline", {{"kind", "circle"}, {"radius_m", 0.05}}}}},
+                             {"parameters",
+                              {{"pusher_friction", {{"value", 0.3}}},
+                               {"torque_ratio_m", {{"value", 0.03}}},
+                               {"support_friction", {{"value", 0.4}}}}}};
+  const ObjectModel m = object_model_from_json(v1, "old.json", "");
+  BOOST_TEST(m.version == 1);
+  BOOST_TEST(m.object.centre_of_friction_m.isApprox(Eigen::Vector2d(0.001, -0.002)));
+  BOOST_TEST(m.centre_of_friction_pushes == 0);
+  // Written again, it is the current version, with its centre and the block that says it was not learned.
+  const nlohmann::json again = object_model_to_json(m);
+  BOOST_TEST(again.at("version").get<int>() == kObjectModelVersion);
+  BOOST_TEST(again.at("object").at("centre_of_friction").at("learned_from_pushes").get<int>() == 0);
+  const ObjectModel back = object_model_from_json(again, "new.json", "");
+  BOOST_TEST(back.object.centre_of_friction_m.isApprox(m.object.centre_of_friction_m));
 }
 
 BOOST_AUTO_TEST_CASE(bad_object_files_are_refused_naming_the_file_and_the_problem) {
@@ -148,8 +264,8 @@ BOOST_AUTO_TEST_CASE(bad_object_files_are_refused_naming_the_file_and_the_proble
     BOOST_FAIL("accepted a bad object file (" + expected + ")");
   };
   nlohmann::json j = good;
-  j["version"] = 2;
-  refused(j, "version 2");
+  j["version"] = kObjectModelVersion + 1;
+  refused(j, "version " + std::to_string(kObjectModelVersion + 1));
   j = good;
   j["object"]["outline"] = {{"kind", "shape_table"}, {"shape", "teapot"}};
   refused(j, "teapot");
@@ -177,7 +293,7 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
   // hex pushed 16 times each with friction and pressure varying from push to push, forecast leaving one out with and
   // without the prior, and with the prior by the median parameters' forecast instead of the ensemble's mean.
   // `--log_level=message` prints the errors the choices were made by.
-  double with_prior = 0, without_prior = 0, median_central = 0;
+  double with_prior = 0, without_prior = 0, median_central = 0, learned_centre = 0;
   for (const char* name : {"rect1", "ellip2", "hex"}) {
     const ShapeInfo& shape = ShapeTable::published().find(name);
     const Outline outline(shape);
@@ -210,6 +326,7 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
         if (width == 0 && central != CentralForecast::EnsembleMean) continue;
         ForecastStudyOptions options;
         options.learn.central = central;
+        options.learn.centre_of_friction_min_pushes = 0;  // the centroid's, as the choices were made
         const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
         double position = 0, yaw = 0;
         for (const auto& p : study) {
@@ -221,8 +338,23 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
         (central == CentralForecast::MedianParameters ? median_central
                                                       : (width > 0 ? with_prior : without_prior)) += position + yaw;
       }
+      if (width > 0) {
+        // The same pushes (their pressure centred on the mass centre) with the centre of friction learned.
+        const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, {});
+        double position = 0, yaw = 0;
+        for (const auto& p : study) {
+          position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+          yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+        }
+        BOOST_TEST_MESSAGE(name << ", prior width 1, centre of friction learned: final " << position << " mm, " << yaw
+                                << " deg");
+        learned_centre += position + yaw;
+      }
     }
   }
+  BOOST_TEST_MESSAGE("sums of final mm and deg: prior " << with_prior << ", no prior " << without_prior
+                                                        << ", median central " << median_central
+                                                        << ", centre of friction learned " << learned_centre);
   BOOST_TEST(with_prior < without_prior);
   BOOST_TEST(with_prior < median_central);
 }

@@ -25,6 +25,11 @@ def test_learned_model_matches_the_cli(executable, hex_files, model, tmp_path):
     assert model.name == "hex" and model.surface == "abs"
     again = pushpred.read_object_model(str(tmp_path / "hex.json"))
     assert again.parameters == model.parameters
+    # The centre of friction (learned over the six pushes, or the centroid kept), as the file keeps it.
+    assert model.centre_of_friction_pushes == from_cli["object"]["centre_of_friction"]["learned_from_pushes"]
+    np.testing.assert_allclose(model.centre_of_friction_m, from_cli["object"]["centre_of_friction_m"], atol=1e-12)
+    np.testing.assert_allclose(again.centre_of_friction_standard_error_m,
+                               from_cli["object"]["centre_of_friction"]["standard_error_m"], atol=1e-12)
 
 
 def test_forecast_matches_the_cli_and_its_regions_grow(executable, model, tmp_path):
@@ -54,9 +59,16 @@ def test_batch_forecasts_many_plans_as_single_forecasts_do(model):
         single = model.forecast(np.zeros(3), tip=tips[i], direction=directions[i], speed_m_s=0.05,
                                 times_s=np.array([1e6]))
         np.testing.assert_allclose(batch["final_pose"][i], single["pose"][0], atol=1e-12)
-    # Pushing +x through the centre of the hexagon's vertex: no turn; the angled pushes turn opposite ways.
-    assert abs(batch["final_pose"][1, 2]) < 1e-9
-    assert np.sign(batch["final_pose"][0, 2]) == -np.sign(batch["final_pose"][2, 2])
+    # Pushing +x through the hexagon's vertex and its centroid turns it the way its learned centre of friction
+    # says (counter-clockwise when the centre lies above the line of pushing); with the centre at the centroid, not
+    # at all, and the angled pushes turn opposite ways.
+    cof_y = model.centre_of_friction_m[1]
+    assert model.centre_of_friction_pushes == 0 or np.sign(batch["final_pose"][1, 2]) == np.sign(cof_y)
+    d = model.to_dict()
+    d["object"]["centre_of_friction_m"] = [0.0, 0.0]
+    centred = pushpred.object_model_from_dict(d).forecast_batch(np.zeros(3), tips, directions, np.full(3, 0.05))
+    assert abs(centred["final_pose"][1, 2]) < 1e-9
+    assert np.sign(centred["final_pose"][0, 2]) == -np.sign(centred["final_pose"][2, 2])
 
 
 def test_bad_input_is_a_value_error_naming_it(model):

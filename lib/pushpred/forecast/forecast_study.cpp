@@ -24,7 +24,8 @@ std::string forecast_study_inputs_note() {
          "plan's time for 0.5 mm), and a straight 50 mm plan at the file name's speed along the inward normal at the "
          "file name's contact side and position turned by its angle (butter: at that fraction of its perimeter). The "
          "object "
-         "model (parameters and region calibration) is learned from the same object's other pushes only. "
+         "model (parameters, centre of friction and region calibration) is learned from the same object's other "
+         "pushes only. "
          "oracle_own_fit uses the push's own recording (its best-fitting parameters) and is no forecast.";
 }
 

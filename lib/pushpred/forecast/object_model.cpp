@@ -291,6 +291,21 @@ RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const 
   return c;
 }
 
+namespace {
+
+/// The errors of `fit`'s forecast of `c` (with `object`) against its whole recording.
+void record_fit_errors(const RecordedForecastCase& c, const ForecastObject& object, const ForecastSettings& settings,
+                       PushFit& fit) {
+  const Eigen::MatrixX3d poses = forecast_poses(object, fit.parameters, c.plan, c.start_pose, c.times_s, settings);
+  const Eigen::Index n = c.times_s.size();
+  fit.rms_position_m = std::sqrt((poses.leftCols<2>() - c.truth.leftCols<2>()).rowwise().squaredNorm().mean());
+  fit.rms_yaw_rad = std::sqrt((poses.col(2) - c.truth.col(2)).array().square().mean());
+  fit.final_position_m = (poses.row(n - 1).head<2>() - c.truth.row(n - 1).head<2>()).norm();
+  fit.final_yaw_rad = std::abs(poses(n - 1, 2) - c.truth(n - 1, 2));
+}
+
+}  // namespace
+
 PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& options) {
   c.forecast_object.validate();
   const std::vector<Eigen::Index> idx = spread_indices(c.times_s.size(), options.residual_times);
@@ -368,17 +383,175 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
     for (int i = 0; i < 3; ++i)
       fit.standard_error(i) = fit.parameters.vector()(i) * std::sqrt(std::max(0.0, cov[4 * i] * variance));
   }
-  // The fitted forecast's errors over the whole recording.
-  ForecastRun run;
-  const Eigen::MatrixX3d poses =
-      forecast_poses(c.forecast_object, fit.parameters, c.plan, c.start_pose, c.times_s, options.settings, &run);
-  const Eigen::Index n = c.times_s.size();
-  fit.rms_position_m = std::sqrt((poses.leftCols<2>() - c.truth.leftCols<2>()).rowwise().squaredNorm().mean());
-  fit.rms_yaw_rad = std::sqrt((poses.col(2) - c.truth.col(2)).array().square().mean());
-  fit.final_position_m = (poses.row(n - 1).head<2>() - c.truth.row(n - 1).head<2>()).norm();
-  fit.final_yaw_rad = std::abs(poses(n - 1, 2) - c.truth(n - 1, 2));
+  record_fit_errors(c, c.forecast_object, options.settings, fit);
   fit.evaluations = residual->evaluations;
   return fit;
+}
+
+namespace {
+
+/// One push's trajectory residuals (as TrajectoryResidual's) as a function of its log-parameters (block 0, size 3)
+/// and the centre of friction its object shares with other pushes (block 1, size 2, body frame [m]). Central
+/// differences with a step suited to each block: 0.02 in the logarithms (about fit_push_parameters' relative step),
+/// 0.2 mm for the centre; both span the kinks of the piecewise-smooth fixed-step forecast.
+class SharedCentreResidual final : public ceres::CostFunction {
+ public:
+  SharedCentreResidual(const RecordedForecastCase& c, const ForecastObject& object, const FitOptions& options)
+      : case_(c), object_(object), options_(options) {
+    const std::vector<Eigen::Index> idx = spread_indices(c.times_s.size(), options.residual_times);
+    const Eigen::Index n = static_cast<Eigen::Index>(idx.size());
+    times_.resize(n);
+    truth_.resize(n, 3);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      times_(k) = c.times_s(idx[static_cast<std::size_t>(k)]);
+      truth_.row(k) = c.truth.row(idx[static_cast<std::size_t>(k)]);
+    }
+    poses_.resize(n, 3);
+    plus_.resize(static_cast<std::size_t>(3 * n));
+    minus_.resize(static_cast<std::size_t>(3 * n));
+    set_num_residuals(static_cast<int>(3 * n));
+    mutable_parameter_block_sizes()->push_back(3);
+    mutable_parameter_block_sizes()->push_back(2);
+  }
+
+  bool Evaluate(double const* const* x, double* r, double** jacobians) const override {
+    double block[2][3] = {{x[0][0], x[0][1], x[0][2]}, {x[1][0], x[1][1], 0}};
+    residuals(block[0], block[1], r);
+    if (!jacobians) return true;
+    const int m = num_residuals();
+    for (int b = 0; b < 2; ++b) {
+      if (!jacobians[b]) continue;
+      const int size = b == 0 ? 3 : 2;
+      const double step = b == 0 ? kLogStep : kCentreStep_m;
+      for (int j = 0; j < size; ++j) {
+        const double keep = block[b][j];
+        block[b][j] = keep + step;
+        residuals(block[0], block[1], plus_.data());
+        block[b][j] = keep - step;
+        residuals(block[0], block[1], minus_.data());
+        block[b][j] = keep;
+        for (int i = 0; i < m; ++i)
+          jacobians[b][i * size + j] =
+              (plus_[static_cast<std::size_t>(i)] - minus_[static_cast<std::size_t>(i)]) / (2 * step);
+      }
+    }
+    return true;
+  }
+
+ private:
+  static constexpr double kLogStep = 0.02, kCentreStep_m = 2e-4;
+
+  void residuals(const double* log_theta, const double* centre_m, double* r) const {
+    object_.centre_of_friction_m << centre_m[0], centre_m[1];
+    const ForecastParameters p{std::exp(log_theta[0]), std::exp(log_theta[1]), std::exp(log_theta[2])};
+    forecast_into(object_, p, case_.plan, case_.start_pose, times_, poses_, options_.settings);
+    for (Eigen::Index k = 0; k < times_.size(); ++k) {
+      r[3 * k] = (poses_(k, 0) - truth_(k, 0)) / options_.position_scale_m;
+      r[3 * k + 1] = (poses_(k, 1) - truth_(k, 1)) / options_.position_scale_m;
+      r[3 * k + 2] = (poses_(k, 2) - truth_(k, 2)) / options_.yaw_scale_rad;
+    }
+  }
+
+  const RecordedForecastCase& case_;
+  mutable ForecastObject object_;
+  FitOptions options_;
+  Eigen::VectorXd times_;
+  Eigen::MatrixX3d truth_;
+  mutable Eigen::MatrixX3d poses_;
+  mutable std::vector<double> plus_, minus_;
+};
+
+/// (centre - prior) / sd per axis: the centre of friction's Gaussian prior.
+struct CentrePrior {
+  Eigen::Vector2d prior_m;
+  double sd_m = 1;
+  template <class T>
+  bool operator()(const T* centre, T* r) const {
+    r[0] = (centre[0] - T(prior_m.x())) / T(sd_m);
+    r[1] = (centre[1] - T(prior_m.y())) / T(sd_m);
+    return true;
+  }
+};
+
+}  // namespace
+
+CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
+                                           const std::vector<PushFit>& fits, const CentreOfFrictionOptions& options) {
+  if (cases.empty()) throw InputError("centre of friction: no push to fit it from");
+  if (cases.size() != fits.size()) throw std::logic_error("fit_centre_of_friction: one fit per case");
+  object.validate();
+  const FitOptions& fit_options = options.fit;
+  const Eigen::Vector2d start = object.centre_of_friction_m;
+  const double c_uniform = object.outline->uniform_pressure_torque_ratio_m(start);
+  const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
+  const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
+  const double prior_centre[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
+  const std::size_t n = cases.size();
+  std::vector<std::array<double, 3>> theta(n);
+  double centre[2] = {start.x(), start.y()};
+  ceres::Problem problem;
+  int residual_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k)
+      theta[i][static_cast<std::size_t>(k)] = std::clamp(std::log(fits[i].parameters.vector()(k)), lower[k], upper[k]);
+    auto* cost = new SharedCentreResidual(cases[i], object, fit_options);
+    residual_count += cost->num_residuals();
+    problem.AddResidualBlock(cost, new ceres::HuberLoss(3.0), theta[i].data(), centre);
+    if (fit_options.prior_width_log > 0)
+      for (int k = 0; k < 3; ++k)
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(
+                                     new LogPrior{k, prior_centre[k], fit_options.prior_width_log}),
+                                 nullptr, theta[i].data());
+    for (int k = 0; k < 3; ++k) {
+      problem.SetParameterLowerBound(theta[i].data(), k, lower[k]);
+      problem.SetParameterUpperBound(theta[i].data(), k, upper[k]);
+    }
+  }
+  if (options.prior_sd_m > 0)
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<CentrePrior, 2, 2>(new CentrePrior{start, options.prior_sd_m}), nullptr,
+        centre);
+  for (int k = 0; k < 2; ++k) {
+    problem.SetParameterLowerBound(centre, k, start(k) - options.max_offset_m);
+    problem.SetParameterUpperBound(centre, k, start(k) + options.max_offset_m);
+  }
+  ceres::Solver::Options solver;
+  solver.max_num_iterations = options.max_iterations;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+
+  CentreOfFrictionFit out;
+  out.centre_m << centre[0], centre[1];
+  ForecastObject learned = object;
+  learned.centre_of_friction_m = out.centre_m;
+  // Standard errors: Ceres' covariance, scaled by the residuals' own variance (as fit_push_parameters).
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  cov_options.null_space_rank = -1;
+  cov_options.min_reciprocal_condition_number = 1e-12;
+  ceres::Covariance covariance(cov_options);
+  std::vector<std::pair<const double*, const double*>> blocks{{centre, centre}};
+  for (const auto& t : theta) blocks.emplace_back(t.data(), t.data());
+  const double variance = 2 * summary.final_cost / std::max(1, residual_count - static_cast<int>(3 * n + 2));
+  const bool have_covariance = covariance.Compute(blocks, &problem);
+  if (have_covariance) {
+    double cov[4] = {0};
+    if (covariance.GetCovarianceBlock(centre, centre, cov))
+      out.standard_error_m << std::sqrt(std::max(0.0, cov[0] * variance)), std::sqrt(std::max(0.0, cov[3] * variance));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    PushFit f = fits[i];
+    f.parameters = ForecastParameters{std::exp(theta[i][0]), std::exp(theta[i][1]), std::exp(theta[i][2])};
+    double cov[9] = {0};
+    if (have_covariance && covariance.GetCovarianceBlock(theta[i].data(), theta[i].data(), cov))
+      for (int k = 0; k < 3; ++k)
+        f.standard_error(k) = f.parameters.vector()(k) * std::sqrt(std::max(0.0, cov[4 * k] * variance));
+    record_fit_errors(cases[i], learned, fit_options.settings, f);
+    out.fits.push_back(std::move(f));
+  }
+  return out;
 }
 
 CentralForecast central_forecast_named(const std::string& name) {
@@ -389,6 +562,83 @@ CentralForecast central_forecast_named(const std::string& name) {
 
 const char* central_forecast_name(CentralForecast c) {
   return c == CentralForecast::EnsembleMean ? "ensemble_mean" : "median";
+}
+
+namespace {
+
+/// How well `members` (weighted by bandwidth h) forecast the recorded push `c` by their central forecast: its final
+/// and trajectory-mean errors, 1 mm and 1 degree alike. What learn chooses its settings by.
+double held_out_score(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
+                      const RecordedForecastCase& c, const ForecastSettings& settings, CentralForecast central,
+                      Eigen::MatrixX3d& member) {
+  std::vector<Eigen::Index> idx;
+  const Eigen::VectorXd times = scoring_times(c, idx);
+  Eigen::MatrixX3d mean(times.size(), 3);
+  Eigen::VectorXd ps(times.size()), ys(times.size());
+  ForecastRun run;
+  central_and_spread(object, members, h, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run, central,
+                     false);
+  double pos = 0, yaw = 0;
+  for (std::size_t k = 0; k < idx.size(); ++k) {
+    pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
+    yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
+  }
+  const Eigen::Index last = times.size() - 1;
+  return 1e3 * (pos / static_cast<double>(idx.size()) +
+                (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
+         180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
+}
+
+/// Whether a learned centre of friction forecasts the learned pushes better than `object`'s own: `folds`-fold
+/// cross-validation over them (push i in fold i mod folds), each fold forecast by the others' ensemble (all alike)
+/// with the centre fitted on those others, against the others' own fits about the object's centre.
+bool learned_centre_forecasts_better(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
+                                     const std::vector<PushFit>& fits, const LearnOptions& options,
+                                     Eigen::MatrixX3d& member) {
+  const int folds = options.centre_of_friction_folds;
+  CentreOfFrictionOptions cof = options.centre_of_friction;
+  cof.fit.settings = options.settings;
+  double own = 0, learned = 0;
+  for (int fold = 0; fold < folds; ++fold) {
+    std::vector<RecordedForecastCase> train_cases;
+    std::vector<PushFit> train_fits;
+    std::vector<std::size_t> test;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      if (static_cast<int>(i % static_cast<std::size_t>(folds)) == fold) {
+        test.push_back(i);
+      } else {
+        train_cases.push_back(cases[i]);
+        train_fits.push_back(fits[i]);
+      }
+    }
+    if (test.empty() || train_fits.empty()) continue;
+    const CentreOfFrictionFit fit = fit_centre_of_friction(object, train_cases, train_fits, cof);
+    ForecastObject moved = object;
+    moved.centre_of_friction_m = fit.centre_m;
+    std::vector<const PushFit*> own_members, learned_members;
+    for (const auto& f : train_fits) own_members.push_back(&f);
+    for (const auto& f : fit.fits) learned_members.push_back(&f);
+    for (std::size_t q : test) {
+      own += held_out_score(object, own_members, 0, cases[q], options.settings, options.central, member);
+      learned += held_out_score(moved, learned_members, 0, cases[q], options.settings, options.central, member);
+    }
+  }
+  return learned < own;
+}
+
+}  // namespace
+
+void set_centre_of_friction_choice(LearnOptions& options, const std::string& choice) {
+  const LearnOptions defaults;
+  options.centre_of_friction_min_pushes = defaults.centre_of_friction_min_pushes;
+  options.centre_of_friction_folds = defaults.centre_of_friction_folds;
+  if (choice == "learned") {
+    options.centre_of_friction_folds = 0;
+  } else if (choice == "centroid") {
+    options.centre_of_friction_min_pushes = 0;
+  } else if (choice != "chosen") {
+    throw InputError("centre of friction: 'chosen', 'learned' or 'centroid', not '" + choice + "'");
+  }
 }
 
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
@@ -406,55 +656,58 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   model.outline_source = outline_source;
   model.pushes = fits;
   model.settings = settings;
+  Eigen::MatrixX3d member;
+  const bool enough = options.centre_of_friction_min_pushes > 0 &&
+                      fits.size() >= static_cast<std::size_t>(options.centre_of_friction_min_pushes);
+  if (options.centre_of_friction_min_pushes > 0 && !enough)
+    model.centre_of_friction_method = "the object's own (too few pushes to learn it from)";
+  const bool better = enough && (options.centre_of_friction_folds < 2 ||
+                                 learned_centre_forecasts_better(object, cases, fits, options, member));
+  if (enough && !better)
+    model.centre_of_friction_method = "the object's own (a learned one forecast the learned pushes worse in " +
+                                      std::to_string(options.centre_of_friction_folds) + "-fold cross-validation)";
+  if (better) {
+    model.centre_of_friction_method = "fitted jointly over the learned pushes, each with its own parameters";
+    CentreOfFrictionOptions cof = options.centre_of_friction;
+    cof.fit.settings = settings;
+    CentreOfFrictionFit learned = fit_centre_of_friction(object, cases, fits, cof);
+    model.object.centre_of_friction_m = learned.centre_m;
+    model.centre_of_friction_standard_error_m = learned.standard_error_m;
+    model.centre_of_friction_pushes = static_cast<int>(fits.size());
+    model.pushes = std::move(learned.fits);
+  }
+  const std::vector<PushFit>& learned_fits = model.pushes;
+  const ForecastObject& learned_object = model.object;
   std::vector<const PushFit*> all;
-  for (const auto& f : fits) all.push_back(&f);
+  for (const auto& f : learned_fits) all.push_back(&f);
   model.parameters = weighted_median_parameters(all, std::vector<double>(all.size(), 1.0));
   model.central = options.central;
   for (int i = 0; i < 3; ++i) {
     std::vector<double> values;
-    for (const auto& f : fits) values.push_back(f.parameters.vector()(i));
+    for (const auto& f : learned_fits) values.push_back(f.parameters.vector()(i));
     model.push_to_push_sd(i) = values.size() > 1 ? robust_spread(values) : 0.0;
     // The median's standard error under push-to-push scatter, with each push's own identification error added.
     double identification = 0;
-    for (const auto& f : fits) identification += f.standard_error(i) * f.standard_error(i);
+    for (const auto& f : learned_fits) identification += f.standard_error(i) * f.standard_error(i);
     const double n = static_cast<double>(values.size());
     model.standard_error(i) =
         std::sqrt(1.2533 * 1.2533 * model.push_to_push_sd(i) * model.push_to_push_sd(i) / n + identification / (n * n));
   }
   auto others_of = [&](std::size_t q) {
     std::vector<const PushFit*> others;
-    for (std::size_t i = 0; i < fits.size(); ++i)
-      if (i != q) others.push_back(&fits[i]);
+    for (std::size_t i = 0; i < learned_fits.size(); ++i)
+      if (i != q) others.push_back(&learned_fits[i]);
     return others;
   };
-  Eigen::MatrixX3d member;
-  Eigen::VectorXd no_spread;
+
   // The bandwidth: the candidate whose leave-one-out forecasts of the learned pushes err least (final and trajectory
   // mean, mm and degrees alike).
   if (fits.size() >= 4 && bandwidths.size() > 1) {
     double best = std::numeric_limits<double>::infinity();
     for (double h : bandwidths) {
       double score = 0;
-      for (std::size_t q = 0; q < fits.size(); ++q) {
-        const RecordedForecastCase& c = cases[q];
-        std::vector<Eigen::Index> idx;
-        const Eigen::VectorXd times = scoring_times(c, idx);
-        Eigen::MatrixX3d mean(times.size(), 3);
-        Eigen::VectorXd ps(times.size()), ys(times.size());
-        ForecastRun run;
-        central_and_spread(object, others_of(q), h, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run,
-                           options.central, false);
-        double pos = 0, yaw = 0;
-        for (std::size_t k = 0; k < idx.size(); ++k) {
-          pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
-          yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
-        }
-        const Eigen::Index last = times.size() - 1;
-        score +=
-            1e3 * (pos / static_cast<double>(idx.size()) +
-                   (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
-            180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
-      }
+      for (std::size_t q = 0; q < fits.size(); ++q)
+        score += held_out_score(learned_object, others_of(q), h, cases[q], settings, options.central, member);
       if (score < best - 1e-9) {
         best = score;
         model.similarity_bandwidth = h;
@@ -472,8 +725,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       Eigen::MatrixX3d mean(times.size(), 3);
       Eigen::VectorXd ps(times.size()), ys(times.size());
       ForecastRun run;
-      central_and_spread(object, others_of(q), model.similarity_bandwidth, c.plan, c.start_pose, times, settings, mean,
-                         ps, ys, member, run, options.central);
+      central_and_spread(learned_object, others_of(q), model.similarity_bandwidth, c.plan, c.start_pose, times,
+                         settings, mean, ps, ys, member, run, options.central);
       const double weight = 1.0 / static_cast<double>(idx.size());
       for (std::size_t k = 0; k < idx.size(); ++k) {
         const Eigen::Index e = static_cast<Eigen::Index>(k);
@@ -532,7 +785,7 @@ double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b) {
 nlohmann::json object_model_to_json(const ObjectModel& m) {
   nlohmann::json j;
   j["format"] = "pushpred-object-model";
-  j["version"] = m.version;
+  j["version"] = kObjectModelVersion;
   j["units"] = "SI: metres, radians, kilograms; body frame of the outline (origin at the tracked centre)";
   nlohmann::json outline;
   const ForecastOutline& o = *m.object.outline;
@@ -558,6 +811,10 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
                  {"inertia_kgm2", m.object.inertia_kgm2},
                  {"centre_of_friction_m", {m.object.centre_of_friction_m.x(), m.object.centre_of_friction_m.y()}},
                  {"outline", outline}};
+  j["object"]["centre_of_friction"] = {
+      {"learned_from_pushes", m.centre_of_friction_pushes},
+      {"standard_error_m", {m.centre_of_friction_standard_error_m.x(), m.centre_of_friction_standard_error_m.y()}},
+      {"method", m.centre_of_friction_method}};
   nlohmann::json params;
   for (int i = 0; i < 3; ++i)
     params[ForecastParameters::name(i)] = {{"value", m.parameters.vector()(i)},
@@ -619,6 +876,20 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       if (!cof.is_array() || cof.size() != 2 || !cof[0].is_number() || !cof[1].is_number())
         throw InputError("object: 'centre_of_friction_m' must be [x, y]");
       m.object.centre_of_friction_m << cof[0].get<double>(), cof[1].get<double>();
+    }
+    if (o.contains("centre_of_friction")) {  // version 2 on; optional
+      const auto& cof = o.at("centre_of_friction");
+      if (!cof.is_object()) throw InputError("object: 'centre_of_friction' must be an object");
+      m.centre_of_friction_pushes = cof.value("learned_from_pushes", 0);
+      m.centre_of_friction_method = cof.value("method", m.centre_of_friction_method);
+      if (m.centre_of_friction_pushes < 0)
+        throw InputError("object: centre_of_friction: 'learned_from_pushes' must not be negative");
+      if (cof.contains("standard_error_m")) {
+        const auto& se = cof.at("standard_error_m");
+        if (!se.is_array() || se.size() != 2 || !se[0].is_number() || !se[1].is_number())
+          throw InputError("object: centre_of_friction: 'standard_error_m' must be [x, y]");
+        m.centre_of_friction_standard_error_m << se[0].get<double>(), se[1].get<double>();
+      }
     }
     if (!o.contains("outline") || !o.at("outline").is_object()) throw InputError("object: 'outline' must be an object");
     const nlohmann::json& ol = o.at("outline");

@@ -5,6 +5,8 @@
 // Learning (units SI, frames as forecast_model.hpp):
 // - per push: the parameters (mu_p, c, mu_s) that make the forecast of that push from its start best follow its
 //   recorded trajectory (Ceres, numeric derivatives, from the best of a coarse grid), with their standard errors;
+// - the centre of friction: one for the object, fitted jointly over its pushes with each push's own parameters
+//   (fit_centre_of_friction), kept when it forecasts the learned pushes better in cross-validation;
 // - the object's parameters: the per-push values' median (in logarithms), the push-to-push spread (the per-push
 //   values' robust standard deviation) and the median's standard error;
 // - the predictive regions: a forecast runs the object's parameters (the central forecast) and every learned push's
@@ -25,8 +27,9 @@
 
 namespace pushpred {
 
-/// The version of the object file this library writes and reads.
-inline constexpr int kObjectModelVersion = 1;
+/// The version of the object file this library writes; it reads every version up to it (version 1 files have no
+/// "centre_of_friction" block: their centre of friction is the one in "object", the outline's centroid).
+inline constexpr int kObjectModelVersion = 2;
 
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.
@@ -97,6 +100,31 @@ struct FitOptions {
 /// with the weak prior of FitOptions::prior_width_log).
 PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& options = {});
 
+/// The object's centre of friction (the centre of its support pressure) fitted jointly over pushes of one object on
+/// one surface, with each push's own parameters under it: a property of the object on the surface, so one for all
+/// its pushes. A single push barely tells an offset centre from the rod's friction (both turn it one way); pushes
+/// from several sides and angles do. Ceres over all pushes' trajectory residuals at once (each push's block as in
+/// fit_push_parameters, from its own fit), with a Gaussian prior about the starting centre and a bound around it.
+struct CentreOfFrictionFit {
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();  ///< body frame
+  Eigen::Vector2d standard_error_m = Eigen::Vector2d::Zero();
+  std::vector<PushFit> fits;  ///< each push's own parameters under the fitted centre (same order as the cases)
+};
+struct CentreOfFrictionOptions {
+  /// The prior's standard deviation about the starting centre (the outline's centroid) per axis, and the bound on the
+  /// offset: physical settings (a flat object's pressure centre lies a few millimetres from its centroid), not fitted.
+  double prior_sd_m = 3e-3;
+  double max_offset_m = 12e-3;
+  int max_iterations = 30;
+  FitOptions fit;
+};
+/// Fits the centre of friction of `object` (its outline, mass and inertia; its centre is the start and the prior's)
+/// shared by `cases`, from their per-push fits `fits` (same order). InputError for no case; std::logic_error for
+/// unequal sizes.
+CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
+                                           const std::vector<PushFit>& fits,
+                                           const CentreOfFrictionOptions& options = {});
+
 /// What a forecast's central trajectory is: the learned pushes' own forecasts averaged (weighted by similarity; with
 /// their spread about it), or the forecast of their parameters' (weighted) median. The mean of the ensemble errs
 /// less on the real pushes (docs/forecast.md): the trajectory bends nonlinearly with the parameters.
@@ -138,17 +166,38 @@ struct ObjectModel {
   CentralForecast central = CentralForecast::EnsembleMean;
   RegionCalibration regions;
   ForecastSettings settings;
+  /// object.centre_of_friction_m's standard error, and how many pushes it was learned from (0: not learned, the
+  /// outline's centroid).
+  Eigen::Vector2d centre_of_friction_standard_error_m = Eigen::Vector2d::Zero();
+  int centre_of_friction_pushes = 0;
+  std::string centre_of_friction_method = "the object's own (not learned)";
 };
 
 struct LearnOptions {
   CentralForecast central = CentralForecast::EnsembleMean;
   std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates
   ForecastSettings settings;
+  /// Learn the centre of friction (fit_centre_of_friction) from this many pushes on (0: never; the object's own
+  /// centre is kept, and so are the per-push fits).
+  int centre_of_friction_min_pushes = 4;
+  /// Keep the learned centre only when it forecasts the learned pushes better than the object's own centre in this
+  /// many-fold cross-validation over them (fewer than 2: always keep it).
+  int centre_of_friction_folds = 3;
+  CentreOfFrictionOptions centre_of_friction;
 };
 
-/// Learns the object from the fits of its pushes (at least one; with three or more the regions are calibrated,
-/// leaving each push out, which forecasts `cases`, the same pushes in the same order; with four or more the
-/// similarity bandwidth is chosen the same way). `bandwidths`: the candidates (empty: 0, 2, 1, 0.5).
+/// Sets how `options` learns the centre of friction: "chosen" (the defaults: learned when cross-validation over the
+/// learned pushes prefers it), "learned" (always, from centre_of_friction_min_pushes on) or "centroid" (never).
+/// InputError otherwise.
+void set_centre_of_friction_choice(LearnOptions& options, const std::string& choice);
+/// The choice LearnOptions' defaults make.
+inline constexpr const char* kCentreOfFrictionDefaultChoice = "chosen";
+
+/// Learns the object from the fits of its pushes (at least one; with `centre_of_friction_min_pushes` or more the
+/// centre of friction is fitted jointly and the pushes' own parameters refitted under it, when it forecasts the
+/// learned pushes better in cross-validation (`centre_of_friction_folds`); with three or more the
+/// regions are calibrated, leaving each push out, which forecasts `cases`, the same pushes in the same order; with
+/// four or more the similarity bandwidth is chosen the same way). `bandwidths`: the candidates (empty: 0, 2, 1, 0.5).
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
                                const std::vector<PushFit>& fits, const LearnOptions& options = {});
