@@ -3,12 +3,9 @@
 #include <algorithm>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <iostream>
-#include <map>
 #include <memory>
-#include <sstream>
 #include <utility>
 
 #include "pushpred/core/error.hpp"

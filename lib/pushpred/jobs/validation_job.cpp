@@ -3,11 +3,10 @@
 #include <unistd.h>
 
 #include <exception>
+#include <functional>
 #include <iostream>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <sstream>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/jobs/partial_codecs.hpp"
