@@ -3,12 +3,12 @@
 // error before and after on held-out phases (DIR/diagnosis.json, DIR/report.md, plots). With --per-object, a batch
 // of several objects or surfaces is diagnosed one object at a time: DIR/<shape>_on_<surface>/ each, and
 // DIR/overview.md and DIR/overview.json side by side; `--shard I/N` then runs share I of N of the objects as a
-// partial output for `pushpred merge`, and under mpirun the ranks split the objects (reports/diagnosis_batch.hpp).
+// partial output for `pushpred merge`, and under mpirun the ranks split the objects (jobs/diagnosis_job.hpp).
 #include <memory>
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/reports/diagnosis_batch.hpp"
+#include "pushpred/jobs/diagnosis_job.hpp"
 #include "pushpred/runtime/parallel_batch.hpp"
 #include "study_arguments.hpp"
 

@@ -1,10 +1,10 @@
 // `pushpred merge --out DIR PART...`: the partial outputs of `--shard 1/N` ... `--shard N/N` runs combined into what
-// one run over every input writes, byte for byte (reports/partial_merge.hpp).
+// one run over every input writes, byte for byte (jobs/partial_merge.hpp).
 #include <memory>
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/reports/partial_merge.hpp"
+#include "pushpred/jobs/partial_merge.hpp"
 
 namespace pushpred::app {
 namespace {

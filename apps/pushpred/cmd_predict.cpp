@@ -1,12 +1,12 @@
 // `pushpred predict FILE... --out DIR`: the paper's identification/prediction study on each push, with the
 // prediction methods chosen by name (default: every built-in one, predictor.hpp); DIR/summary.json, DIR/tables.md
 // (per object and per pusher speed) and per-push CSVs. `--shard I/N` writes share I of N as a partial output for
-// `pushpred merge`; under `mpirun -np N` the ranks split the pushes and rank 0 writes (reports/prediction_batch.hpp).
+// `pushpred merge`; under `mpirun -np N` the ranks split the pushes and rank 0 writes (jobs/prediction_job.hpp).
 #include <memory>
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/reports/prediction_batch.hpp"
+#include "pushpred/jobs/prediction_job.hpp"
 #include "pushpred/runtime/parallel_batch.hpp"
 #include "study_arguments.hpp"
 

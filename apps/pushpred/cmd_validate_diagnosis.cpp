@@ -1,13 +1,13 @@
 // `pushpred validate-diagnosis --trials N --seed S --out DIR`: the diagnosis tried blind on randomized simulated
 // physics (diagnosis/validation.hpp); writes DIR/validation.md and DIR/validation.json. `--shard I/N` runs share I of
 // N of the trials as a partial output for `pushpred merge`; under mpirun the ranks split the trials
-// (reports/validation_batch.hpp).
+// (jobs/validation_job.hpp).
 #include <memory>
 #include <thread>
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/reports/validation_batch.hpp"
+#include "pushpred/jobs/validation_job.hpp"
 
 namespace pushpred::app {
 namespace {

@@ -6,23 +6,14 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/reading/shape_table.hpp"
+#include "test_support.hpp"
 
 using namespace pushpred;
+using pushpred::testing::contains;
+using pushpred::testing::input_error;
+using pushpred::testing::TempFolder;
 
 namespace {
-
-/// The message of the InputError `f` throws ("" when it throws none).
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 std::string one_shape(const std::string& fields) { return R"({"shapes": [{"name": "x", )" + fields + "}]}"; }
 
@@ -76,8 +67,8 @@ BOOST_AUTO_TEST_CASE(own_shapes_add_to_and_replace_the_known_ones) {
 }
 
 BOOST_AUTO_TEST_CASE(a_csv_polygon_reads_its_vertices_from_the_outline_file) {
-  const auto folder = std::filesystem::temp_directory_path() / "pushpred_own_shapes_test";
-  std::filesystem::create_directories(folder);
+  const TempFolder temp;
+  const std::filesystem::path& folder = temp.path();
   std::ofstream(folder / "tri.csv") << "# a right triangle\nx_m,y_m\n0,0\n0.1,0\n0,0.05\n";
   std::ofstream(folder / "shapes.csv") << kHeader.substr(0, kHeader.size() - 1) << ",outline_file\n"
                                        << "tri9,0.5,0.0004,,,polygon,,,tri.csv\n";
@@ -91,7 +82,6 @@ BOOST_AUTO_TEST_CASE(a_csv_polygon_reads_its_vertices_from_the_outline_file) {
   const std::string e = input_error([&] { ShapeTable::from_file(folder / "shapes.csv"); });
   BOOST_TEST(contains(e, (folder / "shapes.csv").string() + ":2"), e);
   BOOST_TEST(contains(e, (folder / "tri.csv").string() + ":3: 'nan' is not finite"), e);
-  std::filesystem::remove_all(folder);
 }
 
 BOOST_AUTO_TEST_CASE(every_hostile_shape_file_is_an_input_error_naming_the_problem) {

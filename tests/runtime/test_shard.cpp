@@ -12,24 +12,14 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/runtime/output_files.hpp"
 #include "pushpred/runtime/shard.hpp"
+#include "test_support.hpp"
 
 using namespace pushpred;
+using pushpred::testing::contains;
+using pushpred::testing::input_error;
 namespace fs = std::filesystem;
 
 namespace {
-
-/// The error message of `f()`, or "" when it does not throw InputError.
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 /// A partial output held in memory: `manifest`, and `files` by relative path.
 PartialOutput in_memory(const std::string& name, const std::string& manifest,

@@ -1,12 +1,17 @@
 #pragma once
-// Helpers shared by the test suites: a temporary folder that removes itself, the real data files, and the shell of
-// a synthetic push.
+// Helpers shared by the test suites: a temporary folder that removes itself, the message of an expected InputError,
+// the real data files, the shell of a synthetic push, and a study of awkward numbers.
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <string>
 
 #include "pushpred/core/data_folder.hpp"
+#include "pushpred/core/error.hpp"
+#include "pushpred/prediction/prediction_study.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/shape_table.hpp"
 
@@ -37,6 +42,19 @@ inline void write_text(const std::filesystem::path& p, const std::string& text) 
   out << text;
 }
 
+/// The message of the InputError `f()` throws; "" when it throws none.
+template <class F>
+std::string input_error(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
 /// A real recording from the data folder: the first whose name contains `fragment`.
 inline std::filesystem::path real_file(const std::string& fragment) {
   for (const auto& p : list_recordings(resolve_data_folder()))
@@ -64,6 +82,41 @@ inline SynchronisedPush synthetic_push_shell(const std::string& shape, double ra
   p.has_contact = true;
   p.contact_end_s = p.duration_s();
   return p;
+}
+
+/// Whether `a` and `b` are the same double to the bit (-0 is not 0; a NaN is itself).
+inline bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// A study of one phase whose numbers are awkward to write and read back: NaN and infinities, -0, 1e-300, sums
+/// with long expansions (0.1 + 0.2), a parameter that is NaN; for exact round trips and byte-for-byte texts.
+inline PushStudy awkward_push_study() {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  PushStudy s;
+  s.source = "shape=rect1_a=0_v=10_i=0.000_s=0.000_t=0.000.h5";
+  s.span = "whole";
+  s.methods = {"dob", "hold"};
+  s.intervals = {{0.0, 0.1 + 0.2}, {1.0 / 3.0, 2.0 / 3.0}};
+  PhaseResult r;
+  r.phase = 1;
+  r.interval = s.intervals[1];
+  r.relation.estimator = "rls";
+  r.relation.beta = {0.1, -0.0, 1e-300};
+  r.relation.eps = {nan, inf, -inf};
+  r.relation.covariance[1] << 1.0 / 7.0, 2e-17, 2e-17, 5e300;
+  r.relation.samples = 25;
+  r.relation.effective_samples = 24.999999999999996;
+  r.relation.intervals = 1;
+  r.note = "a note";
+  r.predicted["dob"].resize(0, 3);
+  r.predicted["hold"].resize(0, 3);
+  r.errors["dob"] = {0.7000000000000001, 1, 2, 3, 4, 5, 6, 7, 8.123456789012345};
+  r.errors["hold"] = {nan, 0, 0, 0, 0, 0, 0, 0, 0};
+  r.method_notes["hold"] = "stays";
+  r.method_parameters["dob"] = {{"mu_p", 0.35, 0.01, "", "identified"}, {"c", nan, 0, "m", "default: none"}};
+  r.initial_velocity = {std::nextafter(1.0, 2.0), 0, -1e-9};
+  s.phases.push_back(r);
+  s.method_seconds["dob"] = 0.25;
+  return s;
 }
 
 }  // namespace pushpred::testing

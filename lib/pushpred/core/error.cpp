@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <limits>
+#include <sstream>
 
 namespace pushpred {
 namespace {
@@ -63,6 +64,13 @@ namespace {
 }
 
 }  // namespace
+
+std::string three_significant_digits(double value) {
+  std::ostringstream s;
+  s.precision(3);
+  s << value;
+  return s.str();
+}
 
 void require_positive_finite(double value, const std::string& what) {
   if (value > 0 && value < std::numeric_limits<double>::infinity()) return;

@@ -30,6 +30,9 @@ class SolverError : public std::runtime_error {
 /// spaces, so that a message stays one line of plain text.
 std::string plain_text(const std::string& text);
 
+/// `value` with three significant digits ("0.00123", "1.5e+03"): how a message prints a bound or a measured value.
+std::string three_significant_digits(double value);
+
 /// Prefixes an error message with the input it is about: "source: what".
 inline std::string about(const std::string& source, const std::string& what) {
   return source.empty() ? what : source + ": " + what;

@@ -10,6 +10,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
+#include "pushpred/reading/text_files.hpp"
 
 namespace pushpred {
 namespace {
@@ -197,30 +198,7 @@ double number_at(const nlohmann::json& j, const char* key, const std::string& wh
 }  // namespace
 
 ForecastOutline read_outline_csv(const std::filesystem::path& path, const std::string& description) {
-  std::ifstream in(path);
-  if (!in) throw InputError(about(path.string(), "cannot read the outline file"));
-  std::vector<Eigen::Vector2d> v;
-  std::string line;
-  int number = 0;
-  bool header_seen = false;
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream fields(line);
-    double x = 0, y = 0;
-    if (!(fields >> x >> y)) {
-      if (!header_seen && v.empty()) {
-        header_seen = true;
-        continue;
-      }
-      throw InputError(about(path.string(), "line " + std::to_string(number) + ": expected two numbers x_m,y_m"));
-    }
-    if (!std::isfinite(x) || !std::isfinite(y))
-      throw InputError(about(path.string(), "line " + std::to_string(number) + ": not finite"));
-    v.emplace_back(x, y);
-  }
+  std::vector<Eigen::Vector2d> v = read_outline_csv_vertices(path);
   try {
     return ForecastOutline::polygon(std::move(v), description);
   } catch (const InputError& e) {

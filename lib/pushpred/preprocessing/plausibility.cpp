@@ -2,18 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <vector>
 
 #include "pushpred/core/error.hpp"
 
 namespace pushpred {
-std::string three_significant_digits(double value) {
-  std::ostringstream s;
-  s.precision(3);
-  s << value;
-  return s.str();
-}
 
 namespace {
 

@@ -41,7 +41,4 @@ struct PlausibilityLimits {
 /// Throws InputError naming `recording.source`, the stream and the problem when a bound is broken.
 void check_plausible(const Recording& recording, const PlausibilityLimits& limits = {});
 
-/// `value` with three significant digits: how the plausibility messages print a bound or a measured value.
-std::string three_significant_digits(double value);
-
 }  // namespace pushpred

@@ -13,57 +13,9 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/reading/shape_table.hpp"
+#include "pushpred/reading/text_files.hpp"
 
 namespace pushpred {
-namespace detail {
-
-std::string read_text_file(const std::filesystem::path& path, const std::string& what) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(about(path.string(), "is a folder, not " + what));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(about(path.string(), "cannot open " + what));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(about(path.string(), "cannot read " + what));
-  return ss.str();
-}
-
-/// Vertices from a CSV file of x_m,y_m rows (an optional header line and # comments), as butter_outline.csv.
-std::vector<Eigen::Vector2d> read_vertices_csv(const std::filesystem::path& path) {
-  std::istringstream in(read_text_file(path, "an outline file"));
-  std::vector<Eigen::Vector2d> vertices;
-  std::string line;
-  int line_no = 0;
-  bool first = true;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    const std::string where = path.string() + ":" + std::to_string(line_no);
-    const size_t comma = line.find(',');
-    const bool header = first && (line.rfind("x", 0) == 0);
-    first = false;
-    if (header) continue;
-    if (comma == std::string::npos || line.find(',', comma + 1) != std::string::npos)
-      throw InputError(about(where, "expected two numbers x_m,y_m, got '" + plain_text(line) + "'"));
-    double xy[2];
-    const std::string field[2] = {line.substr(0, comma), line.substr(comma + 1)};
-    for (int k = 0; k < 2; ++k) {
-      try {
-        size_t used = 0;
-        xy[k] = std::stod(field[k], &used);
-        if (used != field[k].size()) throw std::invalid_argument(field[k]);
-      } catch (const std::exception&) {
-        throw InputError(about(where, "'" + plain_text(field[k]) + "' is not a number"));
-      }
-      if (!std::isfinite(xy[k])) throw InputError(about(where, "'" + plain_text(field[k]) + "' is not finite"));
-    }
-    vertices.emplace_back(xy[0], xy[1]);
-  }
-  return vertices;
-}
-
-}  // namespace detail
 
 namespace {
 Eigen::Vector2d area_centroid(const std::vector<Eigen::Vector2d>& v);
@@ -341,7 +293,7 @@ ShapeTable ShapeTable::from_json_text(const std::string& text, const std::string
 }
 
 ShapeTable ShapeTable::from_json_file(const std::filesystem::path& path) {
-  return from_json_text(detail::read_text_file(path, "a shape file"), path.string());
+  return from_json_text(read_text_file(path, "a shape file"), path.string());
 }
 
 ShapeTable ShapeTable::from_file(const std::filesystem::path& path) {

@@ -12,12 +12,7 @@
 namespace pushpred {
 namespace {
 
-std::string format_ms(double seconds) {
-  std::ostringstream s;
-  s.precision(3);
-  s << seconds * 1e3 << " ms";
-  return s.str();
-}
+std::string format_ms(double seconds) { return three_significant_digits(seconds * 1e3) + " ms"; }
 
 }  // namespace
 

@@ -6,12 +6,11 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/reading/text_files.hpp"
 
 namespace pushpred {
 namespace detail {
 extern const char* const kPublishedShapesCsv;
-std::string read_text_file(const std::filesystem::path& path, const std::string& what);
-std::vector<Eigen::Vector2d> read_vertices_csv(const std::filesystem::path& path);
 void complete_polygon(ShapeInfo& shape, bool centroid_given);
 }
 
@@ -59,15 +58,8 @@ const std::vector<std::string> kColumns = {"shape",    "mass_kg", "inertia_kgm2"
 ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string& source,
                                      const std::filesystem::path& folder) {
   ShapeTable table;
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
   bool header_seen = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    const std::string where = source + ":" + std::to_string(line_no);
+  for_each_csv_row(text, source, [&](const std::string& line, const std::string& where) {
     auto f = split_csv_line(line);
     if (!header_seen) {
       const bool eight = f.size() == 8 && std::equal(f.begin(), f.end(), kColumns.begin());
@@ -78,7 +70,7 @@ ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string&
                                "(and ',outline_file' for polygons), got '" +
                                    plain_text(line) + "'"));
       header_seen = true;
-      continue;
+      return;
     }
     if (f.size() > kColumns.size())
       throw InputError(about(
@@ -100,7 +92,7 @@ ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string&
         throw InputError(about(where, "a polygon row names its vertex file in the column outline_file"));
       const std::filesystem::path outline = folder / f[8];
       try {
-        s.vertices_m = detail::read_vertices_csv(outline);
+        s.vertices_m = read_outline_csv_vertices(outline);
         validate_shape(s, outline.string());
       } catch (const InputError& e) {
         throw InputError(about(where, e.what()));
@@ -112,13 +104,13 @@ ShapeTable ShapeTable::from_csv_text(const std::string& text, const std::string&
     validate_shape(s, where);
     if (table.contains(s.name)) throw InputError(about(where, "shape '" + plain_text(s.name) + "' is given twice"));
     table.shapes_.push_back(s);
-  }
+  });
   if (table.shapes_.empty()) throw InputError(about(source, "no shapes in table"));
   return table;
 }
 
 ShapeTable ShapeTable::from_csv_file(const std::filesystem::path& path) {
-  return from_csv_text(detail::read_text_file(path, "a shape table"), path.string(), path.parent_path());
+  return from_csv_text(read_text_file(path, "a shape table"), path.string(), path.parent_path());
 }
 
 const ShapeTable& ShapeTable::published() {

@@ -11,7 +11,6 @@
 #include "pushpred/core/version.hpp"
 #include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/plotting.hpp"
-#include "pushpred/runtime/shard.hpp"
 
 namespace pushpred {
 nlohmann::json error_summary_json(const ErrorSummary& e);
@@ -757,41 +756,6 @@ nlohmann::json diagnosis_overview_json(const std::vector<DiagnosisGroupOutcome>&
     out.push_back(j);
   }
   return {{"pushpred_version", kVersion}, {"objects", out}};
-}
-
-nlohmann::json error_summary_exact_json(const ErrorSummary& e) {
-  return {e.phases,
-          exact_number_json(e.pos_mm_mean),
-          exact_number_json(e.x_mm_mean),
-          exact_number_json(e.y_mm_mean),
-          exact_number_json(e.theta_deg_mean),
-          exact_number_json(e.final_pos_mm),
-          exact_number_json(e.final_theta_deg)};
-}
-
-ErrorSummary error_summary_from_exact_json(const nlohmann::json& j) {
-  if (!j.is_array()) throw InputError("an error summary is not an array of 7 numbers");
-  if (j.size() != 7) throw InputError("an error summary holds " + std::to_string(j.size()) + " numbers, not 7");
-  ErrorSummary e;
-  e.phases = j[0].get<int>();
-  double* fields[] = {&e.pos_mm_mean, &e.x_mm_mean, &e.y_mm_mean, &e.theta_deg_mean, &e.final_pos_mm,
-                      &e.final_theta_deg};
-  for (std::size_t k = 0; k < 6; ++k) *fields[k] = exact_number(j[k + 1]);
-  return e;
-}
-
-nlohmann::json held_out_errors_exact_json(const std::array<const ErrorSummary*, 6>& errors) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const ErrorSummary* e : errors) list.push_back(error_summary_exact_json(*e));
-  return list;
-}
-
-void held_out_errors_from_exact_json(const nlohmann::json& list, const HeldOutErrorFields& fields,
-                                     const std::string& holder) {
-  if (!list.is_array() || list.size() != 6)
-    throw InputError(holder + " holds " + (list.is_array() ? std::to_string(list.size()) : std::string("no list of")) +
-                     " error summaries, not 6");
-  for (std::size_t k = 0; k < 6; ++k) *fields[k] = error_summary_from_exact_json(list[k]);
 }
 
 }  // namespace pushpred

@@ -11,7 +11,6 @@
 // - report.md: the same as tables, with residual and error plots before and after (gnuplot, PNG; left out with a
 //   note when gnuplot is not installed).
 // Millimetres and degrees here only; the library is SI.
-#include <array>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -70,21 +69,5 @@ struct DiagnosisGroupOutcome {
 std::string diagnosis_overview_markdown(const std::vector<DiagnosisGroupOutcome>& groups);
 /// overview.json: per object its `found`, `error_before`, `error_after` and `error_references`, or its `error`.
 nlohmann::json diagnosis_overview_json(const std::vector<DiagnosisGroupOutcome>& groups);
-
-/// An ErrorSummary as a partial output carries it (runtime/shard.hpp): [phases, the six values], each double exactly
-/// (exact_number_json), so that a merged run writes what one run writes, byte for byte.
-nlohmann::json error_summary_exact_json(const ErrorSummary& e);
-/// The ErrorSummary error_summary_exact_json wrote; throws InputError for anything else.
-ErrorSummary error_summary_from_exact_json(const nlohmann::json& j);
-
-/// The six held-out error summaries of one diagnosis, in the order a partial output keeps them: the paper's method,
-/// the base model, the corrected model, hold, const_velocity, quasi_static (the fields of a DiagnosisResult or a
-/// ValidationTrial).
-using HeldOutErrorFields = std::array<ErrorSummary*, 6>;
-nlohmann::json held_out_errors_exact_json(const std::array<const ErrorSummary*, 6>& errors);
-/// Reads held_out_errors_exact_json's list into `fields`; throws InputError naming `holder` ("an object", "a trial")
-/// when it is not six summaries.
-void held_out_errors_from_exact_json(const nlohmann::json& list, const HeldOutErrorFields& fields,
-                                     const std::string& holder);
 
 }  // namespace pushpred

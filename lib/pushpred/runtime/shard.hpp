@@ -1,6 +1,6 @@
 #pragma once
-// Splitting a batch over processes and putting it back together (issue 12): `--shard I/N` runs share I of N of a
-// command's inputs (of `diagnose --per-object`'s objects, reports/diagnosis_batch.hpp) and writes a *partial output*;
+// Splitting a batch over processes and putting it back together: `--shard I/N` runs share I of N of a command's
+// inputs (of `diagnose --per-object`'s objects, jobs/diagnosis_job.hpp) and writes a *partial output*;
 // `pushpred merge` combines the partial outputs of shards 1..N into exactly what one run over every input writes; an
 // MPI run (mpi_world.hpp) does both in one job, its ranks sending their partial outputs to rank 0.
 //

@@ -1,138 +1,26 @@
-// reports/prediction_batch.hpp: a study written into a partial output reads back to the same bits, so that a merge
-// of shards writes the summary one run writes (tests/apps/cli_shard.sh checks the whole files).
+// reports/prediction_summary.hpp: what predict writes one push at a time (summary.json, the predictions files, the
+// tables) is the text the whole documents make.
 #include <boost/test/unit_test.hpp>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <sstream>
 #include <vector>
 
-#include "pushpred/core/error.hpp"
-#include "pushpred/reports/prediction_batch.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
-#include "pushpred/reports/validation_batch.hpp"
 #include "pushpred/runtime/output_files.hpp"
+#include "test_support.hpp"
 
 using namespace pushpred;
-
-namespace {
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-PushStudy awkward_study() {
-  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
-  PushStudy s;
-  s.source = "shape=rect1_a=0_v=10_i=0.000_s=0.000_t=0.000.h5";
-  s.span = "whole";
-  s.methods = {"dob", "hold"};
-  s.intervals = {{0.0, 0.1 + 0.2}, {1.0 / 3.0, 2.0 / 3.0}};
-  PhaseResult r;
-  r.phase = 1;
-  r.interval = s.intervals[1];
-  r.relation.estimator = "rls";
-  r.relation.beta = {0.1, -0.0, 1e-300};
-  r.relation.eps = {nan, inf, -inf};
-  r.relation.covariance[1] << 1.0 / 7.0, 2e-17, 2e-17, 5e300;
-  r.relation.samples = 25;
-  r.relation.effective_samples = 24.999999999999996;
-  r.relation.intervals = 1;
-  r.note = "a note";
-  r.predicted["dob"].resize(0, 3);
-  r.predicted["hold"].resize(0, 3);
-  r.errors["dob"] = {0.7000000000000001, 1, 2, 3, 4, 5, 6, 7, 8.123456789012345};
-  r.errors["hold"] = {nan, 0, 0, 0, 0, 0, 0, 0, 0};
-  r.method_notes["hold"] = "stays";
-  r.method_parameters["dob"] = {{"mu_p", 0.35, 0.01, "", "identified"}, {"c", nan, 0, "m", "default: none"}};
-  r.initial_velocity = {std::nextafter(1.0, 2.0), 0, -1e-9};
-  s.phases.push_back(r);
-  s.method_seconds["dob"] = 0.25;
-  return s;
-}
-
-}  // namespace
-
-BOOST_AUTO_TEST_CASE(a_study_reads_back_to_the_same_bits) {
-  const PushStudy s = awkward_study();
-  const PushStudy back = push_study_from_exact_json(nlohmann::json::parse(push_study_exact_json(s).dump()));
-  BOOST_TEST(back.source == s.source);
-  BOOST_TEST(back.methods == s.methods);
-  BOOST_REQUIRE(back.intervals.size() == 2u);
-  BOOST_TEST(same_bits(back.intervals[0].t1_s, 0.1 + 0.2));
-  BOOST_REQUIRE(back.phases.size() == 1u);
-  const PhaseResult& r = back.phases[0];
-  BOOST_TEST(same_bits(r.relation.beta(1), -0.0));
-  BOOST_TEST(same_bits(r.relation.beta(2), 1e-300));
-  BOOST_TEST(std::isnan(r.relation.eps(0)));
-  BOOST_TEST((r.relation.eps(1) == std::numeric_limits<double>::infinity()));
-  BOOST_TEST((r.relation.eps(2) == -std::numeric_limits<double>::infinity()));
-  BOOST_TEST(same_bits(r.relation.covariance[1](0, 0), 1.0 / 7.0));
-  BOOST_TEST(same_bits(r.relation.covariance[1](1, 1), 5e300));
-  BOOST_TEST(same_bits(r.relation.effective_samples, 24.999999999999996));
-  BOOST_TEST(same_bits(r.errors.at("dob").pos_mm_mean, 0.7000000000000001));
-  BOOST_TEST(same_bits(r.errors.at("dob").final_theta_deg, 8.123456789012345));
-  BOOST_TEST(std::isnan(r.errors.at("hold").pos_mm_mean));
-  BOOST_TEST(r.method_notes.at("hold") == "stays");
-  BOOST_REQUIRE(r.method_parameters.at("dob").size() == 2u);
-  BOOST_TEST(r.method_parameters.at("dob")[1].source == "default: none");
-  BOOST_TEST(std::isnan(r.method_parameters.at("dob")[1].value));
-  BOOST_TEST(same_bits(r.initial_velocity(0), std::nextafter(1.0, 2.0)));
-  BOOST_TEST(r.predicted.size() == 2u);
-  // What the outputs are made of is the same text.
-  BOOST_TEST(study_json(back).dump() == study_json(s).dump());
-  BOOST_TEST(grouped_errors_markdown({back}) == grouped_errors_markdown({s}));
-}
-
-BOOST_AUTO_TEST_CASE(a_malformed_study_is_an_input_error) {
-  nlohmann::json doc = push_study_exact_json(awkward_study());
-  doc["phases"][0]["errors"]["dob"] = {1, 2};
-  BOOST_CHECK_THROW(push_study_from_exact_json(doc), InputError);
-  doc = push_study_exact_json(awkward_study());
-  doc.erase("span");
-  BOOST_CHECK_THROW(push_study_from_exact_json(doc), InputError);
-  doc = push_study_exact_json(awkward_study());
-  doc["phases"][0]["initial_velocity"][0] = "fast";
-  BOOST_CHECK_THROW(push_study_from_exact_json(doc), InputError);
-}
-
-BOOST_AUTO_TEST_CASE(a_validation_trial_reads_back_to_the_same_bits) {
-  ValidationTrial t;
-  t.index = 7;
-  t.seed = 18446744073709551615ull;  // the largest seed
-  t.true_kind = "force_offset";
-  t.amount = -0.1 - 0.2;
-  t.floor = 1e-300;
-  t.fitted_amount = std::numeric_limits<double>::quiet_NaN();
-  t.true_score = -std::numeric_limits<double>::infinity();
-  t.named = {"force_offset", "time_offset"};
-  t.true_named = true;
-  t.after = {3, 0.7000000000000001, 1.0 / 3.0, 2.0 / 3.0, 5, 6, 7};
-  t.failure = "";
-  const ValidationTrial back =
-      validation_trial_from_exact_json(nlohmann::json::parse(validation_trial_exact_json(t).dump()));
-  BOOST_TEST(back.index == 7);
-  BOOST_TEST(back.seed == t.seed);
-  BOOST_TEST(same_bits(back.amount, -0.1 - 0.2));
-  BOOST_TEST(same_bits(back.floor, 1e-300));
-  BOOST_TEST(std::isnan(back.fitted_amount));
-  BOOST_TEST((back.true_score == -std::numeric_limits<double>::infinity()));
-  BOOST_TEST(back.named == t.named);
-  BOOST_TEST(back.after.phases == 3);
-  BOOST_TEST(same_bits(back.after.x_mm_mean, 1.0 / 3.0));
-  BOOST_TEST(same_bits(back.after.pos_mm_mean, 0.7000000000000001));
-  nlohmann::json doc = validation_trial_exact_json(t);
-  doc["errors"].erase(0);
-  BOOST_CHECK_EXCEPTION(validation_trial_from_exact_json(doc), InputError, [](const InputError& e) {
-    return std::string(e.what()).find("a trial holds 5 error summaries, not 6") != std::string::npos;
-  });
-}
+using pushpred::testing::awkward_push_study;
+using pushpred::testing::same_bits;
 
 BOOST_AUTO_TEST_CASE(the_streamed_summary_is_the_whole_documents_text_byte_for_byte) {
   // predict writes summary.json one push at a time (write_prediction_summary) rather than dumping the document
   // built whole; the file must not change. Awkward content: NaN and infinities, invalid UTF-8 and quotes, line
   // breaks in a note, options that name "files" themselves, no push and no failure.
   Batch<PushStudy> batch;
-  batch.results.push_back(awkward_study());
-  PushStudy odd = awkward_study();
+  batch.results.push_back(awkward_push_study());
+  PushStudy odd = awkward_push_study();
   odd.source = std::string("shape=rect1 \xff\xfe \"quoted\"\n.h5");
   odd.phases[0].note = "two\nlines and a \"quote\" and a tab\t";
   odd.phases.push_back(odd.phases[0]);
@@ -147,7 +35,7 @@ BOOST_AUTO_TEST_CASE(the_streamed_summary_is_the_whole_documents_text_byte_for_b
   };
   BOOST_TEST(streamed(batch, options) == json_file_text(prediction_summary_json(batch, options)));
   Batch<PushStudy> one;
-  one.results.push_back(awkward_study());
+  one.results.push_back(awkward_push_study());
   BOOST_TEST(streamed(one, options) == json_file_text(prediction_summary_json(one, options)));
   const Batch<PushStudy> none;
   BOOST_TEST(streamed(none, nlohmann::json::object()) ==

@@ -1,10 +1,10 @@
 #pragma once
 // `pushpred predict` as a batch of pushes (runtime/batch_runner.hpp runs it whole, as a shard or over MPI ranks): the
-// item function that studies one push, the codec of a study in a partial output, and the outputs made from the
-// studies in input order (summary.json, tables.md, predictions/NAME.csv), for a whole run and a merge alike. The
-// apps only parse arguments and call these.
+// item function that studies one push, the codec of a study in a partial output (partial_codecs.hpp), and the merge
+// of the shards' partial outputs. reports/prediction_outputs.hpp makes the outputs from the studies in input order
+// (summary.json, tables.md, predictions/NAME.csv), for a whole run and a merge alike. The apps only parse arguments
+// and call these.
 #include <cstddef>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,13 +19,6 @@ namespace pushpred {
 
 class MpiSession;
 
-/// A study as exact JSON, for a partial output: every field drop_samples keeps, doubles written so that they read
-/// back to the same bits (non-finite ones as "nan", "inf", "-inf").
-nlohmann::json push_study_exact_json(const PushStudy& study);
-/// The study push_study_exact_json wrote (without samples, as drop_samples leaves it); throws InputError on a
-/// malformed document.
-PushStudy push_study_from_exact_json(const nlohmann::json& doc);
-
 /// `pushpred predict FILE... --out DIR`.
 struct PredictRun {
   std::vector<std::string> inputs;  ///< files or folders, as given
@@ -34,7 +27,7 @@ struct PredictRun {
   StudyOptions study;
   PreprocessOptions preprocess;
   int jobs = 1;
-  std::optional<ShardSpec> shard;  ///< given (1/1 included): a partial output of that share; none: the whole run
+  std::optional<ShardSpec> shard;   ///< given (1/1 included): a partial output of that share; none: the whole run
   const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the inputs when it has several
 };
 

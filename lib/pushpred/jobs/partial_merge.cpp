@@ -1,11 +1,11 @@
-#include "pushpred/reports/partial_merge.hpp"
+#include "pushpred/jobs/partial_merge.hpp"
 
 #include <filesystem>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/reports/diagnosis_batch.hpp"
-#include "pushpred/reports/prediction_batch.hpp"
-#include "pushpred/reports/validation_batch.hpp"
+#include "pushpred/jobs/diagnosis_job.hpp"
+#include "pushpred/jobs/prediction_job.hpp"
+#include "pushpred/jobs/validation_job.hpp"
 
 namespace fs = std::filesystem;
 

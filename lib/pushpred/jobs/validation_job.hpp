@@ -1,8 +1,8 @@
 #pragma once
-// `pushpred validate-diagnosis` as a batch of trials: the whole run, one shard of it (`--shard I/N`: trial k goes to
-// shard k mod N + 1, a partial output), an MPI job (rank 0 writes), and the merge of the shards' partial outputs
-// into what the whole run writes, byte for byte (runtime/shard.hpp has the partial format).
-#include <nlohmann/json.hpp>
+// `pushpred validate-diagnosis` as a batch of trials (runtime/batch_runner.hpp runs it whole, as a shard or over MPI
+// ranks; trial k goes to shard k mod N + 1): the item function that runs one trial, the codec of a trial in a partial
+// output (partial_codecs.hpp), and the merge of the shards' partial outputs into what the whole run writes, byte for
+// byte. reports/validation_outputs.hpp writes the outputs. The apps only parse arguments and call these.
 #include <optional>
 #include <string>
 
@@ -16,16 +16,12 @@ class MpiSession;
 
 inline constexpr const char* kValidationCommand = "validate-diagnosis";
 
-/// A trial as exact JSON (doubles read back to the same bits, non-finite ones by name), and back; the latter throws
-/// InputError on a malformed document.
-nlohmann::json validation_trial_exact_json(const ValidationTrial& trial);
-ValidationTrial validation_trial_from_exact_json(const nlohmann::json& doc);
-
+/// `pushpred validate-diagnosis --out DIR`.
 struct ValidateRun {
   ValidationOptions options;
   std::string out;
-  std::optional<ShardSpec> shard;  ///< given: only that share of the trials, as a partial output
-  bool progress = true;            ///< trials done on stderr
+  std::optional<ShardSpec> shard;   ///< given: only that share of the trials, as a partial output
+  bool progress = true;             ///< trials done on stderr
   const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the trials when it has several
 };
 

@@ -2,7 +2,8 @@
 // `pushpred diagnose` as a batch: one diagnosis of one object, or (--per-object) one diagnosis per object and
 // surface, the whole run, one shard of it (`--shard I/N`, a partial output), an MPI job (`mpirun -np N`, rank 0
 // writes), and `pushpred merge`, which turns the shards' partial outputs into what the whole run writes, byte for
-// byte (runtime/shard.hpp has the partial format). The apps only parse arguments and call these.
+// byte (runtime/shard.hpp has the partial format). reports/diagnosis_report.hpp writes each object's report and
+// reports/diagnosis_overview.hpp the overview. The apps only parse arguments and call these.
 //
 // With --per-object the unit of work is one object group (PushGroup, sorted by name): the k-th group goes to shard
 // k mod N + 1. Every shard (and every MPI rank) reads every input file, since which groups there are is known only
@@ -27,14 +28,14 @@ inline constexpr const char* kDiagnoseCommand = "diagnose";
 struct DiagnoseRun {
   std::vector<std::string> inputs;  ///< files or folders, as given
   std::string out;
-  std::string shape;                 ///< for files whose name does not carry it
+  std::string shape;  ///< for files whose name does not carry it
   DiagnosisOptions options;
   std::vector<std::string> exclude;  ///< candidate effect kinds left out
   PreprocessOptions preprocess;
   bool per_object = false;
   bool plots = true;
   int jobs = 1;
-  std::optional<ShardSpec> shard;  ///< given (1/1 included; --per-object only): a partial output of that share
+  std::optional<ShardSpec> shard;   ///< given (1/1 included; --per-object only): a partial output of that share
   const MpiSession* mpi = nullptr;  ///< the program's MPI session: the ranks split the objects when it has several
 };
 
