@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/reports/estimator_comparison.hpp"
+#include "pushpred/jobs/comparison_job.hpp"
 #include "pushpred/runtime/output_files.hpp"
 #include "pushpred/runtime/parallel_batch.hpp"
 #include "study_arguments.hpp"

@@ -4,7 +4,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "pushpred/reports/inspection.hpp"
+#include "pushpred/jobs/inspection_job.hpp"
 #include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred::app {

@@ -11,7 +11,7 @@
 #include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/core/error.hpp"
-#include "pushpred/reports/simulation_comparison.hpp"
+#include "pushpred/jobs/real_comparison_job.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred::app {

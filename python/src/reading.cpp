@@ -5,8 +5,8 @@
 
 #include "conversions.hpp"
 #include "pushpred/core/data_folder.hpp"
+#include "pushpred/jobs/inspection_job.hpp"
 #include "pushpred/reading/recording.hpp"
-#include "pushpred/reports/inspection.hpp"
 
 namespace pushpred::python {
 namespace {

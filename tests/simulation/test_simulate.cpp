@@ -7,9 +7,9 @@
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/jobs/inspection_job.hpp"
+#include "pushpred/jobs/real_comparison_job.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
-#include "pushpred/reports/inspection.hpp"
-#include "pushpred/reports/simulation_comparison.hpp"
 #include "pushpred/simulation/simulator.hpp"
 #include "test_support.hpp"
 

@@ -1,8 +1,9 @@
 #pragma once
-// `pushpred compare`: the relation estimators side by side on the same pushes (same observer output, same
-// schedule): fitted parameters, how far each lies from the reference (RLS), prediction errors of the chosen
-// methods (StudyOptions::methods; by default `dob` and `dob_velinit`, the methods that use the fitted relation), and
-// the time spent fitting, as a ratio to the reference measured in the same run.
+// `pushpred compare`'s report, from the comparison jobs/comparison_job.hpp makes: the relation estimators side by
+// side on the same pushes (same observer output, same schedule): fitted parameters, how far each lies from the
+// reference (RLS), prediction errors of the chosen methods (StudyOptions::methods; by default `dob` and
+// `dob_velinit`, the methods that use the fitted relation), and the time spent fitting, as a ratio to the
+// reference measured in the same run.
 #include <map>
 #include <string>
 #include <vector>
@@ -30,18 +31,7 @@ struct EstimatorComparison {
   std::vector<std::string> methods;  ///< the methods whose errors each row holds, in report order
 };
 
-/// The methods compare reports by default: the ones that use the relation the estimators fit.
-const std::vector<std::string>& default_comparison_methods();
-
-/// Runs the prediction study with each estimator on each input, with the methods of `options` (empty:
-/// default_comparison_methods(); InputError for an unknown name before any work). A push that fails with any estimator
-/// is listed once among the failures and left out of every row, so that all rows cover the same pushes. `jobs` pushes
-/// are studied in parallel (runtime/parallel_batch.hpp), with a progress report on stderr when it is given (> 0); the
-/// results do not depend on it.
-EstimatorComparison compare_estimators(const std::vector<std::string>& inputs, const std::vector<std::string>& estimators,
-                                       const StudyOptions& options, const std::string& shape_override = "",
-                                       int jobs = 0);
-
+/// compare.md: the parameters, differences, errors and fit time ratios of every row, and the pushes left out.
 std::string comparison_markdown(const EstimatorComparison& comparison);
 
 }  // namespace pushpred

@@ -1,22 +1,15 @@
 #pragma once
-// `pushpred inspect`: what each recording holds, what the reader repaired, and what to be wary of.
-// Reported in mm, degrees and newtons.
+// `pushpred inspect`'s output: what each recording holds, what the reader repaired, and what to be wary of, as a
+// table or JSON, from the inspections jobs/inspection_job.hpp makes. Reported in mm, degrees and newtons.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
-#include "pushpred/preprocessing/synchronised_push.hpp"
 
 namespace pushpred {
 
-struct InspectionOptions {
-  std::string shape_override;
-  PreprocessOptions preprocess;
-  int jobs = 1;           ///< files read in parallel (runtime/parallel_batch.hpp); the result does not depend on it
-  bool progress = false;  ///< a progress report on stderr (BatchProgress)
-};
-
+/// What `pushpred inspect` reports of one recording.
 struct Inspection {
   std::string source;
   std::string surface, shape;
@@ -32,10 +25,7 @@ struct Inspection {
   double max_tip_yaw_deg = 0;
 };
 
-Inspection inspect(const SynchronisedPush& push);
-
 using InspectionBatch = Batch<Inspection>;
-InspectionBatch inspect_files(const std::vector<std::string>& inputs, const InspectionOptions& options = {});
 
 std::string inspection_table(const InspectionBatch& batch);
 nlohmann::json inspection_json(const InspectionBatch& batch);

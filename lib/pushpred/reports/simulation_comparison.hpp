@@ -1,16 +1,16 @@
 #pragma once
-// `pushpred simulate --compare-real`: each real recording beside a clean simulated copy of it
-// (simulation/simulator.hpp's scenario_like_recording), both inspected as `pushpred inspect` does, and the table
-// and summary of the differences (docs/simulator.md). Lengths in mm, angles in degrees, forces in N.
+// `pushpred simulate --compare-real`'s output: each real recording beside a clean simulated copy of it, both
+// inspected as `pushpred inspect` does (jobs/real_comparison_job.hpp makes them), and the table and summary of the
+// differences (docs/simulator.md). Lengths in mm, angles in degrees, forces in N.
 #include <string>
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
 #include "pushpred/reports/inspection.hpp"
-#include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred {
 
+/// One real recording and its clean simulated copy.
 struct RealComparison {
   std::string source;
   Inspection real, simulated;
@@ -19,11 +19,6 @@ struct RealComparison {
   double real_final_force_N = 0, simulated_final_force_N = 0;        ///< median |f| over the last 0.1 s
   bool real_force_trusted = true;                                    ///< false when the real force sensor is frozen
 };
-
-/// Simulates a clean copy of each real recording (see scenario_like_recording) and inspects both the same way
-/// `pushpred inspect` does.
-Batch<RealComparison> compare_with_real(const std::vector<std::string>& inputs, double surface_friction,
-                                        double contact_friction = RodContact().friction);
 
 /// Summary of a comparison: mean absolute differences, and the surface friction at which the simulated force
 /// level would match the real one (median over live-sensor pushes of mu x real / simulated mid-push force per
