@@ -5,7 +5,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
-#include "pushpred/reports/paper_reproduction.hpp"
+#include "pushpred/jobs/reproduction_job.hpp"
 #include "study_arguments.hpp"
 
 namespace pushpred::app {
@@ -24,11 +24,12 @@ int run_reproduce(const ReproduceArgs& a) {
   if (!a.no_real) o.data_folder = resolve_data_folder(a.data.empty() ? std::nullopt : std::optional<std::string>(a.data));
   for (const auto& c : a.cases) o.case_files.emplace_back(c);
   StagedOutput out(a.out);
-  const ReproductionResult r = reproduce_paper(o, out, std::cout);
+  const ReproductionResult result = reproduce_paper(o, out, std::cout);
   out.commit();
+  const PaperReproduction& r = result.reproduction;
   std::cout << "report: " << a.out << "/report.md (" << r.cases.size() << " paper cases, " << r.real.results.size()
             << " real pushes, " << r.real.failures.size() << " real pushes left out with reasons)\n";
-  for (const auto& n : r.plot_notes) std::cerr << "note: plot not drawn: " << n << "\n";
+  for (const auto& n : result.plot_notes) std::cerr << "note: plot not drawn: " << n << "\n";
   // The real pushes by predict's rule: a skipped push (frozen force sensor) is listed and leaves the exit code 0, a
   // failed one makes it 1; the paper's cases and the report are written either way.
   std::size_t failed = 0;

@@ -12,11 +12,12 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/version.hpp"
 #include "pushpred/mechanics/outline.hpp"
+#include "pushpred/reading/recording.hpp"
+#include "pushpred/reading/shape_table.hpp"
 #include "pushpred/reports/markdown_table.hpp"
 #include "pushpred/reports/observation_report.hpp"
 #include "pushpred/reports/plotting.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
-#include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred {
 namespace {
@@ -74,6 +75,9 @@ double peak_tip_speed_m_s(const SynchronisedPush& p) {
   return peak;
 }
 
+/// The method whose error picks the real push of figures 10 and 11.
+constexpr const char* kTypicalPushMethod = "quasi_static";
+
 double mean_position_error(const PredictionErrors& e) { return 0.5 * (e.x_mm_mean + e.y_mm_mean); }
 
 /// Mean over the phases of a study.
@@ -96,50 +100,6 @@ std::string errors_row(const std::string& label, const PredictionErrors& e) {
 const char* kErrorsHeader =
     "| | x error [mm] mean ± std | y error [mm] mean ± std | yaw error [deg] mean ± std | final position error [mm] | "
     "final yaw error [deg] |\n|---|---|---|---|---|---|\n";
-
-SynchronisedPush load_case(int n, const ReproductionOptions& o, const StagedOutput& out, std::ostream& log) {
-  const std::string name = "cases/case" + std::to_string(n) + ".h5";
-  if (!o.case_files.empty()) {
-    SynchronisedPush p = load_push(o.case_files.at(static_cast<size_t>(n - 1)));
-    log << "case " << n << ": " << p.source << "\n";
-    return p;
-  }
-  const PushScenario scenario = paper_case_scenario(n);
-  const SimulatedPush sim = simulate_push(scenario);
-  write_recording_hdf5(sim.recording, out.path(name));
-  SynchronisedPush p = load_push(out.path(name), scenario.shape);
-  p.source = name;
-  // The file is named caseN.h5, not like a dataset file, so its name carries no push parameters: they are the
-  // scenario's (as the dataset's file name would give them: speed -0.001 m/s marks an acceleration push).
-  p.push = scenario.push_parameters();
-  log << "case " << n << ": simulated " << scenario.name << " (" << p.duration_s() << " s)\n";
-  return p;
-}
-
-/// The study options of the reproduction: the user's, with the paper's two methods (its proposed `dob` and its
-/// `simple` baseline, which Table II and figures 7-9 compare) always run, before the methods chosen
-/// (StudyOptions::methods, default every built-in one).
-StudyOptions paper_study_options(const ReproductionOptions& o) {
-  StudyOptions study_options = o.study;
-  if (study_options.methods.empty()) study_options.methods = prediction_method_names();
-  for (const char* paper_method : {"simple", "dob"})
-    if (std::find(study_options.methods.begin(), study_options.methods.end(), paper_method) ==
-        study_options.methods.end())
-      study_options.methods.insert(study_options.methods.begin(), paper_method);
-  return study_options;
-}
-
-/// The prediction study of each of the six cases, on abs's friction coefficient unless the options give one.
-std::vector<PushStudy> study_cases(const std::vector<SynchronisedPush>& pushes, const StudyOptions& study_options) {
-  std::vector<PushStudy> cases;
-  for (int n = 1; n <= 6; ++n) {
-    StudyOptions so = study_options;
-    if (so.friction_coefficient < 0) so.friction_coefficient = surface_friction_coefficient("abs");
-    cases.push_back(run_prediction_study(pushes[n - 1], so));
-    cases.back().source = pushes[n - 1].source;
-  }
-  return cases;
-}
 
 /// The report's title and how it was made.
 void write_introduction(std::ostream& md, const StudyOptions& study_options, bool simulated) {
@@ -194,9 +154,8 @@ void write_tables(std::ostream& md, const std::vector<SynchronisedPush>& pushes,
 }
 
 /// Figures 2 and 4: the observer against the PID reconstruction on case 1.
-void write_figures_2_and_4(std::ostream& md, const SynchronisedPush& case1, const StagedOutput& out,
+void write_figures_2_and_4(std::ostream& md, const Observation& obs, const StagedOutput& out,
                            std::vector<std::string>& notes) {
-  const Observation obs = observe_push(case1);
   for (const auto& f : observation_files(obs)) write_text_atomically(out.path("fig2_4/" + f.name), f.text);
   for (const auto& s : observation_plot_scripts()) {
     const PlotRun run = run_gnuplot(out.path("fig2_4/" + s));
@@ -209,27 +168,16 @@ void write_figures_2_and_4(std::ostream& md, const SynchronisedPush& case1, cons
 }
 
 /// Figure 5: u against d_hat over all cases, with the least-squares lines and each case's RLS fit.
-void write_figure_5(std::ostream& md, const std::vector<SynchronisedPush>& pushes, const std::vector<PushStudy>& cases,
-                    const StudyOptions& study_options, const StagedOutput& out, std::vector<std::string>& notes) {
+void write_figure_5(std::ostream& md, const std::vector<DisturbanceEstimate>& estimates, const RelationParameters& all,
+                    const std::vector<PushStudy>& cases, const StagedOutput& out, std::vector<std::string>& notes) {
   std::ostringstream dat;
   dat << "# case u_x d_x u_y d_y u_rot d_rot  [N, N, N, N, N m, N m]\n";
-  std::vector<Eigen::MatrixX3d> us, ds;
-  Eigen::Index rows = 0;
   for (int n = 1; n <= 6; ++n) {
-    const DisturbanceEstimate e = make_disturbance_estimator(study_options.observer)->estimate(pushes[n - 1]);
+    const DisturbanceEstimate& e = estimates[n - 1];
     for (Eigen::Index k = 0; k < e.t_s.size(); k += 2)
       dat << n << " " << e.u(k, 0) << " " << e.d_hat(k, 0) << " " << e.u(k, 1) << " " << e.d_hat(k, 1) << " "
           << e.u(k, 2) << " " << e.d_hat(k, 2) << "\n";
-    us.push_back(e.u);
-    ds.push_back(e.d_hat);
-    rows += e.u.rows();
   }
-  Eigen::MatrixX3d U(rows, 3), D(rows, 3);
-  for (size_t i = 0, r = 0; i < us.size(); r += static_cast<size_t>(us[i].rows()), ++i) {
-    U.middleRows(static_cast<Eigen::Index>(r), us[i].rows()) = us[i];
-    D.middleRows(static_cast<Eigen::Index>(r), ds[i].rows()) = ds[i];
-  }
-  const RelationParameters all = least_squares_relation(U, D);
   write_text_atomically(out.path("fig5.dat"), dat.str());
   std::ostringstream gp;
   gp << png_terminal("fig5.png", 1500, 560) << "set multiplot layout 1,3\nset key below horizontal maxcols 4\n";
@@ -265,14 +213,11 @@ void write_figure_5(std::ostream& md, const std::vector<SynchronisedPush>& pushe
 }
 
 /// Figure 6: the switching between identification and prediction (case 1, x channel).
-void write_figure_6(std::ostream& md, const PushStudy& s, const SynchronisedPush& p, const StudyOptions& study_options,
-                    const StagedOutput& out, std::vector<std::string>& notes) {
+void write_figure_6(std::ostream& md, const PushStudy& s, const SynchronisedPush& p,
+                    const std::vector<PlannedForce>& plans, const StagedOutput& out, std::vector<std::string>& notes) {
   std::ostringstream dat;
   dat << "# t_s measured_fx_N planned_fx_N dhat_x_N (planned only in prediction phases, d_hat in identification)\n";
   const Eigen::MatrixX3d u = p.applied_input();
-  std::vector<PlannedForce> plans;
-  for (const auto& ph : s.phases)
-    plans.push_back(plan_from_measurement(p, ph.interval.t0_s, ph.interval.t1_s, study_options.plan_rate_hz));
   for (Eigen::Index k = 0; k < p.size(); ++k) {
     const double t = p.t_s(k);
     std::string planned = "NaN", dhat = "NaN";
@@ -434,16 +379,10 @@ void write_claims(std::ostream& md, const std::vector<PushStudy>& cases) {
   md << "\n";
 }
 
-/// The same study over every real ABS push of `data_folder`: runs it, writes its section and returns it.
-Batch<PushStudy> study_real_pushes(std::ostream& md, const std::filesystem::path& data_folder,
-                                   const StudyOptions& study_options, std::ostream& log) {
-  const auto files = list_recordings(data_folder, "abs");
-  log << "real data: " << files.size() << " ABS pushes from " << data_folder.string() << "\n";
-  Batch<PushStudy> real = run_batch(files, [&](const std::filesystem::path& path) {
-    return run_prediction_study(load_push(path), study_options);
-  });
+/// The section of the same study over every real ABS push, `files` of them.
+void write_real_pushes(std::ostream& md, const Batch<PushStudy>& real, std::size_t files) {
   md << "# The same study over every real ABS push\n\n"
-     << real.results.size() << " of " << files.size() << " pushes predicted; the others are listed below with "
+     << real.results.size() << " of " << files << " pushes predicted; the others are listed below with "
      << "the reason. Means over all phases of the pushes of each shape.\n\n";
   std::map<std::string, std::vector<PushStudy>> by_shape;
   for (const auto& s : real.results) by_shape[shape_of(s.source)].push_back(s);
@@ -469,32 +408,17 @@ Batch<PushStudy> study_real_pushes(std::ostream& md, const std::filesystem::path
       md << "- `" << std::filesystem::path(f.source).filename().string() << "`: " << f.reason << "\n";
   }
   md << "\n";
-  return real;
 }
 
-/// The best method on real data: the real push whose `quasi_static` error (mean position error over its phases) is the
-/// median of those of the objects with a listed outline, so that the figures show a typical push rather than a chosen
-/// one. Figure 10: x, y and yaw over time, measured and predicted by quasi_static, dob and const_velocity in every
-/// phase; figure 11: the object's outline seen from above at the start and end of every phase, measured and as each
-/// method predicts it.
-void write_real_push_figures(std::ostream& md, const Batch<PushStudy>& real, const StagedOutput& out,
+/// The best method on real data, on the push typical_real_push() chooses. Figure 10: x, y and yaw over time,
+/// measured and predicted by quasi_static, dob and const_velocity in every phase; figure 11: the object's outline
+/// seen from above at the start and end of every phase, measured and as each method predicts it.
+void write_real_push_figures(std::ostream& md, const PaperReproduction& r, const StagedOutput& out,
                              std::vector<std::string>& notes) {
-  const std::string best_method = "quasi_static";
-  std::vector<std::pair<double, const PushStudy*>> by_error;
-  for (const PushStudy& s : real.results) {
-    if (s.phases.empty() || std::find(s.methods.begin(), s.methods.end(), best_method) == s.methods.end()) continue;
-    // Figure 11 draws the outline: among the objects whose outline the shape table lists (not butter).
-    const std::string shape = shape_of(s.source);
-    if (!ShapeTable::known().contains(shape) || !ShapeTable::known().find(shape).has_outline()) continue;
-    double sum = 0;
-    for (const PhaseResult& ph : s.phases) sum += mean_position_error(ph.errors.at(best_method));
-    by_error.emplace_back(sum / static_cast<double>(s.phases.size()), &s);
-  }
-  if (by_error.empty()) return;  // quasi_static not run (--methods), or no real push studied
-  std::sort(by_error.begin(), by_error.end(), [](const auto& a, const auto& b) {
-    return a.first < b.first || (a.first == b.first && a.second->source < b.second->source);
-  });
-  const PushStudy& study = *by_error[(by_error.size() - 1) / 2].second;
+  const TypicalRealPush typical = typical_real_push(r.real);
+  if (!typical.study || !r.typical_real_push) return;  // quasi_static not run (--methods), or no real push studied
+  const std::string best_method = kTypicalPushMethod;
+  const PushStudy& study = *typical.study;
   const std::string file = std::filesystem::path(study.source).filename().string();
   std::vector<std::string> methods;
   for (const std::string& m : {best_method, std::string("dob"), std::string("const_velocity")})
@@ -533,7 +457,7 @@ void write_real_push_figures(std::ostream& md, const Batch<PushStudy>& real, con
   draw(out, "fig10.gp", gp.str(), notes);
 
   // Figure 11: the outline at the start and end of every phase; the predictions start from the measured pose.
-  const SynchronisedPush push = load_push(study.source);
+  const SynchronisedPush& push = *r.typical_real_push;
   const std::vector<Eigen::Vector2d> outline = outline_polygon(push.shape, 36);
   std::ostringstream top;
   const auto outline_at = [&](const Eigen::MatrixX3d& pose, Eigen::Index j) {
@@ -568,9 +492,9 @@ void write_real_push_figures(std::ostream& md, const Batch<PushStudy>& real, con
   draw(out, "fig11.gp", gp11.str(), notes);
 
   md << "## Figures 10 and 11: the best method on a real push\n\n"
-     << "The real push whose `" << best_method << "` error is the median of the " << by_error.size()
+     << "The real push whose `" << best_method << "` error is the median of the " << typical.candidates
      << " studied pushes of objects with a listed outline (`" << file << "`, mean position error "
-     << fmt("%.2f", by_error[(by_error.size() - 1) / 2].first)
+     << fmt("%.2f", typical.mean_position_error_mm)
      << " mm per phase): its pose over time, measured and predicted in every phase by";
   for (const auto& m : methods) md << " `" << m << "`";
   md << " (each prediction starts from the measured pose at its phase's start), and the object's outline seen from "
@@ -587,8 +511,8 @@ void write_plot_notes(std::ostream& md, const std::vector<std::string>& notes) {
 }
 
 /// summary.json: every study (the cases, then the real pushes), their errors by group.
-void write_summary(const StagedOutput& out, const ReproductionResult& result, const StudyOptions& study_options,
-                   bool simulated) {
+void write_summary(const StagedOutput& out, const PaperReproduction& result) {
+  const StudyOptions& study_options = result.study;
   Batch<PushStudy> all;
   all.results = result.cases;
   all.results.insert(all.results.end(), result.real.results.begin(), result.real.results.end());
@@ -598,41 +522,51 @@ void write_summary(const StagedOutput& out, const ReproductionResult& result, co
   for (const auto& [name, e] : aggregate_errors(result.cases)) groups["paper_cases"][name] = errors_json(e);
   for (const auto& [name, e] : aggregate_errors(result.real.results)) groups["real_abs"][name] = errors_json(e);
   summary["aggregate_by_group"] = groups;
-  summary["paper_cases_simulated"] = simulated;
+  summary["paper_cases_simulated"] = result.simulated_cases;
   write_text_atomically(out.path("summary.json"), summary.dump(2) + "\n");
 }
 
 }  // namespace
 
-ReproductionResult reproduce_paper(const ReproductionOptions& o, const StagedOutput& out, std::ostream& log) {
-  if (!o.case_files.empty() && o.case_files.size() != 6)
-    throw InputError("reproduce: give six rect2 recordings for cases 1-6, or none to simulate them");
-  ReproductionResult result;
-  std::vector<std::string>& notes = result.plot_notes;
+TypicalRealPush typical_real_push(const Batch<PushStudy>& real) {
+  std::vector<std::pair<double, const PushStudy*>> by_error;
+  for (const PushStudy& s : real.results) {
+    if (s.phases.empty() || std::find(s.methods.begin(), s.methods.end(), kTypicalPushMethod) == s.methods.end())
+      continue;
+    // Figure 11 draws the outline: among the objects whose outline the shape table lists (not butter).
+    const std::string shape = shape_of(s.source);
+    if (!ShapeTable::known().contains(shape) || !ShapeTable::known().find(shape).has_outline()) continue;
+    double sum = 0;
+    for (const PhaseResult& ph : s.phases) sum += mean_position_error(ph.errors.at(kTypicalPushMethod));
+    by_error.emplace_back(sum / static_cast<double>(s.phases.size()), &s);
+  }
+  if (by_error.empty()) return {};
+  std::sort(by_error.begin(), by_error.end(), [](const auto& a, const auto& b) {
+    return a.first < b.first || (a.first == b.first && a.second->source < b.second->source);
+  });
+  const auto& median = by_error[(by_error.size() - 1) / 2];
+  return {median.second, median.first, by_error.size()};
+}
+
+std::vector<std::string> write_reproduction_report(const PaperReproduction& r, const StagedOutput& out) {
+  std::vector<std::string> notes;
   std::ostringstream md;
-  const bool simulated = o.case_files.empty();
-
-  std::vector<SynchronisedPush> pushes;
-  for (int n = 1; n <= 6; ++n) pushes.push_back(load_case(n, o, out, log));
-  const StudyOptions study_options = paper_study_options(o);
-  result.cases = study_cases(pushes, study_options);
-
-  write_introduction(md, study_options, simulated);
-  write_tables(md, pushes, simulated);
-  write_figures_2_and_4(md, pushes[0], out, notes);
-  write_figure_5(md, pushes, result.cases, study_options, out, notes);
-  write_figure_6(md, result.cases[0], pushes[0], study_options, out, notes);
-  write_figures_7_and_8(md, result.cases, out, notes);
-  write_figure_9(md, result.cases, out, notes);
-  write_claims(md, result.cases);
-  if (!o.data_folder.empty()) {
-    result.real = study_real_pushes(md, o.data_folder, study_options, log);
-    write_real_push_figures(md, result.real, out, notes);
+  write_introduction(md, r.study, r.simulated_cases);
+  write_tables(md, r.case_pushes, r.simulated_cases);
+  write_figures_2_and_4(md, r.case1_observation, out, notes);
+  write_figure_5(md, r.case_disturbances, r.all_cases_relation, r.cases, out, notes);
+  write_figure_6(md, r.cases[0], r.case_pushes[0], r.case1_plans, out, notes);
+  write_figures_7_and_8(md, r.cases, out, notes);
+  write_figure_9(md, r.cases, out, notes);
+  write_claims(md, r.cases);
+  if (r.real_studied) {
+    write_real_pushes(md, r.real, r.real_files);
+    write_real_push_figures(md, r, out, notes);
   }
   write_plot_notes(md, notes);
   write_text_atomically(out.path("report.md"), md.str());
-  write_summary(out, result, study_options, simulated);
-  return result;
+  write_summary(out, r);
+  return notes;
 }
 
 }  // namespace pushpred
