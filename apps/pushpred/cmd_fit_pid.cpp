@@ -79,7 +79,7 @@ int run_fit_pid(const FitPidArgs& a) {
   const std::vector<std::string> stems = distinct_stems(sources);
   for (std::size_t k = 0; k < pushes.size(); ++k)
     write_text_atomically(out.path("forces/" + stems[k] + ".csv"),
-                          pid_fit_forces_csv(pushes[k], study.joint.gains, o.fit));
+                          pid_fit_forces_csv(pid_fit_forces(pushes[k], study.joint.gains, o.fit)));
   out.commit();
 
   const PidGains paper, &g = study.joint.gains;

@@ -64,8 +64,7 @@ std::string fmt(const char* format, double v) { return table_number(format, v); 
 
 }  // namespace
 
-std::string pid_fit_forces_csv(const PidFitPush& p, const PidGains& fitted, const PidGainFitOptions& options) {
-  const PidFitForces forces = pid_fit_forces(p, fitted, options);
+std::string pid_fit_forces_csv(const PidFitForces& forces) {
   const DisturbanceEstimate &paper = forces.paper, &fit = forces.fitted, &dob = forces.dob;
   std::ostringstream csv;
   csv << "t_s";

@@ -16,8 +16,8 @@ nlohmann::json pid_fit_json(const PidFitStudy& study);
 std::string pid_fit_markdown(const PidFitStudy& study);
 
 /// The reconstructed forces as CSV, one row per grid sample: t_s, then per channel (x [N], y [N], rotation [N m])
-/// the applied input u, the observer's d_hat, and the PID's d_hat with the paper's and with `fitted` gains
-/// (calibration's pid_fit_forces).
-std::string pid_fit_forces_csv(const PidFitPush& push, const PidGains& fitted, const PidGainFitOptions& options);
+/// the applied input u, the observer's d_hat, and the PID's d_hat with the paper's and with the fitted gains
+/// (calibration's pid_fit_forces computes them).
+std::string pid_fit_forces_csv(const PidFitForces& forces);
 
 }  // namespace pushpred
