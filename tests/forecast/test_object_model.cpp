@@ -162,7 +162,9 @@ BOOST_AUTO_TEST_CASE(the_centre_of_friction_is_recovered_from_pushes_whose_press
   }
 }
 
-BOOST_AUTO_TEST_CASE(learning_the_centre_of_friction_helps_on_simulated_objects_with_and_without_an_offset) {
+// Labelled slow (a leave-one-out study over simulated pushes): the sanitizer build leaves it out, as every path it
+// takes is run by the cases above.
+BOOST_AUTO_TEST_CASE(learning_the_centre_of_friction_helps_on_simulated_objects_with_and_without_an_offset, *boost::unit_test::label("slow")) {
   // The choice of LearnOptions' default (learn the centre always, or only when cross-validation over the learned
   // pushes prefers it, or never) on simulated pushes, seeds 310200-310299: rect1, ellip2 and hex, each with its own
   // mass-centre offset (0, 2.5 or 5 mm along body x; the pressure follows it) and friction and pressure varying from
@@ -288,7 +290,9 @@ BOOST_AUTO_TEST_CASE(butters_outline_comes_from_the_data_folder) {
   BOOST_CHECK_THROW(dataset_forecast_object(ShapeTable::published().find("butter"), data / "nowhere"), InputError);
 }
 
-BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_pushes_they_were_chosen_on) {
+// Labelled slow (a leave-one-out study over simulated pushes): the sanitizer build leaves it out, as every path it
+// takes is run by the cases above.
+BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_pushes_they_were_chosen_on, *boost::unit_test::label("slow")) {
   // The tuning set of FitOptions::prior_width_log and of the central forecast (seeds 271000-271015): rect1, ellip2 and
   // hex pushed 16 times each with friction and pressure varying from push to push, forecast leaving one out with and
   // without the prior, and with the prior by the median parameters' forecast instead of the ensemble's mean.
