@@ -16,6 +16,15 @@ std::string motion_numbers(const SelectionDecision& d) {
   return diagnosis_format(" (normalised error %.3f with it, %.3f without)", d.error_with, d.error_without);
 }
 
+/// The support's total friction torque coefficient, whose sign decides whether a fit drives the rotation.
+std::string torque_sum(const SelectionDecision& d) {
+  return "mu + torque_excess = " + diagnosis_format("%.3g", d.torque);
+}
+
+// Phrases the log line and the report note share.
+constexpr const char* kRefitLeftRange = "re-fit left the plausible range";
+constexpr const char* kRefitNegativeTorque = "re-fit turned the support's friction torque negative";
+
 }  // namespace
 
 std::vector<SelectionDecision> DiagnosisTrace::decisions_of(std::size_t candidate) const {
@@ -49,7 +58,7 @@ std::optional<std::string> decision_log_line(const SelectionDecision& d, const s
     case Verdict::BaseRefinementUnresolved:
       return kind + " (base model): not resolved by the fit pushes; left out";
     case Verdict::BaseRefinementDrivesRotation:
-      return kind + diagnosis_format(" (base model): mu + torque_excess = %.3g, not positive; left out", d.torque);
+      return kind + " (base model): " + torque_sum(d) + ", not positive; left out";
     case Verdict::DirectFitted:
       return kind + diagnosis_format(": direct fit on %.0f samples (effective %.1f), score %.1f", d.samples,
                                      d.effective_samples, d.score);
@@ -71,21 +80,15 @@ std::optional<std::string> decision_log_line(const SelectionDecision& d, const s
     case Verdict::NegligibleAfterRefit:
       return kind + ": does not clear its floor by the margin after the joint re-fit: negligible";
     case Verdict::DroppedImplausibleRefit:
-      return kind + ": re-fit left the plausible range; dropped";
+      return kind + ": " + kRefitLeftRange + "; dropped";
     case Verdict::DroppedNegativeTorque:
-      return kind +
-             diagnosis_format(": re-fit turned the support's friction torque negative (%.3g); dropped", d.torque);
+      return kind + ": " + kRefitNegativeTorque + diagnosis_format(" (%.3g); dropped", d.torque);
     case Verdict::NotFoundBesideRefinements:
       return std::string("  not found: the refinements explain it");
     case Verdict::ConfirmedByMotion:
-      return kind + diagnosis_format(
-                        ": confirmed by the fit pushes' motion (normalised error %.3f with it, "
-                        "%.3f without)",
-                        d.error_with, d.error_without);
+      return kind + ": confirmed by the fit pushes' motion" + motion_numbers(d);
     case Verdict::ContradictedByMotion:
-      return kind + ": contradicted by the fit pushes' motion" +
-             diagnosis_format(" (normalised error %.3f with it, %.3f without): not found", d.error_with,
-                              d.error_without);
+      return kind + ": contradicted by the fit pushes' motion" + motion_numbers(d) + ": not found";
     case Verdict::BaseStructureNote:
     case Verdict::BaseStructurePart:
     case Verdict::Fitted:
@@ -122,10 +125,8 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
       r.note = "not in the base model here: the fit pushes do not resolve it";
       return;
     case Verdict::BaseRefinementDrivesRotation:
-      r.note =
-          "not in the base model here: with it the support's friction torque would drive the rotation (mu + "
-          "torque_excess = " +
-          diagnosis_format("%.3g", d.torque) + ")";
+      r.note = "not in the base model here: with it the support's friction torque would drive the rotation (" +
+               torque_sum(d) + ")";
       return;
     case Verdict::BaseStructureNote:
       r.note = d.reason;
@@ -161,8 +162,8 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
     case Verdict::DrivesRotation:
       // E.g. a drag -c I omega beside a Coulomb torque that turns negative: the pair fits the sliding data, but
       // the object, once free, would spin at the speed where the two balance.
-      r.note = "with it the support's friction torque would drive the rotation (mu + torque_excess = " +
-               diagnosis_format("%.3g", d.torque) + " in the joint fit): not this effect";
+      r.note = "with it the support's friction torque would drive the rotation (" + torque_sum(d) +
+               " in the joint fit): not this effect";
       return;
     case Verdict::Implausible:
       r.note = "fitted outside the physical range (" + d.reason + "): not this effect";
@@ -194,11 +195,10 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
       r.note = negligible_note(r, floor_margin_std, " after the joint re-fit");
       return;
     case Verdict::DroppedImplausibleRefit:
-      r.note = "dropped: its re-fit left the plausible range";
+      r.note = std::string("dropped: its ") + kRefitLeftRange;
       return;
     case Verdict::DroppedNegativeTorque:
-      r.note = "dropped: its re-fit turned the support's friction torque negative (mu + torque_excess = " +
-               diagnosis_format("%.3g", d.torque) + ")";
+      r.note = std::string("dropped: its ") + kRefitNegativeTorque + " (" + torque_sum(d) + ")";
       return;
     case Verdict::NotFoundBesideRefinements:
       r.passed_test = false;
