@@ -70,21 +70,43 @@ BOOST_AUTO_TEST_CASE(a_preload_does_not_give_a_bias) {
   check_within_share(mu.theta(0), 0.47, 0.03, "mu");
 }
 
-// Expected to fail: the mu check. Half the pushes pressed with 2 N, each push with its own sensor offset (0.6 N per
-// axis): the offsets do not pass as a common bias, but mu comes out 18 % low (0.387 for 0.47), outside the 5 % the
-// base friction meets without offsets. A pressed push's zero cannot be measured, and the friction fit has no way to
-// tell it from friction (docs/diagnosis.md, "The sensor's zero and a pressing rod").
-BOOST_AUTO_TEST_CASE(the_friction_fit_holds_with_preloads_and_per_push_offsets, *boost::unit_test::expected_failures(1)) {
-  // Zero-mean offsets should spread the per-push forces but neither bias mu nor pass as a common bias.
-  std::mt19937_64 rng(27);
+/// Eight pushes drawn by `seed`, half pressed with 2 N, each with its own sensor zero (0.6 N per axis).
+static DiagnosisResult diagnose_pressed_with_zeros(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
   auto scenarios = draw_scenarios(rng, 8, {});
   press_half(scenarios, 2.0);
   offset_each_push(scenarios, rng);
-  const DiagnosisResult r = diagnose(simulate_all(scenarios), EffectLibrary::standard(), fast_options());
+  return diagnose(simulate_all(scenarios), EffectLibrary::standard(), fast_options());
+}
+
+// A pressed push's zero cannot be measured, so the friction fit takes it up: one draw of four fit pushes moves mu
+// by about a tenth either way. Zero-mean zeros should not bias it, and no other term (a drag) should stand in for
+// the support's Coulomb friction. Expected to fail, both claims (docs/diagnosis.md, "The sensor's zero and a
+// pressing rod"): over these twelve draws the mean mu is 10 % low (0.422 for 0.47), and one draw names a drag of
+// 80 1/s beside a mu of 0.13.
+BOOST_AUTO_TEST_CASE(the_friction_fit_holds_with_preloads_and_per_push_offsets,
+                     *boost::unit_test::expected_failures(2)) {
+  constexpr int kDraws = 12;
+  double mu_sum = 0;
+  int drags = 0;
+  for (int draw = 0; draw < kDraws; ++draw) {
+    const DiagnosisResult r = diagnose_pressed_with_zeros(27 + draw);
+    const double mu = report(r, "coulomb_friction").theta(0);
+    BOOST_TEST_MESSAGE("draw " << draw << ": mu " << mu << "; " << findings_text(r));
+    mu_sum += mu;
+    if (report(r, "viscous_friction").selected) ++drags;
+  }
+  check_within_share(mu_sum / kDraws, 0.47, 0.05, "mean mu over the draws");
+  BOOST_TEST(drags == 0);
+}
+
+// A joint fit whose Coulomb mu falls to zero or below has another term standing in for the support's friction. The
+// draw here (seed 405) once named a drag of 86 1/s beside a mu of -0.007.
+BOOST_AUTO_TEST_CASE(no_drag_stands_in_for_the_support_friction) {
+  const DiagnosisResult r = diagnose_pressed_with_zeros(405);
   log_result(r);
-  BOOST_TEST(!report(r, "force_offset").selected, findings_text(r));
-  const EffectReport& mu = report(r, "coulomb_friction");
-  check_within_share(mu.theta(0), 0.47, 0.05, "mu");
+  BOOST_TEST(!report(r, "viscous_friction").selected, findings_text(r));
+  check_within_share(report(r, "coulomb_friction").theta(0), 0.47, 0.25, "mu");
 }
 
 BOOST_AUTO_TEST_CASE(a_true_bias_is_found_on_the_pushes_that_start_clear) {

@@ -21,9 +21,12 @@ std::string torque_sum(const SelectionDecision& d) {
   return "mu + torque_excess = " + diagnosis_format("%.3g", d.torque);
 }
 
+std::string support_mu(const SelectionDecision& d) { return "mu = " + diagnosis_format("%.3g", d.support_friction); }
+
 // Phrases the log line and the report note share.
 constexpr const char* kRefitLeftRange = "re-fit left the plausible range";
 constexpr const char* kRefitNegativeTorque = "re-fit turned the support's friction torque negative";
+constexpr const char* kCancelsFriction = "the support's Coulomb friction would vanish";
 
 }  // namespace
 
@@ -83,6 +86,8 @@ std::optional<std::string> decision_log_line(const SelectionDecision& d, const s
       return kind + ": " + kRefitLeftRange + "; dropped";
     case Verdict::DroppedNegativeTorque:
       return kind + ": " + kRefitNegativeTorque + diagnosis_format(" (%.3g); dropped", d.torque);
+    case Verdict::DroppedCancelledFriction:
+      return kind + ": re-fit left the support's Coulomb friction at or below zero (" + support_mu(d) + "); dropped";
     case Verdict::NotFoundBesideRefinements:
       return std::string("  not found: the refinements explain it");
     case Verdict::ConfirmedByMotion:
@@ -96,6 +101,7 @@ std::optional<std::string> decision_log_line(const SelectionDecision& d, const s
     case Verdict::NotTestedUnidentifiable:
     case Verdict::Untestable:
     case Verdict::DrivesRotation:
+    case Verdict::CancelsSupportFriction:
     case Verdict::Implausible:
     case Verdict::StillAboveFloor:
     case Verdict::ReopenedForSearch:
@@ -165,6 +171,12 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
       r.note = "with it the support's friction torque would drive the rotation (" + torque_sum(d) +
                " in the joint fit): not this effect";
       return;
+    case Verdict::CancelsSupportFriction:
+      // E.g. a drag standing in for the Coulomb friction that per-push sensor zeros have blurred: the pair fits the
+      // sliding data, but a support without Coulomb friction would let the object coast.
+      r.note =
+          std::string("with it ") + kCancelsFriction + " (" + support_mu(d) + " in the joint fit): not this effect";
+      return;
     case Verdict::Implausible:
       r.note = "fitted outside the physical range (" + d.reason + "): not this effect";
       return;
@@ -199,6 +211,9 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
       return;
     case Verdict::DroppedNegativeTorque:
       r.note = std::string("dropped: its ") + kRefitNegativeTorque + " (" + torque_sum(d) + ")";
+      return;
+    case Verdict::DroppedCancelledFriction:
+      r.note = std::string("dropped: with its re-fit ") + kCancelsFriction + " (" + support_mu(d) + ")";
       return;
     case Verdict::NotFoundBesideRefinements:
       r.passed_test = false;

@@ -43,6 +43,7 @@ enum class Verdict {
   NotTestedUnidentifiable,  ///< its regressor cannot be told from the model's on these data
   Untestable,               ///< its own test could not be made (`reason`)
   DrivesRotation,           ///< the joint fit's support friction torque (`torque`) is not positive: not this effect
+  CancelsSupportFriction,   ///< the joint fit's Coulomb mu (`support_friction`) is not positive: not this effect
   Implausible,              ///< fitted outside the physical range (`reason`): not this effect
   RestartedInsideRange,     ///< first fit outside the range (`reason`); its re-fit starts inside it, at theta
   NotSignificant,           ///< the best remaining candidate scores at or below the threshold: the search stops
@@ -53,6 +54,7 @@ enum class Verdict {
   NegligibleAfterRefit,       ///< re-fitted jointly, below its floor: dropped (theta, amount, floor)
   DroppedImplausibleRefit,    ///< its re-fit left the plausible range: dropped
   DroppedNegativeTorque,      ///< its re-fit turned the support's friction torque (`torque`) negative: dropped
+  DroppedCancelledFriction,   ///< its re-fit left the Coulomb mu (`support_friction`) at or below zero: dropped
   NotFoundBesideRefinements,  ///< re-tested beside the friction refinements, it no longer passes (score, theta)
   // The motion.
   ConfirmedByMotion,     ///< the corrected model predicts the fit phases better with it (error_with < error_without)
@@ -76,6 +78,7 @@ struct SelectionDecision {
   double amount = 0, amount_std = 0;  ///< CandidateEffect::amount() of theta and its standard error
   EffectFloor floor;
   double torque = 0;                          ///< mu + torque_excess in the joint fit [-]
+  double support_friction = 0;                ///< the Coulomb coefficient mu in the joint fit [-]
   double error_with = 0, error_without = 0;   ///< the fit phases' mean normalised error with it and without it
   double samples = 0, effective_samples = 0;  ///< a direct test's samples
 };

@@ -210,6 +210,19 @@ double DiagnosisContext::support_torque_coefficient(const std::vector<Selection>
   return law ? coefficient : 1.0;
 }
 
+double DiagnosisContext::support_friction_coefficient(const std::vector<Selection>& selected,
+                                                      const RegressionFit& fit) const {
+  Eigen::Index j = 0;
+  for (const auto& s : selected) {
+    if (!in_group(s.candidate, Relation::Friction)) continue;
+    if (j >= fit.theta.size()) break;
+    const CandidateEffect& e = effect(s.candidate);
+    if (replaces_relation(e)) return fit.theta(j);
+    j += static_cast<Eigen::Index>(e.parameters().size());
+  }
+  return 1.0;
+}
+
 bool DiagnosisContext::has_friction_law(const std::vector<Selection>& selected) const {
   return std::any_of(selected.begin(), selected.end(),
                      [&](const Selection& s) { return replaces_relation(effect(s.candidate)); });

@@ -88,6 +88,9 @@ struct DiagnosisContext {
   /// (the base model's friction_torque), all scaling the footprint's Coulomb torque. 1 when no friction law is in
   /// `selected`. At or below zero the friction would drive the rotation instead of damping it.
   double support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;
+  /// The friction law's Coulomb coefficient mu in `fit` (as above); 1 when no friction law is in `selected`. At or
+  /// below zero another term (a drag, say) stands in for the support's Coulomb friction, which no support lacks.
+  double support_friction_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;
   /// Whether `selected` holds a friction law that replaces the relation.
   bool has_friction_law(const std::vector<Selection>& selected) const;
   /// Records `s`'s amount, its standard error and its floor under `floors`.
