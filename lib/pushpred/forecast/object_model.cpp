@@ -63,6 +63,17 @@ struct TrajectoryResidual {
   }
 };
 
+/// The covariance options of a trajectory fit's parameters (fit_push_parameters, fit_centre_of_friction): dense SVD
+/// with the directions the residuals barely inform dropped (a pseudo-inverse), so a near-singular Jacobian still
+/// gives standard errors rather than a failed computation.
+ceres::Covariance::Options fit_covariance_options() {
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::DENSE_SVD;
+  options.null_space_rank = -1;
+  options.min_reciprocal_condition_number = 1e-12;
+  return options;
+}
+
 /// (theta_i - centre) / width: a Gaussian prior on one log-parameter.
 struct LogPrior {
   int index = 0;
@@ -348,11 +359,7 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   fit.descriptor = describe_push(c.forecast_object, c.plan, c.start_pose);
   fit.parameters = ForecastParameters{std::exp(theta[0]), std::exp(theta[1]), std::exp(theta[2])};
   // Standard errors: Ceres' covariance of the logarithms, scaled by the residuals' own variance.
-  ceres::Covariance::Options cov_options;
-  cov_options.algorithm_type = ceres::DENSE_SVD;
-  cov_options.null_space_rank = -1;
-  cov_options.min_reciprocal_condition_number = 1e-12;
-  ceres::Covariance covariance(cov_options);
+  ceres::Covariance covariance(fit_covariance_options());
   std::vector<std::pair<const double*, const double*>> blocks{{theta, theta}};
   double cov[9] = {0};
   if (covariance.Compute(blocks, &problem) && covariance.GetCovarianceBlock(theta, theta, cov)) {
@@ -505,11 +512,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   ForecastObject learned = object;
   learned.centre_of_friction_m = out.centre_m;
   // Standard errors: Ceres' covariance, scaled by the residuals' own variance (as fit_push_parameters).
-  ceres::Covariance::Options cov_options;
-  cov_options.algorithm_type = ceres::DENSE_SVD;
-  cov_options.null_space_rank = -1;
-  cov_options.min_reciprocal_condition_number = 1e-12;
-  ceres::Covariance covariance(cov_options);
+  ceres::Covariance covariance(fit_covariance_options());
   std::vector<std::pair<const double*, const double*>> blocks{{centre, centre}};
   for (const auto& t : theta) blocks.emplace_back(t.data(), t.data());
   const double variance = 2 * summary.final_cost / std::max(1, residual_count - static_cast<int>(3 * n + 2));
