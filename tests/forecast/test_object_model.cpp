@@ -42,6 +42,28 @@ RecordedForecastCase simulated_case(int side, double position, double angle, dou
   return c;
 }
 
+/// A push of `shape` with everything drawn from `rng`: support friction 0.35-0.6, rod friction 0.15-0.45, pressure
+/// rim weight -0.3-0.3, speed 20-120 mm/s, any side, position 0.2-0.8, angle within 1 rad of the normal; 50 mm long,
+/// the mass centre `com_offset_m` along body x (the pressure follows it).
+RecordedForecastCase varied_simulated_case(const ShapeInfo& shape, const Outline& outline, std::mt19937_64& rng,
+                                           std::uint64_t seed, double com_offset_m = 0) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  PushScenario s;
+  s.shape = shape.name;
+  s.effects.com_offset_m = com_offset_m;
+  s.surface_friction = 0.35 + 0.25 * unit(rng);
+  s.contact_friction = 0.15 + 0.3 * unit(rng);
+  s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
+  s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
+  s.motion.length_m = 0.05;
+  s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
+  s.contact_position = 0.2 + 0.6 * unit(rng);
+  s.push_angle_rad = -1.0 + 2.0 * unit(rng);
+  s.seed = seed;
+  const SimulatedPush sim = simulate_push(s);
+  return recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, ""));
+}
+
 /// `count` simulated pushes with their own fits, parameters drawn uniformly within the given ranges.
 struct SimulatedSet {
   std::vector<RecordedForecastCase> cases;
@@ -175,25 +197,10 @@ BOOST_AUTO_TEST_CASE(learning_the_centre_of_friction_helps_on_simulated_objects_
     const ShapeInfo& shape = ShapeTable::published().find(name);
     const Outline outline(shape);
     std::mt19937_64 rng(310200);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<RecordedForecastCase> cases;
     std::vector<PushFit> fits;
     for (int k = 0; k < 12; ++k) {
-      PushScenario s;
-      s.shape = name;
-      s.effects.com_offset_m = offset_m;
-      s.surface_friction = 0.35 + 0.25 * unit(rng);
-      s.contact_friction = 0.15 + 0.3 * unit(rng);
-      s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
-      s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
-      s.motion.length_m = 0.05;
-      s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
-      s.contact_position = 0.2 + 0.6 * unit(rng);
-      s.push_angle_rad = -1.0 + 2.0 * unit(rng);
-      s.seed = 310200 + static_cast<std::uint64_t>(k);
-      const SimulatedPush sim = simulate_push(s);
-      cases.push_back(
-          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
+      cases.push_back(varied_simulated_case(shape, outline, rng, 310200 + static_cast<std::uint64_t>(k), offset_m));
       cases.back().name = std::to_string(k);
       fits.push_back(fit_push_parameters(cases.back()));
     }
@@ -302,23 +309,9 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
     const ShapeInfo& shape = ShapeTable::published().find(name);
     const Outline outline(shape);
     std::mt19937_64 rng(271000);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<RecordedForecastCase> cases;
     for (int k = 0; k < 16; ++k) {
-      PushScenario s;
-      s.shape = name;
-      s.surface_friction = 0.35 + 0.25 * unit(rng);
-      s.contact_friction = 0.15 + 0.3 * unit(rng);
-      s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
-      s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
-      s.motion.length_m = 0.05;
-      s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
-      s.contact_position = 0.2 + 0.6 * unit(rng);
-      s.push_angle_rad = -1.0 + 2.0 * unit(rng);
-      s.seed = 271000 + static_cast<std::uint64_t>(k);
-      const SimulatedPush sim = simulate_push(s);
-      cases.push_back(
-          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
+      cases.push_back(varied_simulated_case(shape, outline, rng, 271000 + static_cast<std::uint64_t>(k)));
       cases.back().name = std::to_string(k);
     }
     for (const double width : {1.0, 0.0}) {
