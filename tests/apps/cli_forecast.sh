@@ -88,7 +88,18 @@ printf 't_s,x_mm,y_mm\n0,-66,10\n0,-41,10\n' >"$tmp/badpath.csv"
 expect_exit 2 "a path whose times do not increase" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --path "$tmp/badpath.csv" --out "$tmp/f10"
 expect_in "$tmp/err" "$tmp/badpath.csv" "the bad path file is named"
-for d in f6 f7 f8 f9 f10; do expect_absent "$tmp/$d" "no output for bad input ($d)"; done
+printf 't_s,x_mm,y_mm\n# start\n0,-66,10\n0.5,forty,10\n' >"$tmp/wordpath.csv"
+expect_exit 2 "a path with a word for a number" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/wordpath.csv" --out "$tmp/f11"
+expect_in "$tmp/err" "$tmp/wordpath.csv:4: 'forty' is not a number" "the bad path file and line are named"
+printf 't_s,x_mm,y_mm\n0,-66,10\n0.5,-41\n' >"$tmp/shortpath.csv"
+expect_exit 2 "a path row of two numbers" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/shortpath.csv" --out "$tmp/f12"
+expect_in "$tmp/err" "$tmp/shortpath.csv:3: expected three numbers t_s,x_mm,y_mm" "the short row's file and line"
+expect_exit 2 "a path file that is missing" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/nopath.csv" --out "$tmp/f13"
+expect_in "$tmp/err" "$tmp/nopath.csv: cannot open a tip path file" "the missing path file is named"
+for d in f6 f7 f8 f9 f10 f11 f12 f13; do expect_absent "$tmp/$d" "no output for bad input ($d)"; done
 
 # forecast-study: summary.json with every method's keys, the same output whatever --jobs.
 # shellcheck disable=SC2086
