@@ -2,6 +2,7 @@
 // support friction and a compliant rod, not the forecast's own equations) with known parameters, the object file's
 // round trip, and its refusal of bad files by name. Simulated seeds 270000-270099; the centre of friction's
 // 310000-310199.
+#include <array>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <map>
@@ -20,14 +21,14 @@ namespace {
 /// rect1 pushed 50 mm at 50 mm/s from side `side` at `position`, `angle` off the normal, on a support of friction
 /// mu_s with a rod of friction mu_p; sensors as the rig's.
 RecordedForecastCase simulated_case(int side, double position, double angle, double mu_s, double mu_p,
-                                    std::uint64_t seed, double com_offset_m = 0) {
+                                    std::uint64_t seed, double com_offset_m = 0, double speed_m_s = 0.05) {
   PushScenario s;
   s.effects.com_offset_m = com_offset_m;
   s.name = "simulated";
   s.shape = "rect1";
   s.surface_friction = mu_s;
   s.contact_friction = mu_p;
-  s.motion.speed_m_s = 0.05;
+  s.motion.speed_m_s = speed_m_s;
   s.motion.length_m = 0.05;
   s.contact_side = side;
   s.contact_position = position;
@@ -150,6 +151,108 @@ BOOST_AUTO_TEST_CASE(the_object_file_round_trips_and_forecasts_the_same) {
   // The batch call agrees with the single forecasts' final poses.
   const BatchForecast batch = forecast_batch(model, {c.plan, set.cases[2].plan}, c.start_pose);
   BOOST_TEST((batch.final_pose.row(0) - a.mean.bottomRows<1>()).cwiseAbs().maxCoeff() < 1e-12);
+}
+
+BOOST_AUTO_TEST_CASE(a_parameter_trend_recovers_a_linear_dependence_on_the_push_angle_shrunk_as_ridge_regression_says) {
+  // Eight fits whose rod friction follows the push angle exactly, ln mu_p = ln 0.3 + 0.4 a (a the angle over 20
+  // degrees), everything else alike: ridge regression on one centred feature of variance v gives the slope
+  // 0.4 v / (v + lambda), and the other features (constant) get none.
+  std::vector<PushFit> fits;
+  double mean = 0, variance = 0;
+  for (int i = 0; i < 8; ++i) {
+    PushFit f;
+    f.descriptor.angle_rad = (-0.6 + 0.15 * i) * 20 * M_PI / 180;
+    f.descriptor.contact_body_m = Eigen::Vector2d(-0.04, 0.01);
+    f.descriptor.log_speed = std::log(0.05);
+    const double a = -0.6 + 0.15 * i;
+    f.parameters = {0.3 * std::exp(0.4 * a), 0.02, 0.4};
+    fits.push_back(f);
+    mean += a / 8;
+    variance += a * a / 8;
+  }
+  variance -= mean * mean;
+  const ParameterTrend trend = fit_parameter_trend(fits, 0.1);
+  BOOST_TEST(trend.active());
+  BOOST_TEST(trend.slope(0, 0) == 0.4 * variance / (variance + 0.1), boost::test_tools::tolerance(1e-9));
+  const double others =
+      std::max(trend.slope.bottomRows(2).cwiseAbs().maxCoeff(), trend.slope.row(0).tail(3).cwiseAbs().maxCoeff());
+  BOOST_TEST(others < 1e-12);
+  BOOST_TEST(!fit_parameter_trend(fits, 0.0).active());
+  BOOST_TEST(!fit_parameter_trend({fits[0], fits[1]}, 0.1).active());  // too few pushes for a trend
+  LearnOptions options;
+  BOOST_CHECK_THROW(set_trend_choice(options, "linear"), InputError);
+
+  // A model with a nearly unshrunk trend moves every learned push onto the line: a plan at a = 0.5 gets mu_p
+  // 0.3 e^0.2, whatever push it comes from; one far beyond the learned angles moves at most one e-fold.
+  ObjectModel model;
+  model.object.outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(0.05, 0.05));
+  model.pushes = fits;
+  model.trend = fit_parameter_trend(fits, 1e-9);
+  PushDescriptor plan = fits.front().descriptor;
+  plan.angle_rad = 0.5 * 20 * M_PI / 180;
+  BOOST_TEST(central_parameters(model, plan).pusher_friction == 0.3 * std::exp(0.2),
+             boost::test_tools::tolerance(1e-6));
+  BOOST_TEST(central_parameters(model, plan).torque_ratio_m == 0.02, boost::test_tools::tolerance(1e-9));
+  plan.angle_rad = 10 * 20 * M_PI / 180;
+  double largest = 0;
+  for (const auto& f : fits) largest = std::max(largest, f.parameters.pusher_friction);
+  BOOST_TEST(central_parameters(model, plan).pusher_friction <= std::exp(1.0) * largest * (1 + 1e-12));
+
+  // The trend round-trips through the object file.
+  model.object.mass_kg = 1;
+  model.object.inertia_kgm2 = 1e-3;
+  model.outline_source = "circle";
+  const ObjectModel back = object_model_from_json(object_model_to_json(model), "object.json", "");
+  BOOST_TEST(back.trend.ridge == model.trend.ridge);
+  BOOST_TEST((back.trend.slope - model.trend.slope).cwiseAbs().maxCoeff() == 0.0);
+}
+
+/// Final mm + deg, leaving one push out, of `count` simulated rect1 pushes from all four sides at 20-120 mm/s (seeds
+/// from `first`), the rod's friction varying push to push (0.15-0.45) and the support's either falling with the
+/// speed (mu_s = 0.45 (v / 50 mm/s)^-0.6, as the real butter's fitted friction does) or independent of it (0.3-0.6),
+/// learned without a trend and with one chosen inside each fold: final mm + deg of each.
+std::array<double, 2> speed_trend_study(int count, std::uint64_t first, bool dependent) {
+  std::mt19937_64 rng(first);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<RecordedForecastCase> cases;
+  std::vector<PushFit> fits;
+  for (int k = 0; k < count; ++k) {
+    const double angle = -0.35 + 0.7 * unit(rng), position = 0.3 + 0.4 * unit(rng);
+    const double speed = 0.02 * std::exp(std::log(6.0) * unit(rng)), mu_p = 0.15 + 0.3 * unit(rng);
+    const double mu_s = dependent ? 0.45 * std::pow(speed / 0.05, -0.6) : 0.3 + 0.3 * unit(rng);
+    cases.push_back(
+        simulated_case(k % 4, position, angle, mu_s, mu_p, first + static_cast<std::uint64_t>(k), 0, speed));
+    fits.push_back(fit_push_parameters(cases.back()));
+  }
+  std::array<double, 2> score{};
+  for (int with_trend = 0; with_trend < 2; ++with_trend) {
+    ForecastStudyOptions options;
+    set_trend_choice(options.learn, with_trend ? "chosen" : "none");
+    const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
+    double position = 0, yaw = 0;
+    for (const auto& p : study) {
+      position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+      yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+    }
+    BOOST_TEST_MESSAGE(count << " pushes, seeds from " << first << ", support friction "
+                             << (dependent ? "following the speed" : "independent of it")
+                             << (with_trend ? ", trend chosen in each fold" : ", no trend") << ": final " << position
+                             << " mm, " << yaw << " deg");
+    score[static_cast<std::size_t>(with_trend)] = position + yaw;
+  }
+  return score;
+}
+
+BOOST_AUTO_TEST_CASE(a_trend_chosen_inside_each_fold_costs_little_on_simulated_pushes,
+                     *boost::unit_test::label("slow")) {
+  // Seeds 340000-340013 (support friction following the speed) and 340100-340113 (independent of it), 14 pushes
+  // each: the in-fold choice with its one-standard-error rule keeps the forecast's final error within 5 % of no
+  // trend's. It does not beat it there either, which is why the trend is not the default
+  // (`--log_level=message` prints the errors).
+  for (const bool dependent : {true, false}) {
+    const std::array<double, 2> score = speed_trend_study(14, dependent ? 340000 : 340100, dependent);
+    BOOST_TEST(score[1] < 1.05 * score[0]);
+  }
 }
 
 BOOST_AUTO_TEST_CASE(the_centre_of_friction_is_recovered_from_pushes_whose_pressure_centre_is_offset) {
