@@ -118,12 +118,16 @@ int run_learn(const LearnArgs& a) {
     std::printf("centre of friction (x, y) in the body frame: %.2f, %.2f mm, %s\n",
                 1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.object.centre_of_friction_m.y(),
                 model.centre_of_friction_method.c_str());
-  if (model.trend.active())
-    std::printf("parameter trend over the plan (ridge %g): per 20 deg of push angle mu_p x%.2f, c x%.2f, mu_s x%.2f\n",
-                model.trend.ridge, std::exp(model.trend.slope(0, 0)), std::exp(model.trend.slope(1, 0)),
-                std::exp(model.trend.slope(2, 0)));
-  else
+  if (model.trend.active()) {
+    std::printf("parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
+                "contact x and y, e-fold of speed:\n",
+                model.trend.ridge);
+    for (int i = 0; i < 3; ++i)
+      std::printf("  %s: %+.2f, %+.2f, %+.2f, %+.2f\n", ForecastParameters::name(i), model.trend.slope(i, 0),
+                  model.trend.slope(i, 1), model.trend.slope(i, 2), model.trend.slope(i, 3));
+  } else {
     std::printf("parameter trend over the plan: none\n");
+  }
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }
