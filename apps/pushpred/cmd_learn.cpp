@@ -119,9 +119,10 @@ int run_learn(const LearnArgs& a) {
                 1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.object.centre_of_friction_m.y(),
                 model.centre_of_friction_method.c_str());
   if (model.trend.active()) {
-    std::printf("parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
-                "contact x and y, e-fold of speed:\n",
-                model.trend.ridge);
+    std::printf(
+        "parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
+        "contact x and y, e-fold of speed:\n",
+        model.trend.ridge);
     for (int i = 0; i < 3; ++i)
       std::printf("  %s: %+.2f, %+.2f, %+.2f, %+.2f\n", ForecastParameters::name(i), model.trend.slope(i, 0),
                   model.trend.slope(i, 1), model.trend.slope(i, 2), model.trend.slope(i, 3));
