@@ -2,6 +2,7 @@
 // support friction and a compliant rod, not the forecast's own equations) with known parameters, the object file's
 // round trip, and its refusal of bad files by name. Simulated seeds 270000-270099; the centre of friction's
 // 310000-310199.
+#include <Eigen/Geometry>
 #include <array>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
@@ -253,6 +254,45 @@ BOOST_AUTO_TEST_CASE(a_trend_chosen_inside_each_fold_costs_little_on_simulated_p
     const std::array<double, 2> score = speed_trend_study(14, dependent ? 340000 : 340100, dependent);
     BOOST_TEST(score[1] < 1.05 * score[0]);
   }
+}
+
+BOOST_AUTO_TEST_CASE(a_plan_on_the_stick_slide_switch_gets_a_region_that_holds_both_outcomes) {
+  // rect1 pushed 35 degrees off the normal, off-centre: half the learned pushes have a rod friction whose cone holds
+  // the push (mu_p 1.0, 45 degrees: the contact sticks until the turn tips it out) and half one it does not (mu_p 0.1,
+  // 5.7 degrees: it slides from the start), so the plan falls on the switch and the ensemble splits in two outcomes. The central forecast lies between them;
+  // with two equally weighted outcomes each lies exactly one RMS spread from their mean, so any region scale of at
+  // least 1 (the uncalibrated 1.645 here) holds both, in position and in yaw.
+  const ShapeInfo& shape = ShapeTable::published().find("rect1");
+  ObjectModel model;
+  model.object = dataset_forecast_object(shape, "");
+  const double a = 0.045;
+  const TipPlan plan = TipPlan::straight(Eigen::Vector2d(-a + 2 * a * 0.3, -a - 4.745e-3 - 1e-3),
+                                         Eigen::Rotation2Dd(35 * M_PI / 180) * Eigen::Vector2d::UnitY(), 0.05, 0.05);
+  const Eigen::Vector3d pose0 = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 8; ++k) {
+    PushFit f;
+    f.descriptor = describe_push(model.object, plan, pose0);
+    f.parameters = {k % 2 ? 0.1 : 1.0, 0.03, 0.4};
+    model.pushes.push_back(f);
+  }
+  const Eigen::VectorXd final_time = Eigen::VectorXd::Constant(1, 10.0);
+  ForecastRun stick_run, slide_run;
+  const Eigen::MatrixX3d stick = forecast_poses(model.object, {1.0, 0.03, 0.4}, plan, pose0, final_time, {}, &stick_run);
+  const Eigen::MatrixX3d slide =
+      forecast_poses(model.object, {0.1, 0.03, 0.4}, plan, pose0, final_time, {}, &slide_run);
+  BOOST_TEST_MESSAGE("sliding shares " << stick_run.sliding_fraction << " and " << slide_run.sliding_fraction
+                                        << ", final yaw " << stick(0, 2) * 180 / M_PI << " and "
+                                        << slide(0, 2) * 180 / M_PI << " deg");
+  BOOST_TEST(stick_run.sliding_fraction < 0.4);
+  BOOST_TEST(slide_run.sliding_fraction > 0.7);
+  BOOST_TEST(std::abs(stick(0, 2) - slide(0, 2)) > 5 * M_PI / 180);  // two distinct outcomes
+  const ForecastDistribution d = forecast_distribution(model, plan, pose0, final_time);
+  for (const Eigen::MatrixX3d* outcome : {&stick, &slide}) {
+    BOOST_TEST((outcome->row(0).head<2>() - d.mean.row(0).head<2>()).norm() <= d.position_radius_m(0));
+    BOOST_TEST(std::abs((*outcome)(0, 2) - d.mean(0, 2)) <= d.yaw_halfwidth_rad(0));
+  }
+  // And the central forecast is neither outcome: it lies between them.
+  BOOST_TEST(std::abs(d.mean(0, 2) - 0.5 * (stick(0, 2) + slide(0, 2))) < 1e-9);
 }
 
 BOOST_AUTO_TEST_CASE(the_centre_of_friction_is_recovered_from_pushes_whose_pressure_centre_is_offset) {
