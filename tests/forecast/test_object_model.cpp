@@ -259,9 +259,9 @@ BOOST_AUTO_TEST_CASE(a_trend_chosen_inside_each_fold_costs_little_on_simulated_p
 BOOST_AUTO_TEST_CASE(a_plan_on_the_stick_slide_switch_gets_a_region_that_holds_both_outcomes) {
   // rect1 pushed 35 degrees off the normal, off-centre: half the learned pushes have a rod friction whose cone holds
   // the push (mu_p 1.0, 45 degrees: the contact sticks until the turn tips it out) and half one it does not (mu_p 0.1,
-  // 5.7 degrees: it slides from the start), so the plan falls on the switch and the ensemble splits in two outcomes. The central forecast lies between them;
-  // with two equally weighted outcomes each lies exactly one RMS spread from their mean, so any region scale of at
-  // least 1 (the uncalibrated 1.645 here) holds both, in position and in yaw.
+  // 5.7 degrees: it slides from the start), so the plan falls on the switch and the ensemble splits in two outcomes.
+  // The central forecast lies between them; with two equally weighted outcomes each lies exactly one RMS spread from
+  // their mean, so any region scale of at least 1 (the uncalibrated 1.645 here) holds both, in position and in yaw.
   const ShapeInfo& shape = ShapeTable::published().find("rect1");
   ObjectModel model;
   model.object = dataset_forecast_object(shape, "");
@@ -277,12 +277,13 @@ BOOST_AUTO_TEST_CASE(a_plan_on_the_stick_slide_switch_gets_a_region_that_holds_b
   }
   const Eigen::VectorXd final_time = Eigen::VectorXd::Constant(1, 10.0);
   ForecastRun stick_run, slide_run;
-  const Eigen::MatrixX3d stick = forecast_poses(model.object, {1.0, 0.03, 0.4}, plan, pose0, final_time, {}, &stick_run);
+  const Eigen::MatrixX3d stick =
+      forecast_poses(model.object, {1.0, 0.03, 0.4}, plan, pose0, final_time, {}, &stick_run);
   const Eigen::MatrixX3d slide =
       forecast_poses(model.object, {0.1, 0.03, 0.4}, plan, pose0, final_time, {}, &slide_run);
   BOOST_TEST_MESSAGE("sliding shares " << stick_run.sliding_fraction << " and " << slide_run.sliding_fraction
-                                        << ", final yaw " << stick(0, 2) * 180 / M_PI << " and "
-                                        << slide(0, 2) * 180 / M_PI << " deg");
+                                       << ", final yaw " << stick(0, 2) * 180 / M_PI << " and "
+                                       << slide(0, 2) * 180 / M_PI << " deg");
   BOOST_TEST(stick_run.sliding_fraction < 0.4);
   BOOST_TEST(slide_run.sliding_fraction > 0.7);
   BOOST_TEST(std::abs(stick(0, 2) - slide(0, 2)) > 5 * M_PI / 180);  // two distinct outcomes
