@@ -183,7 +183,8 @@ struct ObjectModel {
   /// leave-one-out error.
   double similarity_bandwidth = 0;
   /// The parameters' trend over the plan (inactive: none). Chosen by learn with the bandwidth, among
-  /// LearnOptions::trend_ridges, by the learned pushes' own leave-one-out error.
+  /// LearnOptions::trend_ridges, by the learned pushes' own leave-one-out error; kept only when it beats the best
+  /// bandwidth without a trend by more than one standard error of their paired per-push differences.
   ParameterTrend trend;
   CentralForecast central = CentralForecast::EnsembleMean;
   RegionCalibration regions;
