@@ -76,6 +76,22 @@ static void BM_forecast_with_regions(benchmark::State& state) {
 }
 BENCHMARK(BM_forecast_with_regions)->Name("forecast/trajectory_with_regions_16_members");
 
+static void BM_forecast_with_regions_and_trend(benchmark::State& state) {
+  // The same with a parameter trend (each member moved along it to the plan before it runs).
+  pushpred::ObjectModel model = fixture().model;
+  model.trend.ridge = 0.1;
+  model.trend.slope.setConstant(0.05);
+  const Fixture& f = fixture();
+  pushpred::ForecastDistribution d;
+  pushpred::ForecastWorkspace work;
+  for (auto _ : state) {
+    pushpred::forecast_distribution_into(model, f.c.plan, f.c.start_pose, f.c.times_s, d, work);
+    benchmark::DoNotOptimize(d.mean.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_forecast_with_regions_and_trend)->Name("forecast/trajectory_with_regions_16_members_trend");
+
 static void BM_quasi_static_phase(benchmark::State& state) {
   const Fixture& f = fixture();
   const std::vector<pushpred::TimeInterval> intervals = pushpred::split_into_intervals(f.push, {});

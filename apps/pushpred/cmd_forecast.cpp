@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "pushpred/core/data_folder.hpp"
+#include "pushpred/reading/text_files.hpp"
 #include "pushpred/reports/forecast_report.hpp"
 #include "pushpred/reports/plotting.hpp"
 #include "pushpred/runtime/output_files.hpp"
@@ -45,28 +46,37 @@ std::vector<double> numbers(const std::string& text, std::size_t count, const st
   return v;
 }
 
-/// A path file: rows t_s,x_mm,y_mm (a header line and # comments allowed), times from 0 increasing.
+/// A path file: rows t_s,x_mm,y_mm of three finite numbers (an optional header line starting with "t"; blank lines and
+/// # comments allowed), times from 0 increasing. Errors name the file and line (reading/text_files.hpp).
 TipPlan read_path_file(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(about(file, "cannot read the path file"));
   std::vector<double> t, x, y;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream f(line);
-    double a = 0, b = 0, c = 0;
-    if (!(f >> a >> b >> c)) {
-      if (number == 1 || (t.empty() && line.find_first_of("0123456789") == std::string::npos)) continue;
-      throw InputError(about(file, "line " + std::to_string(number) + ": expected t_s,x_mm,y_mm"));
-    }
-    t.push_back(a);
-    x.push_back(1e-3 * b);
-    y.push_back(1e-3 * c);
-  }
+  bool first = true;
+  for_each_csv_row(
+      read_text_file(file, "a tip path file"), file, [&](const std::string& line, const std::string& where) {
+        const bool header = first && line.rfind("t", 0) == 0;
+        first = false;
+        if (header) return;
+        std::vector<std::string> fields;
+        std::stringstream s(line);
+        std::string field;
+        while (std::getline(s, field, ',')) fields.push_back(field);
+        if (fields.size() != 3)
+          throw InputError(about(where, "expected three numbers t_s,x_mm,y_mm, got '" + plain_text(line) + "'"));
+        double v[3];
+        for (std::size_t k = 0; k < 3; ++k) {
+          try {
+            std::size_t used = 0;
+            v[k] = std::stod(fields[k], &used);
+            if (used != fields[k].size()) throw std::invalid_argument(fields[k]);
+          } catch (const std::exception&) {
+            throw InputError(about(where, "'" + plain_text(fields[k]) + "' is not a number"));
+          }
+          if (!std::isfinite(v[k])) throw InputError(about(where, "'" + plain_text(fields[k]) + "' is not finite"));
+        }
+        t.push_back(v[0]);
+        x.push_back(1e-3 * v[1]);
+        y.push_back(1e-3 * v[2]);
+      });
   Eigen::VectorXd times = Eigen::Map<Eigen::VectorXd>(t.data(), static_cast<Eigen::Index>(t.size()));
   Eigen::MatrixX2d p(static_cast<Eigen::Index>(t.size()), 2);
   for (std::size_t k = 0; k < t.size(); ++k) p.row(static_cast<Eigen::Index>(k)) << x[k], y[k];

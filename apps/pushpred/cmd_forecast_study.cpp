@@ -21,6 +21,7 @@ struct StudyArgs {
   int jobs = default_jobs();
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
+  std::string trend = kTrendDefaultChoice;
 };
 
 int run_study(const StudyArgs& a) {
@@ -31,6 +32,7 @@ int run_study(const StudyArgs& a) {
   options.jobs = a.jobs;
   options.learn.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options.learn, a.centre_of_friction);
+  set_trend_choice(options.learn, a.trend);
   std::vector<std::pair<std::string, std::string>> excluded = in.excluded;
   const std::vector<ForecastStudyPush> pushes = run_forecast_study(in.cases, in.fits, options, &excluded);
   if (pushes.empty()) {
@@ -82,6 +84,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "chosen (default: learned jointly over the pushes when that forecasts them better in "
                   "cross-validation, else the centroid), learned (always) or centroid (never learned)")
       ->check(CLI::IsMember({"chosen", "learned", "centroid"}));
+  sub->add_option("--trend", a->trend,
+                  "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
+                  "learned pushes when that forecasts them better leaving each out)")
+      ->check(CLI::IsMember({"chosen", "none"}));
   add_jobs(*sub, a->jobs,
            "Pushes fitted and forecast in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_study(*a); }; });

@@ -2,6 +2,7 @@
 // uncertainty and push-to-push spread, the calibration of its 90 % regions) from recorded pushes of it on one surface,
 // into a versioned JSON file (docs/forecast.md). The outline is the dataset's (butter's from the data folder) unless
 // --outline, --circle or --ellipse give a user's own, with --mass and --inertia.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -26,6 +27,7 @@ struct LearnArgs {
   int jobs = default_jobs();
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
+  std::string trend = kTrendDefaultChoice;
 };
 
 /// The user's own object, or null for the dataset's.
@@ -96,6 +98,7 @@ int run_learn(const LearnArgs& a) {
   LearnOptions options;
   options.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options, a.centre_of_friction);
+  set_trend_choice(options, a.trend);
   const ObjectModel model =
       learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
   write_text_atomically(out, json_text(object_model_to_json(model)));
@@ -115,6 +118,17 @@ int run_learn(const LearnArgs& a) {
     std::printf("centre of friction (x, y) in the body frame: %.2f, %.2f mm, %s\n",
                 1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.object.centre_of_friction_m.y(),
                 model.centre_of_friction_method.c_str());
+  if (model.trend.active()) {
+    std::printf(
+        "parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
+        "contact x and y, e-fold of speed:\n",
+        model.trend.ridge);
+    for (int i = 0; i < 3; ++i)
+      std::printf("  %s: %+.2f, %+.2f, %+.2f, %+.2f\n", ForecastParameters::name(i), model.trend.slope(i, 0),
+                  model.trend.slope(i, 1), model.trend.slope(i, 2), model.trend.slope(i, 3));
+  } else {
+    std::printf("parameter trend over the plan: none\n");
+  }
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }
@@ -142,6 +156,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "chosen (default: learned jointly over the pushes when that forecasts them better in "
                   "cross-validation, else the centroid), learned (always) or centroid (never learned)")
       ->check(CLI::IsMember({"chosen", "learned", "centroid"}));
+  sub->add_option("--trend", a->trend,
+                  "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
+                  "learned pushes when that forecasts them better leaving each out)")
+      ->check(CLI::IsMember({"chosen", "none"}));
   add_jobs(*sub, a->jobs, "Pushes fitted in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_learn(*a); }; });
 });

@@ -15,8 +15,13 @@ expect_exit 0 "learn hex from six pushes and a frozen rect1" -- "$bin" learn $he
 expect_in "$tmp/out" "learned hex on abs from 6 pushes" "the learned pushes are counted"
 expect_in "$tmp/err" "excluded $(basename "$frozen" .h5): force sensor frozen" "the frozen sensor is named"
 expect_in "$tmp/hex.json" '"format": "pushpred-object-model"' "the object file says its format"
-expect_in "$tmp/hex.json" '"version": 2' "the object file says its version"
+expect_in "$tmp/hex.json" '"version": 3' "the object file says its version"
 expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
+expect_in "$tmp/hex.json" '"parameter_trend"' "the object file holds the parameter trend"
+expect_in "$tmp/out" "parameter trend over the plan: none" "no trend by default"
+# shellcheck disable=SC2086
+expect_exit 0 "learn hex with the trend chosen" -- "$bin" learn $hex --trend chosen --out "$tmp/hex-trend.json" --jobs 2
+expect_in "$tmp/out" "parameter trend over the plan" "learn says whether it took a trend"
 # shellcheck disable=SC2086
 expect_exit 2 "learn from two objects at once" -- "$bin" learn $hex "$(abs_push 'shape=ellip1_')" --out "$tmp/two.json"
 expect_in "$tmp/err" "several objects" "the mix is named"
@@ -88,7 +93,18 @@ printf 't_s,x_mm,y_mm\n0,-66,10\n0,-41,10\n' >"$tmp/badpath.csv"
 expect_exit 2 "a path whose times do not increase" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --path "$tmp/badpath.csv" --out "$tmp/f10"
 expect_in "$tmp/err" "$tmp/badpath.csv" "the bad path file is named"
-for d in f6 f7 f8 f9 f10; do expect_absent "$tmp/$d" "no output for bad input ($d)"; done
+printf 't_s,x_mm,y_mm\n# start\n0,-66,10\n0.5,forty,10\n' >"$tmp/wordpath.csv"
+expect_exit 2 "a path with a word for a number" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/wordpath.csv" --out "$tmp/f11"
+expect_in "$tmp/err" "$tmp/wordpath.csv:4: 'forty' is not a number" "the bad path file and line are named"
+printf 't_s,x_mm,y_mm\n0,-66,10\n0.5,-41\n' >"$tmp/shortpath.csv"
+expect_exit 2 "a path row of two numbers" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/shortpath.csv" --out "$tmp/f12"
+expect_in "$tmp/err" "$tmp/shortpath.csv:3: expected three numbers t_s,x_mm,y_mm" "the short row's file and line"
+expect_exit 2 "a path file that is missing" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/nopath.csv" --out "$tmp/f13"
+expect_in "$tmp/err" "$tmp/nopath.csv: cannot open a tip path file" "the missing path file is named"
+for d in f6 f7 f8 f9 f10 f11 f12 f13; do expect_absent "$tmp/$d" "no output for bad input ($d)"; done
 
 # forecast-study: summary.json with every method's keys, the same output whatever --jobs.
 # shellcheck disable=SC2086

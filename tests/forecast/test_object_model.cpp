@@ -2,6 +2,8 @@
 // support friction and a compliant rod, not the forecast's own equations) with known parameters, the object file's
 // round trip, and its refusal of bad files by name. Simulated seeds 270000-270099; the centre of friction's
 // 310000-310199.
+#include <Eigen/Geometry>
+#include <array>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <map>
@@ -20,14 +22,14 @@ namespace {
 /// rect1 pushed 50 mm at 50 mm/s from side `side` at `position`, `angle` off the normal, on a support of friction
 /// mu_s with a rod of friction mu_p; sensors as the rig's.
 RecordedForecastCase simulated_case(int side, double position, double angle, double mu_s, double mu_p,
-                                    std::uint64_t seed, double com_offset_m = 0) {
+                                    std::uint64_t seed, double com_offset_m = 0, double speed_m_s = 0.05) {
   PushScenario s;
   s.effects.com_offset_m = com_offset_m;
   s.name = "simulated";
   s.shape = "rect1";
   s.surface_friction = mu_s;
   s.contact_friction = mu_p;
-  s.motion.speed_m_s = 0.05;
+  s.motion.speed_m_s = speed_m_s;
   s.motion.length_m = 0.05;
   s.contact_side = side;
   s.contact_position = position;
@@ -40,6 +42,28 @@ RecordedForecastCase simulated_case(int side, double position, double angle, dou
   RecordedForecastCase c = recorded_forecast_case(push, dataset_forecast_object(shape, ""));
   c.name = "seed " + std::to_string(seed);
   return c;
+}
+
+/// A push of `shape` with everything drawn from `rng`: support friction 0.35-0.6, rod friction 0.15-0.45, pressure
+/// rim weight -0.3-0.3, speed 20-120 mm/s, any side, position 0.2-0.8, angle within 1 rad of the normal; 50 mm long,
+/// the mass centre `com_offset_m` along body x (the pressure follows it).
+RecordedForecastCase varied_simulated_case(const ShapeInfo& shape, const Outline& outline, std::mt19937_64& rng,
+                                           std::uint64_t seed, double com_offset_m = 0) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  PushScenario s;
+  s.shape = shape.name;
+  s.effects.com_offset_m = com_offset_m;
+  s.surface_friction = 0.35 + 0.25 * unit(rng);
+  s.contact_friction = 0.15 + 0.3 * unit(rng);
+  s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
+  s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
+  s.motion.length_m = 0.05;
+  s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
+  s.contact_position = 0.2 + 0.6 * unit(rng);
+  s.push_angle_rad = -1.0 + 2.0 * unit(rng);
+  s.seed = seed;
+  const SimulatedPush sim = simulate_push(s);
+  return recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, ""));
 }
 
 /// `count` simulated pushes with their own fits, parameters drawn uniformly within the given ranges.
@@ -130,6 +154,148 @@ BOOST_AUTO_TEST_CASE(the_object_file_round_trips_and_forecasts_the_same) {
   BOOST_TEST((batch.final_pose.row(0) - a.mean.bottomRows<1>()).cwiseAbs().maxCoeff() < 1e-12);
 }
 
+BOOST_AUTO_TEST_CASE(a_parameter_trend_recovers_a_linear_dependence_on_the_push_angle_shrunk_as_ridge_regression_says) {
+  // Eight fits whose rod friction follows the push angle exactly, ln mu_p = ln 0.3 + 0.4 a (a the angle over 20
+  // degrees), everything else alike: ridge regression on one centred feature of variance v gives the slope
+  // 0.4 v / (v + lambda), and the other features (constant) get none.
+  std::vector<PushFit> fits;
+  double mean = 0, variance = 0;
+  for (int i = 0; i < 8; ++i) {
+    PushFit f;
+    f.descriptor.angle_rad = (-0.6 + 0.15 * i) * 20 * M_PI / 180;
+    f.descriptor.contact_body_m = Eigen::Vector2d(-0.04, 0.01);
+    f.descriptor.log_speed = std::log(0.05);
+    const double a = -0.6 + 0.15 * i;
+    f.parameters = {0.3 * std::exp(0.4 * a), 0.02, 0.4};
+    fits.push_back(f);
+    mean += a / 8;
+    variance += a * a / 8;
+  }
+  variance -= mean * mean;
+  const ParameterTrend trend = fit_parameter_trend(fits, 0.1);
+  BOOST_TEST(trend.active());
+  BOOST_TEST(trend.slope(0, 0) == 0.4 * variance / (variance + 0.1), boost::test_tools::tolerance(1e-9));
+  const double others =
+      std::max(trend.slope.bottomRows(2).cwiseAbs().maxCoeff(), trend.slope.row(0).tail(3).cwiseAbs().maxCoeff());
+  BOOST_TEST(others < 1e-12);
+  BOOST_TEST(!fit_parameter_trend(fits, 0.0).active());
+  BOOST_TEST(!fit_parameter_trend({fits[0], fits[1]}, 0.1).active());  // too few pushes for a trend
+  LearnOptions options;
+  BOOST_CHECK_THROW(set_trend_choice(options, "linear"), InputError);
+
+  // A model with a nearly unshrunk trend moves every learned push onto the line: a plan at a = 0.5 gets mu_p
+  // 0.3 e^0.2, whatever push it comes from; one far beyond the learned angles moves at most one e-fold.
+  ObjectModel model;
+  model.object.outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(0.05, 0.05));
+  model.pushes = fits;
+  model.trend = fit_parameter_trend(fits, 1e-9);
+  PushDescriptor plan = fits.front().descriptor;
+  plan.angle_rad = 0.5 * 20 * M_PI / 180;
+  BOOST_TEST(central_parameters(model, plan).pusher_friction == 0.3 * std::exp(0.2),
+             boost::test_tools::tolerance(1e-6));
+  BOOST_TEST(central_parameters(model, plan).torque_ratio_m == 0.02, boost::test_tools::tolerance(1e-9));
+  plan.angle_rad = 10 * 20 * M_PI / 180;
+  double largest = 0;
+  for (const auto& f : fits) largest = std::max(largest, f.parameters.pusher_friction);
+  BOOST_TEST(central_parameters(model, plan).pusher_friction <= std::exp(1.0) * largest * (1 + 1e-12));
+
+  // The trend round-trips through the object file.
+  model.object.mass_kg = 1;
+  model.object.inertia_kgm2 = 1e-3;
+  model.outline_source = "circle";
+  const ObjectModel back = object_model_from_json(object_model_to_json(model), "object.json", "");
+  BOOST_TEST(back.trend.ridge == model.trend.ridge);
+  BOOST_TEST((back.trend.slope - model.trend.slope).cwiseAbs().maxCoeff() == 0.0);
+}
+
+/// Final mm + deg, leaving one push out, of `count` simulated rect1 pushes from all four sides at 20-120 mm/s (seeds
+/// from `first`), the rod's friction varying push to push (0.15-0.45) and the support's either falling with the
+/// speed (mu_s = 0.45 (v / 50 mm/s)^-0.6, as the real butter's fitted friction does) or independent of it (0.3-0.6),
+/// learned without a trend and with one chosen inside each fold: final mm + deg of each.
+std::array<double, 2> speed_trend_study(int count, std::uint64_t first, bool dependent) {
+  std::mt19937_64 rng(first);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<RecordedForecastCase> cases;
+  std::vector<PushFit> fits;
+  for (int k = 0; k < count; ++k) {
+    const double angle = -0.35 + 0.7 * unit(rng), position = 0.3 + 0.4 * unit(rng);
+    const double speed = 0.02 * std::exp(std::log(6.0) * unit(rng)), mu_p = 0.15 + 0.3 * unit(rng);
+    const double mu_s = dependent ? 0.45 * std::pow(speed / 0.05, -0.6) : 0.3 + 0.3 * unit(rng);
+    cases.push_back(
+        simulated_case(k % 4, position, angle, mu_s, mu_p, first + static_cast<std::uint64_t>(k), 0, speed));
+    fits.push_back(fit_push_parameters(cases.back()));
+  }
+  std::array<double, 2> score{};
+  for (int with_trend = 0; with_trend < 2; ++with_trend) {
+    ForecastStudyOptions options;
+    set_trend_choice(options.learn, with_trend ? "chosen" : "none");
+    const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
+    double position = 0, yaw = 0;
+    for (const auto& p : study) {
+      position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+      yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+    }
+    BOOST_TEST_MESSAGE(count << " pushes, seeds from " << first << ", support friction "
+                             << (dependent ? "following the speed" : "independent of it")
+                             << (with_trend ? ", trend chosen in each fold" : ", no trend") << ": final " << position
+                             << " mm, " << yaw << " deg");
+    score[static_cast<std::size_t>(with_trend)] = position + yaw;
+  }
+  return score;
+}
+
+BOOST_AUTO_TEST_CASE(a_trend_chosen_inside_each_fold_costs_little_on_simulated_pushes,
+                     *boost::unit_test::label("slow")) {
+  // Seeds 340000-340013 (support friction following the speed) and 340100-340113 (independent of it), 14 pushes
+  // each: the in-fold choice with its one-standard-error rule keeps the forecast's final error within 5 % of no
+  // trend's. It does not beat it there either, which is why the trend is not the default
+  // (`--log_level=message` prints the errors).
+  for (const bool dependent : {true, false}) {
+    const std::array<double, 2> score = speed_trend_study(14, dependent ? 340000 : 340100, dependent);
+    BOOST_TEST(score[1] < 1.05 * score[0]);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(a_plan_on_the_stick_slide_switch_gets_a_region_that_holds_both_outcomes) {
+  // rect1 pushed 35 degrees off the normal, off-centre: half the learned pushes have a rod friction whose cone holds
+  // the push (mu_p 1.0, 45 degrees: the contact sticks until the turn tips it out) and half one it does not (mu_p 0.1,
+  // 5.7 degrees: it slides from the start), so the plan falls on the switch and the ensemble splits in two outcomes.
+  // The central forecast lies between them; with two equally weighted outcomes each lies exactly one RMS spread from
+  // their mean, so any region scale of at least 1 (the uncalibrated 1.645 here) holds both, in position and in yaw.
+  const ShapeInfo& shape = ShapeTable::published().find("rect1");
+  ObjectModel model;
+  model.object = dataset_forecast_object(shape, "");
+  const double a = 0.045;
+  const TipPlan plan = TipPlan::straight(Eigen::Vector2d(-a + 2 * a * 0.3, -a - 4.745e-3 - 1e-3),
+                                         Eigen::Rotation2Dd(35 * M_PI / 180) * Eigen::Vector2d::UnitY(), 0.05, 0.05);
+  const Eigen::Vector3d pose0 = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 8; ++k) {
+    PushFit f;
+    f.descriptor = describe_push(model.object, plan, pose0);
+    f.parameters = {k % 2 ? 0.1 : 1.0, 0.03, 0.4};
+    model.pushes.push_back(f);
+  }
+  const Eigen::VectorXd final_time = Eigen::VectorXd::Constant(1, 10.0);
+  ForecastRun stick_run, slide_run;
+  const Eigen::MatrixX3d stick =
+      forecast_poses(model.object, {1.0, 0.03, 0.4}, plan, pose0, final_time, {}, &stick_run);
+  const Eigen::MatrixX3d slide =
+      forecast_poses(model.object, {0.1, 0.03, 0.4}, plan, pose0, final_time, {}, &slide_run);
+  BOOST_TEST_MESSAGE("sliding shares " << stick_run.sliding_fraction << " and " << slide_run.sliding_fraction
+                                       << ", final yaw " << stick(0, 2) * 180 / M_PI << " and "
+                                       << slide(0, 2) * 180 / M_PI << " deg");
+  BOOST_TEST(stick_run.sliding_fraction < 0.4);
+  BOOST_TEST(slide_run.sliding_fraction > 0.7);
+  BOOST_TEST(std::abs(stick(0, 2) - slide(0, 2)) > 5 * M_PI / 180);  // two distinct outcomes
+  const ForecastDistribution d = forecast_distribution(model, plan, pose0, final_time);
+  for (const Eigen::MatrixX3d* outcome : {&stick, &slide}) {
+    BOOST_TEST((outcome->row(0).head<2>() - d.mean.row(0).head<2>()).norm() <= d.position_radius_m(0));
+    BOOST_TEST(std::abs((*outcome)(0, 2) - d.mean(0, 2)) <= d.yaw_halfwidth_rad(0));
+  }
+  // And the central forecast is neither outcome: it lies between them.
+  BOOST_TEST(std::abs(d.mean(0, 2) - 0.5 * (stick(0, 2) + slide(0, 2))) < 1e-9);
+}
+
 BOOST_AUTO_TEST_CASE(the_centre_of_friction_is_recovered_from_pushes_whose_pressure_centre_is_offset) {
   // The simulator moves rect1's mass centre 5 mm along body x and tilts its (otherwise uniform) support pressure until
   // the pressure's centre lies under it: the true centre of friction is the centroid plus (5, 0) mm, a fact of the
@@ -175,25 +341,10 @@ BOOST_AUTO_TEST_CASE(learning_the_centre_of_friction_helps_on_simulated_objects_
     const ShapeInfo& shape = ShapeTable::published().find(name);
     const Outline outline(shape);
     std::mt19937_64 rng(310200);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<RecordedForecastCase> cases;
     std::vector<PushFit> fits;
     for (int k = 0; k < 12; ++k) {
-      PushScenario s;
-      s.shape = name;
-      s.effects.com_offset_m = offset_m;
-      s.surface_friction = 0.35 + 0.25 * unit(rng);
-      s.contact_friction = 0.15 + 0.3 * unit(rng);
-      s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
-      s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
-      s.motion.length_m = 0.05;
-      s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
-      s.contact_position = 0.2 + 0.6 * unit(rng);
-      s.push_angle_rad = -1.0 + 2.0 * unit(rng);
-      s.seed = 310200 + static_cast<std::uint64_t>(k);
-      const SimulatedPush sim = simulate_push(s);
-      cases.push_back(
-          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
+      cases.push_back(varied_simulated_case(shape, outline, rng, 310200 + static_cast<std::uint64_t>(k), offset_m));
       cases.back().name = std::to_string(k);
       fits.push_back(fit_push_parameters(cases.back()));
     }
@@ -302,23 +453,9 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
     const ShapeInfo& shape = ShapeTable::published().find(name);
     const Outline outline(shape);
     std::mt19937_64 rng(271000);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<RecordedForecastCase> cases;
     for (int k = 0; k < 16; ++k) {
-      PushScenario s;
-      s.shape = name;
-      s.surface_friction = 0.35 + 0.25 * unit(rng);
-      s.contact_friction = 0.15 + 0.3 * unit(rng);
-      s.pressure_rim_weight = -0.3 + 0.6 * unit(rng);
-      s.motion.speed_m_s = 0.02 + 0.1 * unit(rng);
-      s.motion.length_m = 0.05;
-      s.contact_side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
-      s.contact_position = 0.2 + 0.6 * unit(rng);
-      s.push_angle_rad = -1.0 + 2.0 * unit(rng);
-      s.seed = 271000 + static_cast<std::uint64_t>(k);
-      const SimulatedPush sim = simulate_push(s);
-      cases.push_back(
-          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
+      cases.push_back(varied_simulated_case(shape, outline, rng, 271000 + static_cast<std::uint64_t>(k)));
       cases.back().name = std::to_string(k);
     }
     for (const double width : {1.0, 0.0}) {

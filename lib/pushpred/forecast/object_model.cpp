@@ -63,6 +63,17 @@ struct TrajectoryResidual {
   }
 };
 
+/// The covariance options of a trajectory fit's parameters (fit_push_parameters, fit_centre_of_friction): dense SVD
+/// with the directions the residuals barely inform dropped (a pseudo-inverse), so a near-singular Jacobian still
+/// gives standard errors rather than a failed computation.
+ceres::Covariance::Options fit_covariance_options() {
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::DENSE_SVD;
+  options.null_space_rank = -1;
+  options.min_reciprocal_condition_number = 1e-12;
+  return options;
+}
+
 /// (theta_i - centre) / width: a Gaussian prior on one log-parameter.
 struct LogPrior {
   int index = 0;
@@ -104,14 +115,14 @@ void member_weights(const std::vector<const PushFit*>& members, double h, const 
     if (x < 1e-3 * best) x = 0;
 }
 
-ForecastParameters weighted_median_parameters(const std::vector<const PushFit*>& members,
+ForecastParameters weighted_median_parameters(const std::vector<ForecastParameters>& members,
                                               const std::vector<double>& w) {
   thread_local std::vector<std::pair<double, double>> value_weight;
   Eigen::Vector3d out;
   for (int i = 0; i < 3; ++i) {
     value_weight.clear();
     for (std::size_t m = 0; m < members.size(); ++m)
-      if (w[m] > 0) value_weight.emplace_back(std::log(members[m]->parameters.vector()(i)), w[m]);
+      if (w[m] > 0) value_weight.emplace_back(std::log(members[m].vector()(i)), w[m]);
     std::sort(value_weight.begin(), value_weight.end());
     double total = 0, acc = 0;
     for (const auto& vw : value_weight) total += vw.second;
@@ -130,16 +141,52 @@ ForecastParameters weighted_median_parameters(const std::vector<const PushFit*>&
   return ForecastParameters::from_vector(out);
 }
 
-/// The central forecast of a plan from `members` (weighted by bandwidth h) and, when `spread` is set, the members'
-/// weighted RMS spread about it: the core of forecast_distribution_into and of the calibration.
+/// `member`'s parameters moved along `trend` from where it pushed to where the plan described by `d` pushes.
+ForecastParameters parameters_along_trend(const PushFit& member, const ParameterTrend& trend, const PushDescriptor& d) {
+  if (!trend.active()) return member.parameters;
+  const Eigen::Vector3d shift = (trend.slope * (trend_features(d) - trend_features(member.descriptor)))
+                                    .cwiseMax(-trend.max_shift_log)
+                                    .cwiseMin(trend.max_shift_log);
+  return ForecastParameters::from_vector(member.parameters.vector().cwiseProduct(shift.array().exp().matrix()));
+}
+
+/// The trend of `members`' log-parameters over their trend_features: ridge regression about their means.
+ParameterTrend fit_trend(const std::vector<const PushFit*>& members, double ridge) {
+  ParameterTrend trend;
+  if (!(ridge > 0) || members.size() < 3) return trend;
+  const Eigen::Index n = static_cast<Eigen::Index>(members.size());
+  Eigen::MatrixXd F(n, kTrendFeatures);
+  Eigen::MatrixXd Y(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const PushFit& f = *members[static_cast<std::size_t>(i)];
+    F.row(i) = trend_features(f.descriptor).transpose();
+    Y.row(i) = f.parameters.vector().array().log().matrix().transpose();
+  }
+  F.rowwise() -= F.colwise().mean();
+  Y.rowwise() -= Y.colwise().mean();
+  const double nd = static_cast<double>(n);
+  const Eigen::Matrix<double, kTrendFeatures, kTrendFeatures> A =
+      F.transpose() * F / nd + ridge * Eigen::Matrix<double, kTrendFeatures, kTrendFeatures>::Identity();
+  trend.slope = A.ldlt().solve(F.transpose() * Y / nd).transpose();
+  trend.ridge = ridge;
+  return trend;
+}
+
+/// The central forecast of a plan from `members` (weighted by bandwidth h, moved along `trend`) and, when `spread`
+/// is set, the members' weighted RMS spread about it: the core of forecast_distribution_into and of the calibration.
 void central_and_spread(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
-                        const TipPlan& plan, const Eigen::Vector3d& pose0, const Eigen::VectorXd& times,
-                        const ForecastSettings& settings, Eigen::Ref<Eigen::MatrixX3d> mean,
-                        Eigen::Ref<Eigen::VectorXd> pos_spread, Eigen::Ref<Eigen::VectorXd> yaw_spread,
-                        Eigen::MatrixX3d& member, ForecastRun& run, CentralForecast mode, bool spread = true) {
+                        const ParameterTrend& trend, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                        const Eigen::VectorXd& times, const ForecastSettings& settings,
+                        Eigen::Ref<Eigen::MatrixX3d> mean, Eigen::Ref<Eigen::VectorXd> pos_spread,
+                        Eigen::Ref<Eigen::VectorXd> yaw_spread, Eigen::MatrixX3d& member, ForecastRun& run,
+                        CentralForecast mode, bool spread = true) {
   thread_local std::vector<double> w;
-  member_weights(members, h, describe_push(object, plan, pose0), w);
-  run = forecast_into(object, weighted_median_parameters(members, w), plan, pose0, times, mean, settings);
+  thread_local std::vector<ForecastParameters> parameters;
+  const PushDescriptor d = describe_push(object, plan, pose0);
+  member_weights(members, h, d, w);
+  parameters.resize(members.size());
+  for (std::size_t m = 0; m < members.size(); ++m) parameters[m] = parameters_along_trend(*members[m], trend, d);
+  run = forecast_into(object, weighted_median_parameters(parameters, w), plan, pose0, times, mean, settings);
   const bool ensemble_mean = mode == CentralForecast::EnsembleMean;
   if (!spread && !ensemble_mean) return;
   if (member.rows() != times.size()) member.resize(times.size(), 3);
@@ -156,7 +203,7 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
   for (std::size_t m = 0; m < members.size(); ++m) {
     if (!(w[m] > 0)) continue;
     total += w[m];
-    forecast_into(object, members[m]->parameters, plan, pose0, times, member, settings);
+    forecast_into(object, parameters[m], plan, pose0, times, member, settings);
     if (ensemble_mean) {
       sum += w[m] * member;
       sum_pos2 += w[m] * member.leftCols<2>().rowwise().squaredNorm();
@@ -348,11 +395,7 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   fit.descriptor = describe_push(c.forecast_object, c.plan, c.start_pose);
   fit.parameters = ForecastParameters{std::exp(theta[0]), std::exp(theta[1]), std::exp(theta[2])};
   // Standard errors: Ceres' covariance of the logarithms, scaled by the residuals' own variance.
-  ceres::Covariance::Options cov_options;
-  cov_options.algorithm_type = ceres::DENSE_SVD;
-  cov_options.null_space_rank = -1;
-  cov_options.min_reciprocal_condition_number = 1e-12;
-  ceres::Covariance covariance(cov_options);
+  ceres::Covariance covariance(fit_covariance_options());
   std::vector<std::pair<const double*, const double*>> blocks{{theta, theta}};
   double cov[9] = {0};
   if (covariance.Compute(blocks, &problem) && covariance.GetCovarianceBlock(theta, theta, cov)) {
@@ -505,11 +548,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   ForecastObject learned = object;
   learned.centre_of_friction_m = out.centre_m;
   // Standard errors: Ceres' covariance, scaled by the residuals' own variance (as fit_push_parameters).
-  ceres::Covariance::Options cov_options;
-  cov_options.algorithm_type = ceres::DENSE_SVD;
-  cov_options.null_space_rank = -1;
-  cov_options.min_reciprocal_condition_number = 1e-12;
-  ceres::Covariance covariance(cov_options);
+  ceres::Covariance covariance(fit_covariance_options());
   std::vector<std::pair<const double*, const double*>> blocks{{centre, centre}};
   for (const auto& t : theta) blocks.emplace_back(t.data(), t.data());
   const double variance = 2 * summary.final_cost / std::max(1, residual_count - static_cast<int>(3 * n + 2));
@@ -547,15 +586,15 @@ namespace {
 /// How well `members` (weighted by bandwidth h) forecast the recorded push `c` by their central forecast: its final
 /// and trajectory-mean errors, 1 mm and 1 degree alike. What learn chooses its settings by.
 double held_out_score(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
-                      const RecordedForecastCase& c, const ForecastSettings& settings, CentralForecast central,
-                      Eigen::MatrixX3d& member) {
+                      const ParameterTrend& trend, const RecordedForecastCase& c, const ForecastSettings& settings,
+                      CentralForecast central, Eigen::MatrixX3d& member) {
   std::vector<Eigen::Index> idx;
   const Eigen::VectorXd times = scoring_times(c, idx);
   Eigen::MatrixX3d mean(times.size(), 3);
   Eigen::VectorXd ps(times.size()), ys(times.size());
   ForecastRun run;
-  central_and_spread(object, members, h, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run, central,
-                     false);
+  central_and_spread(object, members, h, trend, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run,
+                     central, false);
   double pos = 0, yaw = 0;
   for (std::size_t k = 0; k < idx.size(); ++k) {
     pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
@@ -597,8 +636,8 @@ bool learned_centre_forecasts_better(const ForecastObject& object, const std::ve
     for (const auto& f : train_fits) own_members.push_back(&f);
     for (const auto& f : fit.fits) learned_members.push_back(&f);
     for (std::size_t q : test) {
-      own += held_out_score(object, own_members, 0, cases[q], options.settings, options.central, member);
-      learned += held_out_score(moved, learned_members, 0, cases[q], options.settings, options.central, member);
+      own += held_out_score(object, own_members, 0, {}, cases[q], options.settings, options.central, member);
+      learned += held_out_score(moved, learned_members, 0, {}, cases[q], options.settings, options.central, member);
     }
   }
   return learned < own;
@@ -616,6 +655,16 @@ void set_centre_of_friction_choice(LearnOptions& options, const std::string& cho
     options.centre_of_friction_min_pushes = 0;
   } else if (choice != "chosen") {
     throw InputError("centre of friction: 'chosen', 'learned' or 'centroid', not '" + choice + "'");
+  }
+}
+
+void set_trend_choice(LearnOptions& options, const std::string& choice) {
+  if (choice == "chosen") {
+    options.trend_ridges = kTrendCandidateRidges;
+  } else if (choice == "none") {
+    options.trend_ridges = {0.0};
+  } else {
+    throw InputError("parameter trend: 'chosen' or 'none', not '" + choice + "'");
   }
 }
 
@@ -656,8 +705,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   }
   const std::vector<PushFit>& learned_fits = model.pushes;
   const ForecastObject& learned_object = model.object;
-  std::vector<const PushFit*> all;
-  for (const auto& f : learned_fits) all.push_back(&f);
+  std::vector<ForecastParameters> all;
+  for (const auto& f : learned_fits) all.push_back(f.parameters);
   model.parameters = weighted_median_parameters(all, std::vector<double>(all.size(), 1.0));
   model.central = options.central;
   for (int i = 0; i < 3; ++i) {
@@ -678,22 +727,56 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     return others;
   };
 
-  // The bandwidth: the candidate whose leave-one-out forecasts of the learned pushes err least (final and trajectory
-  // mean, mm and degrees alike).
-  if (fits.size() >= 4 && bandwidths.size() > 1) {
-    double best = std::numeric_limits<double>::infinity();
-    for (double h : bandwidths) {
-      double score = 0;
-      for (std::size_t q = 0; q < fits.size(); ++q)
-        score += held_out_score(learned_object, others_of(q), h, cases[q], settings, options.central, member);
-      if (score < best - 1e-9) {
-        best = score;
-        model.similarity_bandwidth = h;
+  // The bandwidth and the trend's ridge weight: the pair whose leave-one-out forecasts of the learned pushes err least
+  // (final and trajectory mean, mm and degrees alike), the trend fitted on the others for each left-out push. A trend
+  // is kept only when it beats the best pair without one by more than one standard error of their paired per-push
+  // differences (the one-standard-error rule: a choice among 12 candidates on a dozen pushes otherwise picks noise).
+  std::vector<double> ridges = options.trend_ridges;
+  if (ridges.empty()) ridges = {0.0};
+  double ridge = 0;
+  if (fits.size() >= 4 && bandwidths.size() * ridges.size() > 1) {
+    struct Choice {
+      double h = 0, ridge = 0, total = std::numeric_limits<double>::infinity();
+      std::vector<double> per_push;
+    };
+    Choice with_trend, without_trend;
+    for (double r : ridges) {
+      std::vector<ParameterTrend> trends;
+      for (std::size_t q = 0; q < fits.size(); ++q) trends.push_back(fit_trend(others_of(q), r));
+      for (double h : bandwidths) {
+        Choice c{h, r, 0, {}};
+        for (std::size_t q = 0; q < fits.size(); ++q) {
+          c.per_push.push_back(
+              held_out_score(learned_object, others_of(q), h, trends[q], cases[q], settings, options.central, member));
+          c.total += c.per_push.back();
+        }
+        Choice& best = r > 0 ? with_trend : without_trend;
+        if (c.total < best.total - 1e-9) best = std::move(c);
       }
     }
+    const Choice* chosen = &without_trend;
+    if (without_trend.per_push.empty()) {
+      chosen = &with_trend;
+    } else if (!with_trend.per_push.empty() && with_trend.total < without_trend.total - 1e-9) {
+      const double n = static_cast<double>(fits.size());
+      double mean = 0, square = 0;
+      for (std::size_t q = 0; q < fits.size(); ++q) {
+        const double d = without_trend.per_push[q] - with_trend.per_push[q];
+        mean += d / n;
+        square += d * d / n;
+      }
+      const double standard_error = std::sqrt(std::max(0.0, square - mean * mean) / std::max(1.0, n - 1));
+      if (mean > standard_error) chosen = &with_trend;
+    }
+    model.similarity_bandwidth = chosen->h;
+    ridge = chosen->ridge;
   } else {
     model.similarity_bandwidth = bandwidths.size() == 1 ? bandwidths.front() : 0.0;
+    ridge = ridges.size() == 1 ? ridges.front() : 0.0;
   }
+  std::vector<const PushFit*> everyone;
+  for (const auto& f : learned_fits) everyone.push_back(&f);
+  model.trend = fit_trend(everyone, ridge);
   if (fits.size() >= 3) {
     std::vector<std::pair<double, double>> pos_ratio[3], yaw_ratio[3];
     for (std::size_t q = 0; q < fits.size(); ++q) {
@@ -703,8 +786,9 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       Eigen::MatrixX3d mean(times.size(), 3);
       Eigen::VectorXd ps(times.size()), ys(times.size());
       ForecastRun run;
-      central_and_spread(learned_object, others_of(q), model.similarity_bandwidth, c.plan, c.start_pose, times,
-                         settings, mean, ps, ys, member, run, options.central);
+      const std::vector<const PushFit*> others = others_of(q);
+      central_and_spread(learned_object, others, model.similarity_bandwidth, fit_trend(others, model.trend.ridge),
+                         c.plan, c.start_pose, times, settings, mean, ps, ys, member, run, options.central);
       const double weight = 1.0 / static_cast<double>(idx.size());
       for (std::size_t k = 0; k < idx.size(); ++k) {
         const Eigen::Index e = static_cast<Eigen::Index>(k);
@@ -732,11 +816,27 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
 
 ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor) {
   std::vector<const PushFit*> members;
-  for (const auto& f : model.pushes) members.push_back(&f);
+  std::vector<ForecastParameters> parameters;
+  for (const auto& f : model.pushes) {
+    members.push_back(&f);
+    parameters.push_back(parameters_along_trend(f, model.trend, descriptor));
+  }
   if (members.empty()) return model.parameters;
   std::vector<double> w;
   member_weights(members, model.similarity_bandwidth, descriptor, w);
-  return weighted_median_parameters(members, w);
+  return weighted_median_parameters(parameters, w);
+}
+
+ParameterTrend fit_parameter_trend(const std::vector<PushFit>& fits, double ridge) {
+  std::vector<const PushFit*> members;
+  for (const auto& f : fits) members.push_back(&f);
+  return fit_trend(members, ridge);
+}
+
+Eigen::Matrix<double, kTrendFeatures, 1> trend_features(const PushDescriptor& d) {
+  Eigen::Matrix<double, kTrendFeatures, 1> f;
+  f << d.angle_rad / (20 * kDeg), d.contact_body_m.x() / 0.015, d.contact_body_m.y() / 0.015, d.log_speed;
+  return f;
 }
 
 PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0) {
@@ -815,6 +915,17 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
   }
   j["pushes"] = pushes;
   j["similarity_bandwidth"] = m.similarity_bandwidth;
+  nlohmann::json slopes = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int k = 0; k < kTrendFeatures; ++k) row.push_back(m.trend.slope(i, k));
+    slopes.push_back(row);
+  }
+  j["parameter_trend"] = {{"ridge", m.trend.ridge},
+                          {"slope", slopes},
+                          {"max_shift_log", m.trend.max_shift_log},
+                          {"features", "angle / 20 deg, contact x / 15 mm, contact y / 15 mm, ln(speed [m/s])"},
+                          {"rows", "ln pusher_friction, ln torque_ratio_m, ln support_friction"}};
   j["central"] = central_forecast_name(m.central);
   j["regions"] = {{"level", 0.9},
                   {"position_scale", m.regions.position_scale},
@@ -945,6 +1056,25 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       m.similarity_bandwidth = number_at(j, "similarity_bandwidth", "model");
       if (m.similarity_bandwidth < 0) throw InputError("'similarity_bandwidth' must not be negative");
     }
+    if (j.contains("parameter_trend")) {  // version 3 on; optional
+      const auto& t = j.at("parameter_trend");
+      m.trend.ridge = number_at(t, "ridge", "parameter_trend");
+      m.trend.max_shift_log = number_at(t, "max_shift_log", "parameter_trend");
+      if (m.trend.ridge < 0 || m.trend.max_shift_log < 0)
+        throw InputError("parameter_trend: 'ridge' and 'max_shift_log' must not be negative");
+      const auto& rows = t.contains("slope") ? t.at("slope") : nlohmann::json();
+      if (!rows.is_array() || rows.size() != 3)
+        throw InputError("parameter_trend: 'slope' must be 3 rows of " + std::to_string(kTrendFeatures) + " numbers");
+      for (std::size_t i = 0; i < 3; ++i) {
+        if (!rows[i].is_array() || rows[i].size() != static_cast<std::size_t>(kTrendFeatures))
+          throw InputError("parameter_trend: 'slope' must be 3 rows of " + std::to_string(kTrendFeatures) + " numbers");
+        for (std::size_t k = 0; k < static_cast<std::size_t>(kTrendFeatures); ++k) {
+          if (!rows[i][k].is_number() || !std::isfinite(rows[i][k].get<double>()))
+            throw InputError("parameter_trend: every slope must be a finite number");
+          m.trend.slope(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i][k].get<double>();
+        }
+      }
+    }
     if (j.contains("central")) {
       if (!j.at("central").is_string()) throw InputError("'central' must be \"ensemble_mean\" or \"median\"");
       m.central = central_forecast_named(j.at("central").get<std::string>());
@@ -1012,8 +1142,9 @@ void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, c
     out.position_spread_m.setZero();
     out.yaw_spread_rad.setZero();
   } else {
-    central_and_spread(model.object, members, model.similarity_bandwidth, plan, pose0, times, model.settings, out.mean,
-                       out.position_spread_m, out.yaw_spread_rad, work.member, out.run, model.central);
+    central_and_spread(model.object, members, model.similarity_bandwidth, model.trend, plan, pose0, times,
+                       model.settings, out.mean, out.position_spread_m, out.yaw_spread_rad, work.member, out.run,
+                       model.central);
   }
   const RegionCalibration& r = model.regions;
   for (Eigen::Index k = 0; k < n; ++k) {
@@ -1034,9 +1165,12 @@ ForecastDistribution forecast_distribution(const ObjectModel& model, const TipPl
   d.times_s = times;
   ForecastWorkspace work;
   forecast_distribution_into(model, plan, pose0, times, d, work);
-  if (keep_members)
+  if (keep_members) {
+    const PushDescriptor described = describe_push(model.object, plan, pose0);
     for (const auto& f : model.pushes)
-      d.members.push_back(forecast_poses(model.object, f.parameters, plan, pose0, times, model.settings));
+      d.members.push_back(forecast_poses(model.object, parameters_along_trend(f, model.trend, described), plan, pose0,
+                                         times, model.settings));
+  }
   return d;
 }
 

@@ -28,8 +28,9 @@
 namespace pushpred {
 
 /// The version of the object file this library writes; it reads every version up to it (version 1 files have no
-/// "centre_of_friction" block: their centre of friction is the one in "object", the outline's centroid).
-inline constexpr int kObjectModelVersion = 2;
+/// "centre_of_friction" block: their centre of friction is the one in "object", the outline's centroid; versions 1
+/// and 2 have no "parameter_trend": their parameters do not follow the plan).
+inline constexpr int kObjectModelVersion = 3;
 
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.
@@ -73,6 +74,24 @@ PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, 
 /// The squared distance of two descriptors in units of their fixed scales: 20 degrees of angle (the dataset's step in
 /// push angle), 15 mm of contact point, a factor e of speed. The scales are set by physics, not fitted.
 double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b);
+
+/// The features a parameter trend is linear in: the push angle over 20 degrees, the contact point's body x and y over
+/// 15 mm, ln(speed) (the descriptor_distance2 scales).
+inline constexpr int kTrendFeatures = 4;
+Eigen::Matrix<double, kTrendFeatures, 1> trend_features(const PushDescriptor& d);
+
+/// How the learned pushes' parameters follow the plan: the logarithms of (mu_p, c, mu_s) linear in trend_features,
+/// fitted by ridge regression over the learned pushes. A forecast moves each learned push's parameters along the
+/// trend from where that push pushed to where the plan pushes (by at most `max_shift_log` e-folds, so that a plan
+/// beyond the learned ones does not extrapolate far), and the ensemble then spreads about the trend.
+struct ParameterTrend {
+  /// The ridge weight lambda of (1/n) sum of squared residuals + lambda |slope|^2 (features as trend_features);
+  /// 0: no trend (all slopes zero).
+  double ridge = 0;
+  Eigen::Matrix<double, 3, kTrendFeatures> slope = Eigen::Matrix<double, 3, kTrendFeatures>::Zero();
+  double max_shift_log = 1.0;
+  bool active() const { return ridge > 0; }
+};
 
 /// One push's own parameters: the best fit of the forecast to its recorded trajectory.
 struct PushFit {
@@ -163,6 +182,10 @@ struct ObjectModel {
   /// (the central parameters are `parameters`). Chosen by learn among 0, 2, 1 and 0.5 by the learned pushes' own
   /// leave-one-out error.
   double similarity_bandwidth = 0;
+  /// The parameters' trend over the plan (inactive: none). Chosen by learn with the bandwidth, among
+  /// LearnOptions::trend_ridges, by the learned pushes' own leave-one-out error; kept only when it beats the best
+  /// bandwidth without a trend by more than one standard error of their paired per-push differences.
+  ParameterTrend trend;
   CentralForecast central = CentralForecast::EnsembleMean;
   RegionCalibration regions;
   ForecastSettings settings;
@@ -176,6 +199,10 @@ struct ObjectModel {
 struct LearnOptions {
   CentralForecast central = CentralForecast::EnsembleMean;
   std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates
+  /// The trend's candidate ridge weights (0: no trend), each tried with every bandwidth; the trend is fitted anew on
+  /// the others for every left-out push. The default offers none (set_trend_choice "chosen" offers
+  /// kTrendCandidateRidges): on simulated pushes the in-fold choice did not forecast better (docs/forecast.md).
+  std::vector<double> trend_ridges = {0.0};
   ForecastSettings settings;
   /// Learn the centre of friction (fit_centre_of_friction) from this many pushes on (0: never; the object's own
   /// centre is kept, and so are the per-push fits).
@@ -193,6 +220,15 @@ void set_centre_of_friction_choice(LearnOptions& options, const std::string& cho
 /// The choice LearnOptions' defaults make.
 inline constexpr const char* kCentreOfFrictionDefaultChoice = "chosen";
 
+/// The ridge weights a chosen trend is picked among (0: none): a slope shrunk to a half or to 10/11 of its
+/// least-squares value for a feature spread over one unit.
+inline const std::vector<double> kTrendCandidateRidges = {0.0, 1.0, 0.1};
+/// Sets whether `options` learns a parameter trend: "none" (the defaults: never) or "chosen" (the ridge weight among
+/// kTrendCandidateRidges, with the bandwidth, by the learned pushes' own leave-one-out error). InputError otherwise.
+void set_trend_choice(LearnOptions& options, const std::string& choice);
+/// The choice LearnOptions' defaults make.
+inline constexpr const char* kTrendDefaultChoice = "none";
+
 /// Learns the object from the fits of its pushes (at least one; with `centre_of_friction_min_pushes` or more the
 /// centre of friction is fitted jointly and the pushes' own parameters refitted under it, when it forecasts the
 /// learned pushes better in cross-validation (`centre_of_friction_folds`); with three or more the
@@ -202,8 +238,12 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
                                const std::vector<PushFit>& fits, const LearnOptions& options = {});
 
-/// The parameters of a plan described by `descriptor`: the learned pushes' median, weighted by similarity (see
-/// similarity_bandwidth); the central trajectory under CentralForecast::MedianParameters.
+/// The trend of `fits`' parameters over their descriptors with ridge weight `ridge` (0: none). At least 3 fits for a
+/// trend; fewer give none.
+ParameterTrend fit_parameter_trend(const std::vector<PushFit>& fits, double ridge);
+
+/// The parameters of a plan described by `descriptor`: the learned pushes' median (each moved along the trend),
+/// weighted by similarity (see similarity_bandwidth); the central trajectory under CentralForecast::MedianParameters.
 ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor);
 
 /// The object file's JSON, and back. from_json throws InputError prefixed by `source` for a missing or bad field,
