@@ -353,7 +353,15 @@ nlohmann::json adequacy_json(const ModelAdequacy& a) {
             {"force_N", a.force_N},
             {"torque_Nm", a.torque_Nm},
             {"force_floor_N", a.force_floor_N},
-            {"torque_floor_Nm", a.torque_floor_Nm}}},
+            {"torque_floor_Nm", a.torque_floor_Nm},
+            {"structure_unexplained", a.structure_unexplained},
+            {"sensor_zeros_projected_pushes", a.pushes_zero_projected},
+            {"sensor_zeros_measured_pushes", a.zero_measured_pushes},
+            {"shared_force",
+             {{"force_N", a.shared_force_N},
+              {"force_N_std", a.shared_force_N_std},
+              {"p_value", a.shared_force_p_value},
+              {"unexplained", a.shared_force_unexplained}}}}},
           {"motion",
            {{"tested", a.motion_tested},
             {"unexplained", a.motion_unexplained},
@@ -499,7 +507,13 @@ std::string adequacy_markdown(const DiagnosisResult& r) {
     md << markdown_row({"force residual", "z " + fixed(a.force_statistic), fixed(a.force_threshold),
                         general(a.force_p_value), general(a.force_N) + " N, " + general(a.torque_Nm) + " N m",
                         general(a.force_floor_N) + " N, " + general(a.torque_floor_Nm) + " N m",
-                        a.force_unexplained ? "unexplained" : "explained"});
+                        a.structure_unexplained ? "unexplained" : "explained"});
+  if (a.force_tested && a.zero_measured_pushes >= 2)
+    md << markdown_row(
+        {"force shared by the " + std::to_string(a.zero_measured_pushes) + " pushes whose sensor zero is measured", "F",
+         "-", general(a.shared_force_p_value),
+         general(a.shared_force_N) + " +- " + general(a.shared_force_N_std) + " N", general(a.force_floor_N) + " N",
+         a.shared_force_unexplained ? "unexplained" : "explained"});
   if (a.motion_tested)
     md << markdown_row({"motion (" + std::to_string(a.phases) + " fit phases)", "max abs t " + fixed(a.motion_t),
                         fixed(a.motion_t_threshold), general(a.motion_p_value),
