@@ -88,11 +88,13 @@ std::string ModelAdequacy::verdict() const {
   if (!tested) return "not tested";
   if (explained) return "explained";
   std::string s = "unexplained residual:";
-  if (structure_unexplained)
+  // The signatures' structure, unless only the shared force is what is unexplained.
+  const bool structure = structure_unexplained || (force_unexplained && !shared_force_unexplained);
+  if (structure)
     s += printed(" %.3g N and %.3g N m of structured force (floors %.3g N, %.3g N m)", force_N, torque_Nm,
                  force_floor_N, torque_floor_Nm);
   if (shared_force_unexplained)
-    s += std::string(structure_unexplained ? ";" : "") +
+    s += std::string(structure ? ";" : "") +
          printed(" a force of %.3g N that the %.0f pushes whose sensor zero is measured share (floor %.3g N)",
                  shared_force_N, zero_measured_pushes, force_floor_N);
   if (motion_unexplained)
