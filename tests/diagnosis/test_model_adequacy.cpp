@@ -211,6 +211,24 @@ BOOST_AUTO_TEST_CASE(an_unknown_sensor_zero_on_pressed_pushes_leaves_a_clean_mod
   BOOST_TEST(as_recorded.torque_Nm > 2 * invariant.torque_Nm);
 }
 
+BOOST_AUTO_TEST_CASE(a_sensor_zeroed_on_every_push_is_taken_as_recorded) {
+  // Clean pushes 1 mm away and no zeros: the measured zeros spread by the sensor's noise, far below the force floor,
+  // and the test is the one that takes the zeros as recorded.
+  const PreparedPushes clean = prepare_clean(320530, 6);
+  ModelAdequacy a, as_recorded;
+  test_residual_structure(clean.data, {&clean.coulomb}, clean.context, {}, a);
+  AdequacyOptions recorded;
+  recorded.sensor_zeros = false;
+  test_residual_structure(clean.data, {&clean.coulomb}, clean.context, recorded, as_recorded);
+  BOOST_TEST_MESSAGE("zeros' spread " << a.zero_spread_N << " N, floor " << a.force_floor_N << " N");
+  BOOST_TEST(a.zero_spread_N < 0.5 * a.force_floor_N);
+  BOOST_TEST(a.pushes_zero_projected == 0);
+  BOOST_TEST(a.zero_measured_pushes == 0);
+  BOOST_TEST(a.force_statistic == as_recorded.force_statistic);
+  BOOST_TEST(a.force_N == as_recorded.force_N);
+  BOOST_TEST(!a.force_unexplained);
+}
+
 BOOST_AUTO_TEST_CASE(a_hidden_anisotropic_friction_is_still_unexplained_with_sensor_zeros_and_preloads) {
   // The support's friction half as large again along the body's x axis as along y (never in the catalogue), on
   // pushes half of which start pressed, each with its own zero: taking the zeros out of the adequacy test does not

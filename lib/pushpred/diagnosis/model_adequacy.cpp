@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <random>
 
@@ -51,6 +52,24 @@ double share_of(const Eigen::MatrixXd& Q, const Eigen::VectorXd& e) {
   if (!(total > 0) || Q.cols() == 0) return 0.0;
   return (Q.transpose() * e).squaredNorm() / total;
 }
+
+/// The measured zeros' spread about their mean [N], pooled over x and y (2 (m - 1) degrees of freedom).
+double zero_spread_N(const std::vector<std::optional<Eigen::Vector2d>>& zeros) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  int m = 0;
+  for (const auto& z : zeros)
+    if (z) {
+      mean += *z;
+      ++m;
+    }
+  mean /= m;
+  double sum2 = 0;
+  for (const auto& z : zeros)
+    if (z) sum2 += (*z - mean).squaredNorm();
+  return std::sqrt(sum2 / (2.0 * (m - 1)));
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 
@@ -254,17 +273,21 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
   Eigen::Vector2d zero_mean_std = Eigen::Vector2d::Zero();  // the standard error of the measured zeros' mean [N]
   int measured = 0;
   adequacy.pushes_zero_projected = 0;
+  std::vector<std::optional<Eigen::Vector2d>> zeros;
+  for (const auto& d : pushes) zeros.push_back(measured_sensor_zero_N(d));
+  measured = static_cast<int>(std::count_if(zeros.begin(), zeros.end(), [](const auto& z) { return z.has_value(); }));
+  // Measured zeros (two pushes or more) that spread by less than the force floor cannot leave structure the floor
+  // counts: those pushes keep their zeros as recorded (a sensor zeroed on every push is then tested as before).
+  adequacy.zero_spread_N = measured >= 2 ? zero_spread_N(zeros) : kNaN;
+  const bool measured_as_recorded = adequacy.zero_spread_N <= context.relevance_fraction * context.friction_force_N();
   if (options.sensor_zeros) {
     const EffectColumns zero_columns = sensor_zero_columns(pushes);
     Eigen::VectorXd unused;
     Eigen::MatrixXd Xz;
     regression.stack({&zero_columns}, unused, Xz);
     Xz = mask.asDiagonal() * Xz;
-    std::vector<std::optional<Eigen::Vector2d>> zeros;
-    for (const auto& d : pushes) zeros.push_back(measured_sensor_zero_N(d));
-    measured = static_cast<int>(std::count_if(zeros.begin(), zeros.end(), [](const auto& z) { return z.has_value(); }));
     // One measured push cannot tell its own zero from a shared force: its zero is then projected like a pressed one.
-    if (measured < 2) {
+    if (measured < 2 || measured_as_recorded) {
       std::fill(zeros.begin(), zeros.end(), std::nullopt);
       measured = 0;
     }
@@ -276,6 +299,7 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
     zero_shared = Eigen::MatrixXd::Zero(y.size(), 2);
     for (std::size_t p = 0; p < pushes.size(); ++p) {
       const auto c = static_cast<Eigen::Index>(2 * p);
+      if (measured_as_recorded && measured_sensor_zero_N(pushes[p])) continue;
       if (!zeros[p]) {
         projected.push_back(c);
         projected.push_back(c + 1);
@@ -293,6 +317,7 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
     augmented << Xm, Xz(Eigen::all, projected);
     Xm = std::move(augmented);
   }
+  if (!options.sensor_zeros) measured = 0;
   adequacy.zero_measured_pushes = measured;
   // The model's columns and the unmeasured zeros: what the shared part is tested against.
   const Eigen::MatrixXd Qa = orthonormal_basis(Xm);

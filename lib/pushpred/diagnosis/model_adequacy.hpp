@@ -67,6 +67,9 @@ struct ModelAdequacy {
   bool structure_unexplained = false;         ///< the signatures' structure: significant and above a floor
   int pushes_zero_projected = 0;  ///< pushes whose unmeasured sensor zero was projected out (AdequacyOptions)
   int zero_measured_pushes = 0;   ///< pushes whose sensor zero is measured at rest (0 when fewer than two)
+  /// The measured zeros' spread over the pushes [N] (NaN with fewer than two). Below the force floor the sensor is
+  /// taken as zeroed on every push, and its zeros are left as recorded.
+  double zero_spread_N = 0;
   /// The force those pushes share beyond their zeros' chance mean (a bias, a tilt) [N], its standard error, p.
   double shared_force_N = 0, shared_force_N_std = 0, shared_force_p_value = 1;
   bool shared_force_unexplained = false;  ///< significant and above the force floor
