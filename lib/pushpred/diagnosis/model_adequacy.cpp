@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <optional>
 #include <random>
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
@@ -50,15 +53,69 @@ double share_of(const Eigen::MatrixXd& Q, const Eigen::VectorXd& e) {
   return (Q.transpose() * e).squaredNorm() / total;
 }
 
+/// The measured zeros' spread about their mean [N], pooled over x and y (2 (m - 1) degrees of freedom).
+double zero_spread_N(const std::vector<std::optional<Eigen::Vector2d>>& zeros) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  int m = 0;
+  for (const auto& z : zeros)
+    if (z) {
+      mean += *z;
+      ++m;
+    }
+  mean /= m;
+  double sum2 = 0;
+  for (const auto& z : zeros)
+    if (z) sum2 += (*z - mean).squaredNorm();
+  return std::sqrt(sum2 / (2.0 * (m - 1)));
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 }  // namespace
+
+EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes) {
+  EffectColumns out(2 * pushes.size(), std::vector<Eigen::MatrixX3d>(pushes.size()));
+  for (std::size_t p = 0; p < pushes.size(); ++p) {
+    const DiagnosisPush& d = pushes[p];
+    const Eigen::Index n = d.rows();
+    for (auto& column : out) column[p] = Eigen::MatrixX3d::Zero(n, 3);
+    // The recorded f_C is the true force less the zero z, and the input torque uses it at the lever l = r_C - r_O:
+    // u errs by -(z, l x z), so d_hat carries +(z, l x z). The torque varies with the lever, so it is part of the
+    // same column, not a constant of its own.
+    Eigen::MatrixX3d zx(n, 3), zy(n, 3);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Eigen::Vector2d l = d.push.lever_m.row(d.first + k).transpose();
+      zx.row(k) << 1, 0, -l.y();
+      zy.row(k) << 0, 1, l.x();
+    }
+    out[2 * p][p] = d.as_observed(zx);
+    out[2 * p + 1][p] = d.as_observed(zy);
+  }
+  return out;
+}
+
+std::optional<Eigen::Vector2d> measured_sensor_zero_N(const DiagnosisPush& push) {
+  const std::vector<Eigen::Index> rest = samples_without_contact(push.push);
+  if (rest.size() < kRestSamplesForZero) return std::nullopt;
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const Eigen::Index k : rest) sum += push.push.force_N.row(k).transpose();
+  // At rest f_C = 0, so the recorded f_C is -z.
+  return (-sum / static_cast<double>(rest.size())).eval();
+}
 
 std::string ModelAdequacy::verdict() const {
   if (!tested) return "not tested";
   if (explained) return "explained";
   std::string s = "unexplained residual:";
-  if (force_unexplained)
+  // The signatures' structure, unless only the shared force is what is unexplained.
+  const bool structure = structure_unexplained || (force_unexplained && !shared_force_unexplained);
+  if (structure)
     s += printed(" %.3g N and %.3g N m of structured force (floors %.3g N, %.3g N m)", force_N, torque_Nm,
                  force_floor_N, torque_floor_Nm);
+  if (shared_force_unexplained)
+    s += std::string(structure ? ";" : "") +
+         printed(" a force of %.3g N that the %.0f pushes whose sensor zero is measured share (floor %.3g N)",
+                 shared_force_N, zero_measured_pushes, force_floor_N);
   if (motion_unexplained)
     s += std::string(force_unexplained ? ";" : "") +
          printed(" a prediction bias of %.2f mm and %.2f deg on the fit phases (floors %.2f mm, %.2f deg)",
@@ -203,6 +260,75 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
   y = y.cwiseProduct(mask);
   Xm = mask.asDiagonal() * Xm;
   Xs = mask.asDiagonal() * Xs;
+  // Each push's own sensor zero (sensor_zero_columns) is a constant the friction fit cannot tell from Coulomb
+  // friction on a straight push, so it is kept out of that fit and taken out here, where it can reach:
+  // - where it is not measured (the rod starts pressed), the push's zero columns join the model's columns: projected
+  //   out of the residual, of every signature and of every replicate (fixed effects);
+  // - where it is measured at rest, on two pushes or more, its deviation from the measured pushes' mean is taken out
+  //   of the residual; the mean is a force the pushes share (a bias, a tilt), which the zeros' own chance mean hides.
+  //   Its columns are projected too, and the shared part tested on its own (below), against the zeros' spread.
+  // With the zero's torque l x z in the same columns: on clean tuning trials with zeros drawn the structure the
+  // zeros leave is mostly in the torque channel (lever_arm the first hint), so the force channels alone would not do.
+  Eigen::MatrixXd zero_shared;                              // the measured pushes' zero columns, summed (y.size() x 2)
+  Eigen::Vector2d zero_mean_std = Eigen::Vector2d::Zero();  // the standard error of the measured zeros' mean [N]
+  int measured = 0;
+  adequacy.pushes_zero_projected = 0;
+  std::vector<std::optional<Eigen::Vector2d>> zeros;
+  for (const auto& d : pushes) zeros.push_back(measured_sensor_zero_N(d));
+  measured = static_cast<int>(std::count_if(zeros.begin(), zeros.end(), [](const auto& z) { return z.has_value(); }));
+  // Measured zeros (two pushes or more) that spread by less than the force floor cannot leave structure the floor
+  // counts: those pushes keep their zeros as recorded (a sensor zeroed on every push is then tested as before).
+  adequacy.zero_spread_N = measured >= 2 ? zero_spread_N(zeros) : kNaN;
+  const bool measured_as_recorded = adequacy.zero_spread_N <= context.relevance_fraction * context.friction_force_N();
+  if (options.sensor_zeros) {
+    const EffectColumns zero_columns = sensor_zero_columns(pushes);
+    Eigen::VectorXd unused;
+    Eigen::MatrixXd Xz;
+    regression.stack({&zero_columns}, unused, Xz);
+    Xz = mask.asDiagonal() * Xz;
+    // One measured push cannot tell its own zero from a shared force: its zero is then projected like a pressed one.
+    if (measured < 2 || measured_as_recorded) {
+      std::fill(zeros.begin(), zeros.end(), std::nullopt);
+      measured = 0;
+    }
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& z : zeros)
+      if (z) mean += *z / measured;
+    Eigen::Vector2d spread2 = Eigen::Vector2d::Zero();
+    std::vector<Eigen::Index> projected;
+    zero_shared = Eigen::MatrixXd::Zero(y.size(), 2);
+    for (std::size_t p = 0; p < pushes.size(); ++p) {
+      const auto c = static_cast<Eigen::Index>(2 * p);
+      if (measured_as_recorded && measured_sensor_zero_N(pushes[p])) continue;
+      if (!zeros[p]) {
+        projected.push_back(c);
+        projected.push_back(c + 1);
+        ++adequacy.pushes_zero_projected;
+        continue;
+      }
+      y -= Xz.middleCols(c, 2) * (*zeros[p] - mean);
+      zero_shared += Xz.middleCols(c, 2);
+      spread2 += (*zeros[p] - mean).cwiseAbs2();
+    }
+    // One spread for both axes (the zeros' scatter is taken as the same in x and y), on 2 (m - 1) degrees of freedom:
+    // with three or four measured pushes a spread per axis would rest on two or three.
+    if (measured >= 2) zero_mean_std.setConstant(std::sqrt(spread2.sum() / (2.0 * (measured - 1)) / measured));
+    Eigen::MatrixXd augmented(Xm.rows(), Xm.cols() + static_cast<Eigen::Index>(projected.size()));
+    augmented << Xm, Xz(Eigen::all, projected);
+    Xm = std::move(augmented);
+  }
+  if (!options.sensor_zeros) measured = 0;
+  adequacy.zero_measured_pushes = measured;
+  // The model's columns and the unmeasured zeros: what the shared part is tested against.
+  const Eigen::MatrixXd Qa = orthonormal_basis(Xm);
+  Eigen::MatrixXd shared_off;
+  if (measured >= 2) {
+    shared_off = zero_shared;
+    for (Eigen::Index j = 0; j < 2; ++j) shared_off.col(j) = off(Qa, zero_shared.col(j));
+    Eigen::MatrixXd augmented(Xm.rows(), Xm.cols() + 2);
+    augmented << Xm, zero_shared;
+    Xm = std::move(augmented);
+  }
   const Eigen::MatrixXd Qm = orthonormal_basis(Xm);
   const Eigen::VectorXd e0 = off(Qm, y);
   Eigen::MatrixXd Xs_off = Xs;
@@ -266,6 +392,11 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
     }
   }
   std::uniform_int_distribution<std::size_t> any_push(0, pushes.size() - 1);
+  // The shared force's fit on the measured pushes (least squares on the shared columns off the model's), and what
+  // noise alone gives it in each replicate [N].
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> shared_fit;
+  if (measured >= 2) shared_fit.compute(shared_off);
+  Eigen::MatrixX2d shared_noise(options.replicates, 2);
   for (int b = 0; b < options.replicates; ++b) {
     for (std::size_t p = 0; p < pushes.size(); ++p) {
       const Eigen::Index n = rows[p], row = origins[p].second;
@@ -279,7 +410,9 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
           for (int c = 0; c < 3; ++c) resampled(row + c * n + filled) = noise(from_row + c * m + (from + i) % m);
       }
     }
-    resampled = off(Qm, resampled.cwiseProduct(mask));
+    resampled = resampled.cwiseProduct(mask);
+    if (measured >= 2) shared_noise.row(b) = shared_fit.solve(off(Qa, resampled)).transpose();
+    resampled = off(Qm, resampled);
     null_shares.row(b) = group_shares(resampled).transpose();
     const Eigen::Vector2d chance = mean_squares(resampled);
     null_mean_squares += chance / static_cast<double>(options.replicates);
@@ -319,12 +452,46 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
     (c == 0 ? adequacy.force_N_std : adequacy.torque_Nm_std) = sd;
   }
   adequacy.force_tested = adequacy.force_floor_N > 0;
-  adequacy.force_unexplained =
+  adequacy.structure_unexplained =
       adequacy.force_tested && adequacy.force_p_value <= options.alpha &&
       (adequacy.force_N - options.floor_margin_std * adequacy.force_N_std > adequacy.force_floor_N ||
        adequacy.torque_Nm - options.floor_margin_std * adequacy.torque_Nm_std > adequacy.torque_floor_Nm);
 
+  // The force the measured pushes share, beyond their zeros' chance mean: F = (t_x^2 + t_y^2) / 2, t = c / se per
+  // axis, se^2 the zeros' mean's variance (their spread over the pushes / m) plus what noise gives the fit (the
+  // replicates' variance), against F(2, 2 (m - 1)) (the spread's degrees of freedom). Unexplained when significant at
+  // alpha and |c| exceeds the force floor by floor_margin_std of its standard errors.
   std::vector<ResidualHint> hints;
+  adequacy.force_unexplained = adequacy.structure_unexplained;
+  if (measured >= 2) {
+    const Eigen::VectorXd e_a = off(Qa, y);
+    const Eigen::Vector2d c = shared_fit.solve(e_a);
+    Eigen::Vector2d se;
+    for (int a = 0; a < 2; ++a) {
+      const double m = shared_noise.col(a).mean();
+      const double noise_var =
+          (shared_noise.col(a).array() - m).square().sum() / std::max(1.0, static_cast<double>(options.replicates - 1));
+      se(a) = std::sqrt(zero_mean_std(a) * zero_mean_std(a) + noise_var);
+    }
+    const double F = se.minCoeff() > 0 ? 0.5 * c.cwiseQuotient(se).squaredNorm() : 0.0;
+    // F(2, d) exceeds F with probability (1 + 2 F / d)^(-d / 2) (chi^2_2 / 2 is exponential; its tail at F times a
+    // chi^2_d / d is that variable's moment-generating function at -F).
+    const double dof = 2.0 * (measured - 1);
+    const double p = std::pow(1 + 2 * F / dof, -dof / 2);
+    adequacy.shared_force_N = c.norm();
+    adequacy.shared_force_N_std = c.norm() > 0 ? std::sqrt(c.cwiseAbs2().dot(se.cwiseAbs2())) / c.norm() : se.norm();
+    adequacy.shared_force_p_value = p;
+    adequacy.shared_force_unexplained =
+        adequacy.force_tested && p <= options.alpha &&
+        adequacy.shared_force_N - options.floor_margin_std * adequacy.shared_force_N_std > adequacy.force_floor_N;
+
+    adequacy.force_unexplained = adequacy.force_unexplained || adequacy.shared_force_unexplained;
+    const double share = share_of(orthonormal_basis(shared_off), e_a);
+    hints.push_back({"shared_force",
+                     "a force the pushes whose sensor zero is measured share (a sensor bias, a support that is not "
+                     "level)",
+                     share, adequacy.force_share > 0 ? share / adequacy.force_share : 0.0});
+  }
   for (const auto& s : signatures) {
     Eigen::VectorXd unused;
     Eigen::MatrixXd X;

@@ -31,6 +31,7 @@
 // residual are hints (ResidualHint), not findings.
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,7 +63,16 @@ struct ModelAdequacy {
   double force_N_std = 0, torque_Nm_std = 0;  ///< their standard errors: the replicates' spread of that RMS
   double force_floor_N = 0;                   ///< kappa mu m g
   double torque_floor_Nm = 0;                 ///< kappa mu m g rho
-  bool force_unexplained = false;             ///< significant and above a floor
+  bool force_unexplained = false;             ///< the structure or the shared force (below) is unexplained
+  bool structure_unexplained = false;         ///< the signatures' structure: significant and above a floor
+  int pushes_zero_projected = 0;  ///< pushes whose unmeasured sensor zero was projected out (AdequacyOptions)
+  int zero_measured_pushes = 0;   ///< pushes whose sensor zero is measured at rest (0 when fewer than two)
+  /// The measured zeros' spread over the pushes [N] (NaN with fewer than two). Below the force floor the sensor is
+  /// taken as zeroed on every push, and its zeros are left as recorded.
+  double zero_spread_N = 0;
+  /// The force those pushes share beyond their zeros' chance mean (a bias, a tilt) [N], its standard error, p.
+  double shared_force_N = 0, shared_force_N_std = 0, shared_force_p_value = 1;
+  bool shared_force_unexplained = false;  ///< significant and above the force floor
   // Motion.
   bool motion_tested = false;
   int phases = 0;
@@ -112,7 +122,22 @@ struct AdequacyOptions {
   double floor_margin_std = 1.0;
   double alpha = 0.01;
   std::uint64_t seed = 0x5eed;  ///< fixed: the same data give the same verdict
+  /// Make the force part invariant to each push's own sensor zero (see sensor_zero_columns()); false: the zeros
+  /// are taken as recorded.
+  bool sensor_zeros = true;
 };
+
+/// Rest samples a push needs for its sensor zero to count as measured (as the force-offset test needs).
+inline constexpr std::size_t kRestSamplesForZero = 5;
+
+/// What each push's own constant sensor zero z = (z_x, z_y) [N, world frame] puts in d_hat, as EffectColumns with
+/// two columns per push (2p: z_x, 2p + 1: z_y), zero on every other push: the force z and its torque l x z about the
+/// object centre at the measured lever l = r_C - r_O, through the observer like any regressor.
+EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes);
+
+/// The push's sensor zero z [N] measured where the sensor's true force is zero (samples_without_contact); none on a
+/// push whose rod starts pressed (or with fewer than kRestSamplesForZero such samples).
+std::optional<Eigen::Vector2d> measured_sensor_zero_N(const DiagnosisPush& push);
 
 /// The force part and the hints. `model` are the corrected model's columns in the friction base (every one whose
 /// amount the residual still carries: the friction law, its refinements, the found force laws). Fills the force

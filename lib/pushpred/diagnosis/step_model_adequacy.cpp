@@ -25,13 +25,19 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   a.tested = a.force_tested || a.motion_tested;
   a.explained = !(a.force_unexplained || a.motion_unexplained);
   a.statistic = diagnosis_format(
-      "force residual: the largest standardised R^2 of one generic signature on the "
-      "corrected model's residual (fit pushes, sliding samples), against a block bootstrap "
-      "of that residual (%.0f replicates, blocks of %.2f s, the model re-fitted in each); "
-      "motion: the largest |t| "
-      "of the fit phases' mean signed errors, against random sign flips of the phases; each "
-      "significant at p <= %.3g",
-      a.replicates, options.block_s, a.alpha);
+                    "force residual: the largest standardised R^2 of one generic signature on the "
+                    "corrected model's residual (fit pushes, sliding samples), against a block bootstrap "
+                    "of that residual (%.0f replicates, blocks of %.2f s, the model re-fitted in each), ",
+                    a.replicates, options.block_s) +
+                diagnosis_format(
+                    "invariant to each push's own sensor zero (projected out where the rod starts "
+                    "pressed; where measured at rest, the force the pushes share tested against the "
+                    "zeros' spread, F(2, %.0f)); ",
+                    2.0 * std::max(0, a.zero_measured_pushes - 1)) +
+                diagnosis_format(
+                    "motion: the largest |t| of the fit phases' mean signed errors, against random "
+                    "sign flips of the phases; each significant at p <= %.3g",
+                    a.alpha);
   a.basis = diagnosis_format("%.0f %% of the friction force mu m g (%.3g N) and of its torque mu m g rho; ",
                              100 * floors.relevance_fraction, floors.friction_force_N()) +
             diagnosis_format("%.0f %% of how far the object moves in a fit phase (hold's error %.2f mm, %.2f deg)",
@@ -40,6 +46,10 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
                  diagnosis_format(" (force: largest standardised R^2 %.2f, null quantile %.2f, p %.3f; ",
                                   a.force_statistic, a.force_threshold, a.force_p_value) +
                  diagnosis_format("%.3g N, %.3g N m; ", a.force_N, a.torque_Nm) +
+                 diagnosis_format("sensor zeros projected on %.0f pushes, measured on %.0f, ", a.pushes_zero_projected,
+                                  a.zero_measured_pushes) +
+                 diagnosis_format("their shared force %.3g +- %.3g N, p %.3f; ", a.shared_force_N, a.shared_force_N_std,
+                                  a.shared_force_p_value) +
                  diagnosis_format("motion |t| %.2f, null quantile %.2f, p %.3f; ", a.motion_t, a.motion_t_threshold,
                                   a.motion_p_value) +
                  diagnosis_format("bias %.2f mm, %.2f deg)", a.position_bias_mm, a.yaw_bias_deg));
