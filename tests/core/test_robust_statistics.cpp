@@ -2,7 +2,6 @@
 // and the property they are used for, that one wild value among several does not move them far.
 #include <boost/test/unit_test.hpp>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "pushpred/core/robust_statistics.hpp"
@@ -40,18 +39,6 @@ BOOST_AUTO_TEST_CASE(the_standard_deviation_divides_by_n_minus_one_and_trusts_ev
   BOOST_TEST(standard_deviation({25.3, 24.9, 25.1, 77.0}) > 80 * robust_spread({25.3, 24.9, 25.1, 77.0}));
   BOOST_TEST(std::isnan(standard_deviation({5.0})));
   BOOST_TEST(std::isnan(standard_deviation({})));
-}
-
-BOOST_AUTO_TEST_CASE(a_t_statistic_is_put_on_the_normal_scale_by_its_tail_probability) {
-  // Tabled two-sided 5 % points: t(1) 12.706, t(4) 2.776, t(30) 2.042; the normal's 1.960.
-  BOOST_TEST(normal_equivalent_of_t(12.706, 1) == 1.95996, boost::test_tools::tolerance(1e-4));
-  BOOST_TEST(normal_equivalent_of_t(-2.776, 4) == 1.95996, boost::test_tools::tolerance(1e-3));
-  BOOST_TEST(normal_equivalent_of_t(2.042, 30) == 1.95996, boost::test_tools::tolerance(1e-3));
-  // Many degrees of freedom: the t is already normal.
-  BOOST_TEST(normal_equivalent_of_t(3.0, 1e7) == 3.0, boost::test_tools::tolerance(1e-5));
-  BOOST_TEST(normal_equivalent_of_t(3.0, std::numeric_limits<double>::infinity()) == 3.0);
-  // A t of 6 from two values (one degree of freedom) is not significant at 5 %.
-  BOOST_TEST(normal_equivalent_of_t(6.0, 1) < 1.95996);
 }
 
 BOOST_AUTO_TEST_SUITE_END()

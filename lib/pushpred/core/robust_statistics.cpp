@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unsupported/Eigen/SpecialFunctions>
 
 namespace pushpred {
 
@@ -41,15 +40,6 @@ double standard_deviation(const std::vector<double>& values) {
   double sum = 0;
   for (double x : values) sum += (x - mean) * (x - mean);
   return std::sqrt(sum / static_cast<double>(n - 1));
-}
-
-double normal_equivalent_of_t(double t, double dof) {
-  const double magnitude = std::abs(t);
-  if (!(dof > 0) || std::isinf(dof) || std::isnan(t)) return magnitude;
-  // Two-sided tail of Student's t: I_{dof / (dof + t^2)}(dof / 2, 1 / 2).
-  const double p = Eigen::numext::betainc(0.5 * dof, 0.5, dof / (dof + t * t));
-  if (!(p > 0)) return magnitude;  // beyond double precision: the t quantile is the larger anyway
-  return std::max(0.0, -Eigen::numext::ndtri(0.5 * p));
 }
 
 }  // namespace pushpred

@@ -21,9 +21,4 @@ double robust_spread(const std::vector<double>& values);
 /// The sample standard deviation (divided by n - 1). NaN for fewer than two values.
 double standard_deviation(const std::vector<double>& values);
 
-/// The standard normal deviate |z| whose two-sided tail probability equals that of |t| under Student's t with `dof`
-/// degrees of freedom: a t statistic whose standard error comes from a few values (say the spread of a few pushes'
-/// means), put on the scale a Wald test reads. |t| for infinite dof.
-double normal_equivalent_of_t(double t, double dof);
-
 }  // namespace pushpred

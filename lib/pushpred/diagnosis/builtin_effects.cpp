@@ -394,26 +394,13 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     }
     const double P = static_cast<double>(blocks.size());
     fit.effective_samples = std::max(neff, 2.0);
-    // A variance from the spread of P pushes' means has P - 1 degrees of freedom per axis, pooled over the two axes
-    // (a sensor's zero wanders alike in x and y): its t is read through Student's t, not as if it were normal (two
-    // pushes whose zeros happen to agree gave a t of 6 and a "bias" otherwise), and the pushes, not their samples,
-    // are then the observations the BIC penalty counts.
-    const double pooled_spread = P >= 2 ? 0.5 * (between(0) + between(1)) / (P - 1) / P : 0.0;
     double wald = 0;
-    bool from_pushes = false;
     for (int c = 0; c < 2; ++c) {
       double v = within(c);
-      const double from_spread = pooled_spread;
-      const bool spread_rules = from_spread > v;
-      if (spread_rules) v = from_spread;
-      from_pushes = from_pushes || spread_rules;
+      if (P >= 2) v = std::max(v, between(c) / (P - 1) / P);
       fit.covariance(c, c) = v;
-      if (!(v > 0)) continue;
-      const double t = mean(c) / std::sqrt(v);
-      const double z = spread_rules ? normal_equivalent_of_t(t, 2 * (P - 1)) : t;
-      wald += z * z;
+      wald += v > 0 ? mean(c) * mean(c) / v : 0.0;
     }
-    if (from_pushes) fit.effective_samples = std::max(P, 2.0);
     fit.score = wald - 2 * std::log(fit.effective_samples);
     if (one_push) {
       fit.score = -std::numeric_limits<double>::infinity();
