@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -164,6 +165,26 @@ BOOST_AUTO_TEST_CASE(a_listed_file_outside_the_output_is_refused) {
   const auto manifest = partial_manifest("predict", {1, 1}, {"a.h5"}, {}, {item});
   const std::string message = input_error([&] { check_partial_outputs({in_memory("p", manifest, {})}); });
   BOOST_TEST(contains(message, "not a path inside the output"));
+}
+
+BOOST_AUTO_TEST_CASE(counts_and_indices_that_are_no_whole_numbers_in_range_are_refused_by_name) {
+  PartialItem item;
+  item.index = 0;
+  item.result_json = partial_result_text(nlohmann::json::object());
+  const nlohmann::json good = nlohmann::json::parse(partial_manifest("predict", {1, 1}, {"a.h5"}, {}, {item}));
+  // Each field as a hostile file could give it: a fraction, a number far beyond the type, a negative index.
+  const std::vector<std::pair<nlohmann::json::json_pointer, nlohmann::json>> edits = {
+      {"/inputs/count"_json_pointer, 3e95},
+      {"/inputs/count"_json_pointer, 1.5},
+      {"/inputs/count"_json_pointer, std::numeric_limits<std::uint64_t>::max()},
+      {"/shard/index"_json_pointer, 1e10},
+      {"/items/0/index"_json_pointer, -1}};
+  for (const auto& [field, value] : edits) {
+    nlohmann::json hostile = good;
+    hostile[field] = value;
+    const std::string message = input_error([&] { check_partial_outputs({in_memory("p", hostile.dump(), {})}); });
+    BOOST_TEST((contains(message, "is not a whole number in range") || contains(message, "more than")), message);
+  }
 }
 
 BOOST_AUTO_TEST_CASE(a_folder_that_is_no_partial_output_says_so) {
