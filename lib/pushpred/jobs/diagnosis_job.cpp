@@ -15,6 +15,7 @@
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 #include "pushpred/runtime/batch_runner.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace fs = std::filesystem;
 
@@ -55,7 +56,7 @@ std::unique_ptr<BatchRenderer<DiagnosedObject>> diagnosis_renderer(StagedOutput&
   try {
     if (!options.at("per_object").get<bool>()) throw InputError("not --per-object");
     const auto& read = options.at("read");
-    pushes_read = read.at("pushes").get<std::size_t>();
+    pushes_read = json_whole_number<std::size_t>(read.at("pushes"), "pushes");
     for (const auto& f : read.at("failures"))
       read_failures.push_back({f.at("source").get<std::string>(), f.at("reason").get<std::string>()});
   } catch (const std::exception&) {

@@ -55,9 +55,9 @@ RelationParameters relation_from(const nlohmann::json& j) {
         num_from(m.at(3));
   }
   p.residual_std = vec3_from(j.at("residual_std"));
-  p.samples = j.at("samples").get<long>();
+  p.samples = json_whole_number<long>(j.at("samples"), "samples");
   p.effective_samples = num_from(j.at("effective_samples"));
-  p.intervals = j.at("intervals").get<long>();
+  p.intervals = json_whole_number<long>(j.at("intervals"), "intervals");
   p.loss_scale = vec3_from(j.at("loss_scale"));
   return p;
 }
@@ -129,7 +129,7 @@ PushStudy push_study_from_exact_json(const nlohmann::json& j) {
     for (const auto& t : j.at("intervals")) s.intervals.push_back(interval_from(t));
     for (const auto& p : j.at("phases")) {
       PhaseResult r;
-      r.phase = p.at("phase").get<int>();
+      r.phase = json_whole_number<int>(p.at("phase"), "phase");
       r.interval = interval_from(p.at("interval"));
       r.relation = relation_from(p.at("relation"));
       r.note = p.at("note").get<std::string>();
@@ -169,7 +169,7 @@ ErrorSummary error_summary_from_exact_json(const nlohmann::json& j) {
   if (!j.is_array()) throw InputError("an error summary is not an array of 7 numbers");
   if (j.size() != 7) throw InputError("an error summary holds " + std::to_string(j.size()) + " numbers, not 7");
   ErrorSummary e;
-  e.phases = j[0].get<int>();
+  e.phases = json_whole_number<int>(j[0], "phases");
   double* fields[] = {&e.pos_mm_mean,    &e.x_mm_mean,    &e.y_mm_mean,
                       &e.theta_deg_mean, &e.final_pos_mm, &e.final_theta_deg};
   for (std::size_t k = 0; k < 6; ++k) *fields[k] = exact_number(j[k + 1]);
@@ -225,8 +225,8 @@ nlohmann::json validation_trial_exact_json(const ValidationTrial& t) {
 ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
   try {
     ValidationTrial t;
-    t.index = j.at("index").get<int>();
-    t.seed = j.at("seed").get<std::uint64_t>();
+    t.index = json_whole_number<int>(j.at("index"), "index");
+    t.seed = json_whole_number<std::uint64_t>(j.at("seed"), "seed");
     t.true_kind = j.at("true_kind").get<std::string>();
     t.amount = exact_number(j.at("amount"));
     t.floor = exact_number(j.at("floor"));
@@ -236,7 +236,7 @@ ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
     t.contact_friction = exact_number(j.at("contact_friction"));
     t.contact_stiffness_N_m = exact_number(j.at("contact_stiffness_N_m"));
     t.pressure_rim_weight = exact_number(j.at("pressure_rim_weight"));
-    t.pushes = j.at("pushes").get<int>();
+    t.pushes = json_whole_number<int>(j.at("pushes"), "pushes");
     t.named = j.at("named").get<std::vector<std::string>>();
     t.negligible = j.at("negligible").get<std::vector<std::string>>();
     t.true_named = j.at("true_named").get<bool>();
@@ -248,7 +248,7 @@ ValidationTrial validation_trial_from_exact_json(const nlohmann::json& j) {
     t.true_floor = exact_number(j.at("true_floor"));
     t.true_note = j.at("true_note").get<std::string>();
     t.hidden = j.at("hidden").get<bool>();
-    t.preloaded_pushes = j.at("preloaded_pushes").get<int>();
+    t.preloaded_pushes = json_whole_number<int>(j.at("preloaded_pushes"), "preloaded_pushes");
     t.adequacy_tested = j.at("adequacy_tested").get<bool>();
     t.explained = j.at("explained").get<bool>();
     held_out_errors_from_exact_json(
@@ -287,11 +287,11 @@ DiagnosedObject diagnosed_object_from_exact_json(const nlohmann::json& j) {
   try {
     DiagnosedObject d;
     d.outcome.name = j.at("name").get<std::string>();
-    d.outcome.pushes = j.at("pushes").get<std::size_t>();
+    d.outcome.pushes = json_whole_number<std::size_t>(j.at("pushes"), "pushes");
     d.outcome.error = j.at("error").get<std::string>();
     d.printed = j.at("printed").get<std::string>();
     d.complaints = j.at("complaints").get<std::string>();
-    d.left_out = j.at("left_out").get<std::size_t>();
+    d.left_out = json_whole_number<std::size_t>(j.at("left_out"), "left_out");
     const auto& o = j.at("overview");
     if (o.is_null()) return d;
     DiagnosisResult r;

@@ -12,6 +12,7 @@
 #include "pushpred/jobs/partial_codecs.hpp"
 #include "pushpred/reports/validation_outputs.hpp"
 #include "pushpred/runtime/batch_runner.hpp"
+#include "pushpred/runtime/shard.hpp"
 
 namespace fs = std::filesystem;
 
@@ -39,11 +40,11 @@ nlohmann::json options_json(const ValidationOptions& o) {
 ValidationOptions options_from(const nlohmann::json& j) {
   try {
     ValidationOptions o;
-    o.trials_per_kind = j.at("trials_per_kind").get<int>();
-    o.seed = j.at("seed").get<std::uint64_t>();
+    o.trials_per_kind = json_whole_number<int>(j.at("trials_per_kind"), "trials_per_kind");
+    o.seed = json_whole_number<std::uint64_t>(j.at("seed"), "seed");
     o.kinds = j.at("kinds").get<std::vector<std::string>>();
-    o.min_pushes = j.at("min_pushes").get<int>();
-    o.max_pushes = j.at("max_pushes").get<int>();
+    o.min_pushes = json_whole_number<int>(j.at("min_pushes"), "min_pushes");
+    o.max_pushes = json_whole_number<int>(j.at("max_pushes"), "max_pushes");
     o.min_floor_multiple = exact_number(j.at("min_floor_multiple"));
     o.max_floor_multiple = exact_number(j.at("max_floor_multiple"));
     o.diagnosis.relevance_fraction = exact_number(j.at("relevance_fraction"));

@@ -399,27 +399,6 @@ nlohmann::json MergedItem::result() const {
   return nlohmann::json::parse(part->result_text(*result_at));
 }
 
-namespace {
-
-/// A whole-number field of a partial output. nlohmann's get<> of a fraction or of a number beyond the type into an
-/// integer is undefined behaviour, so anything but a whole number that T holds is refused, naming the field.
-template <class T>
-T whole_number(const nlohmann::json& v, const char* what) {
-  if (v.is_number_unsigned()) {
-    const auto u = v.get<std::uint64_t>();
-    if (u <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())) return static_cast<T>(u);
-  } else if (v.is_number_integer()) {
-    const auto s = v.get<std::int64_t>();
-    const bool fits =
-        s < 0 ? std::numeric_limits<T>::is_signed && s >= static_cast<std::int64_t>(std::numeric_limits<T>::min())
-              : static_cast<std::uint64_t>(s) <= static_cast<std::uint64_t>(std::numeric_limits<T>::max());
-    if (fits) return static_cast<T>(s);
-  }
-  throw InputError(std::string("its ") + what + " is not a whole number in range: " + v.dump());
-}
-
-}  // namespace
-
 MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
   if (given.empty()) throw InputError("merge: no partial outputs given");
   MergedParts merged;
@@ -437,9 +416,9 @@ MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
       if (!m.is_object() || m.value("pushpred_partial", 0) != kPartialFormat)
         throw InputError("not a partial output of pushpred (no \"pushpred_partial\": 1)");
       const std::string command = m.at("command").get<std::string>();
-      const int index = whole_number<int>(m.at("shard").at("index"), "shard index");
-      const int n = whole_number<int>(m.at("shard").at("count"), "shard count");
-      const std::size_t inputs = whole_number<std::size_t>(m.at("inputs").at("count"), "input count");
+      const int index = json_whole_number<int>(m.at("shard").at("index"), "its shard index");
+      const int n = json_whole_number<int>(m.at("shard").at("count"), "its shard count");
+      const std::size_t inputs = json_whole_number<std::size_t>(m.at("inputs").at("count"), "its input count");
       const std::string print = m.at("inputs").at("fingerprint").get<std::string>();
       const std::string version = m.at("pushpred_version").get<std::string>();
       if (n < 1 || index < 1 || index > n)
@@ -479,13 +458,13 @@ MergedParts check_partial_outputs(std::vector<PartialOutput> given) {
       for (const auto& entry : m.at("items")) {
         MergedItem mi;
         mi.part = &part;
-        mi.index = whole_number<std::size_t>(entry.at("index"), "item index");
+        mi.index = json_whole_number<std::size_t>(entry.at("index"), "its item index");
         if (mi.index >= count)
           throw InputError("its item " + std::to_string(mi.index) + " is beyond the " + std::to_string(count) +
                            " inputs");
         if (entry.contains("result")) {
           // Its position among the part's result texts (partial_output, read_partial_output).
-          const std::size_t at = whole_number<std::size_t>(entry.at("result"), "result position");
+          const std::size_t at = json_whole_number<std::size_t>(entry.at("result"), "its result position");
           if (at >= part.results) throw InputError("its result " + std::to_string(at) + " is not held");
           mi.result_at = at;
           mi.files = entry.at("files").get<std::vector<std::string>>();

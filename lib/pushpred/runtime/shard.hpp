@@ -19,8 +19,10 @@
 //
 // and each item's files, at the relative paths the item lists (the files one run writes for that item).
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -30,9 +32,28 @@
 #include <vector>
 
 #include "pushpred/core/batch.hpp"
+#include "pushpred/core/error.hpp"
 #include "pushpred/runtime/output_files.hpp"
 
 namespace pushpred {
+
+/// A whole-number field of a file pushpred wrote (a partial output, its results and options). nlohmann's get<> of a
+/// fraction or of a number beyond the type into an integer is undefined behaviour, so anything but a whole number
+/// that T holds is refused as an InputError that starts with `what`.
+template <class T>
+T json_whole_number(const nlohmann::json& v, const std::string& what) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())) return static_cast<T>(u);
+  } else if (v.is_number_integer()) {
+    const auto s = v.get<std::int64_t>();
+    const bool fits =
+        s < 0 ? std::numeric_limits<T>::is_signed && s >= static_cast<std::int64_t>(std::numeric_limits<T>::min())
+              : static_cast<std::uint64_t>(s) <= static_cast<std::uint64_t>(std::numeric_limits<T>::max());
+    if (fits) return static_cast<T>(s);
+  }
+  throw InputError(what + " is not a whole number in range: " + v.dump());
+}
 
 /// What a batch command did: the failures to list, how many inputs gave results, and what it prints on stdout.
 /// `partial`: a shard's partial output was written (its failures are listed, but a merge decides the exit code).
