@@ -307,7 +307,7 @@ enum class SupportFrictionPart {
   ReplacesRelation,  ///< the friction law that replaces the paper's relation as the base (at most one is selected)
   /// Its one parameter adds to the friction law's coefficient in the torque channel only (the support's friction
   /// torque scales with mu + theta): the sum must stay positive, or the fitted friction would drive the rotation
-  /// (support_torque_coefficient in the diagnosis).
+  /// (DiagnosisContext::support_coefficients in the diagnosis).
   ScalesTorque,
 };
 

@@ -110,5 +110,7 @@ double measured_rod_gap_m(const SynchronisedPush& push, Eigen::Index k);
 /// presses before the tip moves (a preload) makes its rest anything but force-free: such a push gives none. A shape
 /// without an outline cannot be measured so: its samples before the tip moves are taken, as a gap is then assumed.
 std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push);
+/// Such samples a push needs for its sensor zero to count as measured (the force-offset test, the adequacy test).
+inline constexpr std::size_t kRestSamplesForZero = 5;
 
 }  // namespace pushpred

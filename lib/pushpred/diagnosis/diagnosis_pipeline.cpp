@@ -189,10 +189,11 @@ RegressionFit DiagnosisContext::fit_selected(const std::vector<DiagnosisPush>& d
   return ResidualRegression(data, group).fit(pointers, extra);
 }
 
-double DiagnosisContext::support_torque_coefficient(const std::vector<Selection>& selected,
-                                                    const RegressionFit& fit) const {
+DiagnosisContext::SupportCoefficients DiagnosisContext::support_coefficients(const std::vector<Selection>& selected,
+                                                                             const RegressionFit& fit) const {
   // The friction-law group's parameters come in `selected`'s order (fit_selected, greedy_search), then any candidate.
-  double coefficient = 0;
+  SupportCoefficients out;
+  double torque = 0;
   bool law = false;
   Eigen::Index j = 0;
   for (const auto& s : selected) {
@@ -200,27 +201,16 @@ double DiagnosisContext::support_torque_coefficient(const std::vector<Selection>
     if (j >= fit.theta.size()) break;
     const CandidateEffect& e = effect(s.candidate);
     if (replaces_relation(e)) {
-      coefficient += fit.theta(j);
+      torque += fit.theta(j);
+      out.mu = fit.theta(j);
       law = true;
     } else if (scales_support_torque(e)) {
-      coefficient += fit.theta(j);
+      torque += fit.theta(j);
     }
     j += static_cast<Eigen::Index>(e.parameters().size());
   }
-  return law ? coefficient : 1.0;
-}
-
-double DiagnosisContext::support_friction_coefficient(const std::vector<Selection>& selected,
-                                                      const RegressionFit& fit) const {
-  Eigen::Index j = 0;
-  for (const auto& s : selected) {
-    if (!in_group(s.candidate, Relation::Friction)) continue;
-    if (j >= fit.theta.size()) break;
-    const CandidateEffect& e = effect(s.candidate);
-    if (replaces_relation(e)) return fit.theta(j);
-    j += static_cast<Eigen::Index>(e.parameters().size());
-  }
-  return 1.0;
+  if (law) out.torque = torque;
+  return out;
 }
 
 bool DiagnosisContext::has_friction_law(const std::vector<Selection>& selected) const {

@@ -83,14 +83,19 @@ struct DiagnosisContext {
   /// The joint fit of `selected`'s regression terms in `group` on `data` (`storage` keeps their columns).
   RegressionFit fit_selected(const std::vector<DiagnosisPush>& data, const std::vector<Selection>& selected,
                              Relation group, std::vector<EffectColumns>& storage) const;
-  /// The support's friction torque coefficient in `fit` (a friction-group fit of `selected`'s regression effects,
-  /// then any candidate's): the friction law's mu plus the parameter of every effect that scales_support_torque()
-  /// (the base model's friction_torque), all scaling the footprint's Coulomb torque. 1 when no friction law is in
-  /// `selected`. At or below zero the friction would drive the rotation instead of damping it.
-  double support_torque_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;
-  /// The friction law's Coulomb coefficient mu in `fit` (as above); 1 when no friction law is in `selected`. At or
-  /// below zero another term (a drag, say) stands in for the support's Coulomb friction, which no support lacks.
-  double support_friction_coefficient(const std::vector<Selection>& selected, const RegressionFit& fit) const;
+  /// The support's friction coefficients in `fit` (a friction-group fit of `selected`'s regression effects, then any
+  /// candidate's); both 1 when no friction law is in `selected`.
+  struct SupportCoefficients {
+    /// The friction law's mu plus the parameter of every effect that scales_support_torque() (the base model's
+    /// friction_torque), all scaling the footprint's Coulomb torque. At or below zero the friction would drive the
+    /// rotation instead of damping it.
+    double torque = 1.0;
+    /// The friction law's Coulomb coefficient mu. At or below zero another term (a drag, say) stands in for the
+    /// support's Coulomb friction, which no support lacks.
+    double mu = 1.0;
+    bool physical() const { return torque > 0 && mu > 0; }
+  };
+  SupportCoefficients support_coefficients(const std::vector<Selection>& selected, const RegressionFit& fit) const;
   /// Whether `selected` holds a friction law that replaces the relation.
   bool has_friction_law(const std::vector<Selection>& selected) const;
   /// Records `s`'s amount, its standard error and its floor under `floors`.

@@ -53,8 +53,7 @@ SearchOutcome greedy_search(const DiagnosisContext& context, const std::vector<D
       const int extra = settings.size() > 1 ? 1 : 0;
       if (settings.empty()) settings.push_back(0.0);
       std::optional<Selection> here;
-      double here_torque = 1.0;  // the support's friction torque coefficient in here's joint fit
-      double here_mu = 1.0;      // the support's Coulomb coefficient in here's joint fit
+      DiagnosisContext::SupportCoefficients here_support;  // in here's joint fit
       for (double setting : settings) {
         const EffectColumns cols = context.columns(data, i, setting);
         std::vector<const EffectColumns*> with = pointers;
@@ -76,8 +75,8 @@ SearchOutcome greedy_search(const DiagnosisContext& context, const std::vector<D
                            f.standard_error().segment(at, k),
                            score,
                            f.covariance_blocks(at, k)};
-          here_torque = group == Relation::Friction ? context.support_torque_coefficient(selected, f) : 1.0;
-          here_mu = group == Relation::Friction ? context.support_friction_coefficient(selected, f) : 1.0;
+          here_support = group == Relation::Friction ? context.support_coefficients(selected, f)
+                                                     : DiagnosisContext::SupportCoefficients{};
         }
       }
       if (!here) {
@@ -90,15 +89,15 @@ SearchOutcome greedy_search(const DiagnosisContext& context, const std::vector<D
       fitted.theta_std = here->std;
       fitted.setting = here->setting;
       out.trace.decide(fitted);
-      if (!(here_torque > 0)) {
+      if (!(here_support.torque > 0)) {
         SelectionDecision d = decision_about(i, Verdict::DrivesRotation, stage);
-        d.torque = here_torque;
+        d.torque = here_support.torque;
         out.trace.decide(d);
         continue;
       }
-      if (!(here_mu > 0)) {
+      if (!(here_support.mu > 0)) {
         SelectionDecision d = decision_about(i, Verdict::CancelsSupportFriction, stage);
-        d.support_friction = here_mu;
+        d.support_friction = here_support.mu;
         out.trace.decide(d);
         continue;
       }
@@ -147,15 +146,11 @@ ModelState refit(const DiagnosisContext& context, std::vector<Selection> selecte
   for (int iteration = 0; iteration <= context.options.max_refits; ++iteration) {
     const std::vector<DiagnosisPush> data = context.corrected_data(context.correction_of(selected, false));
     bool converged = true;
-    double support_torque = 1.0;  // the friction group's mu + torque_excess after this re-fit
-    double support_mu = 1.0;      // the friction law's Coulomb coefficient after this re-fit
+    DiagnosisContext::SupportCoefficients support;  // the friction group's, after this re-fit
     for (const Relation group : {Relation::Linear, Relation::Friction}) {
       std::vector<EffectColumns> storage;
       const RegressionFit fit = context.fit_selected(data, selected, group, storage);
-      if (group == Relation::Friction) {
-        support_torque = context.support_torque_coefficient(selected, fit);
-        support_mu = context.support_friction_coefficient(selected, fit);
-      }
+      if (group == Relation::Friction) support = context.support_coefficients(selected, fit);
       int j = 0;
       for (auto& s : selected) {
         const auto& effect = effects[s.candidate];
@@ -196,15 +191,15 @@ ModelState refit(const DiagnosisContext& context, std::vector<Selection> selecte
     // The joint re-fit must keep the support's friction torque and its Coulomb coefficient positive, as the greedy
     // search required when each effect joined: otherwise the last refinement of the friction law to join (not the
     // base model's) goes.
-    if (!dropped && (!(support_torque > 0) || !(support_mu > 0))) {
+    if (!dropped && !support.physical()) {
       for (std::size_t k = selected.size(); k-- > 0;) {
         const std::size_t i = selected[k].candidate;
         if (context.is_base(i) || !context.in_group(i, Relation::Friction) || replaces_relation(*effects[i])) continue;
         SelectionDecision d =
-            decision_about(i, support_torque > 0 ? Verdict::DroppedCancelledFriction : Verdict::DroppedNegativeTorque,
+            decision_about(i, support.torque > 0 ? Verdict::DroppedCancelledFriction : Verdict::DroppedNegativeTorque,
                            SearchStage::JointRefit);
-        d.torque = support_torque;
-        d.support_friction = support_mu;
+        d.torque = support.torque;
+        d.support_friction = support.mu;
         trace.decide(d);
         selected.erase(selected.begin() + static_cast<std::ptrdiff_t>(k));
         dropped = true;

@@ -287,20 +287,17 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
     regression.stack({&zero_columns}, unused, Xz);
     Xz = mask.asDiagonal() * Xz;
     // One measured push cannot tell its own zero from a shared force: its zero is then projected like a pressed one.
-    if (measured < 2 || measured_as_recorded) {
-      std::fill(zeros.begin(), zeros.end(), std::nullopt);
-      measured = 0;
-    }
+    const bool take_out_measured = measured >= 2 && !measured_as_recorded;
+    if (!take_out_measured) measured = 0;
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     for (const auto& z : zeros)
-      if (z) mean += *z / measured;
-    Eigen::Vector2d spread2 = Eigen::Vector2d::Zero();
+      if (z && take_out_measured) mean += *z / measured;
     std::vector<Eigen::Index> projected;
     zero_shared = Eigen::MatrixXd::Zero(y.size(), 2);
     for (std::size_t p = 0; p < pushes.size(); ++p) {
       const auto c = static_cast<Eigen::Index>(2 * p);
-      if (measured_as_recorded && measured_sensor_zero_N(pushes[p])) continue;
-      if (!zeros[p]) {
+      if (zeros[p] && measured_as_recorded) continue;
+      if (!zeros[p] || !take_out_measured) {
         projected.push_back(c);
         projected.push_back(c + 1);
         ++adequacy.pushes_zero_projected;
@@ -308,11 +305,11 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
       }
       y -= Xz.middleCols(c, 2) * (*zeros[p] - mean);
       zero_shared += Xz.middleCols(c, 2);
-      spread2 += (*zeros[p] - mean).cwiseAbs2();
     }
     // One spread for both axes (the zeros' scatter is taken as the same in x and y), on 2 (m - 1) degrees of freedom:
     // with three or four measured pushes a spread per axis would rest on two or three.
-    if (measured >= 2) zero_mean_std.setConstant(std::sqrt(spread2.sum() / (2.0 * (measured - 1)) / measured));
+    if (take_out_measured)
+      zero_mean_std.setConstant(std::sqrt(adequacy.zero_spread_N * adequacy.zero_spread_N / measured));
     Eigen::MatrixXd augmented(Xm.rows(), Xm.cols() + static_cast<Eigen::Index>(projected.size()));
     augmented << Xm, Xz(Eigen::all, projected);
     Xm = std::move(augmented);

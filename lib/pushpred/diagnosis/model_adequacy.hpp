@@ -127,9 +127,6 @@ struct AdequacyOptions {
   bool sensor_zeros = true;
 };
 
-/// Rest samples a push needs for its sensor zero to count as measured (as the force-offset test needs).
-inline constexpr std::size_t kRestSamplesForZero = 5;
-
 /// What each push's own constant sensor zero z = (z_x, z_y) [N, world frame] puts in d_hat, as EffectColumns with
 /// two columns per push (2p: z_x, 2p + 1: z_y), zero on every other push: the force z and its torque l x z about the
 /// object centre at the measured lever l = r_C - r_O, through the observer like any regressor.

@@ -62,7 +62,7 @@ FrictionBase fit_friction_base(const DiagnosisContext& context, const ModelState
         }
         // As in the greedy search: a refinement that turns the support's friction torque negative would make the
         // free object spin up, whatever it does to the sliding samples' fit.
-        if (const double torque = context.support_torque_coefficient(trial, g); !(torque > 0)) {
+        if (const double torque = context.support_coefficients(trial, g).torque; !(torque > 0)) {
           SelectionDecision d = decision_about(j, Verdict::BaseRefinementDrivesRotation, SearchStage::FrictionBase);
           d.torque = torque;
           out.trace.decide(d);

@@ -15,7 +15,9 @@
 namespace pushpred {
 namespace {
 
-constexpr double kDeg = M_PI / 180;
+// The descriptors' fixed scales (descriptor_distance2, trend_features): 20 degrees of push angle, 15 mm of contact
+// point, a factor e of speed.
+constexpr double kDescriptorAngle_rad = 20 * M_PI / 180, kDescriptorContact_m = 0.015, kDescriptorLogSpeed = 1.0;
 
 /// Indices of at most `count` entries spread evenly over [0, n), always with the last.
 std::vector<Eigen::Index> spread_indices(Eigen::Index n, int count) {
@@ -835,7 +837,8 @@ ParameterTrend fit_parameter_trend(const std::vector<PushFit>& fits, double ridg
 
 Eigen::Matrix<double, kTrendFeatures, 1> trend_features(const PushDescriptor& d) {
   Eigen::Matrix<double, kTrendFeatures, 1> f;
-  f << d.angle_rad / (20 * kDeg), d.contact_body_m.x() / 0.015, d.contact_body_m.y() / 0.015, d.log_speed;
+  f << d.angle_rad / kDescriptorAngle_rad, d.contact_body_m.x() / kDescriptorContact_m,
+      d.contact_body_m.y() / kDescriptorContact_m, d.log_speed / kDescriptorLogSpeed;
   return f;
 }
 
@@ -853,10 +856,9 @@ PushDescriptor describe_push(const ForecastObject& object, const TipPlan& plan, 
 }
 
 double descriptor_distance2(const PushDescriptor& a, const PushDescriptor& b) {
-  constexpr double kAngle_rad = 20 * M_PI / 180, kContact_m = 0.015, kLogSpeed = 1.0;
-  const double da = (a.angle_rad - b.angle_rad) / kAngle_rad,
-               dc = (a.contact_body_m - b.contact_body_m).norm() / kContact_m,
-               dv = (a.log_speed - b.log_speed) / kLogSpeed;
+  const double da = (a.angle_rad - b.angle_rad) / kDescriptorAngle_rad,
+               dc = (a.contact_body_m - b.contact_body_m).norm() / kDescriptorContact_m,
+               dv = (a.log_speed - b.log_speed) / kDescriptorLogSpeed;
   return da * da + dc * dc + dv * dv;
 }
 
