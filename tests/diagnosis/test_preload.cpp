@@ -100,8 +100,8 @@ BOOST_AUTO_TEST_CASE(the_friction_fit_holds_with_preloads_and_per_push_offsets,
   BOOST_TEST(drags == 0);
 }
 
-// A joint fit whose Coulomb mu falls to zero or below has another term standing in for the support's friction. The
-// draw here (seed 405) once named a drag of 86 1/s beside a mu of -0.007.
+// A joint fit whose Coulomb mu falls to zero or below has another term standing in for the support's friction. On
+// this draw (seed 405) a drag of 86 1/s beside a mu of -0.007 fits the sliding data jointly; it must not be named.
 BOOST_AUTO_TEST_CASE(no_drag_stands_in_for_the_support_friction) {
   const DiagnosisResult r = diagnose_pressed_with_zeros(405);
   log_result(r);
