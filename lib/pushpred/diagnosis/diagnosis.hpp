@@ -66,6 +66,9 @@ struct DiagnosisOptions {
   /// adequacy_alpha; 0 replicates: not tested.
   int adequacy_replicates = 199;
   double adequacy_alpha = 0.01;
+  /// How the friction base and the search's regressions treat each push's own sensor zero (residual_regression.hpp):
+  /// PerPush, invariant to it where it can reach; AsRecorded, the zeros stay in the data.
+  SensorZeros sensor_zeros = SensorZeros::PerPush;
   void validate() const;
 };
 

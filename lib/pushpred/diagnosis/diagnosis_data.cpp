@@ -206,4 +206,23 @@ std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push) 
   return rest;
 }
 
+std::optional<MeasuredZero> measured_sensor_zero(const DiagnosisPush& push) {
+  const std::vector<Eigen::Index> rest = samples_without_contact(push.push);
+  if (rest.size() < kRestSamplesForZero) return std::nullopt;
+  const auto n = static_cast<double>(rest.size());
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const Eigen::Index k : rest) sum += push.push.force_N.row(k).transpose();
+  const Eigen::Vector2d mean = sum / n;
+  double sum2 = 0;
+  for (const Eigen::Index k : rest) sum2 += (push.push.force_N.row(k).transpose() - mean).squaredNorm();
+  // At rest f_C = 0, so the recorded f_C is -z.
+  return MeasuredZero{-mean, sum2 / (2 * (n - 1))};
+}
+
+std::optional<Eigen::Vector2d> measured_sensor_zero_N(const DiagnosisPush& push) {
+  const std::optional<MeasuredZero> z = measured_sensor_zero(push);
+  if (!z) return std::nullopt;
+  return z->zero_N;
+}
+
 }  // namespace pushpred

@@ -3,6 +3,7 @@
 // samples used for fitting, and the observer's view of the applied input (Q u and its rate), so that every
 // regressor lives on the observer's time base. Channels, frames and signs: preprocessing/synchronised_push.hpp.
 #include <Eigen/Core>
+#include <optional>
 
 #include "pushpred/diagnosis/candidate_effect.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
@@ -112,5 +113,16 @@ double measured_rod_gap_m(const SynchronisedPush& push, Eigen::Index k);
 std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push);
 /// Such samples a push needs for its sensor zero to count as measured (the force-offset test, the adequacy test).
 inline constexpr std::size_t kRestSamplesForZero = 5;
+
+/// A push's sensor zero as its rest measures it.
+struct MeasuredZero {
+  Eigen::Vector2d zero_N;  ///< z [N, world frame]: the recorded force at rest is -z
+  double variance_N2 = 0;  ///< the rest samples' variance about their mean, per axis (x and y pooled) [N^2]
+};
+/// The push's sensor zero measured where the sensor's true force is zero (samples_without_contact); none on a push
+/// whose rod starts pressed (or with fewer than kRestSamplesForZero such samples).
+std::optional<MeasuredZero> measured_sensor_zero(const DiagnosisPush& push);
+/// measured_sensor_zero()'s z [N].
+std::optional<Eigen::Vector2d> measured_sensor_zero_N(const DiagnosisPush& push);
 
 }  // namespace pushpred

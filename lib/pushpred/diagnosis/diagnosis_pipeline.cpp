@@ -186,7 +186,7 @@ RegressionFit DiagnosisContext::fit_selected(const std::vector<DiagnosisPush>& d
   }
   std::vector<const EffectColumns*> pointers;
   for (const auto& c : storage) pointers.push_back(&c);
-  return ResidualRegression(data, group).fit(pointers, extra);
+  return ResidualRegression(data, group, options.sensor_zeros).fit(pointers, extra);
 }
 
 DiagnosisContext::SupportCoefficients DiagnosisContext::support_coefficients(const std::vector<Selection>& selected,

@@ -24,7 +24,7 @@ SearchOutcome greedy_search(const DiagnosisContext& context, const std::vector<D
   // effect is found only if its evidence survives beside them (a friction patch read as a low-speed friction or a
   // lag, when the patch's own term is below its floor).
   std::vector<Selection>& nuisance = out.nuisance;
-  const ResidualRegression regression(data, group);
+  const ResidualRegression regression(data, group, context.options.sensor_zeros);
   while (true) {
     std::vector<EffectColumns> storage;
     int current_extra = 0;

@@ -53,55 +53,9 @@ double share_of(const Eigen::MatrixXd& Q, const Eigen::VectorXd& e) {
   return (Q.transpose() * e).squaredNorm() / total;
 }
 
-/// The measured zeros' spread about their mean [N], pooled over x and y (2 (m - 1) degrees of freedom).
-double zero_spread_N(const std::vector<std::optional<Eigen::Vector2d>>& zeros) {
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  int m = 0;
-  for (const auto& z : zeros)
-    if (z) {
-      mean += *z;
-      ++m;
-    }
-  mean /= m;
-  double sum2 = 0;
-  for (const auto& z : zeros)
-    if (z) sum2 += (*z - mean).squaredNorm();
-  return std::sqrt(sum2 / (2.0 * (m - 1)));
-}
-
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
-
-EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes) {
-  EffectColumns out(2 * pushes.size(), std::vector<Eigen::MatrixX3d>(pushes.size()));
-  for (std::size_t p = 0; p < pushes.size(); ++p) {
-    const DiagnosisPush& d = pushes[p];
-    const Eigen::Index n = d.rows();
-    for (auto& column : out) column[p] = Eigen::MatrixX3d::Zero(n, 3);
-    // The recorded f_C is the true force less the zero z, and the input torque uses it at the lever l = r_C - r_O:
-    // u errs by -(z, l x z), so d_hat carries +(z, l x z). The torque varies with the lever, so it is part of the
-    // same column, not a constant of its own.
-    Eigen::MatrixX3d zx(n, 3), zy(n, 3);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const Eigen::Vector2d l = d.push.lever_m.row(d.first + k).transpose();
-      zx.row(k) << 1, 0, -l.y();
-      zy.row(k) << 0, 1, l.x();
-    }
-    out[2 * p][p] = d.as_observed(zx);
-    out[2 * p + 1][p] = d.as_observed(zy);
-  }
-  return out;
-}
-
-std::optional<Eigen::Vector2d> measured_sensor_zero_N(const DiagnosisPush& push) {
-  const std::vector<Eigen::Index> rest = samples_without_contact(push.push);
-  if (rest.size() < kRestSamplesForZero) return std::nullopt;
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  for (const Eigen::Index k : rest) sum += push.push.force_N.row(k).transpose();
-  // At rest f_C = 0, so the recorded f_C is -z.
-  return (-sum / static_cast<double>(rest.size())).eval();
-}
 
 std::string ModelAdequacy::verdict() const {
   if (!tested) return "not tested";

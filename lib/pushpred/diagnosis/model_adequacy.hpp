@@ -127,15 +127,6 @@ struct AdequacyOptions {
   bool sensor_zeros = true;
 };
 
-/// What each push's own constant sensor zero z = (z_x, z_y) [N, world frame] puts in d_hat, as EffectColumns with
-/// two columns per push (2p: z_x, 2p + 1: z_y), zero on every other push: the force z and its torque l x z about the
-/// object centre at the measured lever l = r_C - r_O, through the observer like any regressor.
-EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes);
-
-/// The push's sensor zero z [N] measured where the sensor's true force is zero (samples_without_contact); none on a
-/// push whose rod starts pressed (or with fewer than kRestSamplesForZero such samples).
-std::optional<Eigen::Vector2d> measured_sensor_zero_N(const DiagnosisPush& push);
-
 /// The force part and the hints. `model` are the corrected model's columns in the friction base (every one whose
 /// amount the residual still carries: the friction law, its refinements, the found force laws). Fills the force
 /// fields of `adequacy` and returns the hints, largest share first (every signature, whatever the verdict).

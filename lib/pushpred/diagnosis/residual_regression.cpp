@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
@@ -83,7 +84,8 @@ std::vector<char> friction_law_samples(const DiagnosisPush& d) {
   return used;
 }
 
-ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes, Relation relation)
+ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes, Relation relation,
+                                       SensorZeros zeros)
     : relation_(relation) {
   if (pushes.empty()) throw InputError("diagnosis regression: no pushes to fit");
   blocks_.resize(pushes.size());
@@ -135,10 +137,80 @@ ResidualRegression::ResidualRegression(const std::vector<DiagnosisPush>& pushes,
   for (const auto& r : linear_residual)
     for (int c = 0; c < 3; ++c) effective_samples_ += effective_sample_count(r.col(c));
   effective_samples_ = std::max(effective_samples_, 2.0);
+  if (zeros == SensorZeros::PerPush) take_out_sensor_zeros(pushes);
+}
+
+double zero_spread_N(const std::vector<std::optional<Eigen::Vector2d>>& zeros) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  int m = 0;
+  for (const auto& z : zeros)
+    if (z) {
+      mean += *z;
+      ++m;
+    }
+  if (m < 2) return std::numeric_limits<double>::quiet_NaN();
+  mean /= m;
+  double sum2 = 0;
+  for (const auto& z : zeros)
+    if (z) sum2 += (*z - mean).squaredNorm();
+  return std::sqrt(sum2 / (2.0 * (m - 1)));
+}
+
+void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>& pushes) {
+  std::vector<std::optional<Eigen::Vector2d>> measured;
+  double noise_variance = 0;  // the rest samples' variance per axis, averaged over the measured pushes [N^2]
+  for (const auto& d : pushes) {
+    const std::optional<MeasuredZero> z = measured_sensor_zero(d);
+    measured.push_back(z ? std::optional<Eigen::Vector2d>(z->zero_N) : std::nullopt);
+    if (z) noise_variance += z->variance_N2;
+  }
+  const auto m = std::count_if(measured.begin(), measured.end(), [](const auto& z) { return z.has_value(); });
+  // The friction law's constant part is known only where a zero is: with no measured push, projecting every push's
+  // zero would leave the law to the little that varies within a push (a straight slide: nothing), so the zeros then
+  // stay in the data.
+  if (m == 0) return;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& z : measured)
+    if (z) mean += *z / static_cast<double>(m);
+  noise_variance /= static_cast<double>(m);
+  // One measured push is the friction law's anchor as recorded: alone it cannot tell its zero from a shared force.
+  const double spread = m >= 2 ? zero_spread_N(measured) : 0.0;
+  const double shrink =
+      spread > 0 ? std::max(0.0, 1 - kZeroNoiseFactor * noise_variance / (spread * spread)) : 0.0;
+  const EffectColumns columns = sensor_zero_columns(pushes);
+  for (std::size_t p = 0; p < pushes.size(); ++p) {
+    Block& b = blocks_[p];
+    const Eigen::Index n = b.residual.rows();
+    Eigen::MatrixX3d zero[2] = {columns[2 * p][p], columns[2 * p + 1][p]};
+    for (auto& z : zero)
+      for (int c = 0; c < 3; ++c) to_base(p, c, z.col(c));
+    if (measured[p]) {
+      if (!(shrink > 0)) continue;
+      const Eigen::Vector2d deviation = shrink * (*measured[p] - mean);
+      b.residual -= deviation.x() * zero[0] + deviation.y() * zero[1];
+      ++zeros_measured_;
+      continue;
+    }
+    Eigen::MatrixXd stacked(3 * n, 2);
+    for (int j = 0; j < 2; ++j)
+      for (int c = 0; c < 3; ++c) stacked.col(j).segment(c * n, n) = zero[j].col(c) / scale_(c);
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(stacked);
+    if (qr.rank() == 0) continue;  // stuck or outside the law's samples throughout: nothing to project
+    b.zero_basis = qr.householderQ() * Eigen::MatrixXd::Identity(3 * n, qr.rank());
+    ++zeros_projected_;
+  }
+}
+
+void ResidualRegression::project_zero(std::size_t p, Eigen::Ref<Eigen::MatrixXd> rows) const {
+  const Eigen::MatrixXd& q = blocks_[p].zero_basis;
+  if (q.cols() == 0) return;
+  rows -= q * (q.transpose() * rows);
 }
 
 int ResidualRegression::nuisance_parameters() const {
-  return relation_ == Relation::Linear ? 6 * static_cast<int>(blocks_.size()) : 0;
+  int zero_columns = 0;
+  for (const auto& b : blocks_) zero_columns += static_cast<int>(b.zero_basis.cols());
+  return (relation_ == Relation::Linear ? 6 * static_cast<int>(blocks_.size()) : 0) + zero_columns;
 }
 
 double ResidualRegression::sliding_share() const {
@@ -171,6 +243,7 @@ void ResidualRegression::stack(const std::vector<const EffectColumns*>& columns,
   Eigen::Index row = 0;
   for (std::size_t p = 0; p < blocks_.size(); ++p) {
     const Eigen::Index n = blocks_[p].residual.rows();
+    const Eigen::Index first = row;
     for (int c = 0; c < 3; ++c) {
       y.segment(row, n) = blocks_[p].residual.col(c) / scale_(c);
       int j = 0;
@@ -184,6 +257,12 @@ void ResidualRegression::stack(const std::vector<const EffectColumns*>& columns,
           ++j;
         }
       row += n;
+    }
+    if (blocks_[p].zero_basis.cols() > 0) {
+      auto y_rows = y.segment(first, 3 * n);
+      auto x_rows = X.middleRows(first, 3 * n);
+      project_zero(p, y_rows);
+      project_zero(p, x_rows);
     }
   }
 }
@@ -261,7 +340,36 @@ std::vector<Eigen::MatrixX3d> ResidualRegression::residuals(const std::vector<co
     for (const EffectColumns* e : columns)
       for (const auto& parameter : *e) explained += theta(j++) * parameter.at(p);
     for (int c = 0; c < 3; ++c) to_base(p, c, explained.col(c));
-    out.push_back(blocks_[p].residual - explained);
+    Eigen::MatrixX3d residual = blocks_[p].residual - explained;
+    if (blocks_[p].zero_basis.cols() > 0) {
+      const Eigen::Index n = residual.rows();
+      Eigen::VectorXd stacked(3 * n);
+      for (int c = 0; c < 3; ++c) stacked.segment(c * n, n) = residual.col(c) / scale_(c);
+      project_zero(p, stacked);
+      for (int c = 0; c < 3; ++c) residual.col(c) = scale_(c) * stacked.segment(c * n, n);
+    }
+    out.push_back(residual);
+  }
+  return out;
+}
+
+EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes) {
+  EffectColumns out(2 * pushes.size(), std::vector<Eigen::MatrixX3d>(pushes.size()));
+  for (std::size_t p = 0; p < pushes.size(); ++p) {
+    const DiagnosisPush& d = pushes[p];
+    const Eigen::Index n = d.rows();
+    for (auto& column : out) column[p] = Eigen::MatrixX3d::Zero(n, 3);
+    // The recorded f_C is the true force less the zero z, and the input torque uses it at the lever l = r_C - r_O:
+    // u errs by -(z, l x z), so d_hat carries +(z, l x z). The torque varies with the lever, so it is part of the
+    // same column, not a constant of its own.
+    Eigen::MatrixX3d zx(n, 3), zy(n, 3);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Eigen::Vector2d l = d.push.lever_m.row(d.first + k).transpose();
+      zx.row(k) << 1, 0, -l.y();
+      zy.row(k) << 0, 1, l.x();
+    }
+    out[2 * p][p] = d.as_observed(zx);
+    out[2 * p + 1][p] = d.as_observed(zy);
   }
   return out;
 }

@@ -28,7 +28,19 @@
 // - Adding effects to a model (nested): the BIC drop is approximated by the robust Wald statistic of the added
 //   parameters minus their BIC penalty, W - k ln(N_eff).
 // - Changing the base (not nested): BIC = N_eff ln(RSS / N) + k ln(N_eff), k counting the nuisance.
+//
+// Each push's own force-sensor zero (the real sensor is not zeroed between pushes; sensor_zero_columns()) is, on a
+// straight push, a constant the friction law cannot tell from Coulomb friction, and its torque l x z is what a
+// mass-centre offset or a drag at one speed looks like. With SensorZeros::PerPush the regression is invariant to it
+// where it can reach, when two pushes or more rest clear of the object (measured_sensor_zero): each such push's
+// zero less their mean is taken out of its residual (the mean, a force the pushes share, stays for the effects that
+// describe it), shrunk by max(0, 1 - K sigma^2 / s^2) (the best linear predictor of a random zero seen through
+// noise), s the zeros' spread (zero_spread_N), sigma^2 the rest samples' variance and K = kZeroNoiseFactor; on every
+// other push (the rod starts pressed) the push's two zero columns are projected out of the
+// residual and of every column (fixed effects, 2 nuisance parameters a push). One measured push stays as recorded;
+// with none the zeros stay in the data: the friction law's constant part rests on the measured pushes.
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "pushpred/diagnosis/diagnosis_data.hpp"
@@ -50,6 +62,23 @@ inline constexpr double kTransitionGuard_s = 0.03;
 std::vector<char> friction_law_samples(const DiagnosisPush& d);
 
 enum class Relation { Linear, Friction };
+
+/// K above: a rest of a few tenths of a second spans two or three correlation times of the sensor's slow noise
+/// (docs/simulator.md), so the variance within it understates the error of its mean; deviations are taken out only
+/// where their spread exceeds twice the rest's standard deviation. Chosen between 1 and 4 on tuning seeds
+/// 348000-348599 (docs/diagnosis.md) and the sensor-zeroed pushes of tests/diagnosis.
+inline constexpr double kZeroNoiseFactor = 4.0;
+
+/// How the regression treats each push's own sensor zero (see above).
+enum class SensorZeros { AsRecorded, PerPush };
+/// The pooled spread of measured zeros about their mean, sqrt(sum |z - mean|^2 / (2 (m - 1))) [N], one spread for
+/// both axes over the m >= 2 measured ones; NaN for fewer.
+double zero_spread_N(const std::vector<std::optional<Eigen::Vector2d>>& zeros);
+
+/// What each push's own constant sensor zero z = (z_x, z_y) [N, world frame] puts in d_hat, as EffectColumns with
+/// two columns per push (2p: z_x, 2p + 1: z_y), zero on every other push: the force z and its torque l x z about the
+/// object centre at the measured lever l = r_C - r_O, through the observer like any regressor.
+EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes);
 
 struct RegressionFit {
   Eigen::VectorXd theta;       ///< effect parameters, in the order of the columns given
@@ -76,7 +105,8 @@ struct RegressionFit {
 class ResidualRegression {
  public:
   /// Throws InputError for no pushes or a push with fewer than 3 rows.
-  ResidualRegression(const std::vector<DiagnosisPush>& pushes, Relation relation = Relation::Linear);
+  ResidualRegression(const std::vector<DiagnosisPush>& pushes, Relation relation = Relation::Linear,
+                     SensorZeros zeros = SensorZeros::AsRecorded);
 
   /// Fits the effect parameters of `columns` (concatenated: one EffectColumns per effect) jointly with the
   /// base. `extra_parameters` adds to k (settings chosen on a grid).
@@ -96,7 +126,11 @@ class ResidualRegression {
   long samples() const { return samples_; }  ///< N: rows x channels
   double effective_samples() const { return effective_samples_; }
   const Eigen::Vector3d& channel_scale() const { return scale_; }  ///< sigma_c [N, N, N m]
-  int nuisance_parameters() const;  ///< 6 per push for Linear, 0 for Friction
+  /// 6 per push for Linear, 0 for Friction; with SensorZeros::PerPush 2 more for each push whose zero is projected.
+  int nuisance_parameters() const;
+  /// Pushes whose sensor zero is projected out, and pushes whose measured zero's deviation is taken out.
+  int zeros_projected() const { return zeros_projected_; }
+  int zeros_measured() const { return zeros_measured_; }
   /// Share of the fit samples where the object slides.
   double sliding_share() const;
 
@@ -112,12 +146,21 @@ class ResidualRegression {
     std::vector<char> used;  ///< Friction: not near a stuck-sliding change
     Eigen::MatrixX3d residual;  ///< d_hat in the base: nuisance projected out, or d_hat + Q u at stuck samples
     double rate_hz = 250;
+    /// SensorZeros::PerPush, a push whose zero is not measured: an orthonormal basis of its weighted zero columns in
+    /// the base, over the push's stacked rows (3 n); empty otherwise.
+    Eigen::MatrixXd zero_basis;
   };
+  /// SensorZeros::PerPush (see above), after the channel weights are set.
+  void take_out_sensor_zeros(const std::vector<DiagnosisPush>& pushes);
+  /// Projects push p's stacked rows (3 n, weighted) off its zero basis, in place.
+  void project_zero(std::size_t p, Eigen::Ref<Eigen::MatrixXd> rows) const;
   Relation relation_;
   std::vector<Block> blocks_;
   Eigen::Vector3d scale_ = Eigen::Vector3d::Ones();
   long samples_ = 0;
   double effective_samples_ = 0;
+  int zeros_projected_ = 0;
+  int zeros_measured_ = 0;
 };
 
 /// Lag-1 autocorrelation of `r`, clamped to [0, 0.999].

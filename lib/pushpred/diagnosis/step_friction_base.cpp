@@ -32,7 +32,7 @@ FrictionBase fit_friction_base(const DiagnosisContext& context, const ModelState
   } else {
     const std::size_t i = *law;
     const EffectColumns cols = context.columns(data, i, 0.0);
-    const RegressionFit f = ResidualRegression(data, Relation::Friction).fit({&cols});
+    const RegressionFit f = ResidualRegression(data, Relation::Friction, context.options.sensor_zeros).fit({&cols});
     if (!f.identifiable || !f.theta.allFinite())
       throw InputError("the friction law " + effects[i]->kind() + " is not identifiable on the fit pushes (the object "
                        "hardly slides)");
