@@ -6,6 +6,8 @@
 #include <cmath>
 #include <optional>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "diagnosis_checks.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
@@ -52,6 +54,25 @@ BOOST_AUTO_TEST_CASE(the_rest_of_a_pressing_rod_is_not_force_free_and_a_gap_is_m
       BOOST_TEST(free.size() == rest.size());
     else
       BOOST_TEST(free.empty());
+  }
+}
+
+BOOST_AUTO_TEST_CASE(a_rest_force_that_points_into_the_contact_reads_as_pressed_whatever_the_gap) {
+  // Paper case 1 pushes along the contact's inward normal, 1 mm clear of the object. A sensor zero of 2 N whose
+  // reading points along the push (the recorded force is the true one less the zero) is what a pressing rod would
+  // show: the push reads as pressed. The same zero pointing back, or across the push, is a zero.
+  PushScenario s = paper_case_scenario(1);
+  s.approach_gap_m = 0.001;
+  const SynchronisedPush probe = simulate_and_synchronise(s);
+  const Eigen::Index end = probe.t_s.size() - 1;
+  const Eigen::Vector2d along = (probe.tip_m.row(end) - probe.tip_m.row(0)).transpose().normalized();
+  const Eigen::Vector2d across(-along.y(), along.x());
+  for (const auto& [zero, into] : std::vector<std::pair<Eigen::Vector2d, bool>>{
+           {-2.0 * along, true}, {2.0 * along, false}, {2.0 * across, false}, {-2.0 * across, false}}) {
+    s.sensors.push_offset_N = zero;
+    const SynchronisedPush push = simulate_and_synchronise(s);
+    BOOST_TEST(rest_force_points_into_contact(push) == into, "zero " << zero.transpose() << " N");
+    BOOST_TEST(samples_without_contact(push).empty() == into, "zero " << zero.transpose() << " N");
   }
 }
 

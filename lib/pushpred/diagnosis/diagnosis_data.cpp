@@ -180,11 +180,32 @@ namespace {
 
 /// The rod's surface to `outline` at sample k [m]: the tip's centre in the object's body frame, its distance to the
 /// outline less the rod's radius.
-double rod_gap_m(const SynchronisedPush& push, const Outline& outline, Eigen::Index k) {
+Outline::Closest rod_closest(const SynchronisedPush& push, const Outline& outline, Eigen::Index k) {
   const double c = std::cos(push.pose(k, 2)), s = std::sin(push.pose(k, 2));
   const Eigen::Vector2d d = push.tip_m.row(k).transpose() - push.pose.row(k).head<2>().transpose();
-  return outline.closest(Eigen::Vector2d(c * d.x() + s * d.y(), -s * d.x() + c * d.y())).signed_distance_m -
-         kPusherRadius_m;
+  return outline.closest(Eigen::Vector2d(c * d.x() + s * d.y(), -s * d.x() + c * d.y()));
+}
+
+double rod_gap_m(const SynchronisedPush& push, const Outline& outline, Eigen::Index k) {
+  return rod_closest(push, outline, k).signed_distance_m - kPusherRadius_m;
+}
+
+bool rest_force_points_into_contact(const SynchronisedPush& push, const Outline& outline,
+                                    const std::vector<Eigen::Index>& rest) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Index k : rest) mean += push.force_N.row(k).transpose();
+  mean /= static_cast<double>(rest.size());
+  // The sensor's noise from first differences (the rest's spread about its mean would hold a preload's slow change).
+  double sum2 = 0;
+  for (std::size_t i = 1; i < rest.size(); ++i)
+    sum2 += (push.force_N.row(rest[i]) - push.force_N.row(rest[i - 1])).squaredNorm();
+  const double noise = std::sqrt(sum2 / std::max<double>(1.0, 4.0 * (static_cast<double>(rest.size()) - 1)));
+  if (!(mean.norm() > kRestForceResolution * noise)) return false;
+  const Eigen::Index k = rest[rest.size() / 2];
+  const Eigen::Vector2d inward_body = -rod_closest(push, outline, k).normal;
+  const double c = std::cos(push.pose(k, 2)), s = std::sin(push.pose(k, 2));
+  const Eigen::Vector2d inward(c * inward_body.x() - s * inward_body.y(), s * inward_body.x() + c * inward_body.y());
+  return mean.dot(inward) > std::cos(kRestContactCone_rad) * mean.norm();
 }
 
 }  // namespace
@@ -192,6 +213,12 @@ double rod_gap_m(const SynchronisedPush& push, const Outline& outline, Eigen::In
 double measured_rod_gap_m(const SynchronisedPush& push, Eigen::Index k) {
   if (!push.shape.has_outline()) return std::numeric_limits<double>::quiet_NaN();
   return rod_gap_m(push, Outline(push.shape), k);
+}
+
+bool rest_force_points_into_contact(const SynchronisedPush& push) {
+  const std::vector<Eigen::Index> rest = samples_before_tip_moves(push);
+  if (rest.empty() || !push.shape.has_outline()) return false;
+  return rest_force_points_into_contact(push, Outline(push.shape), rest);
 }
 
 std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push) {
@@ -203,6 +230,7 @@ std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push) 
   for (Eigen::Index k : rest) gaps.push_back(rod_gap_m(push, outline, k));
   std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
   if (!(gaps[gaps.size() / 2] > kContactMargin_m)) return {};
+  if (rest_force_points_into_contact(push, outline, rest)) return {};
   return rest;
 }
 

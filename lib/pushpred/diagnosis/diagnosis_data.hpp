@@ -106,8 +106,24 @@ inline constexpr double kContactMargin_m = 2e-4;
 /// object poses (negative: the rod is pressed in); NaN for a shape without an outline.
 double measured_rod_gap_m(const SynchronisedPush& push, Eigen::Index k);
 
+/// A rest force along the outline's inward normal at the rod, within this angle, is a contact's push [rad]: a rod's
+/// friction cone (its fitted mu_p of 0.15-0.45 spans 9-24 degrees) with room for the normal's error. On the real ABS
+/// pushes every rest force above 0.5 N whose measured gap reads 0.27-1.5 mm lies within 11 degrees of that normal
+/// (19 pushes), where sensor zeros would point anywhere: the trackers and outlines place the rod to a millimetre or
+/// two, not to the 0.2 mm of kContactMargin_m.
+inline constexpr double kRestContactCone_rad = 0.5236;  // 30 degrees
+/// A rest force counts as a direction only above this many of the sensor's noise (per axis, from the rest samples'
+/// first differences).
+inline constexpr double kRestForceResolution = 5.0;
+
+/// Whether the mean recorded force f_C before the tip moves is what a contact pushes with: resolved
+/// (kRestForceResolution) and within kRestContactCone_rad of the outline's inward normal at the rod, in the world
+/// frame. False for a shape without an outline or a push without rest samples.
+bool rest_force_points_into_contact(const SynchronisedPush& push);
+
 /// Grid samples where the sensor's true force is zero: those before the tip moves (samples_before_tip_moves) on a
-/// push whose rod rests clear of the object, its median measured gap over them above kContactMargin_m. A rod that
+/// push whose rod rests clear of the object: its median measured gap over them above kContactMargin_m, and their
+/// mean force not a contact's (resolved and within kRestContactCone_rad of the inward normal at the rod). A rod that
 /// presses before the tip moves (a preload) makes its rest anything but force-free: such a push gives none. A shape
 /// without an outline cannot be measured so: its samples before the tip moves are taken, as a gap is then assumed.
 std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push);
