@@ -136,48 +136,39 @@ PolynomialLimitSurface PolynomialLimitSurface::fit(const SupportPressure& pressu
   return ls;
 }
 
-double PolynomialLimitSurface::scaled_value(const Eigen::Vector3d& u) const {
-  const Powers w(u);
-  double h = 0;
-  for (int k = 0; k < 15; ++k) h += a_(k) * w.p[0][kExponent[k][0]] * w.p[1][kExponent[k][1]] * w.p[2][kExponent[k][2]];
-  return h;
-}
-
-Eigen::Vector3d PolynomialLimitSurface::scaled_gradient(const Eigen::Vector3d& u) const {
-  const Powers w(u);
-  Eigen::Vector3d g = Eigen::Vector3d::Zero();
-  for (int k = 0; k < 15; ++k) {
-    const int* e = kExponent[k];
-    g(0) += a_(k) * w.term(0, e[0], 1) * w.p[1][e[1]] * w.p[2][e[2]];
-    g(1) += a_(k) * w.p[0][e[0]] * w.term(1, e[1], 1) * w.p[2][e[2]];
-    g(2) += a_(k) * w.p[0][e[0]] * w.p[1][e[1]] * w.term(2, e[2], 1);
-  }
-  return g;
-}
-
+// The quartic's Hessian in closed form; its gradient and value follow by Euler's relation for homogeneous
+// polynomials (Hess u = 3 grad H, u . grad H = 4 H), which keeps the hot path to a few dozen multiplications.
 void PolynomialLimitSurface::scaled_derivatives(const Eigen::Vector3d& u, Eigen::Vector3d& g,
                                                 Eigen::Matrix3d& h) const {
-  const Powers w(u);
-  g.setZero();
-  h.setZero();
-  for (int k = 0; k < 15; ++k) {
-    const int* e = kExponent[k];
-    const double a = a_(k);
-    const double x0 = w.p[0][e[0]], y0 = w.p[1][e[1]], z0 = w.p[2][e[2]];
-    const double x1 = w.term(0, e[0], 1), y1 = w.term(1, e[1], 1), z1 = w.term(2, e[2], 1);
-    g(0) += a * x1 * y0 * z0;
-    g(1) += a * x0 * y1 * z0;
-    g(2) += a * x0 * y0 * z1;
-    h(0, 0) += a * w.term(0, e[0], 2) * y0 * z0;
-    h(1, 1) += a * x0 * w.term(1, e[1], 2) * z0;
-    h(2, 2) += a * x0 * y0 * w.term(2, e[2], 2);
-    h(0, 1) += a * x1 * y1 * z0;
-    h(0, 2) += a * x1 * y0 * z1;
-    h(1, 2) += a * x0 * y1 * z1;
-  }
+  const double x = u(0), y = u(1), z = u(2);
+  const double xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
+  const double* a = a_.data();
+  h(0, 0) = 12 * a[0] * xx + 6 * a[1] * xy + 6 * a[2] * xz + 2 * a[3] * yy + 2 * a[4] * yz + 2 * a[5] * zz;
+  h(1, 1) = 2 * a[3] * xx + 6 * a[6] * xy + 2 * a[7] * xz + 12 * a[10] * yy + 6 * a[11] * yz + 2 * a[12] * zz;
+  h(2, 2) = 2 * a[5] * xx + 2 * a[8] * xy + 6 * a[9] * xz + 2 * a[12] * yy + 6 * a[13] * yz + 12 * a[14] * zz;
+  h(0, 1) = 3 * a[1] * xx + 4 * a[3] * xy + 2 * a[4] * xz + 3 * a[6] * yy + 2 * a[7] * yz + a[8] * zz;
+  h(0, 2) = 3 * a[2] * xx + 2 * a[4] * xy + 4 * a[5] * xz + a[7] * yy + 2 * a[8] * yz + 3 * a[9] * zz;
+  h(1, 2) = a[4] * xx + 2 * a[7] * xy + 2 * a[8] * xz + 3 * a[11] * yy + 4 * a[12] * yz + 3 * a[13] * zz;
   h(1, 0) = h(0, 1);
   h(2, 0) = h(0, 2);
   h(2, 1) = h(1, 2);
+  g = h * u / 3;
+}
+
+Eigen::Vector3d PolynomialLimitSurface::scaled_gradient(const Eigen::Vector3d& u) const {
+  Eigen::Vector3d g;
+  Eigen::Matrix3d h;
+  scaled_derivatives(u, g, h);
+  return g;
+}
+
+double PolynomialLimitSurface::scaled_value(const Eigen::Vector3d& u) const {
+  const double x = u(0), y = u(1), z = u(2);
+  const double xx = x * x, yy = y * y, zz = z * z;
+  const double* a = a_.data();
+  return xx * (a[0] * xx + a[1] * x * y + a[2] * x * z + a[3] * yy + a[4] * y * z + a[5] * zz) +
+         x * (a[6] * yy * y + a[7] * yy * z + a[8] * y * zz + a[9] * zz * z) +
+         yy * (a[10] * yy + a[11] * y * z + a[12] * zz) + zz * (a[13] * y * z + a[14] * zz);
 }
 
 double PolynomialLimitSurface::value(const Eigen::Vector3d& w) const {
@@ -205,17 +196,21 @@ Eigen::Vector3d PolynomialLimitSurface::wrench_for_twist(const Eigen::Vector2d& 
   for (int iteration = 0; iteration < 40; ++iteration) {
     scaled_derivatives(u, g, h);
     const Eigen::Vector3d residual = g - t;
-    if (residual.squaredNorm() < 1e-24) break;
-    const Eigen::Vector3d step = h.ldlt().solve(residual);
-    // Backtracking on the convex objective H(u) - t . u.
-    const double objective = scaled_value(u) - t.dot(u);
+    if (residual.squaredNorm() < 1e-20) break;
+    const Eigen::Vector3d step = h.inverse() * residual;  // closed form for 3 x 3; H is convex, h positive definite
+    // A short Newton step is taken whole (quadratic convergence near the answer); a long one backtracks on the
+    // convex objective H(u) - t . u.
     double alpha = 1;
-    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
-      const Eigen::Vector3d trial = u - alpha * step;
-      if (scaled_value(trial) - t.dot(trial) <= objective - 1e-4 * alpha * residual.dot(step)) break;
+    if (step.squaredNorm() > 0.01 * u.squaredNorm()) {
+      const double objective = scaled_value(u) - t.dot(u);
+      for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+        const Eigen::Vector3d trial = u - alpha * step;
+        if (scaled_value(trial) - t.dot(trial) <= objective - 1e-4 * alpha * residual.dot(step)) break;
+      }
     }
     u -= alpha * step;
-    if (alpha * step.squaredNorm() < 1e-30) break;
+    // A whole step this short leaves an error of the order of its square (quadratic convergence): done.
+    if (alpha == 1 && step.squaredNorm() <= 1e-10 * u.squaredNorm()) break;
   }
   u /= std::sqrt(std::sqrt(scaled_value(u)));
   const Eigen::Vector3d w(u(0), u(1), rho_ * u(2));

@@ -62,7 +62,7 @@ QuasiStaticMotion quasi_static_motion_on(const PolynomialLimitSurface& surface, 
   } else {
     f = vp - rp * (rp.dot(vp) / (rho * rho + rp.squaredNorm()));
   }
-  {
+  if (!force_hint || force_hint->squaredNorm() == 0) {
     const double along = (G.transpose() * surface.scaled_gradient(G * f)).dot(vp);
     if (along > 0) f *= std::cbrt(vp.squaredNorm() / along);
   }
@@ -75,14 +75,20 @@ QuasiStaticMotion quasi_static_motion_on(const PolynomialLimitSurface& surface, 
     const Eigen::Vector2d residual = G.transpose() * g - vp;
     if (residual.squaredNorm() <= 1e-20 * scale2) break;
     const Eigen::Matrix2d hess = G.transpose() * h * G;
-    const Eigen::Vector2d step = hess.ldlt().solve(residual);
-    const double objective = surface.scaled_value(u) - vp.dot(f);
+    const Eigen::Vector2d step = hess.inverse() * residual;  // closed form for 2 x 2, positive definite
+    // A short Newton step is taken whole (quadratic convergence near the answer); a long one backtracks on the
+    // convex objective.
     double alpha = 1;
-    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
-      const Eigen::Vector2d trial = f - alpha * step;
-      if (surface.scaled_value(G * trial) - vp.dot(trial) <= objective - 1e-4 * alpha * residual.dot(step)) break;
+    if (step.squaredNorm() > 0.01 * f.squaredNorm()) {
+      const double objective = surface.scaled_value(u) - vp.dot(f);
+      for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+        const Eigen::Vector2d trial = f - alpha * step;
+        if (surface.scaled_value(G * trial) - vp.dot(trial) <= objective - 1e-4 * alpha * residual.dot(step)) break;
+      }
     }
     f -= alpha * step;
+    // A whole step this short leaves an error of the order of its square (quadratic convergence): done.
+    if (alpha == 1 && step.squaredNorm() <= 1e-10 * f.squaredNorm()) break;
   }
   if (force_hint) *force_hint = f;
   const Eigen::Vector2d t = perp(n);
