@@ -428,21 +428,31 @@ namespace {
 /// a surface costs a fit over the footprint. Not thread-safe: one per Ceres problem, evaluated on one thread.
 class PressureSurfaceCache {
  public:
-  void move_centre(ForecastObject& object, const Eigen::Vector2d& centre) {
+  /// False (the object unchanged) where no planar pressure is centred at `centre`.
+  bool move_centre(ForecastObject& object, const Eigen::Vector2d& centre) {
     if (object.limit_surface != LimitSurfaceKind::Outline) {
       object.centre_of_friction_m = centre;
-      return;
+      return true;
     }
-    if (object.centre_of_friction_m == centre && object.pressure_surface) return;
+    if (object.centre_of_friction_m == centre && object.pressure_surface) return true;
     for (const auto& [c, surface] : entries_)
       if (c == centre) {
+        if (!surface) return false;
         object.centre_of_friction_m = centre;
         object.pressure_surface = surface;
-        return;
+        return true;
       }
-    set_centre_of_friction(object, centre);
-    entries_.emplace_back(centre, object.pressure_surface);
+    std::shared_ptr<const PolynomialLimitSurface> surface;
+    try {
+      ForecastObject moved = object;
+      set_centre_of_friction(moved, centre);
+      surface = moved.pressure_surface;
+      object = std::move(moved);
+    } catch (const InputError&) {
+    }
+    entries_.emplace_back(centre, surface);
     if (entries_.size() > 8) entries_.erase(entries_.begin());
+    return surface != nullptr;
   }
 
  private:
@@ -476,7 +486,9 @@ class SharedCentreResidual final : public ceres::CostFunction {
 
   bool Evaluate(double const* const* x, double* r, double** jacobians) const override {
     double block[2][3] = {{x[0][0], x[0][1], x[0][2]}, {x[1][0], x[1][1], 0}};
-    residuals(block[0], block[1], r);
+    // A centre so far off the outline that no planar pressure puts it there has no limit surface: Ceres takes the
+    // step as infeasible and shortens it.
+    if (!residuals(block[0], block[1], r)) return false;
     if (!jacobians) return true;
     const int m = num_residuals();
     for (int b = 0; b < 2; ++b) {
@@ -486,10 +498,11 @@ class SharedCentreResidual final : public ceres::CostFunction {
       for (int j = 0; j < size; ++j) {
         const double keep = block[b][j];
         block[b][j] = keep + step;
-        residuals(block[0], block[1], plus_.data());
+        const bool plus = residuals(block[0], block[1], plus_.data());
         block[b][j] = keep - step;
-        residuals(block[0], block[1], minus_.data());
+        const bool minus = residuals(block[0], block[1], minus_.data());
         block[b][j] = keep;
+        if (!plus || !minus) return false;
         for (int i = 0; i < m; ++i)
           jacobians[b][i * size + j] =
               (plus_[static_cast<std::size_t>(i)] - minus_[static_cast<std::size_t>(i)]) / (2 * step);
@@ -501,8 +514,8 @@ class SharedCentreResidual final : public ceres::CostFunction {
  private:
   static constexpr double kLogStep = 0.02, kCentreStep_m = 2e-4;
 
-  void residuals(const double* log_theta, const double* centre_m, double* r) const {
-    surfaces_.move_centre(object_, Eigen::Vector2d(centre_m[0], centre_m[1]));
+  bool residuals(const double* log_theta, const double* centre_m, double* r) const {
+    if (!surfaces_.move_centre(object_, Eigen::Vector2d(centre_m[0], centre_m[1]))) return false;
     const ForecastParameters p{std::exp(log_theta[0]), std::exp(log_theta[1]), std::exp(log_theta[2])};
     forecast_into(object_, p, case_.plan, case_.start_pose, times_, poses_, options_.settings);
     for (Eigen::Index k = 0; k < times_.size(); ++k) {
@@ -510,6 +523,7 @@ class SharedCentreResidual final : public ceres::CostFunction {
       r[3 * k + 1] = (poses_(k, 1) - truth_(k, 1)) / options_.position_scale_m;
       r[3 * k + 2] = (poses_(k, 2) - truth_(k, 2)) / options_.yaw_scale_rad;
     }
+    return true;
   }
 
   const RecordedForecastCase& case_;
@@ -587,6 +601,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   }
   ceres::Solver::Options solver;
   solver.max_num_iterations = options.max_iterations;
+  solver.logging_type = ceres::SILENT;  // a step to a centre with no planar pressure is refused, not reported
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.num_threads = 1;
   ceres::Solver::Summary summary;
