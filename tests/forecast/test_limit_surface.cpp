@@ -106,11 +106,12 @@ BOOST_AUTO_TEST_CASE(with_the_true_frictions_the_outline_surface_forecasts_the_s
   BOOST_TEST(outline_total < ellipsoid_total);
 }
 
-BOOST_AUTO_TEST_CASE(learned_leaving_one_out_the_outline_surface_forecasts_the_yaw_as_well_or_better,
-                     *boost::unit_test::label("slow")) {
+BOOST_AUTO_TEST_CASE(learned_leaving_one_out_the_outline_surface_forecasts_the_yaw_as_well_or_better) {
   // Pushes whose frictions and pressure shape vary from push to push (seeds 345100-345111 ellip3, 345200-345211
   // rect1, 345300-345311 hex), each forecast by the model learned from the others: the ellipsoid with c fitted per
-  // push against the outline's surface with no c. The decision on the default is taken on these seeds.
+  // push against the outline's surface with no c. The decision on the default is taken on these seeds. The simulated
+  // pressure is centred at the centroid, so the centre of friction is not learned (its joint fits would cost most of
+  // the time and test nothing here).
   double totals[2][2] = {{0, 0}, {0, 0}};  // [kind][position mm, yaw deg]
   std::uint64_t first = 345100;
   for (const char* name : {"ellip3", "rect1", "hex"}) {
@@ -125,7 +126,9 @@ BOOST_AUTO_TEST_CASE(learned_leaving_one_out_the_outline_surface_forecasts_the_y
         use_limit_surface(cases.back().forecast_object, kind);
         fits.push_back(fit_push_parameters(cases.back()));
       }
-      const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, ForecastStudyOptions{});
+      ForecastStudyOptions options;
+      set_centre_of_friction_choice(options.learn, "centroid");
+      const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
       double position = 0, yaw = 0;
       for (const auto& p : study) {
         position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
