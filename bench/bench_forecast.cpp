@@ -64,6 +64,22 @@ static void BM_forecast_trajectory(benchmark::State& state) {
 }
 BENCHMARK(BM_forecast_trajectory)->Name("forecast/trajectory_250Hz");
 
+static void BM_forecast_whole_push_outline_surface(benchmark::State& state) {
+  // The same push on the limit surface of the outline's pressure (a quartic: Newton solutions each step) in place of
+  // the ellipsoid.
+  const Fixture& f = fixture();
+  pushpred::ForecastObject object = f.c.forecast_object;
+  pushpred::use_limit_surface(object, pushpred::LimitSurfaceKind::Outline);
+  const Eigen::VectorXd times = Eigen::VectorXd::Constant(1, 1e9);
+  Eigen::MatrixX3d poses(1, 3);
+  for (auto _ : state) {
+    pushpred::forecast_into(object, f.model.parameters, f.c.plan, f.c.start_pose, times, poses);
+    benchmark::DoNotOptimize(poses.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_forecast_whole_push_outline_surface)->Name("forecast/whole_push_outline_limit_surface");
+
 static void BM_forecast_with_regions(benchmark::State& state) {
   const Fixture& f = fixture();
   pushpred::ForecastDistribution d;

@@ -22,12 +22,14 @@ struct StudyArgs {
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
+  std::string limit_surface = "ellipsoid";
 };
 
 int run_study(const StudyArgs& a) {
   StagedOutput out(a.out);
   const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
-  const ForecastInputs in = load_forecast_inputs(a.files, data, a.jobs);
+  const ForecastInputs in =
+      load_forecast_inputs(a.files, data, a.jobs, nullptr, true, limit_surface_named(a.limit_surface));
   ForecastStudyOptions options;
   options.jobs = a.jobs;
   options.learn.central = central_forecast_named(a.central);
@@ -88,6 +90,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
                   "learned pushes when that forecasts them better leaving each out)")
       ->check(CLI::IsMember({"chosen", "none"}));
+  sub->add_option("--limit-surface", a->limit_surface,
+                  "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
+                  "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")
+      ->check(CLI::IsMember({"ellipsoid", "outline"}));
   add_jobs(*sub, a->jobs,
            "Pushes fitted and forecast in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_study(*a); }; });

@@ -28,6 +28,7 @@ struct LearnArgs {
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
+  std::string limit_surface = "ellipsoid";
 };
 
 /// The user's own object, or null for the dataset's.
@@ -59,6 +60,7 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
     o->outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(ax, by));
   }
   o->centre_of_friction_m = o->outline->area_centroid_m();
+  use_limit_surface(*o, limit_surface_named(a.limit_surface));
   o->validate();
   return o;
 }
@@ -72,7 +74,8 @@ int run_learn(const LearnArgs& a) {
   if (!std::filesystem::is_directory(parent, ec)) throw InputError(about(a.out, "its folder does not exist"));
   const std::unique_ptr<ForecastObject> own = own_object(a);
   const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
-  ForecastInputs in = load_forecast_inputs(a.files, data, a.jobs, own.get());
+  ForecastInputs in =
+      load_forecast_inputs(a.files, data, a.jobs, own.get(), true, limit_surface_named(a.limit_surface));
   for (const auto& e : in.excluded) std::cerr << "excluded " << e.first << ": " << e.second << "\n";
   std::set<std::pair<std::string, std::string>> groups;
   for (const auto& c : in.cases) groups.insert({c.object, c.surface});
@@ -118,6 +121,9 @@ int run_learn(const LearnArgs& a) {
     std::printf("centre of friction (x, y) in the body frame: %.2f, %.2f mm, %s\n",
                 1e3 * model.object.centre_of_friction_m.x(), 1e3 * model.object.centre_of_friction_m.y(),
                 model.centre_of_friction_method.c_str());
+  std::printf("limit surface: %s\n", model.object.limit_surface == LimitSurfaceKind::Outline
+                                         ? "the outline's pressure (c is not fitted)"
+                                         : "ellipsoid of ratio c");
   if (model.trend.active()) {
     std::printf(
         "parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
@@ -160,6 +166,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
                   "learned pushes when that forecasts them better leaving each out)")
       ->check(CLI::IsMember({"chosen", "none"}));
+  sub->add_option("--limit-surface", a->limit_surface,
+                  "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
+                  "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")
+      ->check(CLI::IsMember({"ellipsoid", "outline"}));
   add_jobs(*sub, a->jobs, "Pushes fitted in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_learn(*a); }; });
 });

@@ -149,10 +149,12 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       py::arg("model"), py::arg("data") = py::none(), "An object model from a dict in the object file's format.");
   m.def(
       "learn_object_model",
-      [](const std::vector<std::string>& files, std::optional<std::string> data, int jobs) {
+      [](const std::vector<std::string>& files, std::optional<std::string> data, int jobs,
+         const std::string& limit_surface) {
         const std::filesystem::path folder = data_folder_or_empty(data);
+        const LimitSurfaceKind kind = limit_surface_named(limit_surface);
         return without_gil([&] {
-          const ForecastInputs in = load_forecast_inputs(files, folder, jobs, nullptr, false);
+          const ForecastInputs in = load_forecast_inputs(files, folder, jobs, nullptr, false, kind);
           if (!in.failures.empty()) throw InputError(about(in.failures.front().source, in.failures.front().reason));
           if (in.cases.empty()) throw InputError("learn_object_model: no push to learn from");
           for (const auto& c : in.cases)
@@ -166,9 +168,9 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
           return learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits);
         });
       },
-      py::arg("files"), py::arg("data") = py::none(), py::arg("jobs") = 1,
+      py::arg("files"), py::arg("data") = py::none(), py::arg("jobs") = 1, py::arg("limit_surface") = "ellipsoid",
       "Learns one object's model from recorded pushes of it on one surface, as `pushpred learn` does (frozen force "
-      "sensors left out).");
+      "sensors left out); limit_surface \"ellipsoid\" (default) or \"outline\" as its --limit-surface.");
 }
 
 }  // namespace pushpred::python

@@ -15,13 +15,26 @@ expect_exit 0 "learn hex from six pushes and a frozen rect1" -- "$bin" learn $he
 expect_in "$tmp/out" "learned hex on abs from 6 pushes" "the learned pushes are counted"
 expect_in "$tmp/err" "excluded $(basename "$frozen" .h5): force sensor frozen" "the frozen sensor is named"
 expect_in "$tmp/hex.json" '"format": "pushpred-object-model"' "the object file says its format"
-expect_in "$tmp/hex.json" '"version": 3' "the object file says its version"
+expect_in "$tmp/hex.json" '"version": 4' "the object file says its version"
+expect_in "$tmp/hex.json" '"limit_surface": "ellipsoid"' "the ellipsoidal limit surface by default"
 expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
 expect_in "$tmp/hex.json" '"parameter_trend"' "the object file holds the parameter trend"
 expect_in "$tmp/out" "parameter trend over the plan: none" "no trend by default"
 # shellcheck disable=SC2086
 expect_exit 0 "learn hex with the trend chosen" -- "$bin" learn $hex --trend chosen --out "$tmp/hex-trend.json" --jobs 2
 expect_in "$tmp/out" "parameter trend over the plan" "learn says whether it took a trend"
+# shellcheck disable=SC2086
+expect_exit 0 "learn hex on the outline's limit surface" -- "$bin" learn $hex --limit-surface outline \
+  --centre-of-friction centroid --out "$tmp/hex-outline.json" --jobs 2
+expect_in "$tmp/hex-outline.json" '"limit_surface": "outline"' "the object file keeps the outline's limit surface"
+expect_in "$tmp/out" "limit surface: the outline's pressure" "learn says which limit surface"
+expect_exit 0 "forecast on the outline's limit surface" -- "$bin" forecast --model "$tmp/hex-outline.json" \
+  --object-pose 0,0,0 --tip -66,10 --direction 10 --speed 50 --out "$tmp/f-outline"
+check "the outline forecast wrote forecast.json" test -s "$tmp/f-outline/forecast.json"
+# shellcheck disable=SC2086
+expect_exit 2 "an unknown limit surface" -- "$bin" learn $hex --limit-surface cuboid --out "$tmp/cuboid.json"
+expect_in "$tmp/err" "cuboid" "the unknown limit surface is named"
+expect_absent "$tmp/cuboid.json" "no object file for an unknown limit surface"
 # shellcheck disable=SC2086
 expect_exit 2 "learn from two objects at once" -- "$bin" learn $hex "$(abs_push 'shape=ellip1_')" --out "$tmp/two.json"
 expect_in "$tmp/err" "several objects" "the mix is named"

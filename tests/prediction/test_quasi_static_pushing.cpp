@@ -368,3 +368,71 @@ BOOST_AUTO_TEST_CASE(bad_parameters_are_refused_with_their_name) {
 }
 
 BOOST_AUTO_TEST_SUITE_END()
+
+// The quasi-static motion on the limit surface of the support's pressure (no ratio c), checked against the exact
+// surface by summation over the footprint, which the motion's quartic only approximates.
+BOOST_AUTO_TEST_SUITE(quasi_static_pushing_on_the_pressure_limit_surface)
+
+namespace {
+
+PolynomialLimitSurface uniform_surface(const char* shape, SupportPressure* pressure = nullptr) {
+  const Footprint footprint = make_footprint(Outline(ShapeTable::published().find(shape)));
+  const SupportPressure p = planar_support_pressure(footprint, footprint.centroid_m);
+  if (pressure) *pressure = p;
+  return PolynomialLimitSurface::fit(p);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_push_through_the_centre_translates_with_the_pusher) {
+  const PolynomialLimitSurface ls = uniform_surface("ellip1");
+  const Eigen::Vector2d n(0, 1), vp(0, 0.05);
+  const QuasiStaticMotion m = quasi_static_motion_on(ls, Eigen::Vector2d(0, -0.0525), n, vp, 0.3);
+  BOOST_TEST((m.mode == ContactMode::Sticking));
+  // Up to the fitted quartic's asymmetry (its twist directions sample the sphere, not symmetrically): under 1e-5 of
+  // the push.
+  BOOST_TEST((m.velocity_m_s - vp).norm() < 1e-5 * vp.norm());
+  BOOST_TEST(std::abs(m.omega_rad_s) * ls.torque_ratio_m() < 1e-5 * vp.norm());
+}
+
+BOOST_AUTO_TEST_CASE(a_sticking_contact_moves_with_the_pusher_under_a_wrench_through_the_contact) {
+  SupportPressure pressure;
+  const PolynomialLimitSurface ls = uniform_surface("rect1", &pressure);
+  // rect1 (90 mm square) pushed on its -y side 25 mm off centre, 10 degrees off the normal.
+  const Eigen::Vector2d rc(0.025, -0.045), n(0, 1);
+  const Eigen::Vector2d vp = 0.05 * Eigen::Vector2d(-std::sin(0.17), std::cos(0.17));
+  Eigen::Vector2d hint = Eigen::Vector2d::Zero();
+  const QuasiStaticMotion m = quasi_static_motion_on(ls, rc, n, vp, 0.8, &hint);
+  BOOST_TEST((m.mode == ContactMode::Sticking));
+  BOOST_TEST((m.velocity_m_s + m.omega_rad_s * perp(rc) - vp).norm() < 1e-9);
+  BOOST_TEST(m.omega_rad_s > 0);  // pushed right of the centre towards +y: it turns counter-clockwise
+  // The exact surface's wrench for this twist has (almost) no moment about the contact point: a pusher force there
+  // holds it.
+  const Eigen::Vector3d w = limit_surface_wrench(pressure, m.velocity_m_s, m.omega_rad_s);
+  const double moment_about_contact = w(2) - perp(rc).dot(w.head<2>());
+  BOOST_TEST(std::abs(moment_about_contact) < 0.03 * pressure.torque_ratio_m * w.head<2>().norm());
+  // The same answer from the warm start.
+  const QuasiStaticMotion again = quasi_static_motion_on(ls, rc, n, vp, 0.8, &hint);
+  BOOST_TEST((again.velocity_m_s - m.velocity_m_s).norm() < 1e-9 * vp.norm());
+}
+
+BOOST_AUTO_TEST_CASE(a_sliding_contact_pushes_along_the_edge_of_its_friction_cone) {
+  SupportPressure pressure;
+  const PolynomialLimitSurface ls = uniform_surface("rect1", &pressure);
+  const Eigen::Vector2d rc(0.025, -0.045), n(0, 1), vp(0, 0.05);
+  const double mu_p = 0.1;
+  const QuasiStaticMotion m = quasi_static_motion_on(ls, rc, n, vp, mu_p);
+  BOOST_TEST((m.mode == ContactMode::SlidingLeft || m.mode == ContactMode::SlidingRight));
+  // The contact's normal speed is the pusher's, and the object turns away from the push.
+  BOOST_TEST((m.velocity_m_s + m.omega_rad_s * perp(rc)).dot(n) == 0.05, boost::test_tools::tolerance(1e-9));
+  BOOST_TEST(m.omega_rad_s > 0);
+  // The exact surface's wrench for the twist is (within the quartic's error) the cone edge's force at the contact.
+  const double s = m.mode == ContactMode::SlidingLeft ? 1.0 : -1.0;
+  const Eigen::Vector2d fe = n + s * mu_p * perp(n);
+  const Eigen::Vector3d edge(fe.x(), fe.y(), perp(rc).dot(fe) / pressure.torque_ratio_m);
+  const Eigen::Vector3d w = limit_surface_wrench(pressure, m.velocity_m_s, m.omega_rad_s);
+  const Eigen::Vector3d scaled(w(0), w(1), w(2) / pressure.torque_ratio_m);
+  BOOST_TEST(std::acos(std::min(1.0, scaled.normalized().dot(edge.normalized()))) * 180 / M_PI < 3.0);
+}
+
+BOOST_AUTO_TEST_SUITE_END()

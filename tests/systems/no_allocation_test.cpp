@@ -287,7 +287,8 @@ BOOST_AUTO_TEST_CASE(the_simulated_object_does_not_allocate) {
 BOOST_AUTO_TEST_SUITE_END()
 
 BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
-  // forecast_into's fixed-step loop (forecast/forecast_model.hpp) on a 600-vertex polygon and on an ellipse, and a
+  // forecast_into's fixed-step loop (forecast/forecast_model.hpp) on a 600-vertex polygon and on an ellipse (with the
+  // ellipsoidal limit surface and the outline's), and a
   // forecast with its regions into reused storage after a first call of that size (a planner's loop).
   std::vector<Eigen::Vector2d> v;
   for (int k = 0; k < 600; ++k) {
@@ -298,6 +299,10 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
   polygon.outline = std::make_shared<const ForecastOutline>(ForecastOutline::polygon(v));
   ForecastObject ellipse = polygon;
   ellipse.outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(0.05, 0.07));
+  // The same on the limit surface of the outline's pressure (its Newton solutions on fixed-size storage).
+  ForecastObject polygon_outline_surface = polygon, ellipse_outline_surface = ellipse;
+  use_limit_surface(polygon_outline_surface, LimitSurfaceKind::Outline);
+  use_limit_surface(ellipse_outline_surface, LimitSurfaceKind::Outline);
   const TipPlan plan = TipPlan::straight({-0.06, 0.01}, {1, 0.1}, 0.08, 0.05);
   const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(300, 0.0, 1.5);
   Eigen::MatrixX3d poses(times.size(), 3);
@@ -315,7 +320,7 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
   forecast_distribution_into(model, plan, Eigen::Vector3d::Zero(), times, d, work);
   double sum = 0;
   const long count = allocations_in([&] {
-    for (const ForecastObject* o : {&polygon, &ellipse}) {
+    for (const ForecastObject* o : {&polygon, &ellipse, &polygon_outline_surface, &ellipse_outline_surface}) {
       forecast_into(*o, {0.3, 0.03, 0.4}, plan, Eigen::Vector3d::Zero(), times, poses);
       sum += poses.sum();
     }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/prediction/quasi_static_pushing.hpp"
@@ -56,6 +57,11 @@ ForecastOutline ForecastOutline::polygon(std::vector<Eigen::Vector2d> vertices, 
     o.normals_[i] = Eigen::Vector2d(edge.y(), -edge.x()).normalized();  // outward for counter-clockwise
   }
   o.description_ = std::move(description);
+  ShapeInfo shape;
+  shape.name = "polygon";
+  shape.geometry = Geometry::Polygon;
+  shape.vertices_m = o.vertices_;
+  o.footprint_ = std::make_shared<const Footprint>(make_footprint(Outline(shape)));
   return o;
 }
 
@@ -72,6 +78,7 @@ ForecastOutline ForecastOutline::ellipse(double a, double b) {
   shape.dim1_m = a;
   shape.dim2_m = b;
   o.exact_ = std::make_shared<Outline>(shape);
+  o.footprint_ = std::make_shared<const Footprint>(make_footprint(*o.exact_));
   o.description_ = a == b ? "circle" : "ellipse";
   return o;
 }
@@ -204,8 +211,40 @@ double ForecastOutline::uniform_pressure_torque_ratio_m(const Eigen::Vector2d& c
   return count > 0 ? sum / count : 0.0;
 }
 
+const char* limit_surface_name(LimitSurfaceKind kind) {
+  return kind == LimitSurfaceKind::Outline ? "outline" : "ellipsoid";
+}
+
+LimitSurfaceKind limit_surface_named(const std::string& name) {
+  if (name == "ellipsoid") return LimitSurfaceKind::Ellipsoid;
+  if (name == "outline") return LimitSurfaceKind::Outline;
+  throw InputError("limit surface '" + name + "' is not known: give ellipsoid or outline");
+}
+
+void use_limit_surface(ForecastObject& object, LimitSurfaceKind kind) {
+  object.limit_surface = kind;
+  object.pressure_surface.reset();
+  if (kind != LimitSurfaceKind::Outline) return;
+  if (!object.outline) throw InputError("forecast object '" + object.name + "': no outline for its limit surface");
+  object.pressure_surface = std::make_shared<const PolynomialLimitSurface>(
+      PolynomialLimitSurface::fit(planar_support_pressure(object.outline->footprint(), object.centre_of_friction_m)));
+}
+
+void set_centre_of_friction(ForecastObject& object, const Eigen::Vector2d& centre) {
+  if (centre == object.centre_of_friction_m &&
+      (object.limit_surface != LimitSurfaceKind::Outline || object.pressure_surface))
+    return;
+  object.centre_of_friction_m = centre;
+  use_limit_surface(object, object.limit_surface);
+}
+
 void ForecastObject::validate() const {
   if (!outline) throw InputError("forecast object '" + name + "': no outline");
+  if (limit_surface == LimitSurfaceKind::Outline &&
+      (!pressure_surface || pressure_surface->centre_m() != centre_of_friction_m))
+    throw std::logic_error("forecast object '" + name +
+                           "': its outline limit surface is not about its centre of friction (use "
+                           "set_centre_of_friction)");
   require_positive_finite(mass_kg, "forecast object '" + name + "': mass");
   require_positive_finite(inertia_kgm2, "forecast object '" + name + "': inertia");
   if (!centre_of_friction_m.allFinite())
@@ -346,6 +385,15 @@ ForecastRun forecast_into(const ForecastObject& object, const ForecastParameters
   const double linear_decel = par.support_friction * s.gravity_m_s2;  // F / m
   const double c2 = par.torque_ratio_m * par.torque_ratio_m;
   const double angular_decel = par.support_friction * object.mass_kg * s.gravity_m_s2 * c2 / object.inertia_kgm2;
+  const PolynomialLimitSurface* surface =
+      object.limit_surface == LimitSurfaceKind::Outline ? object.pressure_surface.get() : nullptr;
+  if (object.limit_surface == LimitSurfaceKind::Outline &&
+      (!surface || surface->centre_m() != object.centre_of_friction_m))
+    throw std::logic_error("forecast: the outline limit surface is not about the centre of friction");
+  // Warm starts of the surface's Newton solutions from the previous step (body frame).
+  Eigen::Vector2d push_force_hint = Eigen::Vector2d::Zero();
+  Eigen::Vector3d slide_wrench_hint = Eigen::Vector3d::Zero();
+  const double support_force_per_kg = par.support_friction * s.gravity_m_s2;  // F / m
   const Eigen::Index n_out = out_t.size();
   Eigen::Index k = 0;
   while (k < n_out && out_t(k) <= 0) poses.row(k++) = pose0.transpose();
@@ -361,20 +409,45 @@ ForecastRun forecast_into(const ForecastObject& object, const ForecastParameters
     const bool moving_plan = t < end - 1e-12;
     const double dt = moving_plan ? std::min(push_step, end - t) : s.slide_step_s;
     plan.evaluate(moving_plan ? t : end, tip, tip_velocity);
-    const Eigen::Rotation2Dd R(pose(2));
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(pose(2)).toRotationMatrix();
     const Eigen::Vector2d origin = pose.head<2>();
-    const Outline::Closest c = outline.closest(R.inverse() * (tip - origin), hint);
+    const Outline::Closest c = outline.closest(R.transpose() * (tip - origin), hint);
     const double penetration = s.rod_radius_m - c.signed_distance_m;
 
-    // The free slide over this step: the ellipsoidal limit surface's Coulomb friction, stopping exactly.
-    const double speed = std::sqrt(v.squaredNorm() + c2 * w * w);
+    // The free slide over this step: the limit surface's Coulomb friction, stopping exactly. On the outline's
+    // surface it costs a Newton solution, so it is found only where it is needed (free_slide below).
     Eigen::Vector2d v_free = v;
     double w_free = w;
-    if (speed > 0) {
-      v_free =
-          speed <= linear_decel * dt ? Eigen::Vector2d::Zero() : Eigen::Vector2d(v - dt * linear_decel * v / speed);
-      w_free = speed <= angular_decel * dt ? 0.0 : w - dt * angular_decel * w / speed;
-    }
+    bool free_known = false;
+    auto free_slide = [&] {
+      if (free_known) return;
+      free_known = true;
+      if (surface) {
+        if (v.squaredNorm() > 0 || w != 0) {
+          const Eigen::Vector3d W = surface->wrench_for_twist(R.transpose() * v, w, &slide_wrench_hint);
+          const Eigen::Vector2d a = -support_force_per_kg * (R * W.head<2>());
+          const double alpha = -support_force_per_kg * object.mass_kg * W(2) / object.inertia_kgm2;
+          // Stop where the step would dissipate the kinetic energy (for a pure translation or rotation: where the
+          // step's deceleration exceeds the speed, as the ellipsoid's exact stop).
+          const double kinetic2 = v.squaredNorm() + object.inertia_kgm2 / object.mass_kg * w * w;
+          const double dissipated = -dt * (a.dot(v) + object.inertia_kgm2 / object.mass_kg * alpha * w);
+          if (dissipated >= kinetic2) {
+            v_free.setZero();
+            w_free = 0;
+          } else {
+            v_free = v + dt * a;
+            w_free = w + dt * alpha;
+          }
+        }
+      } else {
+        const double speed = std::sqrt(v.squaredNorm() + c2 * w * w);
+        if (speed > 0) {
+          v_free =
+              speed <= linear_decel * dt ? Eigen::Vector2d::Zero() : Eigen::Vector2d(v - dt * linear_decel * v / speed);
+          w_free = speed <= angular_decel * dt ? 0.0 : w - dt * angular_decel * w / speed;
+        }
+      }
+    };
     bool pushed = false;
     if (penetration > -s.contact_slack_m) {
       const Eigen::Vector2d n = -(R * c.normal);
@@ -382,9 +455,28 @@ ForecastRun forecast_into(const ForecastObject& object, const ForecastParameters
       const Eigen::Vector2d vp = tip_velocity + n * (std::max(penetration, 0.0) / (s.gap_steps * dt));
       const double normal_speed = n.dot(vp);
       if (normal_speed > 0) {
-        const QuasiStaticMotion m = quasi_static_motion(rc, n, vp, par.pusher_friction, par.torque_ratio_m);
-        const double free_normal_speed = (v_free + w_free * perp(rc)).dot(n);
-        if (m.mode != ContactMode::None && !(free_normal_speed > normal_speed)) {
+        QuasiStaticMotion m;
+        bool outruns = false;  // the object sliding freely would leave the tip's normal speed behind
+        if (surface) {
+          m = quasi_static_motion_on(*surface, c.point_m - object.centre_of_friction_m, -c.normal, R.transpose() * vp,
+                                     par.pusher_friction, &push_force_hint);
+          m.velocity_m_s = R * m.velocity_m_s;
+          // Friction cannot speed the contact up by more than its largest force and moment allow (|f| <= 1 and
+          // |m| <= rho on the surface per unit F; the quartic's within a few per cent, so a margin of 1.5): below
+          // that bound the free slide need not be found.
+          const double bound = (v + w * perp(rc)).dot(n) +
+                               1.5 * dt * support_force_per_kg *
+                                   (1 + object.mass_kg * surface->torque_ratio_m() * rc.norm() / object.inertia_kgm2);
+          if (bound > normal_speed) {
+            free_slide();
+            outruns = (v_free + w_free * perp(rc)).dot(n) > normal_speed;
+          }
+        } else {
+          m = quasi_static_motion(rc, n, vp, par.pusher_friction, par.torque_ratio_m);
+          free_slide();
+          outruns = (v_free + w_free * perp(rc)).dot(n) > normal_speed;
+        }
+        if (m.mode != ContactMode::None && !outruns) {
           pushed = true;
           v = m.velocity_m_s;
           w = m.omega_rad_s;
@@ -394,6 +486,7 @@ ForecastRun forecast_into(const ForecastObject& object, const ForecastParameters
       }
     }
     if (!pushed) {
+      free_slide();
       v = v_free;
       w = w_free;
     }

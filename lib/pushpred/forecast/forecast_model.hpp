@@ -16,15 +16,20 @@
 // - let go: when the tip does not push, or when the object sliding freely would leave the tip's normal speed behind
 //   (the tip stops faster than friction stops the object), the object slides under the ellipsoidal limit surface's
 //   Coulomb friction of mu_s m g, to rest.
+// - with LimitSurfaceKind::Outline the limit surface is not the ellipsoid of ratio c but the one of a planar pressure
+//   over the outline centred at the centre of friction (mechanics/pressure_limit_surface.hpp, a fitted quartic):
+//   pushed, quasi_static_motion_on; let go, its friction wrench; c is not used. It is body-fixed, so the contact and
+//   the twist are taken into the body frame for it.
 // The planned tip follows its path exactly (a position-controlled robot far stiffer than the contact).
 #include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "pushpred/mechanics/outline.hpp"
-#include "pushpred/reading/shape_table.hpp"
 #include "pushpred/mechanics/gravity.hpp"
+#include "pushpred/mechanics/outline.hpp"
+#include "pushpred/mechanics/pressure_limit_surface.hpp"
+#include "pushpred/reading/shape_table.hpp"
 
 namespace pushpred {
 
@@ -58,6 +63,8 @@ class ForecastOutline {
   /// The ratio c = max torque / max force of the support under uniform pressure about `centre_m` [m].
   double uniform_pressure_torque_ratio_m(const Eigen::Vector2d& centre_m) const;
   Eigen::Vector2d area_centroid_m() const;
+  /// The footprint's area elements (mechanics/outline.hpp's grid of 20 x 20 cells), for the pressure's limit surface.
+  const Footprint& footprint() const { return *footprint_; }
 
  private:
   bool ellipse_ = false;
@@ -65,7 +72,15 @@ class ForecastOutline {
   std::vector<Eigen::Vector2d> vertices_, normals_;
   std::string description_;
   std::shared_ptr<const Outline> exact_;  ///< the ellipse
+  std::shared_ptr<const Footprint> footprint_;
 };
+
+/// Which limit surface the forecast's support friction has: the ellipsoid of ratio c (a parameter fitted per push), or
+/// the one of a planar pressure over the outline centred at the centre of friction (no c).
+enum class LimitSurfaceKind { Ellipsoid, Outline };
+const char* limit_surface_name(LimitSurfaceKind kind);  ///< "ellipsoid", "outline"
+/// "ellipsoid" or "outline"; InputError naming the value otherwise.
+LimitSurfaceKind limit_surface_named(const std::string& name);
 
 /// What the model needs of the object besides its parameters.
 struct ForecastObject {
@@ -74,9 +89,20 @@ struct ForecastObject {
   double mass_kg = 1;
   double inertia_kgm2 = 1e-3;                                      ///< about the mass centre
   Eigen::Vector2d centre_of_friction_m = Eigen::Vector2d::Zero();  ///< body frame
-  /// Throws InputError for no outline or a non-positive mass or inertia.
+  LimitSurfaceKind limit_surface = LimitSurfaceKind::Ellipsoid;
+  /// With LimitSurfaceKind::Outline: the pressure's limit surface about centre_of_friction_m (set_centre_of_friction
+  /// and use_limit_surface keep it so).
+  std::shared_ptr<const PolynomialLimitSurface> pressure_surface;
+  /// Throws InputError for no outline or a non-positive mass or inertia; std::logic_error for an outline limit
+  /// surface about another centre than the centre of friction.
   void validate() const;
 };
+
+/// Makes `object` forecast with the limit surface `kind` (for Outline: fits the pressure's surface about its centre
+/// of friction; InputError when the centre lies too far off the outline for a planar pressure).
+void use_limit_surface(ForecastObject& object, LimitSurfaceKind kind);
+/// Moves the centre of friction, refitting the pressure's limit surface when the object uses one.
+void set_centre_of_friction(ForecastObject& object, const Eigen::Vector2d& centre_m);
 
 /// The parameters that vary from object to object and push to push: what `learn` identifies.
 struct ForecastParameters {

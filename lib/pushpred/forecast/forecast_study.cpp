@@ -30,7 +30,8 @@ std::string forecast_study_inputs_note() {
 }
 
 ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, const std::filesystem::path& data_folder,
-                                    int jobs, const ForecastObject* object, bool show_progress) {
+                                    int jobs, const ForecastObject* object, bool show_progress,
+                                    LimitSurfaceKind limit_surface) {
   struct Loaded {
     std::string excluded;
     std::string name;
@@ -51,7 +52,8 @@ ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, cons
       l.excluded = "not a constant-speed push";
       return l;
     }
-    const ForecastObject o = object ? *object : dataset_forecast_object(push.shape, data_folder);
+    ForecastObject o = object ? *object : dataset_forecast_object(push.shape, data_folder);
+    if (!object) use_limit_surface(o, limit_surface);
     l.c = recorded_forecast_case(push, o);
     l.fit = fit_push_parameters(l.c);
     return l;

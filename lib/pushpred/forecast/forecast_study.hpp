@@ -68,9 +68,11 @@ struct ForecastInputs {
   std::vector<BatchFailure> failures;  ///< inputs that could not be read or used
 };
 /// `inputs`: files or folders (expand_inputs). `object`: the object to push on for every input (a user's own outline,
-/// mass and inertia), or null for the dataset's (dataset_forecast_object, butter's outline from `data_folder`).
+/// mass and inertia), or null for the dataset's (dataset_forecast_object, butter's outline from `data_folder`), with
+/// the limit surface `limit_surface` (an own object keeps its own).
 ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, const std::filesystem::path& data_folder,
-                                    int jobs, const ForecastObject* object = nullptr, bool show_progress = true);
+                                    int jobs, const ForecastObject* object = nullptr, bool show_progress = true,
+                                    LimitSurfaceKind limit_surface = LimitSurfaceKind::Ellipsoid);
 
 /// What the study takes from the predicted push besides its file name, for the reports.
 std::string forecast_study_inputs_note();

@@ -43,6 +43,8 @@ double time_to_cover(const TipPlan& plan, double distance_m) {
   return 0.5 * (lo + hi);
 }
 
+bool outline_limit_surface(const ForecastObject& object) { return object.limit_surface == LimitSurfaceKind::Outline; }
+
 struct TrajectoryResidual {
   const RecordedForecastCase* c = nullptr;
   Eigen::VectorXd times;
@@ -347,14 +349,18 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   }
   residual->poses.resize(residual->times.size(), 3);
   const int m = static_cast<int>(3 * idx.size());
+  const bool fixed_ratio = outline_limit_surface(c.forecast_object);
   const double c_uniform =
-      c.forecast_object.outline->uniform_pressure_torque_ratio_m(c.forecast_object.centre_of_friction_m);
+      fixed_ratio ? c.forecast_object.pressure_surface->torque_ratio_m()
+                  : c.forecast_object.outline->uniform_pressure_torque_ratio_m(c.forecast_object.centre_of_friction_m);
   // A coarse grid first: the trajectory error has several valleys (stick against slide).
   std::vector<double> r(static_cast<std::size_t>(m));
   double theta[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
   double best = std::numeric_limits<double>::infinity();
+  const std::vector<double> ratios =
+      fixed_ratio ? std::vector<double>{1.0} : std::vector<double>{0.35, 0.5, 0.65, 0.8, 0.95, 1.15, 1.4, 1.8};
   for (double mu_p : {0.05, 0.1, 0.18, 0.28, 0.4, 0.55, 0.75, 1.0, 1.4})
-    for (double ratio : {0.35, 0.5, 0.65, 0.8, 0.95, 1.15, 1.4, 1.8})
+    for (double ratio : ratios)
       for (double mu_s : {0.25, 0.5}) {
         const double t[3] = {std::log(mu_p), std::log(ratio * c_uniform), std::log(mu_s)};
         (*residual)(t, r.data());
@@ -374,17 +380,21 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   if (options.prior_width_log > 0) {
     const double centre[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
     for (int i = 0; i < 3; ++i)
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(new LogPrior{i, centre[i], options.prior_width_log}), nullptr,
-          theta);
+      if (!(fixed_ratio && i == 1))
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(new LogPrior{i, centre[i], options.prior_width_log}),
+            nullptr, theta);
   }
   const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
   const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
   for (int i = 0; i < 3; ++i) {
     theta[i] = std::clamp(theta[i], lower[i], upper[i]);
+    if (fixed_ratio && i == 1) continue;
     problem.SetParameterLowerBound(theta, i, lower[i]);
     problem.SetParameterUpperBound(theta, i, upper[i]);
   }
+  // The pressure's limit surface has no ratio c: it is held at the surface's own (unused by the forecast).
+  if (fixed_ratio) problem.SetManifold(theta, new ceres::SubsetManifold(3, {1}));
   ceres::Solver::Options solver;
   solver.max_num_iterations = 40;
   solver.linear_solver_type = ceres::DENSE_QR;
@@ -413,14 +423,51 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
 
 namespace {
 
+/// The pressure's limit surfaces fitted for the last few centres of friction, shared by the pushes of one joint fit:
+/// its residuals move the centre to the same few values (the iterate and its difference steps) push after push, and
+/// a surface costs a fit over the footprint. Not thread-safe: one per Ceres problem, evaluated on one thread.
+class PressureSurfaceCache {
+ public:
+  /// False (the object unchanged) where no planar pressure is centred at `centre`.
+  bool move_centre(ForecastObject& object, const Eigen::Vector2d& centre) {
+    if (object.limit_surface != LimitSurfaceKind::Outline) {
+      object.centre_of_friction_m = centre;
+      return true;
+    }
+    if (object.centre_of_friction_m == centre && object.pressure_surface) return true;
+    for (const auto& [c, surface] : entries_)
+      if (c == centre) {
+        if (!surface) return false;
+        object.centre_of_friction_m = centre;
+        object.pressure_surface = surface;
+        return true;
+      }
+    std::shared_ptr<const PolynomialLimitSurface> surface;
+    try {
+      ForecastObject moved = object;
+      set_centre_of_friction(moved, centre);
+      surface = moved.pressure_surface;
+      object = std::move(moved);
+    } catch (const InputError&) {
+    }
+    entries_.emplace_back(centre, surface);
+    if (entries_.size() > 8) entries_.erase(entries_.begin());
+    return surface != nullptr;
+  }
+
+ private:
+  std::vector<std::pair<Eigen::Vector2d, std::shared_ptr<const PolynomialLimitSurface>>> entries_;
+};
+
 /// One push's trajectory residuals (as TrajectoryResidual's) as a function of its log-parameters (block 0, size 3)
 /// and the centre of friction its object shares with other pushes (block 1, size 2, body frame [m]). Central
 /// differences with a step suited to each block: 0.02 in the logarithms (about fit_push_parameters' relative step),
 /// 0.2 mm for the centre; both span the kinks of the piecewise-smooth fixed-step forecast.
 class SharedCentreResidual final : public ceres::CostFunction {
  public:
-  SharedCentreResidual(const RecordedForecastCase& c, const ForecastObject& object, const FitOptions& options)
-      : case_(c), object_(object), options_(options) {
+  SharedCentreResidual(const RecordedForecastCase& c, const ForecastObject& object, const FitOptions& options,
+                       PressureSurfaceCache& surfaces)
+      : case_(c), object_(object), options_(options), surfaces_(surfaces) {
     const std::vector<Eigen::Index> idx = spread_indices(c.times_s.size(), options.residual_times);
     const Eigen::Index n = static_cast<Eigen::Index>(idx.size());
     times_.resize(n);
@@ -439,7 +486,9 @@ class SharedCentreResidual final : public ceres::CostFunction {
 
   bool Evaluate(double const* const* x, double* r, double** jacobians) const override {
     double block[2][3] = {{x[0][0], x[0][1], x[0][2]}, {x[1][0], x[1][1], 0}};
-    residuals(block[0], block[1], r);
+    // A centre so far off the outline that no planar pressure puts it there has no limit surface: Ceres takes the
+    // step as infeasible and shortens it.
+    if (!residuals(block[0], block[1], r)) return false;
     if (!jacobians) return true;
     const int m = num_residuals();
     for (int b = 0; b < 2; ++b) {
@@ -449,10 +498,11 @@ class SharedCentreResidual final : public ceres::CostFunction {
       for (int j = 0; j < size; ++j) {
         const double keep = block[b][j];
         block[b][j] = keep + step;
-        residuals(block[0], block[1], plus_.data());
+        const bool plus = residuals(block[0], block[1], plus_.data());
         block[b][j] = keep - step;
-        residuals(block[0], block[1], minus_.data());
+        const bool minus = residuals(block[0], block[1], minus_.data());
         block[b][j] = keep;
+        if (!plus || !minus) return false;
         for (int i = 0; i < m; ++i)
           jacobians[b][i * size + j] =
               (plus_[static_cast<std::size_t>(i)] - minus_[static_cast<std::size_t>(i)]) / (2 * step);
@@ -464,8 +514,8 @@ class SharedCentreResidual final : public ceres::CostFunction {
  private:
   static constexpr double kLogStep = 0.02, kCentreStep_m = 2e-4;
 
-  void residuals(const double* log_theta, const double* centre_m, double* r) const {
-    object_.centre_of_friction_m << centre_m[0], centre_m[1];
+  bool residuals(const double* log_theta, const double* centre_m, double* r) const {
+    if (!surfaces_.move_centre(object_, Eigen::Vector2d(centre_m[0], centre_m[1]))) return false;
     const ForecastParameters p{std::exp(log_theta[0]), std::exp(log_theta[1]), std::exp(log_theta[2])};
     forecast_into(object_, p, case_.plan, case_.start_pose, times_, poses_, options_.settings);
     for (Eigen::Index k = 0; k < times_.size(); ++k) {
@@ -473,6 +523,7 @@ class SharedCentreResidual final : public ceres::CostFunction {
       r[3 * k + 1] = (poses_(k, 1) - truth_(k, 1)) / options_.position_scale_m;
       r[3 * k + 2] = (poses_(k, 2) - truth_(k, 2)) / options_.yaw_scale_rad;
     }
+    return true;
   }
 
   const RecordedForecastCase& case_;
@@ -482,6 +533,7 @@ class SharedCentreResidual final : public ceres::CostFunction {
   Eigen::MatrixX3d truth_;
   mutable Eigen::MatrixX3d poses_;
   mutable std::vector<double> plus_, minus_;
+  PressureSurfaceCache& surfaces_;
 };
 
 /// (centre - prior) / sd per axis: the centre of friction's Gaussian prior.
@@ -505,6 +557,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   object.validate();
   const FitOptions& fit_options = options.fit;
   const Eigen::Vector2d start = object.centre_of_friction_m;
+  const bool fixed_ratio = outline_limit_surface(object);
   const double c_uniform = object.outline->uniform_pressure_torque_ratio_m(start);
   const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
   const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
@@ -513,19 +566,27 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   std::vector<std::array<double, 3>> theta(n);
   double centre[2] = {start.x(), start.y()};
   ceres::Problem problem;
+  PressureSurfaceCache surfaces;
   int residual_count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k)
       theta[i][static_cast<std::size_t>(k)] = std::clamp(std::log(fits[i].parameters.vector()(k)), lower[k], upper[k]);
-    auto* cost = new SharedCentreResidual(cases[i], object, fit_options);
+    auto* cost = new SharedCentreResidual(cases[i], object, fit_options, surfaces);
     residual_count += cost->num_residuals();
     problem.AddResidualBlock(cost, new ceres::HuberLoss(3.0), theta[i].data(), centre);
+    if (fixed_ratio) {
+      // The pressure's limit surface has no ratio c: each push keeps its own fit's (unused by the forecast).
+      theta[i][1] = std::log(fits[i].parameters.torque_ratio_m);
+      problem.SetManifold(theta[i].data(), new ceres::SubsetManifold(3, {1}));
+    }
     if (fit_options.prior_width_log > 0)
       for (int k = 0; k < 3; ++k)
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(
-                                     new LogPrior{k, prior_centre[k], fit_options.prior_width_log}),
-                                 nullptr, theta[i].data());
+        if (!(fixed_ratio && k == 1))
+          problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(
+                                       new LogPrior{k, prior_centre[k], fit_options.prior_width_log}),
+                                   nullptr, theta[i].data());
     for (int k = 0; k < 3; ++k) {
+      if (fixed_ratio && k == 1) continue;
       problem.SetParameterLowerBound(theta[i].data(), k, lower[k]);
       problem.SetParameterUpperBound(theta[i].data(), k, upper[k]);
     }
@@ -540,6 +601,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   }
   ceres::Solver::Options solver;
   solver.max_num_iterations = options.max_iterations;
+  solver.logging_type = ceres::SILENT;  // a step to a centre with no planar pressure is refused, not reported
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.num_threads = 1;
   ceres::Solver::Summary summary;
@@ -548,7 +610,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   CentreOfFrictionFit out;
   out.centre_m << centre[0], centre[1];
   ForecastObject learned = object;
-  learned.centre_of_friction_m = out.centre_m;
+  set_centre_of_friction(learned, out.centre_m);
   // Standard errors: Ceres' covariance, scaled by the residuals' own variance (as fit_push_parameters).
   ceres::Covariance covariance(fit_covariance_options());
   std::vector<std::pair<const double*, const double*>> blocks{{centre, centre}};
@@ -633,7 +695,7 @@ bool learned_centre_forecasts_better(const ForecastObject& object, const std::ve
     if (test.empty() || train_fits.empty()) continue;
     const CentreOfFrictionFit fit = fit_centre_of_friction(object, train_cases, train_fits, cof);
     ForecastObject moved = object;
-    moved.centre_of_friction_m = fit.centre_m;
+    set_centre_of_friction(moved, fit.centre_m);
     std::vector<const PushFit*> own_members, learned_members;
     for (const auto& f : train_fits) own_members.push_back(&f);
     for (const auto& f : fit.fits) learned_members.push_back(&f);
@@ -700,7 +762,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     CentreOfFrictionOptions cof = options.centre_of_friction;
     cof.fit.settings = settings;
     CentreOfFrictionFit learned = fit_centre_of_friction(object, cases, fits, cof);
-    model.object.centre_of_friction_m = learned.centre_m;
+    set_centre_of_friction(model.object, learned.centre_m);
     model.centre_of_friction_standard_error_m = learned.standard_error_m;
     model.centre_of_friction_pushes = static_cast<int>(fits.size());
     model.pushes = std::move(learned.fits);
@@ -890,6 +952,7 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
                  {"mass_kg", m.object.mass_kg},
                  {"inertia_kgm2", m.object.inertia_kgm2},
                  {"centre_of_friction_m", {m.object.centre_of_friction_m.x(), m.object.centre_of_friction_m.y()}},
+                 {"limit_surface", limit_surface_name(m.object.limit_surface)},
                  {"outline", outline}};
   j["object"]["centre_of_friction"] = {
       {"learned_from_pushes", m.centre_of_friction_pushes},
@@ -1015,6 +1078,16 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
     } else {
       throw InputError("object outline: 'kind' must be shape_table, polygon, circle or ellipse, got '" + kind + "'");
     }
+    if (o.contains("limit_surface")) {  // version 4 on; optional (absent: the ellipsoid)
+      if (!o.at("limit_surface").is_string())
+        throw InputError("object: 'limit_surface' must be \"ellipsoid\" or \"outline\"");
+      try {
+        m.object.limit_surface = limit_surface_named(o.at("limit_surface").get<std::string>());
+      } catch (const InputError& e) {
+        throw InputError(std::string("object: 'limit_surface': ") + e.what());
+      }
+    }
+    use_limit_surface(m.object, m.object.limit_surface);
     m.object.validate();
     if (!j.contains("parameters") || !j.at("parameters").is_object())
       throw InputError("'parameters' must be an object");

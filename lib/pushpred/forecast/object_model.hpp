@@ -29,8 +29,9 @@ namespace pushpred {
 
 /// The version of the object file this library writes; it reads every version up to it (version 1 files have no
 /// "centre_of_friction" block: their centre of friction is the one in "object", the outline's centroid; versions 1
-/// and 2 have no "parameter_trend": their parameters do not follow the plan).
-inline constexpr int kObjectModelVersion = 3;
+/// and 2 have no "parameter_trend": their parameters do not follow the plan; versions 1 to 3 have no
+/// "limit_surface": theirs is the ellipsoid).
+inline constexpr int kObjectModelVersion = 4;
 
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.

@@ -44,6 +44,74 @@ QuasiStaticMotion quasi_static_motion(const Eigen::Vector2d& rc, const Eigen::Ve
   return quasi_static_motion_of<double>(rc, n, vp, mu_p, c);
 }
 
+QuasiStaticMotion quasi_static_motion_on(const PolynomialLimitSurface& surface, const Eigen::Vector2d& rc,
+                                         const Eigen::Vector2d& n, const Eigen::Vector2d& vp, double mu_p,
+                                         Eigen::Vector2d* force_hint) {
+  QuasiStaticMotion m;
+  const double normal_speed = n.dot(vp);
+  if (!(normal_speed > 0)) return m;
+  const double rho = surface.torque_ratio_m();
+  const Eigen::Vector2d rp = perp(rc);
+  Eigen::Matrix<double, 3, 2> G;  // f -> u = (f, rc x f / rho)
+  G << 1, 0, 0, 1, rp.x() / rho, rp.y() / rho;
+  // Sticking: minimise H(G f) - vp . f. Start from the previous force, or from the ellipsoid's answer for c = rho,
+  // scaled so that the contact speed along vp matches (H is homogeneous of degree 4).
+  Eigen::Vector2d f;
+  if (force_hint && force_hint->squaredNorm() > 0) {
+    f = *force_hint;
+  } else {
+    f = vp - rp * (rp.dot(vp) / (rho * rho + rp.squaredNorm()));
+  }
+  if (!force_hint || force_hint->squaredNorm() == 0) {
+    const double along = (G.transpose() * surface.scaled_gradient(G * f)).dot(vp);
+    if (along > 0) f *= std::cbrt(vp.squaredNorm() / along);
+  }
+  Eigen::Vector3d g;
+  Eigen::Matrix3d h;
+  const double scale2 = vp.squaredNorm();
+  for (int iteration = 0; iteration < 40; ++iteration) {
+    const Eigen::Vector3d u = G * f;
+    surface.scaled_derivatives(u, g, h);
+    const Eigen::Vector2d residual = G.transpose() * g - vp;
+    if (residual.squaredNorm() <= 1e-20 * scale2) break;
+    const Eigen::Matrix2d hess = G.transpose() * h * G;
+    const Eigen::Vector2d step = hess.inverse() * residual;  // closed form for 2 x 2, positive definite
+    // A short Newton step is taken whole (quadratic convergence near the answer); a long one backtracks on the
+    // convex objective.
+    double alpha = 1;
+    if (step.squaredNorm() > 0.01 * f.squaredNorm()) {
+      const double objective = surface.scaled_value(u) - vp.dot(f);
+      for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+        const Eigen::Vector2d trial = f - alpha * step;
+        if (surface.scaled_value(G * trial) - vp.dot(trial) <= objective - 1e-4 * alpha * residual.dot(step)) break;
+      }
+    }
+    f -= alpha * step;
+    // A whole step this short leaves an error of the order of its square (quadratic convergence): done.
+    if (alpha == 1 && step.squaredNorm() <= 1e-10 * f.squaredNorm()) break;
+  }
+  if (force_hint) *force_hint = f;
+  const Eigen::Vector2d t = perp(n);
+  const double fn = f.dot(n), ft = f.dot(t);
+  if (fn > 0 && std::abs(ft) <= mu_p * fn) {
+    const Eigen::Vector3d twist = surface.scaled_gradient(G * f);
+    m.velocity_m_s = twist.head<2>();
+    m.omega_rad_s = twist(2) / rho;
+    m.mode = ContactMode::Sticking;
+    return m;
+  }
+  const double s = ft >= 0 ? 1.0 : -1.0;
+  const Eigen::Vector2d fe = n + s * mu_p * t;
+  const Eigen::Vector3d twist = surface.scaled_gradient(G * fe);
+  const double normal_rate = n.dot(G.transpose() * twist);  // the contact point's normal speed per unit k
+  if (!(normal_rate > 1e-12)) return m;
+  const double k = normal_speed / normal_rate;
+  m.velocity_m_s = k * twist.head<2>();
+  m.omega_rad_s = k * twist(2) / rho;
+  m.mode = s > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight;
+  return m;
+}
+
 PlannedTipPath::PlannedTipPath(PlannedTipVelocity velocity, const Eigen::Vector2d& start)
     : velocity_(std::move(velocity)) {
   if (velocity_.signal.channels() != 2) throw InputError("planned tip path: the velocity needs 2 channels");

@@ -44,13 +44,14 @@
 #include <vector>
 
 #include "pushpred/mechanics/contact_outline.hpp"
+#include "pushpred/mechanics/gravity.hpp"
+#include "pushpred/mechanics/pressure_limit_surface.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
 #include "pushpred/prediction/planned_force.hpp"
 #include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/systems/continuous_system.hpp"
 #include "pushpred/systems/cvode_integrator.hpp"
-#include "pushpred/mechanics/gravity.hpp"
 
 namespace pushpred {
 
@@ -134,6 +135,19 @@ BasicQuasiStaticMotion<T> quasi_static_motion_of(const Eigen::Matrix<T, 2, 1>& c
   m.mode = s > 0 ? ContactMode::SlidingLeft : ContactMode::SlidingRight;
   return m;
 }
+
+/// quasi_static_motion on the limit surface of the support's pressure (mechanics/pressure_limit_surface.hpp) in place
+/// of the ellipsoid, with no ratio c. With u(f) = (f, rc x f) the wrench of a pusher force f at rc, the twist is along
+/// grad H(u) and the contact point moves with G^T grad H(G f) (G the map f -> u):
+/// - sticking: f solves G^T grad H(G f) = v_p (Newton on the convex H(G f) - v_p . f, from `force_hint` when given:
+///   the previous step's f, updated), kept when inside the friction cone of mu_p;
+/// - sliding: f on the cone's edge f_e = n + s mu_p t, the twist k grad H(G f_e) with k matching the normal speeds.
+/// Inputs in the surface's frame (the body frame), rc from its centre. No allocation.
+QuasiStaticMotion quasi_static_motion_on(const PolynomialLimitSurface& surface,
+                                         const Eigen::Vector2d& contact_from_cof_m,
+                                         const Eigen::Vector2d& inward_normal,
+                                         const Eigen::Vector2d& pusher_velocity_m_s, double pusher_friction,
+                                         Eigen::Vector2d* force_hint = nullptr);
 
 /// The planned tip path: the planned tip velocity (planned_force.hpp) integrated from the tip's position at its
 /// start; piecewise linear, exact for the held velocity.

@@ -1,0 +1,193 @@
+// The forecast with the limit surface of the support's pressure over the outline (LimitSurfaceKind::Outline) against
+// the project's simulator, whose support friction is Coulomb friction distributed under the outline (not the
+// forecast's equations): with the simulated pushes' own frictions it forecasts their yaw closer than the ellipsoid of
+// the uniform pressure's c, and learned leaving one push out it forecasts their yaw at least as well as the ellipsoid
+// whose c is fitted per push. Simulated seeds 345000-345999. `--log_level=message` prints the numbers.
+#include <Eigen/Geometry>
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <random>
+
+#include "pushpred/core/error.hpp"
+#include "pushpred/forecast/forecast_study.hpp"
+#include "pushpred/simulation/simulator.hpp"
+
+using namespace pushpred;
+
+namespace {
+
+struct SimulatedPushOf {
+  RecordedForecastCase c;
+  double mu_s = 0, mu_p = 0;
+};
+
+/// A 50 mm push of `shape` from `side` at `position`, `angle` off the normal, at 50 mm/s, with support friction mu_s,
+/// rod friction mu_p and the pressure's rim weight `rim` (0: uniform).
+SimulatedPushOf simulated(const ShapeInfo& shape, int side, double position, double angle, double mu_s, double mu_p,
+                          double rim, double speed_m_s, std::uint64_t seed) {
+  PushScenario s;
+  s.shape = shape.name;
+  s.surface_friction = mu_s;
+  s.contact_friction = mu_p;
+  s.pressure_rim_weight = rim;
+  s.motion.speed_m_s = speed_m_s;
+  s.motion.length_m = 0.05;
+  s.contact_side = side;
+  s.contact_position = position;
+  s.push_angle_rad = angle;
+  s.seed = seed;
+  SimulatedPushOf out;
+  out.c = recorded_forecast_case(synchronise(as_read(simulate_push(s).recording), shape),
+                                 dataset_forecast_object(shape, ""));
+  out.c.name = "seed " + std::to_string(seed);
+  out.mu_s = mu_s;
+  out.mu_p = mu_p;
+  return out;
+}
+
+/// `count` pushes of `shape` from all its sides, friction and pressure drawn from `rng` (support 0.35-0.6, rod
+/// 0.15-0.45, rim weight -0.3-0.3, speed 20-120 mm/s, position 0.2-0.8, angle within 0.8 rad of the normal).
+std::vector<SimulatedPushOf> varied_pushes(const ShapeInfo& shape, int count, std::uint64_t first_seed) {
+  std::mt19937_64 rng(first_seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int sides = Outline(shape).side_count();
+  std::vector<SimulatedPushOf> out;
+  for (int k = 0; static_cast<int>(out.size()) < count && k < 3 * count; ++k) {
+    const double mu_s = 0.35 + 0.25 * unit(rng), mu_p = 0.15 + 0.3 * unit(rng), rim = -0.3 + 0.6 * unit(rng);
+    const double speed = 0.02 + 0.1 * unit(rng), position = 0.2 + 0.6 * unit(rng), angle = -0.8 + 1.6 * unit(rng);
+    try {
+      out.push_back(simulated(shape, k % sides, position, angle, mu_s, mu_p, rim, speed,
+                              first_seed + static_cast<std::uint64_t>(k)));
+    } catch (const InputError& e) {  // a rod that slides off the outline: the simulator refuses the push
+      BOOST_TEST_MESSAGE("seed " << first_seed + static_cast<std::uint64_t>(k) << " not used: " << e.what());
+    }
+  }
+  return out;
+}
+
+double final_yaw_error_deg(const RecordedForecastCase& c, const Eigen::MatrixX3d& poses) {
+  const Eigen::Index n = c.times_s.size();
+  return std::abs(poses(n - 1, 2) - c.truth(n - 1, 2)) * 180 / M_PI;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_SUITE(outline_limit_surface)
+
+BOOST_AUTO_TEST_CASE(with_the_true_frictions_the_outline_surface_forecasts_the_simulators_turn_closer) {
+  // Uniform pressure, each push's own mu_p and mu_s known: the ellipsoid with the uniform pressure's c against the
+  // pressure's own surface, on ellip3 and rect1 pushed from several points (seeds 345000-345015).
+  double ellipsoid_total = 0, outline_total = 0;
+  std::uint64_t seed = 345000;
+  for (const char* name : {"ellip3", "rect1"}) {
+    const ShapeInfo& shape = ShapeTable::published().find(name);
+    const int sides = Outline(shape).side_count();
+    double ellipsoid = 0, outline = 0, turn = 0;
+    int n = 0;
+    for (int k = 0; k < 8; ++k, ++seed) {
+      // Ellipses: both flanks about the short axis (s = 0.25, 0.75); polygons: every side.
+      const double position = sides == 1 ? (k < 4 ? 0.2 : 0.7) + 0.033 * (k % 4) : 0.2 + 0.2 * (k / sides);
+      const double angle = (k % 3 - 1) * 0.3;
+      const SimulatedPushOf p = simulated(shape, k % sides, position, angle, 0.45, 0.3, 0.0, 0.05, seed);
+      ForecastObject o = p.c.forecast_object;
+      const double c_uniform = o.outline->uniform_pressure_torque_ratio_m(o.centre_of_friction_m);
+      const ForecastParameters par{p.mu_p, c_uniform, p.mu_s};
+      ellipsoid += final_yaw_error_deg(p.c, forecast_poses(o, par, p.c.plan, p.c.start_pose, p.c.times_s));
+      use_limit_surface(o, LimitSurfaceKind::Outline);
+      outline += final_yaw_error_deg(p.c, forecast_poses(o, par, p.c.plan, p.c.start_pose, p.c.times_s));
+      turn += std::abs(p.c.truth(p.c.times_s.size() - 1, 2) - p.c.start_pose(2)) * 180 / M_PI;
+      ++n;
+    }
+    BOOST_TEST_MESSAGE(name << ": mean turn " << turn / n << " deg; final yaw error with the true frictions: "
+                            << "ellipsoid (uniform c) " << ellipsoid / n << " deg, outline " << outline / n << " deg");
+    ellipsoid_total += ellipsoid / n;
+    outline_total += outline / n;
+  }
+  BOOST_TEST(outline_total < ellipsoid_total);
+}
+
+BOOST_AUTO_TEST_CASE(learned_leaving_one_out_the_outline_surface_forecasts_the_yaw_as_well_or_better) {
+  // Pushes whose frictions and pressure shape vary from push to push (seeds 345100-345111 ellip3, 345200-345211
+  // rect1, 345300-345311 hex), each forecast by the model learned from the others: the ellipsoid with c fitted per
+  // push against the outline's surface with no c. The decision on the default is taken on these seeds. The simulated
+  // pressure is centred at the centroid, so the centre of friction is not learned (its joint fits would cost most of
+  // the time and test nothing here).
+  double totals[2][2] = {{0, 0}, {0, 0}};  // [kind][position mm, yaw deg]
+  std::uint64_t first = 345100;
+  for (const char* name : {"ellip3", "rect1", "hex"}) {
+    const ShapeInfo& shape = ShapeTable::published().find(name);
+    const std::vector<SimulatedPushOf> pushes = varied_pushes(shape, 12, first);
+    first += 100;
+    for (const LimitSurfaceKind kind : {LimitSurfaceKind::Ellipsoid, LimitSurfaceKind::Outline}) {
+      std::vector<RecordedForecastCase> cases;
+      std::vector<PushFit> fits;
+      for (const SimulatedPushOf& p : pushes) {
+        cases.push_back(p.c);
+        use_limit_surface(cases.back().forecast_object, kind);
+        fits.push_back(fit_push_parameters(cases.back()));
+      }
+      ForecastStudyOptions options;
+      set_centre_of_friction_choice(options.learn, "centroid");
+      const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
+      double position = 0, yaw = 0;
+      for (const auto& p : study) {
+        position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+        yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+      }
+      BOOST_TEST_MESSAGE(name << ", limit surface " << limit_surface_name(kind) << ": final " << position << " mm, "
+                              << yaw << " deg, leaving one of " << study.size() << " out");
+      totals[static_cast<int>(kind)][0] += position / 3;
+      totals[static_cast<int>(kind)][1] += yaw / 3;
+    }
+  }
+  BOOST_TEST_MESSAGE("means over the three objects: ellipsoid " << totals[0][0] << " mm, " << totals[0][1]
+                                                                << " deg; outline " << totals[1][0] << " mm, "
+                                                                << totals[1][1] << " deg");
+  BOOST_TEST(totals[1][1] <= totals[0][1]);
+}
+
+BOOST_AUTO_TEST_CASE(the_object_file_keeps_the_limit_surface_and_refuses_an_unknown_one) {
+  const ShapeInfo& shape = ShapeTable::published().find("ellip1");
+  std::vector<RecordedForecastCase> cases;
+  std::vector<PushFit> fits;
+  for (int k = 0; k < 3; ++k) {
+    SimulatedPushOf p = simulated(shape, 0, 0.1 + 0.15 * k, 0.2 * (k - 1), 0.45, 0.3, 0.0, 0.05,
+                                  345400 + static_cast<std::uint64_t>(k));
+    use_limit_surface(p.c.forecast_object, LimitSurfaceKind::Outline);
+    fits.push_back(fit_push_parameters(p.c));
+    cases.push_back(std::move(p.c));
+  }
+  // c is not fitted: every push keeps the pressure's own.
+  for (const PushFit& f : fits)
+    BOOST_TEST(f.parameters.torque_ratio_m == cases[0].forecast_object.pressure_surface->torque_ratio_m(),
+               boost::test_tools::tolerance(1e-12));
+  const ObjectModel model =
+      learn_object_model(cases[0].forecast_object, "abs", "shape table: ellip1", cases, fits, LearnOptions{});
+  nlohmann::json j = object_model_to_json(model);
+  BOOST_TEST(j.at("version").get<int>() == 4);
+  BOOST_TEST(j.at("object").at("limit_surface").get<std::string>() == "outline");
+  const ObjectModel back = object_model_from_json(j, "object.json", "");
+  BOOST_TEST((back.object.limit_surface == LimitSurfaceKind::Outline));
+  const RecordedForecastCase& c = cases[1];
+  const ForecastDistribution a = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
+  const ForecastDistribution b = forecast_distribution(back, c.plan, c.start_pose, c.times_s);
+  BOOST_TEST((a.mean - b.mean).cwiseAbs().maxCoeff() < 1e-12);
+  // A version 3 file has no limit surface: the ellipsoid.
+  nlohmann::json old = j;
+  old["version"] = 3;
+  old["object"].erase("limit_surface");
+  BOOST_TEST((object_model_from_json(old, "old.json", "").object.limit_surface == LimitSurfaceKind::Ellipsoid));
+  j["object"]["limit_surface"] = "cuboid";
+  try {
+    object_model_from_json(j, "mine.json", "");
+    BOOST_FAIL("accepted an unknown limit surface");
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    BOOST_TEST_INFO(what);
+    BOOST_TEST((what.find("mine.json") != std::string::npos && what.find("cuboid") != std::string::npos &&
+                what.find("limit_surface") != std::string::npos));
+  }
+  BOOST_CHECK_THROW(limit_surface_named("sphere"), InputError);
+}
+
+BOOST_AUTO_TEST_SUITE_END()
