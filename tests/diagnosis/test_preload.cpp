@@ -1,6 +1,6 @@
 // A rod that presses before the tip moves is no sensor bias: the force-offset test reads only the rest of pushes
 // whose rod rests clear of the object (samples_without_contact), and the friction fit holds with preloads and with
-// the real sensor's per-push offsets. A true bias is still found when some pushes start with a gap.
+// per-push sensor offsets. A true bias is still found when some pushes start with a gap.
 #define BOOST_TEST_MODULE diagnosis_preload
 #include <boost/test/unit_test.hpp>
 #include <cmath>

@@ -373,8 +373,8 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
       fit.note = "no samples where the tip rests clear of the object (every push starts pressed, or none rests)";
       return fit;
     }
-    // One push's zero cannot tell a bias the pushes share from that push's own offset (the real sensor's differ
-    // from push to push by 0.6 N and more): a shared bias needs two pushes that show it.
+    // One push's zero cannot tell a bias the pushes share from that push's own offset (a sensor not zeroed between
+    // pushes): a shared bias needs two pushes that show it.
     const bool one_push = blocks.size() < 2;
     // The reading is -f_C + b; before the tip moves f_C = 0, so b = -mean(f_C recorded).
     const Eigen::Vector2d mean = sum / static_cast<double>(count);

@@ -29,7 +29,7 @@
 //   parameters minus their BIC penalty, W - k ln(N_eff).
 // - Changing the base (not nested): BIC = N_eff ln(RSS / N) + k ln(N_eff), k counting the nuisance.
 //
-// Each push's own force-sensor zero (the real sensor is not zeroed between pushes; sensor_zero_columns()) is, on a
+// Each push's own force-sensor zero (a sensor not zeroed between pushes; sensor_zero_columns()) is, on a
 // straight push, a constant the friction law cannot tell from Coulomb friction, and its torque l x z is what a
 // mass-centre offset or a drag at one speed looks like. With SensorZeros::PerPush the regression is invariant to it
 // where it can reach, when two pushes or more rest clear of the object (measured_sensor_zero): each such push's

@@ -296,7 +296,7 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     s.initial_yaw_rad = uniform(rng, -M_PI, M_PI);
     s.seed = rng();
     s.support_tilt_direction_rad = downhill_rad;
-    // The real pushes start pressed with up to 3.7 N, or a gap away; the sensor is not zeroed between pushes. Both
+    // The real pushes start pressed with up to 3.7 N, or a gap away; a sensor may not be zeroed between pushes. Both
     // are drawn every time, whether used or not, so that switching one off leaves the other's draws as they were.
     const bool pressed = uniform(start_rng, 0, 1) < 0.5;
     const double preload_N = uniform(start_rng, 0.3, std::max(0.3, std::min(3.7, 0.7 * friction_force_N)));

@@ -55,8 +55,9 @@ struct ValidationOptions {
   void validate() const;
 };
 
-/// The push-to-push spread (standard deviation per axis) of the force sensor's zero error [N], measured on the real
-/// ABS pushes whose tip rests clear of the object (docs/simulator.md).
+/// The push-to-push spread (standard deviation per axis) of the force sensor's zero error [N]: a pessimistic bound.
+/// Where a real ABS push's rest force does not point into its contact the sensor reads within 0.5 N of zero; the
+/// larger rest forces of pushes whose gap reads clear are preloads (docs/simulator.md, samples_without_contact).
 inline constexpr double kPushOffsetSpread_N = 0.6;
 
 /// The kinds drawn by default: "none" and every effect of the simulator's catalogue that the standard diagnosis
