@@ -78,6 +78,21 @@ ceres::Covariance::Options fit_covariance_options() {
   return options;
 }
 
+/// The covariance of a push's log-parameters theta = (ln mu_p, ln c, ln mu_s), row-major 3 x 3, into `out`. With c
+/// held (the outline's limit surface: SubsetManifold(3, {1})) it is read in the tangent space (ln mu_p, ln mu_s) and
+/// c's row and column stay zero: Ceres' lift to the ambient space multiplies by the manifold's Jacobian for nothing
+/// here, and under AddressSanitizer that lift's temporary matrices were freed as not allocated (Debian's Ceres 2.1).
+bool theta_covariance(const ceres::Covariance& covariance, const double* theta, bool fixed_ratio, double* out) {
+  std::fill(out, out + 9, 0.0);
+  if (!fixed_ratio) return covariance.GetCovarianceBlock(theta, theta, out);
+  double tangent[4] = {0};
+  if (!covariance.GetCovarianceBlockInTangentSpace(theta, theta, tangent)) return false;
+  const int index[2] = {0, 2};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) out[3 * index[i] + index[j]] = tangent[2 * i + j];
+  return true;
+}
+
 /// (theta_i - centre) / width: a Gaussian prior on one log-parameter.
 struct LogPrior {
   int index = 0;
@@ -410,7 +425,7 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   ceres::Covariance covariance(fit_covariance_options());
   std::vector<std::pair<const double*, const double*>> blocks{{theta, theta}};
   double cov[9] = {0};
-  if (covariance.Compute(blocks, &problem) && covariance.GetCovarianceBlock(theta, theta, cov)) {
+  if (covariance.Compute(blocks, &problem) && theta_covariance(covariance, theta, fixed_ratio, cov)) {
     const double dof = std::max(1, m - 3);
     const double variance = 2 * summary.final_cost / dof;
     for (int i = 0; i < 3; ++i)
@@ -626,7 +641,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
     PushFit f = fits[i];
     f.parameters = ForecastParameters{std::exp(theta[i][0]), std::exp(theta[i][1]), std::exp(theta[i][2])};
     double cov[9] = {0};
-    if (have_covariance && covariance.GetCovarianceBlock(theta[i].data(), theta[i].data(), cov))
+    if (have_covariance && theta_covariance(covariance, theta[i].data(), fixed_ratio, cov))
       for (int k = 0; k < 3; ++k)
         f.standard_error(k) = f.parameters.vector()(k) * std::sqrt(std::max(0.0, cov[4 * k] * variance));
     record_fit_errors(cases[i], learned, fit_options.settings, f);
