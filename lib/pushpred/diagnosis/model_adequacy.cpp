@@ -53,8 +53,6 @@ double share_of(const Eigen::MatrixXd& Q, const Eigen::VectorXd& e) {
   return (Q.transpose() * e).squaredNorm() / total;
 }
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 }  // namespace
 
 std::string ModelAdequacy::verdict() const {
@@ -232,7 +230,7 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
   measured = static_cast<int>(std::count_if(zeros.begin(), zeros.end(), [](const auto& z) { return z.has_value(); }));
   // Measured zeros (two pushes or more) that spread by less than the force floor cannot leave structure the floor
   // counts: those pushes keep their zeros as recorded (a sensor zeroed on every push is then tested as before).
-  adequacy.zero_spread_N = measured >= 2 ? zero_spread_N(zeros) : kNaN;
+  adequacy.zero_spread_N = zero_spread_N(zeros);  // NaN below two measured zeros
   const bool measured_as_recorded = adequacy.zero_spread_N <= context.relevance_fraction * context.friction_force_N();
   if (options.sensor_zeros) {
     const EffectColumns zero_columns = sensor_zero_columns(pushes);

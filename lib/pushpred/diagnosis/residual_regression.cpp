@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -177,11 +178,10 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
   const double spread = m >= 2 ? zero_spread_N(measured) : 0.0;
   const double shrink =
       spread > 0 ? std::max(0.0, 1 - kZeroNoiseFactor * noise_variance / (spread * spread)) : 0.0;
-  const EffectColumns columns = sensor_zero_columns(pushes);
   for (std::size_t p = 0; p < pushes.size(); ++p) {
     Block& b = blocks_[p];
     const Eigen::Index n = b.residual.rows();
-    Eigen::MatrixX3d zero[2] = {columns[2 * p][p], columns[2 * p + 1][p]};
+    std::array<Eigen::MatrixX3d, 2> zero = push_sensor_zero_columns(pushes[p]);
     for (auto& z : zero)
       for (int c = 0; c < 3; ++c) to_base(p, c, z.col(c));
     if (measured[p]) {
@@ -353,23 +353,27 @@ std::vector<Eigen::MatrixX3d> ResidualRegression::residuals(const std::vector<co
   return out;
 }
 
+std::array<Eigen::MatrixX3d, 2> push_sensor_zero_columns(const DiagnosisPush& d) {
+  const Eigen::Index n = d.rows();
+  // The recorded f_C is the true force less the zero z, and the input torque uses it at the lever l = r_C - r_O:
+  // u errs by -(z, l x z), so d_hat carries +(z, l x z). The torque varies with the lever, so it is part of the
+  // same column, not a constant of its own.
+  Eigen::MatrixX3d zx(n, 3), zy(n, 3);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Vector2d l = d.push.lever_m.row(d.first + k).transpose();
+    zx.row(k) << 1, 0, -l.y();
+    zy.row(k) << 0, 1, l.x();
+  }
+  return {d.as_observed(zx), d.as_observed(zy)};
+}
+
 EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes) {
   EffectColumns out(2 * pushes.size(), std::vector<Eigen::MatrixX3d>(pushes.size()));
   for (std::size_t p = 0; p < pushes.size(); ++p) {
-    const DiagnosisPush& d = pushes[p];
-    const Eigen::Index n = d.rows();
-    for (auto& column : out) column[p] = Eigen::MatrixX3d::Zero(n, 3);
-    // The recorded f_C is the true force less the zero z, and the input torque uses it at the lever l = r_C - r_O:
-    // u errs by -(z, l x z), so d_hat carries +(z, l x z). The torque varies with the lever, so it is part of the
-    // same column, not a constant of its own.
-    Eigen::MatrixX3d zx(n, 3), zy(n, 3);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const Eigen::Vector2d l = d.push.lever_m.row(d.first + k).transpose();
-      zx.row(k) << 1, 0, -l.y();
-      zy.row(k) << 0, 1, l.x();
-    }
-    out[2 * p][p] = d.as_observed(zx);
-    out[2 * p + 1][p] = d.as_observed(zy);
+    for (auto& column : out) column[p] = Eigen::MatrixX3d::Zero(pushes[p].rows(), 3);
+    auto own = push_sensor_zero_columns(pushes[p]);
+    out[2 * p][p] = std::move(own[0]);
+    out[2 * p + 1][p] = std::move(own[1]);
   }
   return out;
 }

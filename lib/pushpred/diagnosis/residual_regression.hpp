@@ -40,6 +40,7 @@
 // residual and of every column (fixed effects, 2 nuisance parameters a push). One measured push stays as recorded;
 // with none the zeros stay in the data: the friction law's constant part rests on the measured pushes.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -79,6 +80,8 @@ double zero_spread_N(const std::vector<std::optional<Eigen::Vector2d>>& zeros);
 /// two columns per push (2p: z_x, 2p + 1: z_y), zero on every other push: the force z and its torque l x z about the
 /// object centre at the measured lever l = r_C - r_O, through the observer like any regressor.
 EffectColumns sensor_zero_columns(const std::vector<DiagnosisPush>& pushes);
+/// One push's two columns of sensor_zero_columns() (z_x, z_y), without the other pushes' zero blocks.
+std::array<Eigen::MatrixX3d, 2> push_sensor_zero_columns(const DiagnosisPush& push);
 
 struct RegressionFit {
   Eigen::VectorXd theta;       ///< effect parameters, in the order of the columns given
