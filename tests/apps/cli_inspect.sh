@@ -15,10 +15,13 @@ expect_in "$tmp/err" "frobnicate" "the unknown flag is named"
 expect_exit 0 "inspect over all real data" -- "$bin" inspect "$data"
 expect_in "$tmp/out" "91 files read, 0 failed" "no real file is lost"
 expect_in "$tmp/out" "frozen_force_sensor" "frozen force sensors are flagged"
+expect_in "$tmp/out" "rest force before the tip moves (p: a preload, pointing into the contact)" \
+  "the rest forces are told apart into preloads and the sensor's zero"
 
 expect_exit 0 "inspect --json" -- "$bin" inspect --json "$data/plywood"
 expect_in "$tmp/out" '"failures": []' "JSON lists no failures"
 expect_in "$tmp/out" '"surface": "plywood"' "JSON names the surface"
+expect_in "$tmp/out" '"rest_preload"' "JSON says whether the rest force is a preload"
 
 # A batch goes on past bad files and lists every failure with its reason.
 printf 'not a recording' > "$tmp/junk.h5"

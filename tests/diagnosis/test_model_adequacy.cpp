@@ -29,10 +29,10 @@ struct PreparedPushes {
 
 /// Pushes 0, 1, 4, 5, ... of `scenarios` start pressed with 2 N on their contact stiffness, the others 1 mm away (so
 /// that the fit pushes, every other one by name, hold both); each push has its own force-sensor zero, normal with
-/// the validation's spread per axis.
+/// the pessimistic bound's spread per axis (six times the real sensor's).
 bool pressed(std::size_t k) { return k % 4 < 2; }
 void press_half_with_zeros(std::vector<PushScenario>& scenarios, std::mt19937_64& rng) {
-  std::normal_distribution<double> zero(0.0, kPushOffsetSpread_N);
+  std::normal_distribution<double> zero(0.0, kPessimisticSensorZeroSpread_N);
   for (std::size_t k = 0; k < scenarios.size(); ++k) {
     scenarios[k].approach_gap_m = pressed(k) ? -2.0 / scenarios[k].contact_stiffness_N_m : 0.001;
     scenarios[k].sensors.push_offset_N = Eigen::Vector2d(zero(rng), zero(rng));
@@ -192,7 +192,7 @@ BOOST_AUTO_TEST_CASE(an_unknown_sensor_zero_on_pressed_pushes_leaves_a_clean_mod
     // The rest's mean tells the simulated zero to half the zeros' push-to-push spread (the sensor's slow noise, 0.1 N
     // in fy, over a rest of a few tenths of a second).
     if (zero)
-      BOOST_TEST((*zero - scenarios[p].sensors.push_offset_N).norm() < 0.5 * kPushOffsetSpread_N,
+      BOOST_TEST((*zero - scenarios[p].sensors.push_offset_N).norm() < 0.5 * kPessimisticSensorZeroSpread_N,
                  "push " << p << ": measured " << zero->transpose() << " N, simulated "
                          << scenarios[p].sensors.push_offset_N.transpose() << " N");
   }
@@ -262,7 +262,7 @@ BOOST_AUTO_TEST_CASE(a_bias_the_measured_pushes_share_is_unexplained_beyond_thei
   // pushes' mean zero carries it, and their spread does not.
   std::mt19937_64 rng(320520);
   auto scenarios = draw_scenarios(rng, 6, {{"force_offset", 2.0}});
-  std::normal_distribution<double> zero(0.0, kPushOffsetSpread_N);
+  std::normal_distribution<double> zero(0.0, kPessimisticSensorZeroSpread_N);
   for (std::size_t k = 0; k < scenarios.size(); ++k) {
     scenarios[k].approach_gap_m = k < 2 ? -2.0 / scenarios[k].contact_stiffness_N_m : 0.001;
     scenarios[k].sensors.push_offset_N = Eigen::Vector2d(zero(rng), zero(rng));

@@ -356,7 +356,7 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     long count = 0;
     for (const auto& d : pushes) {
-      const auto idx = samples_without_contact(d.push);  // a pressing rod's rest is not force-free
+      const auto idx = samples_without_contact(d.push, d.shared_rest_force_N);  // a pressing rod's rest is not force-free
       if (idx.size() < kRestSamplesForZero) continue;
       Eigen::MatrixX2d f(idx.size(), 2);
       for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = d.push.force_N.row(idx[k]);

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/systems/exact_discretisation.hpp"
@@ -190,11 +191,15 @@ double rod_gap_m(const SynchronisedPush& push, const Outline& outline, Eigen::In
   return rod_closest(push, outline, k).signed_distance_m - kPusherRadius_m;
 }
 
-bool rest_force_points_into_contact(const SynchronisedPush& push, const Outline& outline,
-                                    const std::vector<Eigen::Index>& rest) {
+Eigen::Vector2d mean_force_N(const SynchronisedPush& push, const std::vector<Eigen::Index>& rest) {
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   for (const Eigen::Index k : rest) mean += push.force_N.row(k).transpose();
-  mean /= static_cast<double>(rest.size());
+  return mean / static_cast<double>(rest.size());
+}
+
+bool rest_force_points_into_contact(const SynchronisedPush& push, const Outline& outline,
+                                    const std::vector<Eigen::Index>& rest, const Eigen::Vector2d& shared_N) {
+  const Eigen::Vector2d mean = mean_force_N(push, rest) - shared_N;
   // The sensor's noise from first differences (the rest's spread about its mean would hold a preload's slow change).
   double sum2 = 0;
   for (std::size_t i = 1; i < rest.size(); ++i)
@@ -215,13 +220,29 @@ double measured_rod_gap_m(const SynchronisedPush& push, Eigen::Index k) {
   return rod_gap_m(push, Outline(push.shape), k);
 }
 
-bool rest_force_points_into_contact(const SynchronisedPush& push) {
+bool rest_force_points_into_contact(const SynchronisedPush& push, const Eigen::Vector2d& shared_rest_force_N) {
   const std::vector<Eigen::Index> rest = samples_before_tip_moves(push);
   if (rest.empty() || !push.shape.has_outline()) return false;
-  return rest_force_points_into_contact(push, Outline(push.shape), rest);
+  const Outline outline(push.shape);
+  return rest_force_points_into_contact(push, outline, rest, Eigen::Vector2d::Zero()) &&
+         rest_force_points_into_contact(push, outline, rest, shared_rest_force_N);
 }
 
-std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push) {
+Eigen::Vector2d shared_rest_force_N(const std::vector<SynchronisedPush>& pushes) {
+  std::vector<double> x, y;
+  for (const auto& push : pushes) {
+    const std::vector<Eigen::Index> rest = samples_without_contact(push);
+    if (rest.size() < kRestSamplesForZero) continue;
+    const Eigen::Vector2d f = mean_force_N(push, rest);
+    x.push_back(f.x());
+    y.push_back(f.y());
+  }
+  if (x.empty()) return Eigen::Vector2d::Zero();
+  return {median(x), median(y)};
+}
+
+std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push,
+                                                  const Eigen::Vector2d& shared_rest_force_N) {
   std::vector<Eigen::Index> rest = samples_before_tip_moves(push);
   if (rest.empty() || !push.shape.has_outline()) return rest;
   const Outline outline(push.shape);
@@ -230,12 +251,16 @@ std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push) 
   for (Eigen::Index k : rest) gaps.push_back(rod_gap_m(push, outline, k));
   std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
   if (!(gaps[gaps.size() / 2] > kContactMargin_m)) return {};
-  if (rest_force_points_into_contact(push, outline, rest)) return {};
+  // Pressed only if the rest force points into the contact both as recorded and less the shared force: the shared
+  // force clears a push whose bias pointed into its contact, and never presses one the push alone reads clear.
+  if (rest_force_points_into_contact(push, outline, rest, Eigen::Vector2d::Zero()) &&
+      rest_force_points_into_contact(push, outline, rest, shared_rest_force_N))
+    return {};
   return rest;
 }
 
 std::optional<MeasuredZero> measured_sensor_zero(const DiagnosisPush& push) {
-  const std::vector<Eigen::Index> rest = samples_without_contact(push.push);
+  const std::vector<Eigen::Index> rest = samples_without_contact(push.push, push.shared_rest_force_N);
   if (rest.size() < kRestSamplesForZero) return std::nullopt;
   const auto n = static_cast<double>(rest.size());
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();

@@ -38,6 +38,10 @@ struct DiagnosisPush {
   /// floors (effect_floor.hpp) do not count them so.
   std::vector<char> blurred;
   double q_zeta = 0, q_wn_rad_s = 0;  ///< the observer's Q filter
+  /// The force every push of the set reads at rest (a sensor bias) [N, world frame], shared_rest_force_N over the
+  /// set's pushes; zero for a push prepared alone. Taken off a rest force before judging whether it points into the
+  /// contact (samples_without_contact).
+  Eigen::Vector2d shared_rest_force_N = Eigen::Vector2d::Zero();
   /// What the selected refinements of the friction law explain (n x 3, as the observer sees it; zero until the
   /// diagnosis sets it), for direct fits that work against the friction law (time_offset).
   Eigen::MatrixX3d friction_explained;
@@ -119,14 +123,26 @@ inline constexpr double kRestForceResolution = 5.0;
 /// Whether the mean recorded force f_C before the tip moves is what a contact pushes with: resolved
 /// (kRestForceResolution) and within kRestContactCone_rad of the outline's inward normal at the rod, in the world
 /// frame. False for a shape without an outline or a push without rest samples.
-bool rest_force_points_into_contact(const SynchronisedPush& push);
+/// With `shared_rest_force_N`, a force every push reads at rest: only if the mean points into the contact both as
+/// recorded and with that force taken off.
+bool rest_force_points_into_contact(const SynchronisedPush& push,
+                                    const Eigen::Vector2d& shared_rest_force_N = Eigen::Vector2d::Zero());
+
+/// The force a set of pushes (one object, one sensor) all read at rest [N, world frame]: the median rest force of
+/// the pushes whose rest is clear by their own rule (samples_without_contact). A per-push rule alone reads a clear
+/// push whose sensor bias happens to point into its contact as pressed (a 30 degree cone holds a random direction
+/// one time in six); the other clear pushes tell the bias. Zero without a clear push.
+Eigen::Vector2d shared_rest_force_N(const std::vector<SynchronisedPush>& pushes);
 
 /// Grid samples where the sensor's true force is zero: those before the tip moves (samples_before_tip_moves) on a
 /// push whose rod rests clear of the object: its median measured gap over them above kContactMargin_m, and their
 /// mean force not a contact's (resolved and within kRestContactCone_rad of the inward normal at the rod). A rod that
-/// presses before the tip moves (a preload) makes its rest anything but force-free: such a push gives none. A shape
-/// without an outline cannot be measured so: its samples before the tip moves are taken, as a gap is then assumed.
-std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push);
+/// presses before the tip moves (a preload) makes its rest anything but force-free: such a push gives none. With
+/// `shared_rest_force_N` (shared_rest_force_N()) a rest force counts as a contact's only if it points into the
+/// contact both as recorded and with the shared force taken off. A shape without an outline cannot be measured so: its
+/// samples before the tip moves are taken, as a gap is then assumed.
+std::vector<Eigen::Index> samples_without_contact(
+    const SynchronisedPush& push, const Eigen::Vector2d& shared_rest_force_N = Eigen::Vector2d::Zero());
 /// Such samples a push needs for its sensor zero to count as measured (the force-offset test, the adequacy test).
 inline constexpr std::size_t kRestSamplesForZero = 5;
 

@@ -138,12 +138,15 @@ bool DiagnosisContext::in_group(std::size_t candidate, Relation group) const {
 
 std::vector<DiagnosisPush> DiagnosisContext::corrected_data(const ModelCorrection& c) const {
   std::vector<DiagnosisPush> data;
-  for (std::size_t p = 0; p < fit_pushes.size(); ++p) {
-    const SynchronisedPush corrected = apply_data_correction(fit_pushes[p], c);
+  std::vector<SynchronisedPush> corrected;
+  for (const auto& push : fit_pushes) corrected.push_back(apply_data_correction(push, c));
+  const Eigen::Vector2d shared_rest_force = shared_rest_force_N(corrected);
+  for (std::size_t p = 0; p < corrected.size(); ++p) {
     QFilterObserverOptions obs = options.observer;
     obs.mass_kg = 0;  // from the corrected shape
     obs.inertia_kgm2 = 0;
-    data.push_back(prepare_diagnosis_push(corrected, 0.0, fit_end_s[p], obs));
+    data.push_back(prepare_diagnosis_push(corrected[p], 0.0, fit_end_s[p], obs));
+    data.back().shared_rest_force_N = shared_rest_force;
   }
   return data;
 }

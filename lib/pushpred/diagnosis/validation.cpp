@@ -55,6 +55,8 @@ void ValidationOptions::validate() const {
   if (!(min_floor_multiple > 0) || !(max_floor_multiple >= min_floor_multiple))
     throw InputError("validation: floor multiples must be positive, the maximum not below the minimum");
   if (jobs < 1) throw InputError("validation: --jobs must be at least 1");
+  if (!(sensor_offset_spread_N >= 0) || !std::isfinite(sensor_offset_spread_N))
+    throw InputError("validation: --sensor-offset-spread must be a finite number of newtons, at least 0");
   for (const auto& k : kinds)
     if (k != "none") effect_info(k);  // throws for an unknown kind, naming the known ones
   for (const auto& k : hide) {
@@ -301,7 +303,7 @@ std::vector<PushScenario> draw_validation_trial(const ValidationOptions& o, int 
     const bool pressed = uniform(start_rng, 0, 1) < 0.5;
     const double preload_N = uniform(start_rng, 0.3, std::max(0.3, std::min(3.7, 0.7 * friction_force_N)));
     const double gap_m = uniform(start_rng, 0.0005, 0.002);
-    std::normal_distribution<double> offset(0.0, kPushOffsetSpread_N);
+    std::normal_distribution<double> offset(0.0, o.sensor_offset_spread_N);
     const Eigen::Vector2d offset_N(offset(start_rng), offset(start_rng));
     if (o.draw_preloads) {
       s.approach_gap_m = pressed ? std::max(-0.001, -preload_N / s.contact_stiffness_N_m) : gap_m;

@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
+
+#include "pushpred/diagnosis/diagnosis_data.hpp"
 
 #include "pushpred/runtime/parallel_batch.hpp"
 
@@ -34,6 +37,17 @@ Inspection inspect(const SynchronisedPush& p) {
     }
   s.mean_contact_force_N = count ? sum / count : 0.0;
   s.max_tip_yaw_deg = p.tip_yaw_rad.cwiseAbs().maxCoeff() * 180.0 / M_PI;
+  const std::vector<Eigen::Index> rest = samples_before_tip_moves(p);
+  s.rest_force_x_N = s.rest_force_y_N = std::numeric_limits<double>::quiet_NaN();
+  if (!rest.empty()) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const Eigen::Index k : rest) mean += p.force_N.row(k).transpose();
+    mean /= static_cast<double>(rest.size());
+    s.rest_force_x_N = mean.x();
+    s.rest_force_y_N = mean.y();
+    s.rest_preload = rest_force_points_into_contact(p);
+    s.rest_force_tells_zero = p.shape.has_outline() && !p.flags.frozen_force_sensor;
+  }
   return s;
 }
 

@@ -34,7 +34,8 @@ nlohmann::json options_json(const ValidationOptions& o) {
           {"fit_base_settings", o.diagnosis.fit_base_settings},
           {"hide", o.hide},
           {"draw_preloads", o.draw_preloads},
-          {"draw_sensor_offsets", o.draw_sensor_offsets}};
+          {"draw_sensor_offsets", o.draw_sensor_offsets},
+          {"sensor_offset_spread_N", exact_number_json(o.sensor_offset_spread_N)}};
 }
 
 ValidationOptions options_from(const nlohmann::json& j) {
@@ -54,6 +55,7 @@ ValidationOptions options_from(const nlohmann::json& j) {
     o.hide = j.at("hide").get<std::vector<std::string>>();
     o.draw_preloads = j.at("draw_preloads").get<bool>();
     o.draw_sensor_offsets = j.at("draw_sensor_offsets").get<bool>();
+    o.sensor_offset_spread_N = exact_number(j.at("sensor_offset_spread_N"));
     return o;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("its options are not those of validate-diagnosis: ") + e.what());

@@ -1,5 +1,6 @@
 #include "pushpred/reports/inspection.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -9,8 +10,9 @@ namespace pushpred {
 std::string inspection_table(const InspectionBatch& batch) {
   std::string out;
   char line[512];
-  std::snprintf(line, sizeof line, "%-40s %-7s %-6s %6s %17s %13s %4s %4s %7s %7s %6s  %s\n", "file", "surface", "shape",
-                "dur_s", "rate_obj/ft/tip", "contact_s", "glit", "rep", "trav_mm", "rot_deg", "f_N", "flags");
+  std::snprintf(line, sizeof line, "%-40s %-7s %-6s %6s %17s %13s %4s %4s %7s %7s %6s %9s  %s\n", "file", "surface", "shape",
+                "dur_s", "rate_obj/ft/tip", "contact_s", "glit", "rep", "trav_mm", "rot_deg", "f_N", "rest_f_N",
+                "flags");
   out += line;
   for (const auto& s : batch.results) {
     std::string name = std::filesystem::path(s.source).filename().string();
@@ -23,10 +25,15 @@ std::string inspection_table(const InspectionBatch& batch) {
     char contact[32];
     if (s.has_contact) std::snprintf(contact, sizeof contact, "%.2f-%.2f", s.contact_start_s, s.contact_end_s);
     else std::snprintf(contact, sizeof contact, "none");
-    std::snprintf(line, sizeof line, "%-40s %-7s %-6s %6.2f %5.0f/%5.0f/%5.0f %13s %4d %4zu %7.1f %7.1f %6.2f  %s\n",
-                  name.c_str(), s.surface.c_str(), s.shape.c_str(), s.duration_s, s.object_rate_hz, s.force_rate_hz,
-                  s.tip_rate_hz, contact, s.glitches_removed, s.repairs.size(), s.travel_mm, s.rotation_deg,
-                  s.mean_contact_force_N, flags.empty() ? "-" : flags.c_str());
+    // The rest force's size, marked "p" when it is a preload (it points into the contact).
+    char rest[32];
+    std::snprintf(rest, sizeof rest, "%.2f%s", std::hypot(s.rest_force_x_N, s.rest_force_y_N),
+                  s.rest_preload ? "p" : "");
+    std::snprintf(line, sizeof line,
+                  "%-40s %-7s %-6s %6.2f %5.0f/%5.0f/%5.0f %13s %4d %4zu %7.1f %7.1f %6.2f %9s  %s\n", name.c_str(),
+                  s.surface.c_str(), s.shape.c_str(), s.duration_s, s.object_rate_hz, s.force_rate_hz, s.tip_rate_hz,
+                  contact, s.glitches_removed, s.repairs.size(), s.travel_mm, s.rotation_deg, s.mean_contact_force_N,
+                  rest, flags.empty() ? "-" : flags.c_str());
     out += line;
   }
   std::map<std::string, int> flag_counts;
@@ -41,6 +48,25 @@ std::string inspection_table(const InspectionBatch& batch) {
   std::snprintf(line, sizeof line, "files with repairs: %d; with glitches removed: %d; flags:%s\n", repaired, glitched,
                 flags.empty() ? " none" : flags.c_str());
   out += line;
+  // The sensor's zero error push to push: the rest forces that are not preloads, where a preload can be told.
+  int zeros = 0, preloads = 0;
+  double sum2 = 0;
+  for (const auto& s : batch.results) {
+    if (!s.rest_force_tells_zero || !std::isfinite(s.rest_force_x_N)) continue;
+    if (s.rest_preload) {
+      ++preloads;
+      continue;
+    }
+    ++zeros;
+    sum2 += s.rest_force_x_N * s.rest_force_x_N + s.rest_force_y_N * s.rest_force_y_N;
+  }
+  if (zeros > 0) {
+    std::snprintf(line, sizeof line,
+                  "rest force before the tip moves (p: a preload, pointing into the contact): %d preloads; the other "
+                  "%d read the sensor's zero, %.3f N RMS per axis\n",
+                  preloads, zeros, std::sqrt(sum2 / (2.0 * zeros)));
+    out += line;
+  }
   std::snprintf(line, sizeof line, "%zu files read, %zu failed\n", batch.results.size(), batch.failures.size());
   out += line;
   return out;
@@ -63,7 +89,11 @@ nlohmann::json inspection_json(const InspectionBatch& batch) {
                      {"travel_mm", s.travel_mm},
                      {"rotation_deg", s.rotation_deg},
                      {"mean_contact_force_N", s.mean_contact_force_N},
-                     {"max_tip_yaw_deg", s.max_tip_yaw_deg}});
+                     {"max_tip_yaw_deg", s.max_tip_yaw_deg},
+                     {"rest_force_N", std::isfinite(s.rest_force_x_N)
+                                          ? nlohmann::json{s.rest_force_x_N, s.rest_force_y_N}
+                                          : nlohmann::json(nullptr)},
+                     {"rest_preload", s.rest_preload}});
   }
   nlohmann::json failures = nlohmann::json::array();
   for (const auto& f : batch.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});

@@ -23,6 +23,12 @@ struct Inspection {
   double travel_mm = 0, rotation_deg = 0;
   double mean_contact_force_N = 0;
   double max_tip_yaw_deg = 0;
+  /// The mean force before the tip moves [N, robot frame]; NaN without such samples. It is a preload when it points
+  /// into the contact (rest_preload), otherwise the sensor's zero error on this push.
+  double rest_force_x_N = 0, rest_force_y_N = 0;
+  bool rest_preload = false;
+  /// Whether the rest force can tell a zero: the sensor live and the outline known (so a preload can be told).
+  bool rest_force_tells_zero = false;
 };
 
 using InspectionBatch = Batch<Inspection>;
