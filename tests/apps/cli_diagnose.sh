@@ -23,7 +23,8 @@ for key in '"effects"' '"kind": "time_offset"' '"kind": "force_offset"' '"kind":
   expect_in "$tmp/hex/diagnosis.json" "$key" "diagnosis.json holds $key"
 done
 # A non-finite number is written as null (JSON has no NaN): no value may be null but where the file says why (an
-# effect with a note that it was not tested has no score; fewer than two measured sensor zeros have no spread), and
+# effect with a note that it was not tested has no score; fewer than two measured sensor zeros have no spread, and
+# fewer than two clear rests no rest score), and
 # no bare NaN or Infinity token (which some parsers accept) may appear.
 nulls=$(python3 -c '
 import json, sys
@@ -37,6 +38,8 @@ def nulls(v, at):
 def explained(d, at):
     if at == ".adequacy.force.sensor_zeros_spread_N":
         return d["adequacy"]["force"]["sensor_zeros_measured_pushes"] < 2
+    if at == ".adequacy.rest.score":
+        return not d["adequacy"]["rest"]["tested"]
     if at.startswith(".effects[") and at.endswith("].score"):
         e = d["effects"][int(at[len(".effects["):-len("].score")])]
         return not e["passed_test"] and "note" in e

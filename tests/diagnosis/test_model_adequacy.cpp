@@ -93,6 +93,33 @@ BOOST_AUTO_TEST_CASE(a_constant_world_force_left_in_the_residual_is_unexplained_
   BOOST_TEST(with.force_N < 1.1 * size_N);
 }
 
+BOOST_AUTO_TEST_CASE(a_sensor_bias_left_in_the_data_reads_at_rest_and_is_unexplained) {
+  // Four clean pushes 1 mm clear of the object, each with the real sensor's own zero (0.1 N per axis): their rests
+  // read those zeros and nothing the floor counts. A bias of three times the force floor on every push, which no
+  // candidate took out, is the force the rests share: unexplained, at its size.
+  std::mt19937_64 rng(230003);
+  auto scenarios = draw_scenarios(rng, 4, {});
+  std::normal_distribution<double> zero(0.0, kSensorZeroSpread_N);
+  for (auto& s : scenarios) {
+    s.approach_gap_m = 0.001;
+    s.sensors.push_offset_N = Eigen::Vector2d(zero(rng), zero(rng));
+  }
+  PreparedPushes clean = prepare(scenarios);
+  ModelAdequacy without;
+  test_rest_force(clean.data, clean.context, 10.0, {}, without);
+  BOOST_TEST_REQUIRE(without.rest_tested);
+  BOOST_TEST(without.rest_pushes == 4);
+  BOOST_TEST(!without.rest_unexplained, without.rest_force_N << " N, floor " << without.force_floor_N << " N");
+
+  const double size_N = 3 * clean.context.relevance_fraction * clean.context.friction_force_N();
+  for (auto& s : scenarios) s.effects.set("force_offset", size_N / std::sqrt(2.0));  // per axis
+  PreparedPushes biased = prepare(scenarios);
+  ModelAdequacy with;
+  test_rest_force(biased.data, biased.context, 10.0, {}, with);
+  BOOST_TEST(with.rest_unexplained, with.rest_force_N << " N, floor " << with.force_floor_N << " N");
+  BOOST_TEST(with.rest_force_N == size_N, boost::test_tools::tolerance(0.25));
+}
+
 BOOST_AUTO_TEST_CASE(the_motion_test_finds_a_systematic_bias_and_not_symmetric_noise) {
   std::mt19937_64 rng(230002);
   std::normal_distribution<double> noise(0.0, 0.5e-3);  // 0.5 mm per phase

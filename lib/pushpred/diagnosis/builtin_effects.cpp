@@ -325,6 +325,75 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
   static constexpr double kMinDelay_s = 0.002;
 };
 
+}  // namespace
+
+// The bias is shared by all pushes. Its variance combines the within-push long-run variance (Newey-West over
+// the whole rest window: the sensor's noise is slow) and, with two or more pushes, the spread of the pushes' own
+// means (which also holds whatever is slower than a rest window); the larger is used. From two pushes on: a rest
+// window is a few tenths of a second, a few times the slow noise's correlation time, and its own demeaned samples
+// hide most of that noise's share of the mean (with two fit pushes the within-push variance alone let a clean
+// sensor's slow noise pass as a bias of 0.16 N at 9 standard errors; tuning seeds 72000-72059). Score: the Wald
+// statistic minus the BIC penalty 2 ln(N_eff), as for the regression effects.
+DirectFit rest_force_fit(const std::vector<DiagnosisPush>& pushes) {
+  std::vector<Eigen::MatrixX2d> blocks;
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  long count = 0;
+  for (const auto& d : pushes) {
+    const auto idx = samples_without_contact(d.push, d.shared_rest_force_N);  // a pressing rod's rest is not force-free
+    if (idx.size() < kRestSamplesForZero) continue;
+    Eigen::MatrixX2d f(idx.size(), 2);
+    for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = d.push.force_N.row(idx[k]);
+    sum += f.colwise().sum().transpose();
+    count += f.rows();
+    blocks.push_back(std::move(f));
+  }
+  DirectFit fit;
+  fit.theta = Eigen::Vector2d::Zero();
+  fit.covariance = Eigen::Matrix2d::Zero();
+  fit.samples = 2 * count;
+  if (count < 5) {
+    fit.score = -std::numeric_limits<double>::infinity();
+    fit.note = "no samples where the tip rests clear of the object (every push starts pressed, or none rests)";
+    return fit;
+  }
+  // One push's zero cannot tell a bias the pushes share from that push's own offset (a sensor not zeroed between
+  // pushes): a shared bias needs two pushes that show it.
+  const bool one_push = blocks.size() < 2;
+  // The reading is -f_C + b; before the tip moves f_C = 0, so b = -mean(f_C recorded).
+  const Eigen::Vector2d mean = sum / static_cast<double>(count);
+  fit.theta = -mean;
+  const double N = static_cast<double>(count);
+  Eigen::Vector2d within = Eigen::Vector2d::Zero(), between = Eigen::Vector2d::Zero();
+  double neff = 0;
+  for (const auto& f : blocks) {
+    const double n = static_cast<double>(f.rows());
+    for (int c = 0; c < 2; ++c) {
+      const double lrv = long_run_variance(f.col(c), f.rows() - 1);
+      within(c) += n * lrv / (N * N);
+      const double var = (f.col(c).array() - f.col(c).mean()).square().mean();
+      neff += lrv > 0 ? n * var / lrv : n;
+      between(c) += std::pow(f.col(c).mean() - mean(c), 2);
+    }
+  }
+  const double P = static_cast<double>(blocks.size());
+  fit.effective_samples = std::max(neff, 2.0);
+  double wald = 0;
+  for (int c = 0; c < 2; ++c) {
+    double v = within(c);
+    if (P >= 2) v = std::max(v, between(c) / (P - 1) / P);
+    fit.covariance(c, c) = v;
+    wald += v > 0 ? mean(c) * mean(c) / v : 0.0;
+  }
+  fit.score = wald - 2 * std::log(fit.effective_samples);
+  if (one_push) {
+    fit.score = -std::numeric_limits<double>::infinity();
+    fit.note = "the rest of one push only is clear of the object: its zero may be that push's own";
+  }
+  return fit;
+}
+
+namespace {
+
 class ForceOffsetEffect final : public DataCorrectionEffect {
   /// |b|: the bias's magnitude; a bias below kappa of the friction force shifts the push force less than the
   /// friction itself varies.
@@ -344,70 +413,7 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     c.sensor_bias_N += theta.head<2>();
   }
 
-  // The bias is shared by all pushes. Its variance combines the within-push long-run variance (Newey-West over
-  // the whole rest window: the sensor's noise is slow) and, with two or more pushes, the spread of the pushes' own
-  // means (which also holds whatever is slower than a rest window); the larger is used. From two pushes on: a rest
-  // window is a few tenths of a second, a few times the slow noise's correlation time, and its own demeaned samples
-  // hide most of that noise's share of the mean (with two fit pushes the within-push variance alone let a clean
-  // sensor's slow noise pass as a bias of 0.16 N at 9 standard errors; tuning seeds 72000-72059). Score: the Wald
-  // statistic minus the BIC penalty 2 ln(N_eff), as for the regression effects.
-  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
-    std::vector<Eigen::MatrixX2d> blocks;
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    long count = 0;
-    for (const auto& d : pushes) {
-      const auto idx = samples_without_contact(d.push, d.shared_rest_force_N);  // a pressing rod's rest is not force-free
-      if (idx.size() < kRestSamplesForZero) continue;
-      Eigen::MatrixX2d f(idx.size(), 2);
-      for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = d.push.force_N.row(idx[k]);
-      sum += f.colwise().sum().transpose();
-      count += f.rows();
-      blocks.push_back(std::move(f));
-    }
-    DirectFit fit;
-    fit.theta = Eigen::Vector2d::Zero();
-    fit.covariance = Eigen::Matrix2d::Zero();
-    fit.samples = 2 * count;
-    if (count < 5) {
-      fit.score = -std::numeric_limits<double>::infinity();
-      fit.note = "no samples where the tip rests clear of the object (every push starts pressed, or none rests)";
-      return fit;
-    }
-    // One push's zero cannot tell a bias the pushes share from that push's own offset (a sensor not zeroed between
-    // pushes): a shared bias needs two pushes that show it.
-    const bool one_push = blocks.size() < 2;
-    // The reading is -f_C + b; before the tip moves f_C = 0, so b = -mean(f_C recorded).
-    const Eigen::Vector2d mean = sum / static_cast<double>(count);
-    fit.theta = -mean;
-    const double N = static_cast<double>(count);
-    Eigen::Vector2d within = Eigen::Vector2d::Zero(), between = Eigen::Vector2d::Zero();
-    double neff = 0;
-    for (const auto& f : blocks) {
-      const double n = static_cast<double>(f.rows());
-      for (int c = 0; c < 2; ++c) {
-        const double lrv = long_run_variance(f.col(c), f.rows() - 1);
-        within(c) += n * lrv / (N * N);
-        const double var = (f.col(c).array() - f.col(c).mean()).square().mean();
-        neff += lrv > 0 ? n * var / lrv : n;
-        between(c) += std::pow(f.col(c).mean() - mean(c), 2);
-      }
-    }
-    const double P = static_cast<double>(blocks.size());
-    fit.effective_samples = std::max(neff, 2.0);
-    double wald = 0;
-    for (int c = 0; c < 2; ++c) {
-      double v = within(c);
-      if (P >= 2) v = std::max(v, between(c) / (P - 1) / P);
-      fit.covariance(c, c) = v;
-      wald += v > 0 ? mean(c) * mean(c) / v : 0.0;
-    }
-    fit.score = wald - 2 * std::log(fit.effective_samples);
-    if (one_push) {
-      fit.score = -std::numeric_limits<double>::infinity();
-      fit.note = "the rest of one push only is clear of the object: its zero may be that push's own";
-    }
-    return fit;
-  }
+  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override { return rest_force_fit(pushes); }
 };
 
 class ViscousFrictionEffect final : public ForceLawEffect {

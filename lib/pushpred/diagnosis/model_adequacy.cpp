@@ -68,11 +68,40 @@ std::string ModelAdequacy::verdict() const {
     s += std::string(structure ? ";" : "") +
          printed(" a force of %.3g N that the %.0f pushes whose sensor zero is measured share (floor %.3g N)",
                  shared_force_N, zero_measured_pushes, force_floor_N);
-  if (motion_unexplained)
+  if (rest_unexplained)
     s += std::string(force_unexplained ? ";" : "") +
+         printed(" the sensor reads %.3g N at rest, where nothing touches, on %.0f pushes (floor %.3g N)", rest_force_N,
+                 rest_pushes, force_floor_N);
+  if (motion_unexplained)
+    s += std::string(force_unexplained || rest_unexplained ? ";" : "") +
          printed(" a prediction bias of %.2f mm and %.2f deg on the fit phases (floors %.2f mm, %.2f deg)",
                  position_bias_mm, yaw_bias_deg, position_floor_mm, yaw_floor_deg);
   return s;
+}
+
+void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContext& context, double bic_threshold,
+                     const AdequacyOptions& options, ModelAdequacy& adequacy) {
+  const DirectFit fit = rest_force_fit(pushes);
+  adequacy.rest_pushes = 0;
+  for (const auto& d : pushes)
+    adequacy.rest_pushes += samples_without_contact(d.push, d.shared_rest_force_N).size() >= kRestSamplesForZero;
+  adequacy.rest_tested = std::isfinite(fit.score);
+  adequacy.rest_threshold = bic_threshold;
+  if (!adequacy.rest_tested) {
+    adequacy.rest_unexplained = false;
+    return;
+  }
+  const Eigen::Vector2d b = fit.theta.head<2>();
+  adequacy.rest_force_N = b.norm();
+  // The magnitude's standard error along the bias (delta method).
+  adequacy.rest_force_N_std =
+      adequacy.rest_force_N > 0 ? std::sqrt(b.dot(fit.covariance.topLeftCorner<2, 2>() * b)) / adequacy.rest_force_N
+                                : std::sqrt(fit.covariance.trace() / 2);
+  adequacy.rest_score = fit.score;
+  const double floor = context.relevance_fraction * context.friction_force_N();
+  adequacy.force_floor_N = floor;
+  adequacy.rest_unexplained = fit.score > bic_threshold &&
+                              adequacy.rest_force_N - options.floor_margin_std * adequacy.rest_force_N_std > floor;
 }
 
 std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes) {

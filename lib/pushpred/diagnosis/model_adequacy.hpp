@@ -26,6 +26,10 @@
 //   phases (a complete model's errors are symmetric about zero; the flips keep each phase's components together).
 //   Size: the mean bias [mm, deg] against kappa times how far the object moves in a fit phase (the mean error of
 //   `hold`, which predicts no motion); in yaw at least the turn that moves the outline by the position floor.
+// - Rest. Where nothing touches (the rests of the fit pushes whose rod rests clear, samples_without_contact) the
+//   corrected model says the sensor reads zero. The force those rests share (rest_force_fit, the force-offset test's
+//   estimate and score) counts when its score passes the search's BIC threshold and its size clears the force floor
+//   by floor_margin_std of its standard error: a sensor bias no candidate took out.
 //
 // "Explained" when neither part is both significant and above its floor. Signatures that account for an unexplained
 // residual are hints (ResidualHint), not findings.
@@ -73,6 +77,13 @@ struct ModelAdequacy {
   /// The force those pushes share beyond their zeros' chance mean (a bias, a tilt) [N], its standard error, p.
   double shared_force_N = 0, shared_force_N_std = 0, shared_force_p_value = 1;
   bool shared_force_unexplained = false;  ///< significant and above the force floor
+  // Rest.
+  bool rest_tested = false;  ///< two or more fit pushes rest clear of the object
+  int rest_pushes = 0;
+  double rest_force_N = 0, rest_force_N_std = 0;  ///< |mean recorded force at rest| and its standard error [N]
+  double rest_score = 0;                          ///< Wald statistic less 2 ln N_eff
+  double rest_threshold = 0;                      ///< the BIC threshold it must pass
+  bool rest_unexplained = false;
   // Motion.
   bool motion_tested = false;
   int phases = 0;
@@ -134,6 +145,11 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
                                                   const std::vector<const EffectColumns*>& model,
                                                   const FloorContext& context, const AdequacyOptions& options,
                                                   ModelAdequacy& adequacy);
+
+/// The rest part: fills the rest fields of `adequacy` from the fit pushes' clear rests, against the force floor
+/// (FloorContext) and the search's `bic_threshold`.
+void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContext& context, double bic_threshold,
+                     const AdequacyOptions& options, ModelAdequacy& adequacy);
 
 /// One fit phase's signed mean error of the corrected model.
 struct PhaseBias {

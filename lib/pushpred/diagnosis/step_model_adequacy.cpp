@@ -20,10 +20,11 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   AdequacyOutcome out;
   ModelAdequacy& a = out.adequacy;
   out.hints = test_residual_structure(model.data, columns, floors, options, a);
+  test_rest_force(model.data, floors, context.options.bic_threshold, options, a);
   test_motion_bias(fit_phase_biases, context.hold_position_mm, context.hold_yaw_deg, context.options.relevance_fraction,
                    floors.radius_of_gyration_m, options, a);
-  a.tested = a.force_tested || a.motion_tested;
-  a.explained = !(a.force_unexplained || a.motion_unexplained);
+  a.tested = a.force_tested || a.motion_tested || a.rest_tested;
+  a.explained = !(a.force_unexplained || a.motion_unexplained || a.rest_unexplained);
   a.statistic = diagnosis_format(
                     "force residual: the largest standardised R^2 of one generic signature on the "
                     "corrected model's residual (fit pushes, sliding samples), against a block bootstrap "
@@ -34,6 +35,8 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
                     "pressed; where measured at rest, the force the pushes share tested against the "
                     "zeros' spread, F(2, %.0f)); ",
                     2.0 * std::max(0, a.zero_measured_pushes - 1)) +
+                "rest: the force the clear rests share (where nothing touches), its Wald statistic less "
+                "2 ln N_eff against the search's BIC threshold; " +
                 diagnosis_format(
                     "motion: the largest |t| of the fit phases' mean signed errors, against random "
                     "sign flips of the phases; each significant at p <= %.3g",
@@ -50,6 +53,9 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
                                   a.zero_measured_pushes) +
                  diagnosis_format("their shared force %.3g +- %.3g N, p %.3f; ", a.shared_force_N, a.shared_force_N_std,
                                   a.shared_force_p_value) +
+                 diagnosis_format("rest %.3g +- %.3g N on %.0f pushes, ", a.rest_force_N, a.rest_force_N_std,
+                                  a.rest_pushes) +
+                 diagnosis_format("score %.1f; ", a.rest_tested ? a.rest_score : 0.0) +
                  diagnosis_format("motion |t| %.2f, null quantile %.2f, p %.3f; ", a.motion_t, a.motion_t_threshold,
                                   a.motion_p_value) +
                  diagnosis_format("bias %.2f mm, %.2f deg)", a.position_bias_mm, a.yaw_bias_deg));

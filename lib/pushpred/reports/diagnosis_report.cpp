@@ -364,6 +364,15 @@ nlohmann::json adequacy_json(const ModelAdequacy& a) {
           {"force_N_std", a.shared_force_N_std},
           {"p_value", a.shared_force_p_value},
           {"unexplained", a.shared_force_unexplained}}}}},
+      {"rest",
+       {{"tested", a.rest_tested},
+        {"unexplained", a.rest_unexplained},
+        {"pushes", a.rest_pushes},
+        {"force_N", a.rest_force_N},
+        {"force_N_std", a.rest_force_N_std},
+        {"score", a.rest_tested ? nlohmann::json(a.rest_score) : nlohmann::json()},
+        {"threshold", a.rest_threshold},
+        {"force_floor_N", a.force_floor_N}}},
       {"motion",
        {{"tested", a.motion_tested},
         {"unexplained", a.motion_unexplained},
@@ -516,6 +525,11 @@ std::string adequacy_markdown(const DiagnosisResult& r) {
          "-", general(a.shared_force_p_value),
          general(a.shared_force_N) + " +- " + general(a.shared_force_N_std) + " N", general(a.force_floor_N) + " N",
          a.shared_force_unexplained ? "unexplained" : "explained"});
+  if (a.rest_tested)
+    md << markdown_row({"force at rest, where nothing touches (" + std::to_string(a.rest_pushes) + " pushes)",
+                        "Wald - 2 ln N_eff " + fixed(a.rest_score, 1), fixed(a.rest_threshold, 1), "-",
+                        general(a.rest_force_N) + " +- " + general(a.rest_force_N_std) + " N",
+                        general(a.force_floor_N) + " N", a.rest_unexplained ? "unexplained" : "explained"});
   if (a.motion_tested)
     md << markdown_row({"motion (" + std::to_string(a.phases) + " fit phases)", "max abs t " + fixed(a.motion_t),
                         fixed(a.motion_t_threshold), general(a.motion_p_value),
