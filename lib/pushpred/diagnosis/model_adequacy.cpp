@@ -104,7 +104,7 @@ void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContex
                               adequacy.rest_force_N - options.floor_margin_std * adequacy.rest_force_N_std > floor;
 }
 
-std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes) {
+std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes, double friction_coefficient) {
   std::vector<ResidualSignature> out = {
       {"world_force", "a constant force in the world frame (a support that is not level, a cable, a draught)", {}},
       {"body_direction_friction", "friction that depends on the sliding direction in the body frame", {}},
@@ -186,9 +186,13 @@ std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPu
       }
       // force_rate: filled below (already as observed)
       j += 3;
-      // lever_arm: -(R e_i) x f_C in the torque channel
-      raw[j++].row(k) << 0, 0, -(ex.x() * st.input(1) - ex.y() * st.input(0));
-      raw[j++].row(k) << 0, 0, -(ey.x() * st.input(1) - ey.y() * st.input(0));
+      // lever_arm: -(R e_i) x f_C in the torque channel, with f_C the force the motion implies, m a less the
+      // support's friction: the measured force's own noise, times the lever it enters the torque with, would
+      // correlate with its noise in the residual and pass as a lever-arm error on clean pushes.
+      const Eigen::Vector2d implied =
+          shape.mass_kg * d.smooth_acceleration.row(k).head<2>().transpose() - friction_coefficient * coulomb.head<2>();
+      raw[j++].row(k) << 0, 0, -(ex.x() * implied.y() - ex.y() * implied.x());
+      raw[j++].row(k) << 0, 0, -(ey.x() * implied.y() - ey.y() * implied.x());
     }
     std::size_t j = 0;
     for (std::size_t g = 0; g < out.size(); ++g)
@@ -212,7 +216,7 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
   adequacy.alpha = options.alpha;
   adequacy.replicates = options.replicates;
   const ResidualRegression regression(pushes, Relation::Friction);
-  const std::vector<ResidualSignature> signatures = residual_signatures(pushes);
+  const std::vector<ResidualSignature> signatures = residual_signatures(pushes, context.friction_coefficient);
   std::vector<const EffectColumns*> all;
   for (const auto& s : signatures) all.push_back(&s.columns);
   Eigen::VectorXd y;

@@ -122,8 +122,10 @@ struct ResidualSignature {
 /// The generic signatures on `pushes`: a constant force in the world frame; friction depending on the sliding
 /// direction in the body frame; speed (drag, and friction growing with speed); travel; time since contact; the tip's
 /// motion relative to the object (penetration and its rate); the force's rate; the push force's moment about a point
-/// shifted in the body frame (lever arm).
-std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes);
+/// shifted in the body frame (lever arm; its force the one the motion implies, m a less the support's Coulomb
+/// friction with `friction_coefficient`).
+std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes,
+                                                   double friction_coefficient);
 
 struct AdequacyOptions {
   int replicates = 199;
