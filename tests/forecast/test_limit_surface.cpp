@@ -209,8 +209,8 @@ RimWeightEstimate learn_rim_weight(const ShapeInfo& shape, double rim, std::uint
     const double position = sides == 1 ? (i < 6 ? 0.2 : 0.7) + 0.02 * (i % 6) : 0.25 + 0.25 * ((i / sides) % 3);
     const double angle = (i % 3 - 1) * 0.3;
     try {
-      SimulatedPushOf p =
-          simulated(shape, i % sides, position, angle, 0.45, 0.3, rim, 0.05, first_seed + static_cast<std::uint64_t>(i));
+      SimulatedPushOf p = simulated(shape, i % sides, position, angle, 0.45, 0.3, rim, 0.05,
+                                    first_seed + static_cast<std::uint64_t>(i));
       use_limit_surface(p.c.forecast_object, LimitSurfaceKind::Outline);
       fits.push_back(fit_push_parameters(p.c));
       cases.push_back(std::move(p.c));
@@ -301,7 +301,8 @@ BOOST_AUTO_TEST_CASE(the_object_file_keeps_the_rim_weight_reads_version_4_and_re
   LearnOptions options;
   set_centre_of_friction_choice(options, "centroid");
   set_pressure_shape_choice(options, "learned");
-  const ObjectModel model = learn_object_model(cases[0].forecast_object, "abs", "shape table: hex", cases, fits, options);
+  const ObjectModel model =
+      learn_object_model(cases[0].forecast_object, "abs", "shape table: hex", cases, fits, options);
   BOOST_TEST(model.pressure_rim_weight_pushes == 4);
   BOOST_TEST(model.object.pressure_rim_weight != 0.0);
   BOOST_TEST(model.object.pressure_surface->rim_weight() == model.object.pressure_rim_weight);
@@ -323,8 +324,8 @@ BOOST_AUTO_TEST_CASE(the_object_file_keeps_the_rim_weight_reads_version_4_and_re
   BOOST_TEST(v4.object.pressure_rim_weight == 0.0);
   BOOST_TEST(v4.object.pressure_surface->rim_weight() == 0.0);
   BOOST_TEST(v4.object.pressure_surface->torque_ratio_m() ==
-             PolynomialLimitSurface::fit(planar_support_pressure(v4.object.outline->footprint(),
-                                                                 v4.object.centre_of_friction_m))
+             PolynomialLimitSurface::fit(
+                 planar_support_pressure(v4.object.outline->footprint(), v4.object.centre_of_friction_m))
                  .torque_ratio_m());
   // A rim weight that is not a number, or one that would make the pressure negative somewhere, is refused naming the
   // file and the field.

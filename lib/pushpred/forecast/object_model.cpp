@@ -847,13 +847,14 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     auto it = scores.find(key);
     if (it == scores.end())
       it = scores
-               .emplace(key, cross_validated_score(object, cases, fits, options, folds, fit_centre, fit_rim_weight,
-                                                   member))
+               .emplace(key,
+                        cross_validated_score(object, cases, fits, options, folds, fit_centre, fit_rim_weight, member))
                .first;
     return it->second;
   };
   const int centre_folds = options.centre_of_friction_folds;
-  const bool better = enough && (centre_folds < 2 || score(centre_folds, true, false) < score(centre_folds, false, false));
+  const bool better =
+      enough && (centre_folds < 2 || score(centre_folds, true, false) < score(centre_folds, false, false));
   if (enough && !better)
     model.centre_of_friction_method = "the object's own (a learned one forecast the learned pushes worse in " +
                                       std::to_string(centre_folds) + "-fold cross-validation)";
@@ -867,7 +868,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     model.pressure_shape_method = "none (the ellipsoid's ratio c stands for it)";
   else if (options.pressure_shape_min_pushes > 0 && !shape_enough)
     model.pressure_shape_method = "uniform (too few pushes to learn the rim weight from)";
-  const bool shape = shape_enough && (shape_folds < 2 || score(shape_folds, better, true) < score(shape_folds, better, false));
+  const bool shape =
+      shape_enough && (shape_folds < 2 || score(shape_folds, better, true) < score(shape_folds, better, false));
   if (shape_enough && !shape)
     model.pressure_shape_method = "uniform (a learned rim weight forecast the learned pushes worse in " +
                                   std::to_string(shape_folds) + "-fold cross-validation)";
@@ -884,9 +886,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       model.centre_of_friction_pushes = static_cast<int>(fits.size());
     }
     if (shape) {
-      model.pressure_shape_method =
-          "rim weight fitted jointly over the learned pushes, each with its own parameters" +
-          std::string(better ? ", with the centre of friction" : "");
+      model.pressure_shape_method = "rim weight fitted jointly over the learned pushes, each with its own parameters" +
+                                    std::string(better ? ", with the centre of friction" : "");
       model.pressure_rim_weight_standard_error = learned.rim_weight_standard_error;
       model.pressure_rim_weight_pushes = static_cast<int>(fits.size());
     }
