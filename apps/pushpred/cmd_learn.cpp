@@ -134,6 +134,15 @@ int run_learn(const LearnArgs& a) {
       std::printf("pressure rim weight: %.3f, %s\n", model.object.pressure_rim_weight,
                   model.pressure_shape_method.c_str());
   }
+  {
+    double position = 0, yaw = 0;
+    for (const PushFit& f : model.pushes) {
+      position += f.final_position_m / static_cast<double>(model.pushes.size());
+      yaw += f.final_yaw_rad / static_cast<double>(model.pushes.size());
+    }
+    std::printf("the learned pushes' own fits (each push's own parameters) at the end: %.2f mm, %.2f deg mean\n",
+                1e3 * position, yaw * 180 / M_PI);
+  }
   if (model.trend.active()) {
     std::printf(
         "parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
