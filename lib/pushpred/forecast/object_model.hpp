@@ -6,7 +6,8 @@
 // - per push: the parameters (mu_p, c, mu_s) that make the forecast of that push from its start best follow its
 //   recorded trajectory (Ceres, numeric derivatives, from the best of a coarse grid), with their standard errors;
 // - the centre of friction: one for the object, fitted jointly over its pushes with each push's own parameters
-//   (fit_centre_of_friction), kept when it forecasts the learned pushes better in cross-validation;
+//   (fit_centre_of_friction), kept when it forecasts the learned pushes better in cross-validation; with the
+//   outline's limit surface the pressure's rim weight with it, kept the same way;
 // - the object's parameters: the per-push values' median (in logarithms), the push-to-push spread (the per-push
 //   values' robust standard deviation) and the median's standard error;
 // - the predictive regions: a forecast runs the object's parameters (the central forecast) and every learned push's
