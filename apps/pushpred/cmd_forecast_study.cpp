@@ -23,6 +23,7 @@ struct StudyArgs {
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
   std::string limit_surface = "ellipsoid";
+  std::string pressure_shape = kPressureShapeDefaultChoice;
 };
 
 int run_study(const StudyArgs& a) {
@@ -35,6 +36,7 @@ int run_study(const StudyArgs& a) {
   options.learn.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options.learn, a.centre_of_friction);
   set_trend_choice(options.learn, a.trend);
+  set_pressure_shape_choice(options.learn, a.pressure_shape);
   std::vector<std::pair<std::string, std::string>> excluded = in.excluded;
   const std::vector<ForecastStudyPush> pushes = run_forecast_study(in.cases, in.fits, options, &excluded);
   if (pushes.empty()) {
@@ -94,6 +96,11 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
                   "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")
       ->check(CLI::IsMember({"ellipsoid", "outline"}));
+  sub->add_option("--pressure-shape", a->pressure_shape,
+                  "with --limit-surface outline: chosen (default: the pressure's rim weight learned jointly with the "
+                  "centre of friction when that forecasts the pushes better in cross-validation, else uniform), "
+                  "learned (always) or uniform (never learned)")
+      ->check(CLI::IsMember({"chosen", "learned", "uniform"}));
   add_jobs(*sub, a->jobs,
            "Pushes fitted and forecast in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_study(*a); }; });

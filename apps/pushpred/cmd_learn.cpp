@@ -29,6 +29,7 @@ struct LearnArgs {
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
   std::string limit_surface = "ellipsoid";
+  std::string pressure_shape = kPressureShapeDefaultChoice;
 };
 
 /// The user's own object, or null for the dataset's.
@@ -102,6 +103,7 @@ int run_learn(const LearnArgs& a) {
   options.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options, a.centre_of_friction);
   set_trend_choice(options, a.trend);
+  set_pressure_shape_choice(options, a.pressure_shape);
   const ObjectModel model =
       learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
   write_text_atomically(out, json_text(object_model_to_json(model)));
@@ -124,6 +126,23 @@ int run_learn(const LearnArgs& a) {
   std::printf("limit surface: %s\n", model.object.limit_surface == LimitSurfaceKind::Outline
                                          ? "the outline's pressure (c is not fitted)"
                                          : "ellipsoid of ratio c");
+  if (model.object.limit_surface == LimitSurfaceKind::Outline) {
+    if (model.pressure_rim_weight_pushes > 0)
+      std::printf("pressure rim weight: %.3f +- %.3f, learned from %d pushes\n", model.object.pressure_rim_weight,
+                  model.pressure_rim_weight_standard_error, model.pressure_rim_weight_pushes);
+    else
+      std::printf("pressure rim weight: %.3f, %s\n", model.object.pressure_rim_weight,
+                  model.pressure_shape_method.c_str());
+  }
+  {
+    double position = 0, yaw = 0;
+    for (const PushFit& f : model.pushes) {
+      position += f.final_position_m / static_cast<double>(model.pushes.size());
+      yaw += f.final_yaw_rad / static_cast<double>(model.pushes.size());
+    }
+    std::printf("the learned pushes' own fits (each push's own parameters) at the end: %.2f mm, %.2f deg mean\n",
+                1e3 * position, yaw * 180 / M_PI);
+  }
   if (model.trend.active()) {
     std::printf(
         "parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
@@ -170,6 +189,11 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
                   "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")
       ->check(CLI::IsMember({"ellipsoid", "outline"}));
+  sub->add_option("--pressure-shape", a->pressure_shape,
+                  "with --limit-surface outline: chosen (default: the pressure's rim weight learned jointly with the "
+                  "centre of friction when that forecasts the pushes better in cross-validation, else uniform), "
+                  "learned (always) or uniform (never learned)")
+      ->check(CLI::IsMember({"chosen", "learned", "uniform"}));
   add_jobs(*sub, a->jobs, "Pushes fitted in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_learn(*a); }; });
 });

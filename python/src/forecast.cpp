@@ -84,6 +84,18 @@ file's content.)doc")
       .def_property_readonly(
           "centre_of_friction_pushes", [](const ObjectModel& o) { return o.centre_of_friction_pushes; },
           "How many pushes the centre of friction was learned from (0: not learned)")
+      .def_property_readonly(
+          "limit_surface", [](const ObjectModel& o) { return std::string(limit_surface_name(o.object.limit_surface)); },
+          "\"ellipsoid\" or \"outline\"")
+      .def_property_readonly(
+          "pressure_rim_weight", [](const ObjectModel& o) { return o.object.pressure_rim_weight; },
+          "The support pressure's rim weight under the outline's limit surface (0: uniform; > 0 loads the rim, < 0 "
+          "the middle): learned (see pressure_rim_weight_pushes) or 0")
+      .def_property_readonly("pressure_rim_weight_standard_error",
+                             [](const ObjectModel& o) { return o.pressure_rim_weight_standard_error; })
+      .def_property_readonly(
+          "pressure_rim_weight_pushes", [](const ObjectModel& o) { return o.pressure_rim_weight_pushes; },
+          "How many pushes the rim weight was learned from (0: not learned)")
       .def("to_dict", [](const ObjectModel& o) { return from_json(object_model_to_json(o)); })
       .def(
           "forecast",
@@ -150,9 +162,11 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
   m.def(
       "learn_object_model",
       [](const std::vector<std::string>& files, std::optional<std::string> data, int jobs,
-         const std::string& limit_surface) {
+         const std::string& limit_surface, const std::string& pressure_shape) {
         const std::filesystem::path folder = data_folder_or_empty(data);
         const LimitSurfaceKind kind = limit_surface_named(limit_surface);
+        LearnOptions options;
+        set_pressure_shape_choice(options, pressure_shape);
         return without_gil([&] {
           const ForecastInputs in = load_forecast_inputs(files, folder, jobs, nullptr, false, kind);
           if (!in.failures.empty()) throw InputError(about(in.failures.front().source, in.failures.front().reason));
@@ -165,12 +179,14 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
           const std::string source = shape.own             ? "shape file: " + first.object
                                      : shape.has_outline() ? "shape table: " + first.object
                                                            : "data folder: butter_outline.csv";
-          return learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits);
+          return learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
         });
       },
       py::arg("files"), py::arg("data") = py::none(), py::arg("jobs") = 1, py::arg("limit_surface") = "ellipsoid",
+      py::arg("pressure_shape") = kPressureShapeDefaultChoice,
       "Learns one object's model from recorded pushes of it on one surface, as `pushpred learn` does (frozen force "
-      "sensors left out); limit_surface \"ellipsoid\" (default) or \"outline\" as its --limit-surface.");
+      "sensors left out); limit_surface \"ellipsoid\" (default) or \"outline\" as its --limit-surface, "
+      "pressure_shape \"chosen\" (default), \"learned\" or \"uniform\" as its --pressure-shape.");
 }
 
 }  // namespace pushpred::python

@@ -15,7 +15,7 @@ expect_exit 0 "learn hex from six pushes and a frozen rect1" -- "$bin" learn $he
 expect_in "$tmp/out" "learned hex on abs from 6 pushes" "the learned pushes are counted"
 expect_in "$tmp/err" "excluded $(basename "$frozen" .h5): force sensor frozen" "the frozen sensor is named"
 expect_in "$tmp/hex.json" '"format": "pushpred-object-model"' "the object file says its format"
-expect_in "$tmp/hex.json" '"version": 4' "the object file says its version"
+expect_in "$tmp/hex.json" '"version": 5' "the object file says its version"
 expect_in "$tmp/hex.json" '"limit_surface": "ellipsoid"' "the ellipsoidal limit surface by default"
 expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
 expect_in "$tmp/hex.json" '"parameter_trend"' "the object file holds the parameter trend"
@@ -28,6 +28,10 @@ expect_exit 0 "learn hex on the outline's limit surface" -- "$bin" learn $hex --
   --centre-of-friction centroid --out "$tmp/hex-outline.json" --jobs 2
 expect_in "$tmp/hex-outline.json" '"limit_surface": "outline"' "the object file keeps the outline's limit surface"
 expect_in "$tmp/out" "limit surface: the outline's pressure" "learn says which limit surface"
+expect_in "$tmp/out" "pressure rim weight: " "learn says the pressure's rim weight"
+expect_in "$tmp/hex-outline.json" '"rim_weight"' "the object file keeps the pressure's rim weight"
+expect_exit 2 "an unknown pressure shape" -- "$bin" learn $hex --limit-surface outline --pressure-shape cone \
+  --out "$tmp/cone.json"
 expect_exit 0 "forecast on the outline's limit surface" -- "$bin" forecast --model "$tmp/hex-outline.json" \
   --object-pose 0,0,0 --tip -66,10 --direction 10 --speed 50 --out "$tmp/f-outline"
 check "the outline forecast wrote forecast.json" test -s "$tmp/f-outline/forecast.json"

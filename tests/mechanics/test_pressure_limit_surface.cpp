@@ -1,7 +1,8 @@
 // The limit surface of a distributed support pressure against closed forms (a disk of uniform pressure: the largest
 // torque over the largest force is 2R/3, and a pure rotation about the centre needs the torque mu m g 2R/3) and the
 // quartic fitted to it against the exact summation over the footprint (Goyal, Ruina & Papadopoulos 1991; Zhou et al.
-// 2017): on the dataset's outlines the quartic's twist direction follows the exact surface to a few degrees.
+// 2017): on the dataset's outlines the quartic's twist direction follows the exact surface to a few degrees. A
+// rim-weighted disk's torque ratio against its closed form 2R/3 (1 + w / 5).
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>
@@ -76,6 +77,47 @@ BOOST_AUTO_TEST_CASE(a_tilted_pressure_is_centred_where_it_is_asked_to_be) {
   // A translating object feels no torque about its centre of pressure.
   BOOST_TEST(std::abs(limit_surface_wrench(p, Eigen::Vector2d(0.3, -0.2), 0.0)(2)) < 1e-12);
   BOOST_CHECK_THROW(planar_support_pressure(make_footprint(Outline(rect1)), Eigen::Vector2d(0.2, 0)), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(a_rim_weighted_disk_has_its_closed_form_torque_ratio_and_stays_non_negative) {
+  // p ~ 1 + w (2 r^2 / R^2 - 1) on a disk (<r^2> = R^2 / 2): int p r dA / int p dA = 2R/3 (1 + w / 5), and the
+  // pressure stays non-negative for w in [-1, 1] (zero at the rim for w = -1, at the centre for w = 1).
+  const double R = 0.05;
+  const Footprint footprint = make_footprint(Outline(disk(R)), 40);
+  const RimWeightRange range = rim_weight_range(footprint);
+  BOOST_TEST_MESSAGE("disk rim weight range [" << range.lower << ", " << range.upper << "] (cell centres)");
+  BOOST_TEST(range.lower == -1.0, boost::test_tools::tolerance(0.05));
+  BOOST_TEST(range.upper == 1.0, boost::test_tools::tolerance(0.05));
+  for (const double w : {-0.8, -0.4, 0.4, 0.9}) {
+    const SupportPressure p = planar_support_pressure(footprint, Eigen::Vector2d::Zero(), w);
+    BOOST_TEST(p.rim_weight == w);
+    BOOST_TEST(p.torque_ratio_m == 2 * R / 3 * (1 + w / 5), boost::test_tools::tolerance(3e-3));
+    for (const double share : p.share) BOOST_TEST(share >= 0);
+    // The quartic's pure rotation gives it back to its own error (as the uniform disk's above).
+    const Eigen::Vector3d spin = PolynomialLimitSurface::fit(p).wrench_for_twist(Eigen::Vector2d::Zero(), 1.0);
+    BOOST_TEST(spin(2) == 2 * R / 3 * (1 + w / 5), boost::test_tools::tolerance(1.5e-2));
+  }
+  BOOST_CHECK_THROW(planar_support_pressure(footprint, Eigen::Vector2d::Zero(), range.lower - 0.05), InputError);
+  BOOST_CHECK_THROW(planar_support_pressure(footprint, Eigen::Vector2d::Zero(), range.upper + 0.05), InputError);
+  BOOST_CHECK_THROW(planar_support_pressure(footprint, Eigen::Vector2d::Zero(), std::nan("")), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(a_rim_weighted_tilted_pressure_is_centred_where_it_is_asked_to_be) {
+  // The rim shape about the right triangle's centroid is not symmetric: the tilt must still put the centre of
+  // pressure where it is asked to be. A rectangle's range is set by its corners: -1 / (3 - 1) = -0.5 at the corner
+  // itself, a little beyond at the corner cells' centres.
+  for (const char* name : {"rect1", "tri1"}) {
+    const Footprint footprint = make_footprint(Outline(ShapeTable::published().find(name)));
+    const Eigen::Vector2d centre = footprint.centroid_m + Eigen::Vector2d(0.002, -0.001);
+    const SupportPressure p = planar_support_pressure(footprint, centre, 0.5);
+    Eigen::Vector2d first_moment = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < p.share.size(); ++i) first_moment += p.share[i] * p.offset_m[i];
+    BOOST_TEST(first_moment.norm() < 1e-12, name);
+    BOOST_TEST(std::abs(limit_surface_wrench(p, Eigen::Vector2d(0.3, -0.2), 0.0)(2)) < 1e-12, name);
+  }
+  const RimWeightRange rect = rim_weight_range(make_footprint(Outline(ShapeTable::published().find("rect1"))));
+  BOOST_TEST(rect.lower < -0.5);
+  BOOST_TEST(rect.lower > -0.6);
 }
 
 BOOST_AUTO_TEST_CASE(the_quartic_follows_the_exact_limit_surface_of_the_dataset_outlines) {

@@ -80,3 +80,23 @@ def test_bad_input_is_a_value_error_naming_it(model):
         d = model.to_dict()
         d["object"]["outline"]["shape"] = "teapot"
         pushpred.object_model_from_dict(d)
+
+
+def test_the_pressures_rim_weight_is_learned_as_the_cli_learns_it(executable, hex_files, tmp_path):
+    files = hex_files[:4]
+    learned = pushpred.learn_object_model(files, jobs=2, limit_surface="outline", pressure_shape="learned")
+    run_cli(executable, "learn", *files, "--limit-surface", "outline", "--pressure-shape", "learned",
+            "--out", tmp_path / "hex.json", "--jobs", 1)
+    from_cli = json.loads((tmp_path / "hex.json").read_text())
+    assert learned.limit_surface == "outline"
+    assert learned.pressure_rim_weight_pushes == 4
+    assert learned.pressure_rim_weight == from_cli["object"]["pressure_shape"]["rim_weight"]
+    assert learned.pressure_rim_weight_standard_error > 0
+    assert learned.to_dict()["parameters"] == from_cli["parameters"]
+    # A version 4 file has no pressure shape: a uniform pressure.
+    d = learned.to_dict()
+    d["version"] = 4
+    del d["object"]["pressure_shape"]
+    assert pushpred.object_model_from_dict(d).pressure_rim_weight == 0.0
+    with pytest.raises(pushpred.InputError, match="pressure shape"):
+        pushpred.learn_object_model(files, limit_surface="outline", pressure_shape="conical")

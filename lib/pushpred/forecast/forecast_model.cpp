@@ -226,25 +226,33 @@ void use_limit_surface(ForecastObject& object, LimitSurfaceKind kind) {
   object.pressure_surface.reset();
   if (kind != LimitSurfaceKind::Outline) return;
   if (!object.outline) throw InputError("forecast object '" + object.name + "': no outline for its limit surface");
-  object.pressure_surface = std::make_shared<const PolynomialLimitSurface>(
-      PolynomialLimitSurface::fit(planar_support_pressure(object.outline->footprint(), object.centre_of_friction_m)));
+  object.pressure_surface = std::make_shared<const PolynomialLimitSurface>(PolynomialLimitSurface::fit(
+      planar_support_pressure(object.outline->footprint(), object.centre_of_friction_m, object.pressure_rim_weight)));
 }
 
 void set_centre_of_friction(ForecastObject& object, const Eigen::Vector2d& centre) {
-  if (centre == object.centre_of_friction_m &&
+  set_pressure_shape(object, centre, object.pressure_rim_weight);
+}
+
+void set_pressure_shape(ForecastObject& object, const Eigen::Vector2d& centre, double rim_weight) {
+  if (centre == object.centre_of_friction_m && rim_weight == object.pressure_rim_weight &&
       (object.limit_surface != LimitSurfaceKind::Outline || object.pressure_surface))
     return;
+  if (!std::isfinite(rim_weight))
+    throw InputError("forecast object '" + object.name + "': the pressure's rim weight must be finite");
   object.centre_of_friction_m = centre;
+  object.pressure_rim_weight = rim_weight;
   use_limit_surface(object, object.limit_surface);
 }
 
 void ForecastObject::validate() const {
   if (!outline) throw InputError("forecast object '" + name + "': no outline");
   if (limit_surface == LimitSurfaceKind::Outline &&
-      (!pressure_surface || pressure_surface->centre_m() != centre_of_friction_m))
+      (!pressure_surface || pressure_surface->centre_m() != centre_of_friction_m ||
+       pressure_surface->rim_weight() != pressure_rim_weight))
     throw std::logic_error("forecast object '" + name +
-                           "': its outline limit surface is not about its centre of friction (use "
-                           "set_centre_of_friction)");
+                           "': its outline limit surface is not about its centre of friction or of its rim weight (use "
+                           "set_centre_of_friction or set_pressure_shape)");
   require_positive_finite(mass_kg, "forecast object '" + name + "': mass");
   require_positive_finite(inertia_kgm2, "forecast object '" + name + "': inertia");
   if (!centre_of_friction_m.allFinite())

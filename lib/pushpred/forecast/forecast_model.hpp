@@ -90,11 +90,14 @@ struct ForecastObject {
   double inertia_kgm2 = 1e-3;                                      ///< about the mass centre
   Eigen::Vector2d centre_of_friction_m = Eigen::Vector2d::Zero();  ///< body frame
   LimitSurfaceKind limit_surface = LimitSurfaceKind::Ellipsoid;
-  /// With LimitSurfaceKind::Outline: the pressure's limit surface about centre_of_friction_m (set_centre_of_friction
-  /// and use_limit_surface keep it so).
+  /// With LimitSurfaceKind::Outline: the radial shape of the support's pressure (mechanics/pressure_limit_surface.hpp,
+  /// pressure_rim_shape: 0 uniform, > 0 loading the rim, < 0 the middle), learned or 0.
+  double pressure_rim_weight = 0;
+  /// With LimitSurfaceKind::Outline: the pressure's limit surface about centre_of_friction_m with pressure_rim_weight
+  /// (set_centre_of_friction, set_pressure_shape and use_limit_surface keep it so).
   std::shared_ptr<const PolynomialLimitSurface> pressure_surface;
   /// Throws InputError for no outline or a non-positive mass or inertia; std::logic_error for an outline limit
-  /// surface about another centre than the centre of friction.
+  /// surface about another centre or of another rim weight than the object's.
   void validate() const;
 };
 
@@ -103,6 +106,9 @@ struct ForecastObject {
 void use_limit_surface(ForecastObject& object, LimitSurfaceKind kind);
 /// Moves the centre of friction, refitting the pressure's limit surface when the object uses one.
 void set_centre_of_friction(ForecastObject& object, const Eigen::Vector2d& centre_m);
+/// Sets the centre of friction and the pressure's rim weight at once (one refit of the pressure's limit surface when
+/// the object uses one). InputError for a rim weight outside the outline's rim_weight_range.
+void set_pressure_shape(ForecastObject& object, const Eigen::Vector2d& centre_m, double rim_weight);
 
 /// The parameters that vary from object to object and push to push: what `learn` identifies.
 struct ForecastParameters {

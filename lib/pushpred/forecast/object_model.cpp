@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <tuple>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
@@ -438,46 +440,56 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
 
 namespace {
 
-/// The pressure's limit surfaces fitted for the last few centres of friction, shared by the pushes of one joint fit:
-/// its residuals move the centre to the same few values (the iterate and its difference steps) push after push, and
-/// a surface costs a fit over the footprint. Not thread-safe: one per Ceres problem, evaluated on one thread.
+/// The pressure's limit surfaces fitted for the last few (centre of friction, rim weight) pairs, shared by the pushes
+/// of one joint fit: its residuals move the pressure to the same few shapes (the iterate and its difference steps,
+/// seven a Jacobian) push after push, and a surface costs a fit over the footprint (600 twists over some 300
+/// elements). Not thread-safe: one per Ceres problem, evaluated on one thread.
 class PressureSurfaceCache {
  public:
-  /// False (the object unchanged) where no planar pressure is centred at `centre`.
-  bool move_centre(ForecastObject& object, const Eigen::Vector2d& centre) {
+  /// False (the object unchanged) where no pressure of this shape is centred at `centre`.
+  bool move(ForecastObject& object, const Eigen::Vector2d& centre, double rim_weight) {
     if (object.limit_surface != LimitSurfaceKind::Outline) {
       object.centre_of_friction_m = centre;
       return true;
     }
-    if (object.centre_of_friction_m == centre && object.pressure_surface) return true;
-    for (const auto& [c, surface] : entries_)
-      if (c == centre) {
-        if (!surface) return false;
+    if (object.centre_of_friction_m == centre && object.pressure_rim_weight == rim_weight && object.pressure_surface)
+      return true;
+    for (const Entry& e : entries_)
+      if (e.centre == centre && e.rim_weight == rim_weight) {
+        if (!e.surface) return false;
         object.centre_of_friction_m = centre;
-        object.pressure_surface = surface;
+        object.pressure_rim_weight = rim_weight;
+        object.pressure_surface = e.surface;
         return true;
       }
     std::shared_ptr<const PolynomialLimitSurface> surface;
     try {
       ForecastObject moved = object;
-      set_centre_of_friction(moved, centre);
+      set_pressure_shape(moved, centre, rim_weight);
       surface = moved.pressure_surface;
       object = std::move(moved);
     } catch (const InputError&) {
     }
-    entries_.emplace_back(centre, surface);
+    entries_.push_back({centre, rim_weight, surface});
     if (entries_.size() > 8) entries_.erase(entries_.begin());
     return surface != nullptr;
   }
 
  private:
-  std::vector<std::pair<Eigen::Vector2d, std::shared_ptr<const PolynomialLimitSurface>>> entries_;
+  struct Entry {
+    Eigen::Vector2d centre;
+    double rim_weight;
+    std::shared_ptr<const PolynomialLimitSurface> surface;
+  };
+  std::vector<Entry> entries_;
 };
 
-/// One push's trajectory residuals (as TrajectoryResidual's) as a function of its log-parameters (block 0, size 3)
-/// and the centre of friction its object shares with other pushes (block 1, size 2, body frame [m]). Central
-/// differences with a step suited to each block: 0.02 in the logarithms (about fit_push_parameters' relative step),
-/// 0.2 mm for the centre; both span the kinks of the piecewise-smooth fixed-step forecast.
+/// One push's trajectory residuals (as TrajectoryResidual's) as a function of its log-parameters (block 0, size 3),
+/// the centre of friction its object shares with other pushes (block 1, size 2, body frame [m]) and the pressure's rim
+/// weight it shares with them (block 2, size 1; used by the outline's limit surface only). Central differences with a
+/// step suited to each block: 0.02 in the logarithms (about fit_push_parameters' relative step), 0.2 mm for the
+/// centre, 0.02 for the rim weight; all span the kinks of the piecewise-smooth fixed-step forecast. A held block
+/// (Ceres' constant block) asks for no Jacobian and costs no forecast.
 class SharedCentreResidual final : public ceres::CostFunction {
  public:
   SharedCentreResidual(const RecordedForecastCase& c, const ForecastObject& object, const FitOptions& options,
@@ -497,25 +509,26 @@ class SharedCentreResidual final : public ceres::CostFunction {
     set_num_residuals(static_cast<int>(3 * n));
     mutable_parameter_block_sizes()->push_back(3);
     mutable_parameter_block_sizes()->push_back(2);
+    mutable_parameter_block_sizes()->push_back(1);
   }
 
   bool Evaluate(double const* const* x, double* r, double** jacobians) const override {
-    double block[2][3] = {{x[0][0], x[0][1], x[0][2]}, {x[1][0], x[1][1], 0}};
+    double block[3][3] = {{x[0][0], x[0][1], x[0][2]}, {x[1][0], x[1][1], 0}, {x[2][0], 0, 0}};
     // A centre so far off the outline that no planar pressure puts it there has no limit surface: Ceres takes the
     // step as infeasible and shortens it.
-    if (!residuals(block[0], block[1], r)) return false;
+    if (!residuals(block[0], block[1], block[2][0], r)) return false;
     if (!jacobians) return true;
     const int m = num_residuals();
-    for (int b = 0; b < 2; ++b) {
+    for (int b = 0; b < 3; ++b) {
       if (!jacobians[b]) continue;
-      const int size = b == 0 ? 3 : 2;
-      const double step = b == 0 ? kLogStep : kCentreStep_m;
+      const int size = b == 0 ? 3 : (b == 1 ? 2 : 1);
+      const double step = b == 0 ? kLogStep : (b == 1 ? kCentreStep_m : kRimWeightStep);
       for (int j = 0; j < size; ++j) {
         const double keep = block[b][j];
         block[b][j] = keep + step;
-        const bool plus = residuals(block[0], block[1], plus_.data());
+        const bool plus = residuals(block[0], block[1], block[2][0], plus_.data());
         block[b][j] = keep - step;
-        const bool minus = residuals(block[0], block[1], minus_.data());
+        const bool minus = residuals(block[0], block[1], block[2][0], minus_.data());
         block[b][j] = keep;
         if (!plus || !minus) return false;
         for (int i = 0; i < m; ++i)
@@ -529,8 +542,12 @@ class SharedCentreResidual final : public ceres::CostFunction {
  private:
   static constexpr double kLogStep = 0.02, kCentreStep_m = 2e-4;
 
-  bool residuals(const double* log_theta, const double* centre_m, double* r) const {
-    if (!surfaces_.move_centre(object_, Eigen::Vector2d(centre_m[0], centre_m[1]))) return false;
+ public:
+  static constexpr double kRimWeightStep = 0.02;
+
+ private:
+  bool residuals(const double* log_theta, const double* centre_m, double rim_weight, double* r) const {
+    if (!surfaces_.move(object_, Eigen::Vector2d(centre_m[0], centre_m[1]), rim_weight)) return false;
     const ForecastParameters p{std::exp(log_theta[0]), std::exp(log_theta[1]), std::exp(log_theta[2])};
     forecast_into(object_, p, case_.plan, case_.start_pose, times_, poses_, options_.settings);
     for (Eigen::Index k = 0; k < times_.size(); ++k) {
@@ -549,6 +566,16 @@ class SharedCentreResidual final : public ceres::CostFunction {
   mutable Eigen::MatrixX3d poses_;
   mutable std::vector<double> plus_, minus_;
   PressureSurfaceCache& surfaces_;
+};
+
+/// (w - prior) / sd: the pressure's rim weight's Gaussian prior.
+struct RimWeightPrior {
+  double prior = 0, sd = 1;
+  template <class T>
+  bool operator()(const T* w, T* r) const {
+    r[0] = (w[0] - T(prior)) / T(sd);
+    return true;
+  }
 };
 
 /// (centre - prior) / sd per axis: the centre of friction's Gaussian prior.
@@ -580,6 +607,8 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   const std::size_t n = cases.size();
   std::vector<std::array<double, 3>> theta(n);
   double centre[2] = {start.x(), start.y()};
+  double rim[1] = {object.pressure_rim_weight};
+  const bool fit_rim = options.fit_rim_weight && fixed_ratio;
   ceres::Problem problem;
   PressureSurfaceCache surfaces;
   int residual_count = 0;
@@ -588,7 +617,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
       theta[i][static_cast<std::size_t>(k)] = std::clamp(std::log(fits[i].parameters.vector()(k)), lower[k], upper[k]);
     auto* cost = new SharedCentreResidual(cases[i], object, fit_options, surfaces);
     residual_count += cost->num_residuals();
-    problem.AddResidualBlock(cost, new ceres::HuberLoss(3.0), theta[i].data(), centre);
+    problem.AddResidualBlock(cost, new ceres::HuberLoss(3.0), theta[i].data(), centre, rim);
     if (fixed_ratio) {
       // The pressure's limit surface has no ratio c: each push keeps its own fit's (unused by the forecast).
       theta[i][1] = std::log(fits[i].parameters.torque_ratio_m);
@@ -606,13 +635,31 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
       problem.SetParameterUpperBound(theta[i].data(), k, upper[k]);
     }
   }
-  if (options.prior_sd_m > 0)
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<CentrePrior, 2, 2>(new CentrePrior{start, options.prior_sd_m}), nullptr,
-        centre);
-  for (int k = 0; k < 2; ++k) {
-    problem.SetParameterLowerBound(centre, k, start(k) - options.max_offset_m);
-    problem.SetParameterUpperBound(centre, k, start(k) + options.max_offset_m);
+  if (options.fit_centre) {
+    if (options.prior_sd_m > 0)
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<CentrePrior, 2, 2>(new CentrePrior{start, options.prior_sd_m}), nullptr,
+          centre);
+    for (int k = 0; k < 2; ++k) {
+      problem.SetParameterLowerBound(centre, k, start(k) - options.max_offset_m);
+      problem.SetParameterUpperBound(centre, k, start(k) + options.max_offset_m);
+    }
+  } else {
+    problem.SetParameterBlockConstant(centre);
+  }
+  if (fit_rim) {
+    if (options.rim_weight_prior_sd > 0)
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<RimWeightPrior, 1, 1>(new RimWeightPrior{0.0, options.rim_weight_prior_sd}),
+          nullptr, rim);
+    // The pressure non-negative everywhere, less two difference steps so that the Jacobian's stay inside.
+    const RimWeightRange range = rim_weight_range(object.outline->footprint());
+    const double margin = 2 * SharedCentreResidual::kRimWeightStep;
+    rim[0] = std::clamp(rim[0], range.lower + margin, range.upper - margin);
+    problem.SetParameterLowerBound(rim, 0, range.lower + margin);
+    problem.SetParameterUpperBound(rim, 0, range.upper - margin);
+  } else {
+    problem.SetParameterBlockConstant(rim);
   }
   ceres::Solver::Options solver;
   solver.max_num_iterations = options.max_iterations;
@@ -624,18 +671,25 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
 
   CentreOfFrictionFit out;
   out.centre_m << centre[0], centre[1];
+  out.rim_weight = rim[0];
   ForecastObject learned = object;
-  set_centre_of_friction(learned, out.centre_m);
+  set_pressure_shape(learned, out.centre_m, out.rim_weight);
   // Standard errors: Ceres' covariance, scaled by the residuals' own variance (as fit_push_parameters).
   ceres::Covariance covariance(fit_covariance_options());
-  std::vector<std::pair<const double*, const double*>> blocks{{centre, centre}};
+  std::vector<std::pair<const double*, const double*>> blocks;
+  if (options.fit_centre) blocks.emplace_back(centre, centre);
+  if (fit_rim) blocks.emplace_back(rim, rim);
   for (const auto& t : theta) blocks.emplace_back(t.data(), t.data());
-  const double variance = 2 * summary.final_cost / std::max(1, residual_count - static_cast<int>(3 * n + 2));
+  const int shared = (options.fit_centre ? 2 : 0) + (fit_rim ? 1 : 0);
+  const double variance = 2 * summary.final_cost / std::max(1, residual_count - static_cast<int>(3 * n) - shared);
   const bool have_covariance = covariance.Compute(blocks, &problem);
   if (have_covariance) {
     double cov[4] = {0};
-    if (covariance.GetCovarianceBlock(centre, centre, cov))
+    if (options.fit_centre && covariance.GetCovarianceBlock(centre, centre, cov))
       out.standard_error_m << std::sqrt(std::max(0.0, cov[0] * variance)), std::sqrt(std::max(0.0, cov[3] * variance));
+    double rim_cov = 0;
+    if (fit_rim && covariance.GetCovarianceBlock(rim, rim, &rim_cov))
+      out.rim_weight_standard_error = std::sqrt(std::max(0.0, rim_cov * variance));
   }
   for (std::size_t i = 0; i < n; ++i) {
     PushFit f = fits[i];
@@ -685,16 +739,18 @@ double held_out_score(const ForecastObject& object, const std::vector<const Push
          180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
 }
 
-/// Whether a learned centre of friction forecasts the learned pushes better than `object`'s own: `folds`-fold
-/// cross-validation over them (push i in fold i mod folds), each fold forecast by the others' ensemble (all alike)
-/// with the centre fitted on those others, against the others' own fits about the object's centre.
-bool learned_centre_forecasts_better(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
-                                     const std::vector<PushFit>& fits, const LearnOptions& options,
-                                     Eigen::MatrixX3d& member) {
-  const int folds = options.centre_of_friction_folds;
+/// The held-out score (held_out_score summed over the learned pushes) of `folds`-fold cross-validation over them (push
+/// i in fold i mod folds), each fold forecast by the others' ensemble (all alike): with the centre of friction and/or
+/// the pressure's rim weight (`fit_centre`, `fit_rim_weight`) fitted jointly on those others, or with neither the
+/// others' own fits about `object`'s own centre and pressure. What learn keeps a learned centre or rim weight by.
+double cross_validated_score(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
+                             const std::vector<PushFit>& fits, const LearnOptions& options, int folds, bool fit_centre,
+                             bool fit_rim_weight, Eigen::MatrixX3d& member) {
   CentreOfFrictionOptions cof = options.centre_of_friction;
   cof.fit.settings = options.settings;
-  double own = 0, learned = 0;
+  cof.fit_centre = fit_centre;
+  cof.fit_rim_weight = fit_rim_weight;
+  double total = 0;
   for (int fold = 0; fold < folds; ++fold) {
     std::vector<RecordedForecastCase> train_cases;
     std::vector<PushFit> train_fits;
@@ -708,18 +764,22 @@ bool learned_centre_forecasts_better(const ForecastObject& object, const std::ve
       }
     }
     if (test.empty() || train_fits.empty()) continue;
+    if (!fit_centre && !fit_rim_weight) {
+      std::vector<const PushFit*> own_members;
+      for (const auto& f : train_fits) own_members.push_back(&f);
+      for (std::size_t q : test)
+        total += held_out_score(object, own_members, 0, {}, cases[q], options.settings, options.central, member);
+      continue;
+    }
     const CentreOfFrictionFit fit = fit_centre_of_friction(object, train_cases, train_fits, cof);
     ForecastObject moved = object;
-    set_centre_of_friction(moved, fit.centre_m);
-    std::vector<const PushFit*> own_members, learned_members;
-    for (const auto& f : train_fits) own_members.push_back(&f);
+    set_pressure_shape(moved, fit.centre_m, fit.rim_weight);
+    std::vector<const PushFit*> learned_members;
     for (const auto& f : fit.fits) learned_members.push_back(&f);
-    for (std::size_t q : test) {
-      own += held_out_score(object, own_members, 0, {}, cases[q], options.settings, options.central, member);
-      learned += held_out_score(moved, learned_members, 0, {}, cases[q], options.settings, options.central, member);
-    }
+    for (std::size_t q : test)
+      total += held_out_score(moved, learned_members, 0, {}, cases[q], options.settings, options.central, member);
   }
-  return learned < own;
+  return total;
 }
 
 }  // namespace
@@ -734,6 +794,19 @@ void set_centre_of_friction_choice(LearnOptions& options, const std::string& cho
     options.centre_of_friction_min_pushes = 0;
   } else if (choice != "chosen") {
     throw InputError("centre of friction: 'chosen', 'learned' or 'centroid', not '" + choice + "'");
+  }
+}
+
+void set_pressure_shape_choice(LearnOptions& options, const std::string& choice) {
+  const LearnOptions defaults;
+  options.pressure_shape_min_pushes = defaults.pressure_shape_min_pushes;
+  options.pressure_shape_folds = defaults.pressure_shape_folds;
+  if (choice == "learned") {
+    options.pressure_shape_folds = 0;
+  } else if (choice == "uniform") {
+    options.pressure_shape_min_pushes = 0;
+  } else if (choice != "chosen") {
+    throw InputError("pressure shape: 'chosen', 'learned' or 'uniform', not '" + choice + "'");
   }
 }
 
@@ -767,19 +840,57 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
                       fits.size() >= static_cast<std::size_t>(options.centre_of_friction_min_pushes);
   if (options.centre_of_friction_min_pushes > 0 && !enough)
     model.centre_of_friction_method = "the object's own (too few pushes to learn it from)";
-  const bool better = enough && (options.centre_of_friction_folds < 2 ||
-                                 learned_centre_forecasts_better(object, cases, fits, options, member));
+  // Cross-validated scores by (folds, centre fitted, rim weight fitted), each computed once.
+  std::map<std::tuple<int, bool, bool>, double> scores;
+  auto score = [&](int folds, bool fit_centre, bool fit_rim_weight) {
+    const auto key = std::make_tuple(folds, fit_centre, fit_rim_weight);
+    auto it = scores.find(key);
+    if (it == scores.end())
+      it = scores
+               .emplace(key,
+                        cross_validated_score(object, cases, fits, options, folds, fit_centre, fit_rim_weight, member))
+               .first;
+    return it->second;
+  };
+  const int centre_folds = options.centre_of_friction_folds;
+  const bool better =
+      enough && (centre_folds < 2 || score(centre_folds, true, false) < score(centre_folds, false, false));
   if (enough && !better)
     model.centre_of_friction_method = "the object's own (a learned one forecast the learned pushes worse in " +
-                                      std::to_string(options.centre_of_friction_folds) + "-fold cross-validation)";
-  if (better) {
-    model.centre_of_friction_method = "fitted jointly over the learned pushes, each with its own parameters";
+                                      std::to_string(centre_folds) + "-fold cross-validation)";
+  // The pressure's shape (the outline's limit surface only): the rim weight, fitted with the centre as just decided,
+  // kept when it forecasts the learned pushes better in cross-validation than the same without it.
+  const bool outline = outline_limit_surface(object);
+  const bool shape_enough = outline && options.pressure_shape_min_pushes > 0 &&
+                            fits.size() >= static_cast<std::size_t>(options.pressure_shape_min_pushes);
+  const int shape_folds = options.pressure_shape_folds;
+  if (!outline)
+    model.pressure_shape_method = "none (the ellipsoid's ratio c stands for it)";
+  else if (options.pressure_shape_min_pushes > 0 && !shape_enough)
+    model.pressure_shape_method = "uniform (too few pushes to learn the rim weight from)";
+  const bool shape =
+      shape_enough && (shape_folds < 2 || score(shape_folds, better, true) < score(shape_folds, better, false));
+  if (shape_enough && !shape)
+    model.pressure_shape_method = "uniform (a learned rim weight forecast the learned pushes worse in " +
+                                  std::to_string(shape_folds) + "-fold cross-validation)";
+  if (better || shape) {
     CentreOfFrictionOptions cof = options.centre_of_friction;
     cof.fit.settings = settings;
+    cof.fit_centre = better;
+    cof.fit_rim_weight = shape;
     CentreOfFrictionFit learned = fit_centre_of_friction(object, cases, fits, cof);
-    set_centre_of_friction(model.object, learned.centre_m);
-    model.centre_of_friction_standard_error_m = learned.standard_error_m;
-    model.centre_of_friction_pushes = static_cast<int>(fits.size());
+    set_pressure_shape(model.object, learned.centre_m, learned.rim_weight);
+    if (better) {
+      model.centre_of_friction_method = "fitted jointly over the learned pushes, each with its own parameters";
+      model.centre_of_friction_standard_error_m = learned.standard_error_m;
+      model.centre_of_friction_pushes = static_cast<int>(fits.size());
+    }
+    if (shape) {
+      model.pressure_shape_method = "rim weight fitted jointly over the learned pushes, each with its own parameters" +
+                                    std::string(better ? ", with the centre of friction" : "");
+      model.pressure_rim_weight_standard_error = learned.rim_weight_standard_error;
+      model.pressure_rim_weight_pushes = static_cast<int>(fits.size());
+    }
     model.pushes = std::move(learned.fits);
   }
   const std::vector<PushFit>& learned_fits = model.pushes;
@@ -973,6 +1084,14 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
       {"learned_from_pushes", m.centre_of_friction_pushes},
       {"standard_error_m", {m.centre_of_friction_standard_error_m.x(), m.centre_of_friction_standard_error_m.y()}},
       {"method", m.centre_of_friction_method}};
+  j["object"]["pressure_shape"] = {
+      {"rim_weight", m.object.pressure_rim_weight},
+      {"standard_error", m.pressure_rim_weight_standard_error},
+      {"learned_from_pushes", m.pressure_rim_weight_pushes},
+      {"method", m.pressure_shape_method},
+      {"definition",
+       "outline limit surface only: pressure ~ (1 + rim_weight (|r - centroid|^2 / <|r - centroid|^2> - 1)), tilted "
+       "by a plane so that its centre lies at centre_of_friction_m; 0 uniform, > 0 loads the rim, < 0 the middle"}};
   nlohmann::json params;
   for (int i = 0; i < 3; ++i)
     params[ForecastParameters::name(i)] = {{"value", m.parameters.vector()(i)},
@@ -1101,6 +1220,26 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       } catch (const InputError& e) {
         throw InputError(std::string("object: 'limit_surface': ") + e.what());
       }
+    }
+    if (o.contains("pressure_shape")) {  // version 5 on; optional (absent: uniform)
+      const auto& ps = o.at("pressure_shape");
+      if (!ps.is_object()) throw InputError("object: 'pressure_shape' must be an object");
+      const double w = number_at(ps, "rim_weight", "object: pressure_shape");
+      const RimWeightRange range = rim_weight_range(m.object.outline->footprint());
+      if (m.object.limit_surface != LimitSurfaceKind::Outline && w != 0)
+        throw InputError("object: pressure_shape: 'rim_weight' must be 0 with the ellipsoid limit surface, got " +
+                         std::to_string(w));
+      if (!range.contains(w))
+        throw InputError("object: pressure_shape: 'rim_weight' " + std::to_string(w) + " lies outside [" +
+                         std::to_string(range.lower) + ", " + std::to_string(range.upper) +
+                         "], where the pressure stays non-negative on this outline");
+      m.object.pressure_rim_weight = w;
+      if (ps.contains("standard_error"))
+        m.pressure_rim_weight_standard_error = number_at(ps, "standard_error", "object: pressure_shape");
+      m.pressure_rim_weight_pushes = ps.value("learned_from_pushes", 0);
+      m.pressure_shape_method = ps.value("method", m.pressure_shape_method);
+      if (m.pressure_rim_weight_pushes < 0 || m.pressure_rim_weight_standard_error < 0)
+        throw InputError("object: pressure_shape: 'learned_from_pushes' and 'standard_error' must not be negative");
     }
     use_limit_surface(m.object, m.object.limit_surface);
     m.object.validate();

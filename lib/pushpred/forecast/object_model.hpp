@@ -6,7 +6,8 @@
 // - per push: the parameters (mu_p, c, mu_s) that make the forecast of that push from its start best follow its
 //   recorded trajectory (Ceres, numeric derivatives, from the best of a coarse grid), with their standard errors;
 // - the centre of friction: one for the object, fitted jointly over its pushes with each push's own parameters
-//   (fit_centre_of_friction), kept when it forecasts the learned pushes better in cross-validation;
+//   (fit_centre_of_friction), kept when it forecasts the learned pushes better in cross-validation; with the
+//   outline's limit surface the pressure's rim weight with it, kept the same way;
 // - the object's parameters: the per-push values' median (in logarithms), the push-to-push spread (the per-push
 //   values' robust standard deviation) and the median's standard error;
 // - the predictive regions: a forecast runs the object's parameters (the central forecast) and every learned push's
@@ -30,8 +31,9 @@ namespace pushpred {
 /// The version of the object file this library writes; it reads every version up to it (version 1 files have no
 /// "centre_of_friction" block: their centre of friction is the one in "object", the outline's centroid; versions 1
 /// and 2 have no "parameter_trend": their parameters do not follow the plan; versions 1 to 3 have no
-/// "limit_surface": theirs is the ellipsoid).
-inline constexpr int kObjectModelVersion = 4;
+/// "limit_surface": theirs is the ellipsoid; versions 1 to 4 have no "pressure_shape": their pressure's rim weight
+/// is 0, uniform).
+inline constexpr int kObjectModelVersion = 5;
 
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.
@@ -128,6 +130,8 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
 struct CentreOfFrictionFit {
   Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();  ///< body frame
   Eigen::Vector2d standard_error_m = Eigen::Vector2d::Zero();
+  /// The pressure's rim weight (ForecastObject::pressure_rim_weight) and its standard error (0 when not fitted).
+  double rim_weight = 0, rim_weight_standard_error = 0;
   std::vector<PushFit> fits;  ///< each push's own parameters under the fitted centre (same order as the cases)
 };
 struct CentreOfFrictionOptions {
@@ -136,11 +140,19 @@ struct CentreOfFrictionOptions {
   double prior_sd_m = 3e-3;
   double max_offset_m = 12e-3;
   int max_iterations = 30;
+  /// What is fitted: the centre (else held at the object's), and with the outline's limit surface the pressure's rim
+  /// weight w (else held at the object's). w's prior is Gaussian about 0 (uniform pressure) of standard deviation
+  /// `rim_weight_prior_sd`, weak against its physical range (about -0.5 to 1: rim_weight_range, the pressure
+  /// non-negative everywhere), and w is bounded to that range.
+  bool fit_centre = true;
+  bool fit_rim_weight = false;
+  double rim_weight_prior_sd = 0.5;
   FitOptions fit;
 };
 /// Fits the centre of friction of `object` (its outline, mass and inertia; its centre is the start and the prior's)
-/// shared by `cases`, from their per-push fits `fits` (same order). InputError for no case; std::logic_error for
-/// unequal sizes.
+/// shared by `cases`, from their per-push fits `fits` (same order), and with `options.fit_rim_weight` and the
+/// outline's limit surface the pressure's rim weight with it (from the object's). InputError for no case;
+/// std::logic_error for unequal sizes.
 CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
                                            const std::vector<PushFit>& fits,
                                            const CentreOfFrictionOptions& options = {});
@@ -195,6 +207,10 @@ struct ObjectModel {
   Eigen::Vector2d centre_of_friction_standard_error_m = Eigen::Vector2d::Zero();
   int centre_of_friction_pushes = 0;
   std::string centre_of_friction_method = "the object's own (not learned)";
+  /// object.pressure_rim_weight's standard error, and how many pushes it was learned from (0: not learned, 0 uniform).
+  double pressure_rim_weight_standard_error = 0;
+  int pressure_rim_weight_pushes = 0;
+  std::string pressure_shape_method = "uniform (not learned)";
 };
 
 struct LearnOptions {
@@ -211,6 +227,11 @@ struct LearnOptions {
   /// Keep the learned centre only when it forecasts the learned pushes better than the object's own centre in this
   /// many-fold cross-validation over them (fewer than 2: always keep it).
   int centre_of_friction_folds = 3;
+  /// With the outline's limit surface: learn the pressure's rim weight jointly with the centre of friction (as the
+  /// centre is kept or not) from this many pushes on (0: never, uniform pressure), kept only when it forecasts the
+  /// learned pushes better than without it in this many-fold cross-validation over them (fewer than 2: always).
+  int pressure_shape_min_pushes = 4;
+  int pressure_shape_folds = 3;
   CentreOfFrictionOptions centre_of_friction;
 };
 
@@ -220,6 +241,12 @@ struct LearnOptions {
 void set_centre_of_friction_choice(LearnOptions& options, const std::string& choice);
 /// The choice LearnOptions' defaults make.
 inline constexpr const char* kCentreOfFrictionDefaultChoice = "chosen";
+
+/// Sets how `options` learns the pressure's shape under the outline's limit surface (the ellipsoid has none):
+/// "chosen" (the defaults: the rim weight learned when cross-validation over the learned pushes prefers it),
+/// "learned" (always, from pressure_shape_min_pushes on) or "uniform" (never, rim weight 0). InputError otherwise.
+void set_pressure_shape_choice(LearnOptions& options, const std::string& choice);
+inline constexpr const char* kPressureShapeDefaultChoice = "chosen";
 
 /// The ridge weights a chosen trend is picked among (0: none): a slope shrunk to a half or to 10/11 of its
 /// least-squares value for a feature spread over one unit.

@@ -2,7 +2,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "pushpred/core/error.hpp"
@@ -48,15 +50,68 @@ Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
 }  // namespace
 
-SupportPressure planar_support_pressure(const Footprint& footprint, const Eigen::Vector2d& centre) {
+std::vector<double> pressure_rim_shape(const Footprint& footprint, double rim_weight) {
+  std::vector<double> radial(footprint.area_m2.size(), 1.0);
+  if (rim_weight == 0) return radial;
+  double mean_r2 = 0;
+  for (std::size_t i = 0; i < radial.size(); ++i)
+    mean_r2 += footprint.area_m2[i] * (footprint.centre_m[i] - footprint.centroid_m).squaredNorm();
+  mean_r2 /= footprint.total_area_m2;
+  for (std::size_t i = 0; i < radial.size(); ++i)
+    radial[i] = 1 + rim_weight * ((footprint.centre_m[i] - footprint.centroid_m).squaredNorm() / mean_r2 - 1);
+  return radial;
+}
+
+RimWeightRange rim_weight_range(const Footprint& footprint) {
+  if (footprint.area_m2.empty() || !(footprint.total_area_m2 > 0))
+    throw InputError("support pressure: the footprint is empty");
+  double mean_r2 = 0, lo = std::numeric_limits<double>::infinity(), hi = 0;
+  for (std::size_t i = 0; i < footprint.area_m2.size(); ++i) {
+    const double r2 = (footprint.centre_m[i] - footprint.centroid_m).squaredNorm();
+    mean_r2 += footprint.area_m2[i] * r2;
+    lo = std::min(lo, r2);
+    hi = std::max(hi, r2);
+  }
+  mean_r2 /= footprint.total_area_m2;
+  RimWeightRange range;
+  range.lower = -1 / (hi / mean_r2 - 1);
+  range.upper = 1 / (1 - lo / mean_r2);
+  return range;
+}
+
+SupportPressure planar_support_pressure(const Footprint& footprint, const Eigen::Vector2d& centre, double rim_weight) {
   if (footprint.area_m2.empty() || !(footprint.total_area_m2 > 0))
     throw InputError("support pressure: the footprint is empty");
   if (!centre.allFinite()) throw InputError("support pressure: the centre of pressure must be finite");
-  // p_i = 1 + g . (r_i - centroid) puts the centre of pressure at centroid + J g / A (pushed_object_system.cpp).
-  const Eigen::Vector2d g =
-      footprint.total_area_m2 * footprint.second_moment_m4.inverse() * (centre - footprint.centroid_m);
+  if (!std::isfinite(rim_weight)) throw InputError("support pressure: the rim weight must be finite");
+  const std::vector<double> radial = pressure_rim_shape(footprint, rim_weight);
+  if (rim_weight != 0) {
+    const RimWeightRange range = rim_weight_range(footprint);
+    if (!range.contains(rim_weight))
+      throw InputError("support pressure: a rim weight of " + std::to_string(rim_weight) +
+                       " would make the pressure negative on this outline (it must lie in [" +
+                       std::to_string(range.lower) + ", " + std::to_string(range.upper) + "])");
+  }
+  // p_i = radial_i (1 + g . (r_i - centroid)) with its centre of pressure at `centre`:
+  // sum_i a_i radial_i (1 + g . d_i) (r_i - centre) = 0, linear in g. For the uniform shape this is
+  // g = A J^-1 (centre - centroid) (pushed_object_system.cpp), kept in that form so that w = 0 is unchanged.
+  Eigen::Vector2d g;
+  if (rim_weight == 0) {
+    g = footprint.total_area_m2 * footprint.second_moment_m4.inverse() * (centre - footprint.centroid_m);
+  } else {
+    Eigen::Matrix2d M = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d b = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < radial.size(); ++i) {
+      const double a = footprint.area_m2[i] * radial[i];
+      const Eigen::Vector2d from_centre = footprint.centre_m[i] - centre;
+      M += a * from_centre * (footprint.centre_m[i] - footprint.centroid_m).transpose();
+      b -= a * from_centre;
+    }
+    g = M.inverse() * b;
+  }
   SupportPressure s;
   s.centre_m = centre;
+  s.rim_weight = rim_weight;
   s.offset_m.reserve(footprint.area_m2.size());
   s.share.reserve(footprint.area_m2.size());
   double total = 0;
@@ -68,7 +123,7 @@ SupportPressure planar_support_pressure(const Footprint& footprint, const Eigen:
                        ") m lies too far from the footprint's centroid for a planar "
                        "pressure (it would turn negative)");
     s.offset_m.push_back(footprint.centre_m[i] - centre);
-    s.share.push_back(p * footprint.area_m2[i]);
+    s.share.push_back(p * footprint.area_m2[i] * radial[i]);
     total += s.share.back();
   }
   for (std::size_t i = 0; i < s.share.size(); ++i) {
@@ -99,6 +154,7 @@ PolynomialLimitSurface PolynomialLimitSurface::fit(const SupportPressure& pressu
   PolynomialLimitSurface ls;
   ls.rho_ = pressure.torque_ratio_m;
   ls.centre_ = pressure.centre_m;
+  ls.rim_weight_ = pressure.rim_weight;
   const Eigen::Index n = directions;
   Eigen::MatrixXd A(4 * n, 15);
   Eigen::VectorXd b(4 * n);

@@ -22,15 +22,35 @@ namespace pushpred {
 /// The support's pressure over the footprint as load shares of area elements.
 struct SupportPressure {
   Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();  ///< the centre of pressure (of friction), body frame
+  double rim_weight = 0;                               ///< the radial shape's weight (pressure_rim_shape)
   std::vector<Eigen::Vector2d> offset_m;               ///< each element from the centre
   std::vector<double> share;                           ///< each element's share of the load, summing to 1
   /// The largest moment over the largest force: sum of share |offset| [m] (c of a matching ellipsoid).
   double torque_ratio_m = 0;
 };
 
-/// The planar pressure p = 1 + g . (r - centroid) over `footprint` whose centre lies at `centre_m` (g = 0 at the
-/// centroid: uniform pressure). InputError when the centre lies so far off that the pressure would turn negative.
-SupportPressure planar_support_pressure(const Footprint& footprint, const Eigen::Vector2d& centre_m);
+/// The radial shape of a support pressure with rim weight w, per footprint element: 1 + w (q_i - 1) with
+/// q_i = |r_i - centroid|^2 / <|r - centroid|^2> (the area mean), so that its area mean is 1. w > 0 loads the rim,
+/// w < 0 the middle, w = 0 is uniform. The simulator's support loads its footprint with this shape
+/// (simulation/pushed_object_system.cpp, PushScenario::pressure_rim_weight). Entries may be negative for a w outside
+/// rim_weight_range; the caller decides whether to clamp or refuse.
+std::vector<double> pressure_rim_shape(const Footprint& footprint, double rim_weight);
+
+/// The rim weights whose radial shape stays non-negative on every element of `footprint`: w in [lower, upper] with
+/// lower = -1 / (max q - 1) (the farthest element unloaded; -0.5 for a rectangle's corners, -1 for a disk's rim) and
+/// upper = 1 / (1 - min q) (the element nearest the centroid unloaded; about 1).
+struct RimWeightRange {
+  double lower = -1, upper = 1;
+  bool contains(double w) const { return w >= lower && w <= upper; }
+};
+RimWeightRange rim_weight_range(const Footprint& footprint);
+
+/// The pressure p = (1 + w (q - 1)) (1 + g . (r - centroid)) over `footprint`: the radial shape of rim weight `w`
+/// (pressure_rim_shape) tilted by the plane of g so that its centre lies at `centre_m` (w = 0, centre at the
+/// centroid: uniform pressure). InputError when w lies outside rim_weight_range, or the centre so far off that the
+/// pressure would turn negative.
+SupportPressure planar_support_pressure(const Footprint& footprint, const Eigen::Vector2d& centre_m,
+                                        double rim_weight = 0);
 
 /// The wrench on the limit surface for the twist (v of the centre, omega), per unit F: (sum share u_i, sum share
 /// r_i x u_i) with u_i the unit velocity of element i; the support's friction is -F times it. Zero for a zero twist.
@@ -50,6 +70,7 @@ class PolynomialLimitSurface {
 
   double torque_ratio_m() const { return rho_; }
   const Eigen::Vector2d& centre_m() const { return centre_; }
+  double rim_weight() const { return rim_weight_; }
   const Eigen::Matrix<double, 15, 1>& coefficients() const { return a_; }
 
   /// H at the wrench (f_x, f_y, m [m]).
@@ -71,6 +92,7 @@ class PolynomialLimitSurface {
   Eigen::Matrix<double, 15, 1> a_ = Eigen::Matrix<double, 15, 1>::Zero();
   double rho_ = 1;
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
+  double rim_weight_ = 0;
 };
 
 }  // namespace pushpred

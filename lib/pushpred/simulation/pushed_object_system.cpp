@@ -8,6 +8,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/mechanics/nominal_inertia.hpp"
+#include "pushpred/mechanics/pressure_limit_surface.hpp"
 #include "pushpred/mechanics/support_friction.hpp"
 
 namespace pushpred {
@@ -62,18 +63,11 @@ PushedObjectSystem::PushedObjectSystem(const ShapeInfo& shape, const ObjectPrope
   const Eigen::Vector2d g =
       footprint.total_area_m2 * footprint.second_moment_m4.inverse() * (object.mass_centre_m - footprint.centroid_m);
   // The radial shape about the centroid (symmetric footprints keep their centre of pressure there).
-  std::vector<double> radial(footprint.area_m2.size(), 1.0);
-  if (support.pressure_rim_weight != 0) {
-    if (!(support.pressure_rim_weight >= -0.5 && support.pressure_rim_weight <= 1))
-      throw InputError("pressure rim weight must be in [-0.5, 1]");
-    double mean_r2 = 0;
-    for (size_t i = 0; i < radial.size(); ++i)
-      mean_r2 += footprint.area_m2[i] * (footprint.centre_m[i] - footprint.centroid_m).squaredNorm();
-    mean_r2 /= footprint.total_area_m2;
-    for (size_t i = 0; i < radial.size(); ++i)
-      radial[i] = std::max(0.0, 1 + support.pressure_rim_weight *
-                          ((footprint.centre_m[i] - footprint.centroid_m).squaredNorm() / mean_r2 - 1));
-  }
+  // (mechanics/pressure_limit_surface.hpp's pressure_rim_shape, clamped at zero where it would turn negative.)
+  if (!(support.pressure_rim_weight >= -0.5 && support.pressure_rim_weight <= 1))
+    throw InputError("pressure rim weight must be in [-0.5, 1]");
+  std::vector<double> radial = pressure_rim_shape(footprint, support.pressure_rim_weight);
+  for (double& r : radial) r = std::max(0.0, r);
   double total = 0;
   load_.resize(footprint.area_m2.size());
   for (size_t i = 0; i < load_.size(); ++i) {
