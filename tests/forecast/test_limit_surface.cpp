@@ -291,7 +291,9 @@ BOOST_AUTO_TEST_CASE(the_learned_rim_weight_recovers_the_simulated_pressures_sha
   }
 }
 
-BOOST_AUTO_TEST_CASE(the_pressure_shapes_default_is_chosen_on_simulated_objects, *boost::unit_test::label("slow")) {
+// Eight minutes: not part of the suite (disabled), run by name as docs/forecast.md shows.
+BOOST_AUTO_TEST_CASE(the_pressure_shapes_default_is_chosen_on_simulated_objects,
+                     *boost::unit_test::label("slow") * boost::unit_test::disabled()) {
   // The choice of the default --pressure-shape under the outline's limit surface (learn the rim weight when
   // cross-validation over the learned pushes prefers it, always, or never), made by a rule set before running it:
   // "chosen" is the default when its sum of final mm and degrees over the three objects, each push forecast leaving
