@@ -26,7 +26,7 @@
 //   phases (a complete model's errors are symmetric about zero; the flips keep each phase's components together).
 //   Size: the mean bias [mm, deg] against kappa times how far the object moves in a fit phase (the mean error of
 //   `hold`, which predicts no motion); in yaw at least the turn that moves the outline by the position floor.
-// - Rest. Where nothing touches (the rests of the fit pushes whose rod rests clear, samples_without_contact) the
+// - Rest. Where nothing touches (the rests of the pushes whose rod rests clear, samples_without_contact) the
 //   corrected model says the sensor reads zero. The force those rests share (rest_force_fit, the force-offset test's
 //   estimate and score) counts when its score passes the search's BIC threshold and its size clears the force floor
 //   by floor_margin_std of its standard error: a sensor bias no candidate took out.
@@ -148,7 +148,7 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
                                                   const FloorContext& context, const AdequacyOptions& options,
                                                   ModelAdequacy& adequacy);
 
-/// The rest part: fills the rest fields of `adequacy` from the fit pushes' clear rests, against the force floor
+/// The rest part: fills the rest fields of `adequacy` from the clear rests of `pushes`, against the force floor
 /// (FloorContext) and the search's `bic_threshold`.
 void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContext& context, double bic_threshold,
                      const AdequacyOptions& options, ModelAdequacy& adequacy);

@@ -20,7 +20,20 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   AdequacyOutcome out;
   ModelAdequacy& a = out.adequacy;
   out.hints = test_residual_structure(model.data, columns, floors, options, a);
-  test_rest_force(model.data, floors, context.options.bic_threshold, options, a);
+  // The rest part reads every push's rest, held-out pushes' too: where nothing touches is no part of a prediction
+  // phase, and the verdict fits nothing a prediction uses; a bias needs two clear rests to show, and half the pushes
+  // often start pressed.
+  std::vector<SynchronisedPush> all;
+  const ModelCorrection data_correction = context.correction_of(model.terms, false);
+  for (const auto& d : model.data) all.push_back(d.push);
+  for (const auto& push : context.test_pushes) all.push_back(apply_data_correction(push, data_correction));
+  const Eigen::Vector2d shared = shared_rest_force_N(all);
+  std::vector<DiagnosisPush> rests(all.size());
+  for (std::size_t p = 0; p < all.size(); ++p) {
+    rests[p].push = std::move(all[p]);
+    rests[p].shared_rest_force_N = shared;
+  }
+  test_rest_force(rests, floors, context.options.bic_threshold, options, a);
   test_motion_bias(fit_phase_biases, context.hold_position_mm, context.hold_yaw_deg, context.options.relevance_fraction,
                    floors.radius_of_gyration_m, options, a);
   a.tested = a.force_tested || a.motion_tested || a.rest_tested;
