@@ -35,6 +35,15 @@ void offset_each_push(std::vector<PushScenario>& scenarios, std::mt19937_64& rng
   for (auto& s : scenarios) s.sensors.push_offset_N = Eigen::Vector2d(offset(rng), offset(rng));
 }
 
+/// Paper case 1 started 1 mm clear of the object, and the unit direction its tip travels [world frame].
+std::pair<PushScenario, Eigen::Vector2d> clear_paper_case_1() {
+  PushScenario s = paper_case_scenario(1);
+  s.approach_gap_m = 0.001;
+  const SynchronisedPush probe = simulate_and_synchronise(s);
+  const Eigen::Index end = probe.t_s.size() - 1;
+  return {s, (probe.tip_m.row(end) - probe.tip_m.row(0)).transpose().normalized()};
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_SUITE(preload)
@@ -61,11 +70,7 @@ BOOST_AUTO_TEST_CASE(a_rest_force_that_points_into_the_contact_reads_as_pressed_
   // Paper case 1 pushes along the contact's inward normal, 1 mm clear of the object. A sensor zero of 2 N whose
   // reading points along the push (the recorded force is the true one less the zero) is what a pressing rod would
   // show: the push reads as pressed. The same zero pointing back, or across the push, is a zero.
-  PushScenario s = paper_case_scenario(1);
-  s.approach_gap_m = 0.001;
-  const SynchronisedPush probe = simulate_and_synchronise(s);
-  const Eigen::Index end = probe.t_s.size() - 1;
-  const Eigen::Vector2d along = (probe.tip_m.row(end) - probe.tip_m.row(0)).transpose().normalized();
+  auto [s, along] = clear_paper_case_1();
   const Eigen::Vector2d across(-along.y(), along.x());
   for (const auto& [zero, into] : std::vector<std::pair<Eigen::Vector2d, bool>>{
            {-2.0 * along, true}, {2.0 * along, false}, {2.0 * across, false}, {-2.0 * across, false}}) {
@@ -80,11 +85,7 @@ BOOST_AUTO_TEST_CASE(a_bias_that_points_into_one_clear_pushs_contact_is_told_by_
   // Paper case 1, 1 mm clear, turned a quarter and a half turn: one sensor bias of 0.8 N reads along the first push
   // (into its contact, as a pressing rod would) and across or against the others. Alone the first push reads as
   // pressed; the force the clear pushes share tells it is the bias. A push pressed with a preload stays pressed.
-  PushScenario s = paper_case_scenario(1);
-  s.approach_gap_m = 0.001;
-  const SynchronisedPush probe = simulate_and_synchronise(s);
-  const Eigen::Index end = probe.t_s.size() - 1;
-  const Eigen::Vector2d along = (probe.tip_m.row(end) - probe.tip_m.row(0)).transpose().normalized();
+  auto [s, along] = clear_paper_case_1();
   s.sensors.push_offset_N = -0.8 * along;
   std::vector<SynchronisedPush> pushes;
   for (const double turn_rad : {0.0, M_PI / 2, M_PI, -M_PI / 2}) {

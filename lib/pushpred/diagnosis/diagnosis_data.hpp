@@ -141,8 +141,8 @@ Eigen::Vector2d shared_rest_force_N(const std::vector<SynchronisedPush>& pushes)
 /// `shared_rest_force_N` (shared_rest_force_N()) a rest force counts as a contact's only if it points into the
 /// contact both as recorded and with the shared force taken off. A shape without an outline cannot be measured so: its
 /// samples before the tip moves are taken, as a gap is then assumed.
-std::vector<Eigen::Index> samples_without_contact(
-    const SynchronisedPush& push, const Eigen::Vector2d& shared_rest_force_N = Eigen::Vector2d::Zero());
+std::vector<Eigen::Index> samples_without_contact(const SynchronisedPush& push,
+                                                  const Eigen::Vector2d& shared_rest_force_N = Eigen::Vector2d::Zero());
 /// Such samples a push needs for its sensor zero to count as measured (the force-offset test, the adequacy test).
 inline constexpr std::size_t kRestSamplesForZero = 5;
 

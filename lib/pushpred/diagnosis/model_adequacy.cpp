@@ -94,17 +94,18 @@ void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContex
   const Eigen::Vector2d b = fit.theta.head<2>();
   adequacy.rest_force_N = b.norm();
   // The magnitude's standard error along the bias (delta method).
-  adequacy.rest_force_N_std =
-      adequacy.rest_force_N > 0 ? std::sqrt(b.dot(fit.covariance.topLeftCorner<2, 2>() * b)) / adequacy.rest_force_N
-                                : std::sqrt(fit.covariance.trace() / 2);
+  adequacy.rest_force_N_std = adequacy.rest_force_N > 0
+                                  ? std::sqrt(b.dot(fit.covariance.topLeftCorner<2, 2>() * b)) / adequacy.rest_force_N
+                                  : std::sqrt(fit.covariance.trace() / 2);
   adequacy.rest_score = fit.score;
   const double floor = context.relevance_fraction * context.friction_force_N();
   adequacy.force_floor_N = floor;
-  adequacy.rest_unexplained = fit.score > bic_threshold &&
-                              adequacy.rest_force_N - options.floor_margin_std * adequacy.rest_force_N_std > floor;
+  adequacy.rest_unexplained =
+      fit.score > bic_threshold && adequacy.rest_force_N - options.floor_margin_std * adequacy.rest_force_N_std > floor;
 }
 
-std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes, double friction_coefficient) {
+std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes,
+                                                   double friction_coefficient) {
   std::vector<ResidualSignature> out = {
       {"world_force", "a constant force in the world frame (a support that is not level, a cable, a draught)", {}},
       {"body_direction_friction", "friction that depends on the sliding direction in the body frame", {}},

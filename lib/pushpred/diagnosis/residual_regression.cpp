@@ -176,8 +176,7 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
   noise_variance /= static_cast<double>(m);
   // One measured push is the friction law's anchor as recorded: alone it cannot tell its zero from a shared force.
   const double spread = m >= 2 ? zero_spread_N(measured) : 0.0;
-  const double shrink =
-      spread > 0 ? std::max(0.0, 1 - kZeroNoiseFactor * noise_variance / (spread * spread)) : 0.0;
+  const double shrink = spread > 0 ? std::max(0.0, 1 - kZeroNoiseFactor * noise_variance / (spread * spread)) : 0.0;
   for (std::size_t p = 0; p < pushes.size(); ++p) {
     Block& b = blocks_[p];
     const Eigen::Index n = b.residual.rows();

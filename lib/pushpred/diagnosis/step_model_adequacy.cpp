@@ -58,20 +58,20 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
                              100 * floors.relevance_fraction, floors.friction_force_N()) +
             diagnosis_format("%.0f %% of how far the object moves in a fit phase (hold's error %.2f mm, %.2f deg)",
                              100 * floors.relevance_fraction, context.hold_position_mm, context.hold_yaw_deg);
-  out.trace.line("model adequacy: " + a.verdict() +
-                 diagnosis_format(" (force: largest standardised R^2 %.2f, null quantile %.2f, p %.3f; ",
-                                  a.force_statistic, a.force_threshold, a.force_p_value) +
-                 diagnosis_format("%.3g N, %.3g N m; ", a.force_N, a.torque_Nm) +
-                 diagnosis_format("sensor zeros projected on %.0f pushes, measured on %.0f, ", a.pushes_zero_projected,
-                                  a.zero_measured_pushes) +
-                 diagnosis_format("their shared force %.3g +- %.3g N, p %.3f; ", a.shared_force_N, a.shared_force_N_std,
-                                  a.shared_force_p_value) +
-                 diagnosis_format("rest %.3g +- %.3g N on %.0f pushes, ", a.rest_force_N, a.rest_force_N_std,
-                                  a.rest_pushes) +
-                 diagnosis_format("score %.1f; ", a.rest_tested ? a.rest_score : 0.0) +
-                 diagnosis_format("motion |t| %.2f, null quantile %.2f, p %.3f; ", a.motion_t, a.motion_t_threshold,
-                                  a.motion_p_value) +
-                 diagnosis_format("bias %.2f mm, %.2f deg)", a.position_bias_mm, a.yaw_bias_deg));
+  out.trace.line(
+      "model adequacy: " + a.verdict() +
+      diagnosis_format(" (force: largest standardised R^2 %.2f, null quantile %.2f, p %.3f; ", a.force_statistic,
+                       a.force_threshold, a.force_p_value) +
+      diagnosis_format("%.3g N, %.3g N m; ", a.force_N, a.torque_Nm) +
+      diagnosis_format("sensor zeros projected on %.0f pushes, measured on %.0f, ", a.pushes_zero_projected,
+                       a.zero_measured_pushes) +
+      diagnosis_format("their shared force %.3g +- %.3g N, p %.3f; ", a.shared_force_N, a.shared_force_N_std,
+                       a.shared_force_p_value) +
+      diagnosis_format("rest %.3g +- %.3g N on %.0f pushes, ", a.rest_force_N, a.rest_force_N_std, a.rest_pushes) +
+      diagnosis_format("score %.1f; ", a.rest_tested ? a.rest_score : 0.0) +
+      diagnosis_format("motion |t| %.2f, null quantile %.2f, p %.3f; ", a.motion_t, a.motion_t_threshold,
+                       a.motion_p_value) +
+      diagnosis_format("bias %.2f mm, %.2f deg)", a.position_bias_mm, a.yaw_bias_deg));
   return out;
 }
 

@@ -10,9 +10,9 @@ namespace pushpred {
 std::string inspection_table(const InspectionBatch& batch) {
   std::string out;
   char line[512];
-  std::snprintf(line, sizeof line, "%-40s %-7s %-6s %6s %17s %13s %4s %4s %7s %7s %6s %9s  %s\n", "file", "surface", "shape",
-                "dur_s", "rate_obj/ft/tip", "contact_s", "glit", "rep", "trav_mm", "rot_deg", "f_N", "rest_f_N",
-                "flags");
+  std::snprintf(line, sizeof line, "%-40s %-7s %-6s %6s %17s %13s %4s %4s %7s %7s %6s %9s  %s\n", "file", "surface",
+                "shape", "dur_s", "rate_obj/ft/tip", "contact_s", "glit", "rep", "trav_mm", "rot_deg", "f_N",
+                "rest_f_N", "flags");
   out += line;
   for (const auto& s : batch.results) {
     std::string name = std::filesystem::path(s.source).filename().string();
@@ -75,25 +75,24 @@ std::string inspection_table(const InspectionBatch& batch) {
 nlohmann::json inspection_json(const InspectionBatch& batch) {
   nlohmann::json files = nlohmann::json::array();
   for (const auto& s : batch.results) {
-    files.push_back({{"source", s.source},
-                     {"surface", s.surface},
-                     {"shape", s.shape},
-                     {"duration_s", s.duration_s},
-                     {"rate_hz", {{"object_pose", s.object_rate_hz}, {"ft_wrench", s.force_rate_hz},
-                                  {"tip_pose", s.tip_rate_hz}}},
-                     {"contact", s.has_contact ? nlohmann::json{{"start_s", s.contact_start_s}, {"end_s", s.contact_end_s}}
-                                               : nlohmann::json(nullptr)},
-                     {"glitches_removed", s.glitches_removed},
-                     {"repairs", s.repairs},
-                     {"flags", s.flags},
-                     {"travel_mm", s.travel_mm},
-                     {"rotation_deg", s.rotation_deg},
-                     {"mean_contact_force_N", s.mean_contact_force_N},
-                     {"max_tip_yaw_deg", s.max_tip_yaw_deg},
-                     {"rest_force_N", std::isfinite(s.rest_force_x_N)
-                                          ? nlohmann::json{s.rest_force_x_N, s.rest_force_y_N}
-                                          : nlohmann::json(nullptr)},
-                     {"rest_preload", s.rest_preload}});
+    files.push_back(
+        {{"source", s.source},
+         {"surface", s.surface},
+         {"shape", s.shape},
+         {"duration_s", s.duration_s},
+         {"rate_hz", {{"object_pose", s.object_rate_hz}, {"ft_wrench", s.force_rate_hz}, {"tip_pose", s.tip_rate_hz}}},
+         {"contact", s.has_contact ? nlohmann::json{{"start_s", s.contact_start_s}, {"end_s", s.contact_end_s}}
+                                   : nlohmann::json(nullptr)},
+         {"glitches_removed", s.glitches_removed},
+         {"repairs", s.repairs},
+         {"flags", s.flags},
+         {"travel_mm", s.travel_mm},
+         {"rotation_deg", s.rotation_deg},
+         {"mean_contact_force_N", s.mean_contact_force_N},
+         {"max_tip_yaw_deg", s.max_tip_yaw_deg},
+         {"rest_force_N", std::isfinite(s.rest_force_x_N) ? nlohmann::json{s.rest_force_x_N, s.rest_force_y_N}
+                                                          : nlohmann::json(nullptr)},
+         {"rest_preload", s.rest_preload}});
   }
   nlohmann::json failures = nlohmann::json::array();
   for (const auto& f : batch.failures) failures.push_back({{"source", f.source}, {"reason", f.reason}});

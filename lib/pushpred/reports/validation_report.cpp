@@ -115,8 +115,9 @@ std::string validation_markdown(const ValidationResult& r) {
      << ", floor margin " << fixed(o.diagnosis.floor_margin_std, 1) << " standard error(s)"
      << (o.draw_preloads ? "; every push starts pressed (a preload) or a gap away, even odds"
                          : "; every push starts 1 mm away")
-     << (o.draw_sensor_offsets ? ", with its own force-sensor offset (sd " + fixed(o.sensor_offset_spread_N, 2) + " N per axis)"
-                               : std::string(", the sensor zeroed"))
+     << (o.draw_sensor_offsets
+             ? ", with its own force-sensor offset (sd " + fixed(o.sensor_offset_spread_N, 2) + " N per axis)"
+             : std::string(", the sensor zeroed"))
      << ". Scenarios and ranges: lib/pushpred/diagnosis/validation.hpp.";
   if (!o.hide.empty()) {
     std::string hidden;
