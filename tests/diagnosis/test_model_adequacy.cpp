@@ -120,6 +120,44 @@ BOOST_AUTO_TEST_CASE(a_sensor_bias_left_in_the_data_reads_at_rest_and_is_unexpla
   BOOST_TEST(with.rest_force_N == size_N, boost::test_tools::tolerance(0.25));
 }
 
+BOOST_AUTO_TEST_CASE(a_compliant_pusher_shows_in_the_contact_and_a_rigid_one_does_not) {
+  // Six pushes by the rod on its contact stiffness: the recorded rod sits a little deeper in the outline the harder it
+  // pushes, a lag far below the floor (kappa of how far the object travels). The same pushes by a pusher of three
+  // times the compliance c whose lag under the friction force is that floor: in series with the contact, the pusher
+  // adds c f to the penetration, the median slope grows by c, and the lag is unexplained.
+  std::mt19937_64 rng(357300);
+  auto scenarios = draw_scenarios(rng, 6, {});
+  PreparedPushes rigid = prepare(scenarios);
+  double travel = 0;
+  for (const auto& d : rigid.data)
+    travel += (d.smooth_pose.row(d.rows() - 1).head<2>() - d.smooth_pose.row(0).head<2>()).norm();
+  rigid.context.travel_m = travel / static_cast<double>(rigid.data.size());
+  const double contact_compliance = 1.0 / scenarios.front().contact_stiffness_N_m;
+  const double floor_compliance =
+      rigid.context.relevance_fraction * rigid.context.travel_m / rigid.context.friction_force_N();
+  BOOST_TEST_MESSAGE("contact compliance " << 1e3 * contact_compliance << " mm/N, floor " << 1e3 * floor_compliance
+                                           << " mm/N");
+
+  std::vector<SynchronisedPush> pushes;
+  for (const auto& d : rigid.data) pushes.push_back(d.push);
+  ModelAdequacy without;
+  test_contact_compliance(pushes, rigid.context, {}, without);
+  BOOST_TEST_REQUIRE(without.contact_tested);
+  BOOST_TEST(without.contact_pushes == 6);
+  BOOST_TEST(!without.contact_unexplained, without.contact_lag_mm << " mm, floor " << without.contact_floor_mm);
+  BOOST_TEST(without.contact_compliance_m_N > 0.5 * contact_compliance);  // the contact's own give
+
+  for (auto& s : scenarios) s.effects.set("compliant_pusher", 3 * floor_compliance);
+  ModelAdequacy with;
+  test_contact_compliance(simulate_all(scenarios), rigid.context, {}, with);
+  BOOST_TEST_REQUIRE(with.contact_tested);
+  BOOST_TEST_MESSAGE("median slopes " << 1e3 * without.contact_compliance_m_N << " and "
+                                      << 1e3 * with.contact_compliance_m_N << " mm/N");
+  BOOST_TEST(with.contact_unexplained, with.contact_lag_mm << " mm, floor " << with.contact_floor_mm);
+  BOOST_TEST(with.contact_compliance_m_N - without.contact_compliance_m_N == 3 * floor_compliance,
+             boost::test_tools::tolerance(0.15));
+}
+
 BOOST_AUTO_TEST_CASE(the_motion_test_finds_a_systematic_bias_and_not_symmetric_noise) {
   std::mt19937_64 rng(230002);
   std::normal_distribution<double> noise(0.0, 0.5e-3);  // 0.5 mm per phase

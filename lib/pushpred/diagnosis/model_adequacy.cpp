@@ -11,6 +11,7 @@
 
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
+#include "pushpred/mechanics/outline.hpp"
 
 namespace pushpred {
 
@@ -72,8 +73,14 @@ std::string ModelAdequacy::verdict() const {
     s += std::string(force_unexplained ? ";" : "") +
          printed(" the sensor reads %.3g N at rest, where nothing touches, on %.0f pushes (floor %.3g N)", rest_force_N,
                  rest_pushes, force_floor_N);
-  if (motion_unexplained)
+  if (contact_unexplained)
     s += std::string(force_unexplained || rest_unexplained ? ";" : "") +
+         printed(
+             " the recorded rod sits %.3g mm/N deeper in the outline the harder it pushes: a contact lag of "
+             "%.2f mm under the friction force, which a rigid pusher does not have (floor %.2f mm)",
+             1e3 * contact_compliance_m_N, contact_lag_mm, contact_floor_mm);
+  if (motion_unexplained)
+    s += std::string(force_unexplained || rest_unexplained || contact_unexplained ? ";" : "") +
          printed(" a prediction bias of %.2f mm and %.2f deg on the fit phases (floors %.2f mm, %.2f deg)",
                  position_bias_mm, yaw_bias_deg, position_floor_mm, yaw_floor_deg);
   return s;
@@ -102,6 +109,68 @@ void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContex
   adequacy.force_floor_N = floor;
   adequacy.rest_unexplained =
       fit.score > bic_threshold && adequacy.rest_force_N - options.floor_margin_std * adequacy.rest_force_N_std > floor;
+}
+
+std::optional<double> contact_compliance_m_N(const SynchronisedPush& push) {
+  if (!push.shape.has_outline()) return std::nullopt;
+  const Outline outline(push.shape);
+  // Sums for the least-squares line penetration = a + b f_n.
+  double n = 0, sf = 0, sp = 0, sff = 0, sfp = 0;
+  for (Eigen::Index i = 0; i < push.size(); ++i) {
+    if (!push.in_contact[static_cast<std::size_t>(i)]) continue;
+    const double c = std::cos(push.pose(i, 2)), s = std::sin(push.pose(i, 2));
+    const Eigen::Vector2d lever = push.lever_m.row(i).transpose(), force = push.force_N.row(i).transpose();
+    const Eigen::Vector2d lever_body(c * lever.x() + s * lever.y(), -s * lever.x() + c * lever.y());
+    const Eigen::Vector2d force_body(c * force.x() + s * force.y(), -s * force.x() + c * force.y());
+    const Outline::Closest closest = outline.closest(lever_body);
+    const double penetration = kPusherRadius_m - closest.signed_distance_m;
+    const double into = -force_body.dot(closest.normal);
+    n += 1;
+    sf += into;
+    sp += penetration;
+    sff += into * into;
+    sfp += into * penetration;
+  }
+  if (n < kMinContactSamples) return std::nullopt;
+  const double force_variance = sff / n - (sf / n) * (sf / n);
+  if (!(force_variance >= kMinContactForceSpread_N * kMinContactForceSpread_N)) return std::nullopt;
+  return (sfp / n - (sf / n) * (sp / n)) / force_variance;
+}
+
+void test_contact_compliance(const std::vector<SynchronisedPush>& pushes, const FloorContext& context,
+                             const AdequacyOptions& options, ModelAdequacy& adequacy) {
+  std::vector<double> slopes;
+  for (const auto& push : pushes)
+    if (const auto slope = contact_compliance_m_N(push)) slopes.push_back(*slope);
+  adequacy.contact_pushes = static_cast<int>(slopes.size());
+  adequacy.contact_floor_mm = 1e3 * context.relevance_fraction * context.travel_m;
+  adequacy.contact_tested = adequacy.contact_pushes >= kMinContactPushes;
+  adequacy.contact_unexplained = false;
+  if (!adequacy.contact_tested) {
+    adequacy.note += std::string(adequacy.note.empty() ? "" : "; ") +
+                     printed(
+                         "the contact was not tested: %.0f pushes resolve their rod's penetration against the "
+                         "force (%.0f needed)",
+                         adequacy.contact_pushes, kMinContactPushes);
+    return;
+  }
+  const auto median = [](std::vector<double> v) {
+    const std::size_t m = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
+    if (v.size() % 2) return v[m];
+    return 0.5 * (v[m] + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m)));
+  };
+  const double compliance = median(slopes);
+  std::vector<double> deviations;
+  for (double b : slopes) deviations.push_back(std::abs(b - compliance));
+  // The median's standard error: 1.2533 sigma / sqrt(n) for normal slopes, sigma from the MAD.
+  const double compliance_std = 1.2533 * 1.4826 * median(deviations) / std::sqrt(static_cast<double>(slopes.size()));
+  adequacy.contact_compliance_m_N = compliance;
+  adequacy.contact_compliance_m_N_std = compliance_std;
+  adequacy.contact_lag_mm = 1e3 * compliance * context.friction_force_N();
+  adequacy.contact_lag_mm_std = 1e3 * compliance_std * context.friction_force_N();
+  adequacy.contact_unexplained =
+      adequacy.contact_lag_mm - options.floor_margin_std * adequacy.contact_lag_mm_std > adequacy.contact_floor_mm;
 }
 
 std::vector<ResidualSignature> residual_signatures(const std::vector<DiagnosisPush>& pushes,

@@ -30,8 +30,19 @@
 //   corrected model says the sensor reads zero. The force those rests share (rest_force_fit, the force-offset test's
 //   estimate and score) counts when its score passes the search's BIC threshold and its size clears the force floor
 //   by floor_margin_std of its standard error: a sensor bias no candidate took out.
+// - Contact. The base model drives the object with the recorded tip: a rigid rod on a rigid object, whose centre
+//   lies its radius outside the outline wherever it pushes, however hard. Where the recorded rod sits the deeper
+//   inside the outline the harder it pushes, the pusher (arm, sensor, tip) or the contact gives way, and the contact
+//   lags the recorded path by that compliance times the force. Per push (every push, held-out ones too, as the data
+//   corrections left them), the penetration (rod radius less the rod centre's signed distance to the outline, body
+//   frame) is regressed by least squares on the force's component into the object along the outline's normal, over
+//   the samples in contact; the intercept takes up offsets of the outline, the tracking and the sensor's zero. The
+//   compliance is the median of the pushes' slopes (robust to a push whose rod slides off a corner), its standard
+//   error 1.2533 x 1.4826 x their median absolute deviation / sqrt(pushes). Size: the lag under the friction force,
+//   compliance x mu m g [mm], against kappa times how far an object travels in a push (FloorContext::travel_m); it
+//   counts when it clears the floor by floor_margin_std of its standard errors.
 //
-// "Explained" when neither part is both significant and above its floor. Signatures that account for an unexplained
+// "Explained" when no part is both significant and above its floor. Signatures that account for an unexplained
 // residual are hints (ResidualHint), not findings.
 #include <Eigen/Core>
 #include <cstdint>
@@ -41,6 +52,7 @@
 
 #include "pushpred/diagnosis/candidate_effect.hpp"
 #include "pushpred/diagnosis/residual_regression.hpp"
+#include "pushpred/preprocessing/synchronised_push.hpp"
 
 namespace pushpred {
 
@@ -84,6 +96,13 @@ struct ModelAdequacy {
   double rest_score = 0;                          ///< Wald statistic less 2 ln N_eff
   double rest_threshold = 0;                      ///< the BIC threshold it must pass
   bool rest_unexplained = false;
+  // Contact.
+  bool contact_tested = false;  ///< kMinContactPushes or more pushes with a usable slope
+  int contact_pushes = 0;
+  double contact_compliance_m_N = 0, contact_compliance_m_N_std = 0;  ///< median slope and its standard error
+  double contact_lag_mm = 0, contact_lag_mm_std = 0;                  ///< compliance x mu m g and its standard error
+  double contact_floor_mm = 0;                                        ///< kappa x the mean travel of a push
+  bool contact_unexplained = false;
   // Motion.
   bool motion_tested = false;
   int phases = 0;
@@ -152,6 +171,21 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
 /// (FloorContext) and the search's `bic_threshold`.
 void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContext& context, double bic_threshold,
                      const AdequacyOptions& options, ModelAdequacy& adequacy);
+
+/// The contact part's requirements: a push's slope needs this many samples in contact and this spread of the
+/// normal force (standard deviation) [N] to resolve it; the part needs this many pushes with a slope.
+inline constexpr int kMinContactSamples = 20;
+inline constexpr double kMinContactForceSpread_N = 0.2;
+inline constexpr int kMinContactPushes = 3;
+
+/// One push's contact compliance [m/N]: the least-squares slope of the recorded rod's penetration into the outline
+/// on the force's component into the object (see above); empty without an outline or without kMinContactSamples
+/// samples in contact spanning kMinContactForceSpread_N.
+std::optional<double> contact_compliance_m_N(const SynchronisedPush& push);
+
+/// The contact part: fills the contact fields of `adequacy` from `pushes` against kappa x context.travel_m.
+void test_contact_compliance(const std::vector<SynchronisedPush>& pushes, const FloorContext& context,
+                             const AdequacyOptions& options, ModelAdequacy& adequacy);
 
 /// One fit phase's signed mean error of the corrected model.
 struct PhaseBias {

@@ -27,6 +27,7 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   const ModelCorrection data_correction = context.correction_of(model.terms, false);
   for (const auto& d : model.data) all.push_back(d.push);
   for (const auto& push : context.test_pushes) all.push_back(apply_data_correction(push, data_correction));
+  test_contact_compliance(all, floors, options, a);
   const Eigen::Vector2d shared = shared_rest_force_N(all);
   std::vector<DiagnosisPush> rests(all.size());
   for (std::size_t p = 0; p < all.size(); ++p) {
@@ -36,8 +37,8 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   test_rest_force(rests, floors, context.options.bic_threshold, options, a);
   test_motion_bias(fit_phase_biases, context.hold_position_mm, context.hold_yaw_deg, context.options.relevance_fraction,
                    floors.radius_of_gyration_m, options, a);
-  a.tested = a.force_tested || a.motion_tested || a.rest_tested;
-  a.explained = !(a.force_unexplained || a.motion_unexplained || a.rest_unexplained);
+  a.tested = a.force_tested || a.motion_tested || a.rest_tested || a.contact_tested;
+  a.explained = !(a.force_unexplained || a.motion_unexplained || a.rest_unexplained || a.contact_unexplained);
   a.statistic = diagnosis_format(
                     "force residual: the largest standardised R^2 of one generic signature on the "
                     "corrected model's residual (fit pushes, sliding samples), against a block bootstrap "
@@ -50,12 +51,16 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
                     2.0 * std::max(0, a.zero_measured_pushes - 1)) +
                 "rest: the force the clear rests share (where nothing touches), its Wald statistic less "
                 "2 ln N_eff against the search's BIC threshold; " +
+                "contact: the pushes' median slope of the recorded rod's penetration into the outline on the "
+                "force into the object, as the lag it gives under the friction force; " +
                 diagnosis_format(
                     "motion: the largest |t| of the fit phases' mean signed errors, against random "
                     "sign flips of the phases; each significant at p <= %.3g",
                     a.alpha);
   a.basis = diagnosis_format("%.0f %% of the friction force mu m g (%.3g N) and of its torque mu m g rho; ",
                              100 * floors.relevance_fraction, floors.friction_force_N()) +
+            diagnosis_format("%.0f %% of how far an object travels in a push (%.1f mm); ",
+                             100 * floors.relevance_fraction, 1e3 * floors.travel_m) +
             diagnosis_format("%.0f %% of how far the object moves in a fit phase (hold's error %.2f mm, %.2f deg)",
                              100 * floors.relevance_fraction, context.hold_position_mm, context.hold_yaw_deg);
   out.trace.line(
@@ -69,6 +74,9 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
                        a.shared_force_p_value) +
       diagnosis_format("rest %.3g +- %.3g N on %.0f pushes, ", a.rest_force_N, a.rest_force_N_std, a.rest_pushes) +
       diagnosis_format("score %.1f; ", a.rest_tested ? a.rest_score : 0.0) +
+      diagnosis_format("contact %.3g +- %.3g mm/N on %.0f pushes, ", 1e3 * a.contact_compliance_m_N,
+                       1e3 * a.contact_compliance_m_N_std, a.contact_pushes) +
+      diagnosis_format("lag %.2f +- %.2f mm; ", a.contact_lag_mm, a.contact_lag_mm_std) +
       diagnosis_format("motion |t| %.2f, null quantile %.2f, p %.3f; ", a.motion_t, a.motion_t_threshold,
                        a.motion_p_value) +
       diagnosis_format("bias %.2f mm, %.2f deg)", a.position_bias_mm, a.yaw_bias_deg));

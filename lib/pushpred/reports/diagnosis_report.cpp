@@ -373,6 +373,15 @@ nlohmann::json adequacy_json(const ModelAdequacy& a) {
         {"score", a.rest_tested ? nlohmann::json(a.rest_score) : nlohmann::json()},
         {"threshold", a.rest_threshold},
         {"force_floor_N", a.force_floor_N}}},
+      {"contact",
+       {{"tested", a.contact_tested},
+        {"unexplained", a.contact_unexplained},
+        {"pushes", a.contact_pushes},
+        {"compliance_m_N", a.contact_compliance_m_N},
+        {"compliance_m_N_std", a.contact_compliance_m_N_std},
+        {"lag_mm", a.contact_lag_mm},
+        {"lag_mm_std", a.contact_lag_mm_std},
+        {"floor_mm", a.contact_floor_mm}}},
       {"motion",
        {{"tested", a.motion_tested},
         {"unexplained", a.motion_unexplained},
@@ -530,6 +539,12 @@ std::string adequacy_markdown(const DiagnosisResult& r) {
                         "Wald - 2 ln N_eff " + fixed(a.rest_score, 1), fixed(a.rest_threshold, 1), "-",
                         general(a.rest_force_N) + " +- " + general(a.rest_force_N_std) + " N",
                         general(a.force_floor_N) + " N", a.rest_unexplained ? "unexplained" : "explained"});
+  if (a.contact_tested)
+    md << markdown_row(
+        {"contact: the rod's penetration against the force (" + std::to_string(a.contact_pushes) + " pushes)",
+         "median slope " + general(1e3 * a.contact_compliance_m_N) + " mm/N", "-", "-",
+         fixed(a.contact_lag_mm) + " +- " + fixed(a.contact_lag_mm_std) + " mm lag under mu m g",
+         fixed(a.contact_floor_mm) + " mm", a.contact_unexplained ? "unexplained" : "explained"});
   if (a.motion_tested)
     md << markdown_row({"motion (" + std::to_string(a.phases) + " fit phases)", "max abs t " + fixed(a.motion_t),
                         fixed(a.motion_t_threshold), general(a.motion_p_value),
