@@ -53,6 +53,12 @@ PreparedPushes prepare(const std::vector<PushScenario>& scenarios) {
   return out;
 }
 
+std::vector<SynchronisedPush> recorded_pushes(const std::vector<DiagnosisPush>& pushes) {
+  std::vector<SynchronisedPush> out;
+  for (const auto& d : pushes) out.push_back(d.push);
+  return out;
+}
+
 PreparedPushes prepare_clean(unsigned seed, int count) {
   std::mt19937_64 rng(seed);
   return prepare(draw_scenarios(rng, count, {}));
@@ -106,7 +112,7 @@ BOOST_AUTO_TEST_CASE(a_sensor_bias_left_in_the_data_reads_at_rest_and_is_unexpla
   }
   PreparedPushes clean = prepare(scenarios);
   ModelAdequacy without;
-  test_rest_force(clean.data, clean.context, 10.0, {}, without);
+  test_rest_force(recorded_pushes(clean.data), Eigen::Vector2d::Zero(), clean.context, 10.0, {}, without);
   BOOST_TEST_REQUIRE(without.rest_tested);
   BOOST_TEST(without.rest_pushes == 4);
   BOOST_TEST(!without.rest_unexplained, without.rest_force_N << " N, floor " << without.force_floor_N << " N");
@@ -115,7 +121,7 @@ BOOST_AUTO_TEST_CASE(a_sensor_bias_left_in_the_data_reads_at_rest_and_is_unexpla
   for (auto& s : scenarios) s.effects.set("force_offset", size_N / std::sqrt(2.0));  // per axis
   PreparedPushes biased = prepare(scenarios);
   ModelAdequacy with;
-  test_rest_force(biased.data, biased.context, 10.0, {}, with);
+  test_rest_force(recorded_pushes(biased.data), Eigen::Vector2d::Zero(), biased.context, 10.0, {}, with);
   BOOST_TEST(with.rest_unexplained, with.rest_force_N << " N, floor " << with.force_floor_N << " N");
   BOOST_TEST(with.rest_force_N == size_N, boost::test_tools::tolerance(0.25));
 }
@@ -138,10 +144,8 @@ BOOST_AUTO_TEST_CASE(a_compliant_pusher_shows_in_the_contact_and_a_rigid_one_doe
   BOOST_TEST_MESSAGE("contact compliance " << 1e3 * contact_compliance << " mm/N, floor " << 1e3 * floor_compliance
                                            << " mm/N");
 
-  std::vector<SynchronisedPush> pushes;
-  for (const auto& d : rigid.data) pushes.push_back(d.push);
   ModelAdequacy without;
-  test_contact_compliance(pushes, rigid.context, {}, without);
+  test_contact_compliance(recorded_pushes(rigid.data), rigid.context, {}, without);
   BOOST_TEST_REQUIRE(without.contact_tested);
   BOOST_TEST(without.contact_pushes == 6);
   BOOST_TEST(!without.contact_unexplained, without.contact_lag_mm << " mm, floor " << without.contact_floor_mm);

@@ -334,15 +334,16 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
 // hide most of that noise's share of the mean (with two fit pushes the within-push variance alone let a clean
 // sensor's slow noise pass as a bias of 0.16 N at 9 standard errors; tuning seeds 72000-72059). Score: the Wald
 // statistic minus the BIC penalty 2 ln(N_eff), as for the regression effects.
-DirectFit rest_force_fit(const std::vector<DiagnosisPush>& pushes) {
+DirectFit rest_force_fit(const std::vector<const SynchronisedPush*>& pushes,
+                         const Eigen::Vector2d& shared_rest_force_N) {
   std::vector<Eigen::MatrixX2d> blocks;
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   long count = 0;
-  for (const auto& d : pushes) {
-    const auto idx = samples_without_contact(d.push, d.shared_rest_force_N);  // a pressing rod's rest is not force-free
+  for (const SynchronisedPush* push : pushes) {
+    const auto idx = samples_without_contact(*push, shared_rest_force_N);  // a pressing rod's rest is not force-free
     if (idx.size() < kRestSamplesForZero) continue;
     Eigen::MatrixX2d f(idx.size(), 2);
-    for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = d.push.force_N.row(idx[k]);
+    for (std::size_t k = 0; k < idx.size(); ++k) f.row(k) = push->force_N.row(idx[k]);
     sum += f.colwise().sum().transpose();
     count += f.rows();
     blocks.push_back(std::move(f));
@@ -351,6 +352,7 @@ DirectFit rest_force_fit(const std::vector<DiagnosisPush>& pushes) {
   fit.theta = Eigen::Vector2d::Zero();
   fit.covariance = Eigen::Matrix2d::Zero();
   fit.samples = 2 * count;
+  fit.pushes = static_cast<int>(blocks.size());
   if (count < 5) {
     fit.score = -std::numeric_limits<double>::infinity();
     fit.note = "no samples where the tip rests clear of the object (every push starts pressed, or none rests)";
@@ -413,7 +415,12 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     c.sensor_bias_N += theta.head<2>();
   }
 
-  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override { return rest_force_fit(pushes); }
+  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
+    std::vector<const SynchronisedPush*> recorded;
+    for (const auto& d : pushes) recorded.push_back(&d.push);
+    // Every push of a diagnosis carries the same shared rest force (DiagnosisContext::corrected_data).
+    return rest_force_fit(recorded, pushes.empty() ? Eigen::Vector2d::Zero() : pushes.front().shared_rest_force_N);
+  }
 };
 
 class ViscousFrictionEffect final : public ForceLawEffect {

@@ -143,6 +143,7 @@ struct DirectFit {
   Eigen::MatrixXd covariance;
   double score = 0;   ///< drop of the information criterion (positive: the effect explains data)
   long samples = 0;   ///< samples used
+  int pushes = 0;     ///< pushes whose samples were used
   double effective_samples = 0;
   std::string note;
 };

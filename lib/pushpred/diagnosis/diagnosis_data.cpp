@@ -177,6 +177,12 @@ std::vector<Eigen::Index> samples_before_tip_moves(const SynchronisedPush& push,
   return out;
 }
 
+Eigen::Vector2d mean_force_N(const SynchronisedPush& push, const std::vector<Eigen::Index>& samples) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Index k : samples) mean += push.force_N.row(k).transpose();
+  return mean / static_cast<double>(samples.size());
+}
+
 namespace {
 
 /// The rod's surface to `outline` at sample k [m]: the tip's centre in the object's body frame, its distance to the
@@ -189,12 +195,6 @@ Outline::Closest rod_closest(const SynchronisedPush& push, const Outline& outlin
 
 double rod_gap_m(const SynchronisedPush& push, const Outline& outline, Eigen::Index k) {
   return rod_closest(push, outline, k).signed_distance_m - kPusherRadius_m;
-}
-
-Eigen::Vector2d mean_force_N(const SynchronisedPush& push, const std::vector<Eigen::Index>& rest) {
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const Eigen::Index k : rest) mean += push.force_N.row(k).transpose();
-  return mean / static_cast<double>(rest.size());
 }
 
 bool rest_force_points_into_contact(const SynchronisedPush& push, const Outline& outline,

@@ -101,6 +101,9 @@ SynchronisedPush apply_data_correction(const SynchronisedPush& push, const Model
 /// rests at the start of the recording (a push starts with the tip at rest, a gap away from the object).
 std::vector<Eigen::Index> samples_before_tip_moves(const SynchronisedPush& push, double travel_m = 3e-4);
 
+/// The mean recorded force f_C over the grid `samples` [N, world frame]; `samples` must not be empty.
+Eigen::Vector2d mean_force_N(const SynchronisedPush& push, const std::vector<Eigen::Index>& samples);
+
 /// Below this measured gap between the resting rod's surface and the object's outline [m], the rod may touch: the
 /// contact compresses by f / k (a 3.7 N preload on the rig's 1e4 N/m: 0.37 mm, read as a negative gap), the trackers
 /// are good to a few micrometres, so a rod that presses reads a gap at or below zero and one 0.2 mm clear cannot press.

@@ -86,12 +86,13 @@ std::string ModelAdequacy::verdict() const {
   return s;
 }
 
-void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContext& context, double bic_threshold,
-                     const AdequacyOptions& options, ModelAdequacy& adequacy) {
-  const DirectFit fit = rest_force_fit(pushes);
-  adequacy.rest_pushes = 0;
-  for (const auto& d : pushes)
-    adequacy.rest_pushes += samples_without_contact(d.push, d.shared_rest_force_N).size() >= kRestSamplesForZero;
+void test_rest_force(const std::vector<SynchronisedPush>& pushes, const Eigen::Vector2d& shared_rest_force_N,
+                     const FloorContext& context, double bic_threshold, const AdequacyOptions& options,
+                     ModelAdequacy& adequacy) {
+  std::vector<const SynchronisedPush*> recorded;
+  for (const auto& push : pushes) recorded.push_back(&push);
+  const DirectFit fit = rest_force_fit(recorded, shared_rest_force_N);
+  adequacy.rest_pushes = fit.pushes;
   adequacy.rest_tested = std::isfinite(fit.score);
   adequacy.rest_threshold = bic_threshold;
   if (!adequacy.rest_tested) {

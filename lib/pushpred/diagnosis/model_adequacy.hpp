@@ -167,10 +167,11 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
                                                   const FloorContext& context, const AdequacyOptions& options,
                                                   ModelAdequacy& adequacy);
 
-/// The rest part: fills the rest fields of `adequacy` from the clear rests of `pushes`, against the force floor
-/// (FloorContext) and the search's `bic_threshold`.
-void test_rest_force(const std::vector<DiagnosisPush>& pushes, const FloorContext& context, double bic_threshold,
-                     const AdequacyOptions& options, ModelAdequacy& adequacy);
+/// The rest part: fills the rest fields of `adequacy` from the clear rests of `pushes` (samples_without_contact with
+/// `shared_rest_force_N`), against the force floor (FloorContext) and the search's `bic_threshold`.
+void test_rest_force(const std::vector<SynchronisedPush>& pushes, const Eigen::Vector2d& shared_rest_force_N,
+                     const FloorContext& context, double bic_threshold, const AdequacyOptions& options,
+                     ModelAdequacy& adequacy);
 
 /// The contact part's requirements: a push's slope needs this many samples in contact and this spread of the
 /// normal force (standard deviation) [N] to resolve it; the part needs this many pushes with a slope.

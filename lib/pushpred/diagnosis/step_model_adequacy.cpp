@@ -28,13 +28,7 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   for (const auto& d : model.data) all.push_back(d.push);
   for (const auto& push : context.test_pushes) all.push_back(apply_data_correction(push, data_correction));
   test_contact_compliance(all, floors, options, a);
-  const Eigen::Vector2d shared = shared_rest_force_N(all);
-  std::vector<DiagnosisPush> rests(all.size());
-  for (std::size_t p = 0; p < all.size(); ++p) {
-    rests[p].push = std::move(all[p]);
-    rests[p].shared_rest_force_N = shared;
-  }
-  test_rest_force(rests, floors, context.options.bic_threshold, options, a);
+  test_rest_force(all, shared_rest_force_N(all), floors, context.options.bic_threshold, options, a);
   test_motion_bias(fit_phase_biases, context.hold_position_mm, context.hold_yaw_deg, context.options.relevance_fraction,
                    floors.radius_of_gyration_m, options, a);
   a.tested = a.force_tested || a.motion_tested || a.rest_tested || a.contact_tested;

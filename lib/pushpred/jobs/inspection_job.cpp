@@ -40,9 +40,7 @@ Inspection inspect(const SynchronisedPush& p) {
   const std::vector<Eigen::Index> rest = samples_before_tip_moves(p);
   s.rest_force_x_N = s.rest_force_y_N = std::numeric_limits<double>::quiet_NaN();
   if (!rest.empty()) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const Eigen::Index k : rest) mean += p.force_N.row(k).transpose();
-    mean /= static_cast<double>(rest.size());
+    const Eigen::Vector2d mean = mean_force_N(p, rest);
     s.rest_force_x_N = mean.x();
     s.rest_force_y_N = mean.y();
     s.rest_preload = rest_force_points_into_contact(p);
