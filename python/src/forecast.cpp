@@ -167,6 +167,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
         const LimitSurfaceKind kind = limit_surface_named(limit_surface);
         LearnOptions options;
         set_pressure_shape_choice(options, pressure_shape);
+        options.jobs = jobs;
         return without_gil([&] {
           const ForecastInputs in = load_forecast_inputs(files, folder, jobs, nullptr, false, kind);
           if (!in.failures.empty()) throw InputError(about(in.failures.front().source, in.failures.front().reason));

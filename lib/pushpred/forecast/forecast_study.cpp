@@ -114,6 +114,9 @@ std::vector<ForecastStudyPush> run_forecast_study(const std::vector<RecordedFore
     studied.insert(studied.end(), g.second.begin(), g.second.end());
   }
   std::sort(studied.begin(), studied.end());
+  // A fold's rim weight is used, its standard error never reported: its jackknife would cost a joint fit per push.
+  LearnOptions learn_options = options.learn;
+  learn_options.rim_weight_jackknife = false;
   std::vector<ForecastStudyPush> out(studied.size());
   std::atomic<std::size_t> next{0};
   std::exception_ptr error;
@@ -133,7 +136,7 @@ std::vector<ForecastStudyPush> run_forecast_study(const std::vector<RecordedFore
             train_fits.push_back(fits[j]);
           }
         const ObjectModel model =
-            learn_object_model(c.forecast_object, c.surface, "study", train_cases, train_fits, options.learn);
+            learn_object_model(c.forecast_object, c.surface, "study", train_cases, train_fits, learn_options);
         const ForecastDistribution d = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
         ForecastStudyPush r;
         r.name = c.name;
