@@ -6,13 +6,16 @@
 // pushes of a known one recovers it (seeds 346000-346299), and the standard error the object file keeps for it is the
 // size of its spread over redrawn pushes (seeds 357500-357739). `--log_level=message` prints the numbers.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <map>
 #include <random>
+#include <sstream>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/forecast/forecast_study.hpp"
+#include "pushpred/reports/forecast_report.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
 using namespace pushpred;
@@ -474,6 +477,80 @@ BOOST_AUTO_TEST_CASE(the_object_file_keeps_the_rim_weight_reads_version_4_and_re
   ellipsoid["object"]["limit_surface"] = "ellipsoid";
   BOOST_CHECK_THROW(object_model_from_json(ellipsoid, "mine.json", ""), InputError);
   BOOST_CHECK_THROW(set_pressure_shape_choice(options, "conical"), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(the_study_records_each_folds_rim_weight_as_learn_gives_it) {
+  // Five simulated pushes of rect1 loaded at the rim (w = 0.5; seeds 357900-357904), each forecast by the model learned
+  // from the other four with the rim weight (the centre held at the centroid): every fold records the w its model used
+  // and that it was learned, in pushes.csv and summary.json, and the first push's fold holds what learn gives on the
+  // other four. With the uniform pressure every fold records 0, not learned.
+  const ShapeInfo& shape = ShapeTable::published().find("rect1");
+  std::vector<RecordedForecastCase> cases;
+  std::vector<PushFit> fits;
+  for (int k = 0; k < 5; ++k) {
+    SimulatedPushOf p = simulated(shape, k % 4, 0.3 + 0.1 * k, 0.2 * (k - 2), 0.45, 0.3, 0.5, 0.05,
+                                  357900 + static_cast<std::uint64_t>(k));
+    use_limit_surface(p.c.forecast_object, LimitSurfaceKind::Outline);
+    fits.push_back(fit_push_parameters(p.c));
+    cases.push_back(std::move(p.c));
+  }
+  ForecastStudyOptions options;
+  set_centre_of_friction_choice(options.learn, "centroid");
+  set_pressure_shape_choice(options.learn, "learned");
+  const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
+  BOOST_TEST_REQUIRE(study.size() == 5u);
+  BOOST_TEST_REQUIRE(study[0].name == cases[0].name);
+  const std::vector<RecordedForecastCase> others(cases.begin() + 1, cases.end());
+  const std::vector<PushFit> other_fits(fits.begin() + 1, fits.end());
+  const ObjectModel learned =
+      learn_object_model(cases[0].forecast_object, cases[0].surface, "study", others, other_fits, options.learn);
+  BOOST_TEST(learned.pressure_rim_weight_pushes == 4);
+  BOOST_TEST(study[0].rim_weight_learned);
+  BOOST_TEST(study[0].rim_weight == learned.object.pressure_rim_weight);
+  BOOST_TEST(study[0].rim_weight != 0.0);
+
+  // pushes.csv: the fold's columns on every method's row of the push (8 significant digits).
+  const std::string csv = forecast_study_csv(study);
+  std::istringstream lines(csv);
+  std::string header, row;
+  std::getline(lines, header);
+  auto fields = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::istringstream in(line);
+    for (std::string f; std::getline(in, f, ',');) out.push_back(f);
+    return out;
+  };
+  const std::vector<std::string> names = fields(header);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    BOOST_TEST_REQUIRE((it != names.end()), "pushes.csv has no column " << name);
+    return static_cast<std::size_t>(it - names.begin());
+  };
+  const std::size_t w_column = column("fold_rim_weight"), learned_column = column("fold_rim_weight_learned");
+  int rows = 0;
+  while (std::getline(lines, row)) {
+    const std::vector<std::string> f = fields(row);
+    if (f.at(0) != cases[0].name) continue;
+    ++rows;
+    BOOST_TEST(std::stod(f.at(w_column)) == learned.object.pressure_rim_weight, boost::test_tools::tolerance(1e-7));
+    BOOST_TEST(f.at(learned_column) == "1");
+  }
+  BOOST_TEST(rows == static_cast<int>(forecast_study_methods().size()));
+
+  // summary.json: one fold per push.
+  const nlohmann::json summary = forecast_study_summary(study, {}, {});
+  const nlohmann::json& folds = summary.at("folds");
+  BOOST_TEST_REQUIRE(folds.size() == study.size());
+  BOOST_TEST(folds[0].at("push").get<std::string>() == cases[0].name);
+  BOOST_TEST(folds[0].at("rim_weight").get<double>() == learned.object.pressure_rim_weight);
+  BOOST_TEST(folds[0].at("rim_weight_learned").get<bool>());
+  BOOST_TEST(folds[0].at("training_pushes").get<int>() == 4);
+
+  set_pressure_shape_choice(options.learn, "uniform");
+  for (const ForecastStudyPush& p : run_forecast_study(cases, fits, options)) {
+    BOOST_TEST(p.rim_weight == 0.0);
+    BOOST_TEST(!p.rim_weight_learned);
+  }
 }
 
 BOOST_AUTO_TEST_SUITE_END()
