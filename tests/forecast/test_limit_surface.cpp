@@ -74,6 +74,43 @@ std::vector<SimulatedPushOf> varied_pushes(const ShapeInfo& shape, int count, st
   return out;
 }
 
+/// The pushes as forecast cases on the limit surface `kind`, each with its own fit (same order).
+struct FittedPushes {
+  std::vector<RecordedForecastCase> cases;
+  std::vector<PushFit> fits;
+};
+FittedPushes fitted_on(const std::vector<SimulatedPushOf>& pushes, LimitSurfaceKind kind) {
+  FittedPushes out;
+  for (const SimulatedPushOf& p : pushes) {
+    out.cases.push_back(p.c);
+    use_limit_surface(out.cases.back().forecast_object, kind);
+    out.fits.push_back(fit_push_parameters(out.cases.back()));
+  }
+  return out;
+}
+
+/// The forecast's (the study's first method's) final position [mm] and yaw [deg] errors, averaged over the pushes.
+struct MeanFinalErrors {
+  double position_mm = 0, yaw_deg = 0;
+};
+MeanFinalErrors mean_final_errors(const std::vector<ForecastStudyPush>& study) {
+  MeanFinalErrors e;
+  for (const auto& p : study) {
+    e.position_mm += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
+    e.yaw_deg += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
+  }
+  return e;
+}
+
+/// The largest difference between two models' central forecasts of the case `c` [m, rad]: 0 for a model and its
+/// file read back.
+double central_forecast_difference(const ObjectModel& a, const ObjectModel& b, const RecordedForecastCase& c) {
+  return (forecast_distribution(a, c.plan, c.start_pose, c.times_s).mean -
+          forecast_distribution(b, c.plan, c.start_pose, c.times_s).mean)
+      .cwiseAbs()
+      .maxCoeff();
+}
+
 double final_yaw_error_deg(const RecordedForecastCase& c, const Eigen::MatrixX3d& poses) {
   const Eigen::Index n = c.times_s.size();
   return std::abs(poses(n - 1, 2) - c.truth(n - 1, 2)) * 180 / M_PI;
@@ -128,22 +165,12 @@ BOOST_AUTO_TEST_CASE(learned_leaving_one_out_the_outline_surface_forecasts_the_y
     const std::vector<SimulatedPushOf> pushes = varied_pushes(shape, 12, first);
     first += 100;
     for (const LimitSurfaceKind kind : {LimitSurfaceKind::Ellipsoid, LimitSurfaceKind::Outline}) {
-      std::vector<RecordedForecastCase> cases;
-      std::vector<PushFit> fits;
-      for (const SimulatedPushOf& p : pushes) {
-        cases.push_back(p.c);
-        use_limit_surface(cases.back().forecast_object, kind);
-        fits.push_back(fit_push_parameters(cases.back()));
-      }
+      const auto [cases, fits] = fitted_on(pushes, kind);
       ForecastStudyOptions options;
       set_centre_of_friction_choice(options.learn, "centroid");
       set_pressure_shape_choice(options.learn, "uniform");  // the comparison of the surfaces as they were chosen
       const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
-      double position = 0, yaw = 0;
-      for (const auto& p : study) {
-        position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
-        yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
-      }
+      const auto [position, yaw] = mean_final_errors(study);
       BOOST_TEST_MESSAGE(name << ", limit surface " << limit_surface_name(kind) << ": final " << position << " mm, "
                               << yaw << " deg, leaving one of " << study.size() << " out");
       totals[static_cast<int>(kind)][0] += position / 3;
@@ -178,10 +205,7 @@ BOOST_AUTO_TEST_CASE(the_object_file_keeps_the_limit_surface_and_refuses_an_unkn
   BOOST_TEST(j.at("object").at("limit_surface").get<std::string>() == "outline");
   const ObjectModel back = object_model_from_json(j, "object.json", "");
   BOOST_TEST((back.object.limit_surface == LimitSurfaceKind::Outline));
-  const RecordedForecastCase& c = cases[1];
-  const ForecastDistribution a = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
-  const ForecastDistribution b = forecast_distribution(back, c.plan, c.start_pose, c.times_s);
-  BOOST_TEST((a.mean - b.mean).cwiseAbs().maxCoeff() < 1e-12);
+  BOOST_TEST(central_forecast_difference(model, back, cases[1]) < 1e-12);
   // A version 3 file has no limit surface: the ellipsoid.
   nlohmann::json old = j;
   old["version"] = 3;
@@ -316,23 +340,13 @@ BOOST_AUTO_TEST_CASE(the_pressure_shapes_default_is_chosen_on_simulated_objects,
   for (const Object& o : {Object{"rect1", 0.5, 346300}, Object{"ellip3", -0.3, 346400}, Object{"hex", 0.0, 346500}}) {
     const ShapeInfo& shape = ShapeTable::published().find(o.shape);
     const std::vector<SimulatedPushOf> pushes = varied_pushes(shape, 12, o.first_seed, o.rim_weight, 0.1);
-    std::vector<RecordedForecastCase> cases;
-    std::vector<PushFit> fits;
-    for (const SimulatedPushOf& p : pushes) {
-      cases.push_back(p.c);
-      use_limit_surface(cases.back().forecast_object, LimitSurfaceKind::Outline);
-      fits.push_back(fit_push_parameters(cases.back()));
-    }
+    const auto [cases, fits] = fitted_on(pushes, LimitSurfaceKind::Outline);
     for (const char* choice : {"chosen", "learned", "uniform"}) {
       ForecastStudyOptions options;
       set_centre_of_friction_choice(options.learn, "centroid");
       set_pressure_shape_choice(options.learn, choice);
       const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
-      double position = 0, yaw = 0;
-      for (const auto& p : study) {
-        position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
-        yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
-      }
+      const auto [position, yaw] = mean_final_errors(study);
       BOOST_TEST_MESSAGE(o.shape << ", rim weight " << o.rim_weight << ", pressure shape " << choice << ": final "
                                  << position << " mm, " << yaw << " deg, leaving one of " << study.size() << " out");
       total[choice] += position + yaw;
@@ -362,13 +376,7 @@ BOOST_AUTO_TEST_CASE(the_rim_weights_standard_error_is_its_spread_over_redrawn_p
   for (int set = 0; set < 8; ++set) {
     const std::vector<SimulatedPushOf> pushes =
         varied_pushes(shape, 10, 357500 + 30 * static_cast<std::uint64_t>(set), 0.5, 0.1);
-    std::vector<RecordedForecastCase> cases;
-    std::vector<PushFit> fits;
-    for (const SimulatedPushOf& p : pushes) {
-      cases.push_back(p.c);
-      use_limit_surface(cases.back().forecast_object, LimitSurfaceKind::Outline);
-      fits.push_back(fit_push_parameters(cases.back()));
-    }
+    const auto [cases, fits] = fitted_on(pushes, LimitSurfaceKind::Outline);
     BOOST_TEST_REQUIRE(cases.size() == 10u);
     LearnOptions options;
     options.bandwidths = {0.0};  // what is tested is the rim weight, not the forecast's weighting
@@ -438,10 +446,7 @@ BOOST_AUTO_TEST_CASE(the_object_file_keeps_the_rim_weight_reads_version_4_and_re
   BOOST_TEST(back.object.pressure_rim_weight == model.object.pressure_rim_weight);
   BOOST_TEST(back.pressure_rim_weight_pushes == 4);
   BOOST_TEST(back.pressure_rim_weight_standard_error == model.pressure_rim_weight_standard_error);
-  const RecordedForecastCase& c = cases[1];
-  const ForecastDistribution a = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
-  const ForecastDistribution b = forecast_distribution(back, c.plan, c.start_pose, c.times_s);
-  BOOST_TEST((a.mean - b.mean).cwiseAbs().maxCoeff() < 1e-12);
+  BOOST_TEST(central_forecast_difference(model, back, cases[1]) < 1e-12);
   // A version 4 file has no pressure shape: uniform, w = 0, and its surface is the uniform pressure's.
   nlohmann::json old = j;
   old["version"] = 4;

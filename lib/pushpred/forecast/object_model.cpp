@@ -4,19 +4,16 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <sstream>
-#include <thread>
 #include <tuple>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/reading/text_files.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred {
 namespace {
@@ -720,34 +717,16 @@ double rim_weight_jackknife_standard_error(const ForecastObject& object, const s
   ForecastObject start = object;
   set_pressure_shape(start, object.centre_of_friction_m, full.rim_weight);
   std::vector<double> left_out(n, 0.0);
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (;;) {
-      const std::size_t q = next++;
-      if (q >= n) return;
-      try {
-        std::vector<RecordedForecastCase> others;
-        std::vector<PushFit> other_fits;
-        for (std::size_t i = 0; i < n; ++i)
-          if (i != q) {
-            others.push_back(cases[i]);
-            other_fits.push_back(full.fits[i]);
-          }
-        left_out[q] = fit_centre_of_friction(start, others, other_fits, options).rim_weight;
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
+  parallel_for_index(n, jobs, [&](std::size_t q) {
+    std::vector<RecordedForecastCase> others;
+    std::vector<PushFit> other_fits;
+    for (std::size_t i = 0; i < n; ++i)
+      if (i != q) {
+        others.push_back(cases[i]);
+        other_fits.push_back(full.fits[i]);
       }
-    }
-  };
-  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(n)));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+    left_out[q] = fit_centre_of_friction(start, others, other_fits, options).rim_weight;
+  });
   const double count = static_cast<double>(n);
   double mean = 0, square = 0;
   for (const double w : left_out) mean += w / count;
@@ -833,32 +812,36 @@ double cross_validated_score(const ForecastObject& object, const std::vector<Rec
   return total;
 }
 
+/// Sets how a setting that learn keeps when cross-validation over the learned pushes prefers it is learned (its
+/// minimum pushes and folds, LearnOptions): "chosen" (the defaults), "learned" (always: no cross-validation) or `never`
+/// (never learned: minimum pushes 0). InputError naming `what` otherwise.
+void set_cross_validated_choice(const std::string& choice, const char* what, const char* never, int default_min_pushes,
+                                int default_folds, int& min_pushes, int& folds) {
+  min_pushes = default_min_pushes;
+  folds = default_folds;
+  if (choice == "learned") {
+    folds = 0;
+  } else if (choice == never) {
+    min_pushes = 0;
+  } else if (choice != "chosen") {
+    throw InputError(std::string(what) + ": 'chosen', 'learned' or '" + never + "', not '" + choice + "'");
+  }
+}
+
 }  // namespace
 
 void set_centre_of_friction_choice(LearnOptions& options, const std::string& choice) {
   const LearnOptions defaults;
-  options.centre_of_friction_min_pushes = defaults.centre_of_friction_min_pushes;
-  options.centre_of_friction_folds = defaults.centre_of_friction_folds;
-  if (choice == "learned") {
-    options.centre_of_friction_folds = 0;
-  } else if (choice == "centroid") {
-    options.centre_of_friction_min_pushes = 0;
-  } else if (choice != "chosen") {
-    throw InputError("centre of friction: 'chosen', 'learned' or 'centroid', not '" + choice + "'");
-  }
+  set_cross_validated_choice(choice, "centre of friction", "centroid", defaults.centre_of_friction_min_pushes,
+                             defaults.centre_of_friction_folds, options.centre_of_friction_min_pushes,
+                             options.centre_of_friction_folds);
 }
 
 void set_pressure_shape_choice(LearnOptions& options, const std::string& choice) {
   const LearnOptions defaults;
-  options.pressure_shape_min_pushes = defaults.pressure_shape_min_pushes;
-  options.pressure_shape_folds = defaults.pressure_shape_folds;
-  if (choice == "learned") {
-    options.pressure_shape_folds = 0;
-  } else if (choice == "uniform") {
-    options.pressure_shape_min_pushes = 0;
-  } else if (choice != "chosen") {
-    throw InputError("pressure shape: 'chosen', 'learned' or 'uniform', not '" + choice + "'");
-  }
+  set_cross_validated_choice(choice, "pressure shape", "uniform", defaults.pressure_shape_min_pushes,
+                             defaults.pressure_shape_folds, options.pressure_shape_min_pushes,
+                             options.pressure_shape_folds);
 }
 
 void set_trend_choice(LearnOptions& options, const std::string& choice) {
