@@ -91,8 +91,11 @@ file's content.)doc")
           "pressure_rim_weight", [](const ObjectModel& o) { return o.object.pressure_rim_weight; },
           "The support pressure's rim weight under the outline's limit surface (0: uniform; > 0 loads the rim, < 0 "
           "the middle): learned (see pressure_rim_weight_pushes) or 0")
-      .def_property_readonly("pressure_rim_weight_standard_error",
-                             [](const ObjectModel& o) { return o.pressure_rim_weight_standard_error; })
+      .def_property_readonly(
+          "pressure_rim_weight_standard_error",
+          [](const ObjectModel& o) { return o.pressure_rim_weight_standard_error; },
+          "The rim weight's standard error: the jackknife's over the learned pushes (each left out, the rim weight "
+          "refitted on the others); 0 when it is not learned")
       .def_property_readonly(
           "pressure_rim_weight_pushes", [](const ObjectModel& o) { return o.pressure_rim_weight_pushes; },
           "How many pushes the rim weight was learned from (0: not learned)")

@@ -38,6 +38,7 @@ for j in 1 2; do
 done
 expect_in "$tmp/out" "(jackknife standard error), learned from 6 pushes" "learn says how w's standard error is had"
 check "the learned rim weight's file is the same for --jobs 1 and 2" cmp "$tmp/hex-rim-1.json" "$tmp/hex-rim-2.json"
+expect_in "$tmp/hex-rim-1.json" "at the lower bound of its range" "a rim weight at its bound is said to be there"
 # shellcheck disable=SC2086
 expect_exit 2 "an unknown pressure shape" -- "$bin" learn $hex --limit-surface outline --pressure-shape cone \
   --out "$tmp/cone.json"
