@@ -104,6 +104,7 @@ int run_learn(const LearnArgs& a) {
   set_centre_of_friction_choice(options, a.centre_of_friction);
   set_trend_choice(options, a.trend);
   set_pressure_shape_choice(options, a.pressure_shape);
+  options.jobs = a.jobs;
   const ObjectModel model =
       learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
   write_text_atomically(out, json_text(object_model_to_json(model)));
@@ -128,8 +129,9 @@ int run_learn(const LearnArgs& a) {
                                          : "ellipsoid of ratio c");
   if (model.object.limit_surface == LimitSurfaceKind::Outline) {
     if (model.pressure_rim_weight_pushes > 0)
-      std::printf("pressure rim weight: %.3f +- %.3f, learned from %d pushes\n", model.object.pressure_rim_weight,
-                  model.pressure_rim_weight_standard_error, model.pressure_rim_weight_pushes);
+      std::printf("pressure rim weight: %.3f +- %.3f (jackknife standard error), learned from %d pushes\n",
+                  model.object.pressure_rim_weight, model.pressure_rim_weight_standard_error,
+                  model.pressure_rim_weight_pushes);
     else
       std::printf("pressure rim weight: %.3f, %s\n", model.object.pressure_rim_weight,
                   model.pressure_shape_method.c_str());
@@ -194,7 +196,10 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "centre of friction when that forecasts the pushes better in cross-validation, else uniform), "
                   "learned (always) or uniform (never learned)")
       ->check(CLI::IsMember({"chosen", "learned", "uniform"}));
-  add_jobs(*sub, a->jobs, "Pushes fitted in parallel (default: all cores); the output does not depend on it");
+  add_jobs(
+      *sub, a->jobs,
+      "Pushes fitted (and the rim weight's jackknife refits run) in parallel (default: all cores); the output does "
+      "not depend on it");
   sub->callback([a, &run] { run = [a] { return run_learn(*a); }; });
 });
 

@@ -91,8 +91,11 @@ file's content.)doc")
           "pressure_rim_weight", [](const ObjectModel& o) { return o.object.pressure_rim_weight; },
           "The support pressure's rim weight under the outline's limit surface (0: uniform; > 0 loads the rim, < 0 "
           "the middle): learned (see pressure_rim_weight_pushes) or 0")
-      .def_property_readonly("pressure_rim_weight_standard_error",
-                             [](const ObjectModel& o) { return o.pressure_rim_weight_standard_error; })
+      .def_property_readonly(
+          "pressure_rim_weight_standard_error",
+          [](const ObjectModel& o) { return o.pressure_rim_weight_standard_error; },
+          "The rim weight's standard error: the jackknife's over the learned pushes (each left out, the rim weight "
+          "refitted on the others); 0 when it is not learned")
       .def_property_readonly(
           "pressure_rim_weight_pushes", [](const ObjectModel& o) { return o.pressure_rim_weight_pushes; },
           "How many pushes the rim weight was learned from (0: not learned)")
@@ -167,6 +170,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
         const LimitSurfaceKind kind = limit_surface_named(limit_surface);
         LearnOptions options;
         set_pressure_shape_choice(options, pressure_shape);
+        options.jobs = jobs;
         return without_gil([&] {
           const ForecastInputs in = load_forecast_inputs(files, folder, jobs, nullptr, false, kind);
           if (!in.failures.empty()) throw InputError(about(in.failures.front().source, in.failures.front().reason));

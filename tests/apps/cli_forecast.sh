@@ -30,6 +30,16 @@ expect_in "$tmp/hex-outline.json" '"limit_surface": "outline"' "the object file 
 expect_in "$tmp/out" "limit surface: the outline's pressure" "learn says which limit surface"
 expect_in "$tmp/out" "pressure rim weight: " "learn says the pressure's rim weight"
 expect_in "$tmp/hex-outline.json" '"rim_weight"' "the object file keeps the pressure's rim weight"
+# The rim weight learned always: its jackknife standard error's refits run on the jobs, the file the same for any.
+for j in 1 2; do
+  # shellcheck disable=SC2086
+  expect_exit 0 "learn hex's rim weight with --jobs $j" -- "$bin" learn $hex --limit-surface outline \
+    --centre-of-friction centroid --pressure-shape learned --out "$tmp/hex-rim-$j.json" --jobs $j
+done
+expect_in "$tmp/out" "(jackknife standard error), learned from 6 pushes" "learn says how w's standard error is had"
+check "the learned rim weight's file is the same for --jobs 1 and 2" cmp "$tmp/hex-rim-1.json" "$tmp/hex-rim-2.json"
+expect_in "$tmp/hex-rim-1.json" "at the lower bound of its range" "a rim weight at its bound is said to be there"
+# shellcheck disable=SC2086
 expect_exit 2 "an unknown pressure shape" -- "$bin" learn $hex --limit-surface outline --pressure-shape cone \
   --out "$tmp/cone.json"
 expect_exit 0 "forecast on the outline's limit surface" -- "$bin" forecast --model "$tmp/hex-outline.json" \
@@ -134,6 +144,8 @@ expect_in "$tmp/s1/summary.json" '"not_moving"' "the not-moving reference"
 expect_in "$tmp/s1/summary.json" '"rigid_tip"' "the rigid tip-following reference"
 expect_in "$tmp/s1/summary.json" "force sensor frozen" "the excluded push and why"
 expect_in "$tmp/s1/tables.md" "from its start only" "the report says what of each push is used"
+expect_in "$tmp/s1/summary.json" '"rim_weight_learned": false' "each fold says whether it learned the rim weight"
+expect_in "$tmp/s1/pushes.csv" "fold_rim_weight,fold_rim_weight_learned" "pushes.csv has each fold's rim weight"
 # shellcheck disable=SC2086
 expect_exit 0 "the same study on two jobs" -- "$bin" forecast-study $hex "$frozen" --out "$tmp/s2" --jobs 2
 expect_same_tree "$tmp/s1" "$tmp/s2" "--jobs 1 and 2 write the same study"

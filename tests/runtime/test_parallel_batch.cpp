@@ -1,5 +1,6 @@
 // The batch pool (runtime/parallel_batch.hpp): outcomes handed over in input order from several threads, one at a
-// time, and an error while consuming stops the batch.
+// time, and an error while consuming stops the batch; the index loop runs every index once on any number of threads
+// and hands the first error to the caller after the others are done.
 #include <atomic>
 #include <boost/test/unit_test.hpp>
 #include <chrono>
@@ -66,6 +67,24 @@ BOOST_AUTO_TEST_CASE(an_error_while_consuming_stops_the_batch_and_reaches_the_ca
     BOOST_TEST(consumed == std::vector<std::size_t>{0}, boost::test_tools::per_element());
     if (jobs == 1) BOOST_TEST(started.load() == 2);  // nothing is started after the failure
   }
+}
+
+BOOST_AUTO_TEST_CASE(the_index_loop_runs_every_index_once_and_rethrows_an_error_after_the_rest) {
+  for (int jobs : {1, 2, 3, 20}) {
+    std::vector<std::atomic<int>> runs(7);
+    parallel_for_index(runs.size(), jobs, [&](std::size_t i) { ++runs[i]; });
+    for (const auto& r : runs) BOOST_TEST(r.load() == 1, "jobs " << jobs);
+    std::atomic<int> done{0};
+    BOOST_CHECK_EXCEPTION(parallel_for_index(runs.size(), jobs,
+                                             [&](std::size_t i) {
+                                               if (i == 2) throw std::runtime_error("index 2");
+                                               ++done;
+                                             }),
+                          std::runtime_error,
+                          [](const std::runtime_error& e) { return std::string(e.what()) == "index 2"; });
+    BOOST_TEST(done.load() == 6, "jobs " << jobs);  // the other indices still ran
+  }
+  parallel_for_index(0, 2, [](std::size_t) { BOOST_FAIL("no index to run"); });
 }
 
 BOOST_AUTO_TEST_SUITE_END()

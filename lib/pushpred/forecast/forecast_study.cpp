@@ -1,12 +1,8 @@
 #include "pushpred/forecast/forecast_study.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <map>
-#include <mutex>
-#include <thread>
 
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/runtime/parallel_batch.hpp"
@@ -114,62 +110,49 @@ std::vector<ForecastStudyPush> run_forecast_study(const std::vector<RecordedFore
     studied.insert(studied.end(), g.second.begin(), g.second.end());
   }
   std::sort(studied.begin(), studied.end());
+  // A fold's rim weight is used, its standard error never reported: its jackknife would cost a joint fit per push.
+  LearnOptions learn_options = options.learn;
+  learn_options.rim_weight_jackknife = false;
   std::vector<ForecastStudyPush> out(studied.size());
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (;;) {
-      const std::size_t slot = next++;
-      if (slot >= studied.size()) return;
-      try {
-        const std::size_t i = studied[slot];
-        const RecordedForecastCase& c = cases[i];
-        std::vector<RecordedForecastCase> train_cases;
-        std::vector<PushFit> train_fits;
-        for (std::size_t j : groups.at({c.object, c.surface}))
-          if (j != i) {
-            train_cases.push_back(cases[j]);
-            train_fits.push_back(fits[j]);
-          }
-        const ObjectModel model =
-            learn_object_model(c.forecast_object, c.surface, "study", train_cases, train_fits, options.learn);
-        const ForecastDistribution d = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
-        ForecastStudyPush r;
-        r.name = c.name;
-        r.object = c.object;
-        r.surface = c.surface;
-        const Eigen::Index n = c.times_s.size();
-        r.recorded_travel_m = (c.truth.row(n - 1).head<2>() - c.truth.row(0).head<2>()).norm();
-        r.recorded_turn_rad = std::abs(c.truth(n - 1, 2) - c.truth(0, 2));
-        r.learned = model.parameters;
-        r.own_fit = fits[i];
-        r.training_pushes = static_cast<int>(train_fits.size());
-        r.errors.push_back(forecast_errors(c, d.mean, &d.position_radius_m, &d.yaw_halfwidth_rad));
-        const Eigen::MatrixX3d still = c.start_pose.transpose().replicate(n, 1);
-        r.errors.push_back(forecast_errors(c, still));
-        Eigen::MatrixX3d rigid = still;
-        Eigen::Vector2d tip, v;
-        for (Eigen::Index k = 0; k < n; ++k) {
-          c.plan.evaluate(c.times_s(k), tip, v);
-          rigid.row(k).head<2>() += (tip - c.plan.start_m()).transpose();
-        }
-        r.errors.push_back(forecast_errors(c, rigid));
-        r.errors.push_back(
-            forecast_errors(c, forecast_poses(c.forecast_object, fits[i].parameters, c.plan, c.start_pose, c.times_s)));
-        out[slot] = std::move(r);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
+  parallel_for_index(studied.size(), options.jobs, [&](std::size_t slot) {
+    const std::size_t i = studied[slot];
+    const RecordedForecastCase& c = cases[i];
+    std::vector<RecordedForecastCase> train_cases;
+    std::vector<PushFit> train_fits;
+    for (std::size_t j : groups.at({c.object, c.surface}))
+      if (j != i) {
+        train_cases.push_back(cases[j]);
+        train_fits.push_back(fits[j]);
       }
+    const ObjectModel model =
+        learn_object_model(c.forecast_object, c.surface, "study", train_cases, train_fits, learn_options);
+    const ForecastDistribution d = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
+    ForecastStudyPush r;
+    r.name = c.name;
+    r.object = c.object;
+    r.surface = c.surface;
+    const Eigen::Index n = c.times_s.size();
+    r.recorded_travel_m = (c.truth.row(n - 1).head<2>() - c.truth.row(0).head<2>()).norm();
+    r.recorded_turn_rad = std::abs(c.truth(n - 1, 2) - c.truth(0, 2));
+    r.learned = model.parameters;
+    r.own_fit = fits[i];
+    r.training_pushes = static_cast<int>(train_fits.size());
+    r.rim_weight = model.object.pressure_rim_weight;
+    r.rim_weight_learned = model.pressure_rim_weight_pushes > 0;
+    r.errors.push_back(forecast_errors(c, d.mean, &d.position_radius_m, &d.yaw_halfwidth_rad));
+    const Eigen::MatrixX3d still = c.start_pose.transpose().replicate(n, 1);
+    r.errors.push_back(forecast_errors(c, still));
+    Eigen::MatrixX3d rigid = still;
+    Eigen::Vector2d tip, v;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      c.plan.evaluate(c.times_s(k), tip, v);
+      rigid.row(k).head<2>() += (tip - c.plan.start_m()).transpose();
     }
-  };
-  const int threads = std::max(1, std::min<int>(options.jobs, static_cast<int>(studied.size())));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+    r.errors.push_back(forecast_errors(c, rigid));
+    r.errors.push_back(
+        forecast_errors(c, forecast_poses(c.forecast_object, fits[i].parameters, c.plan, c.start_pose, c.times_s)));
+    out[slot] = std::move(r);
+  });
   return out;
 }
 

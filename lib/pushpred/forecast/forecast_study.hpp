@@ -38,6 +38,11 @@ struct ForecastStudyPush {
   ForecastParameters learned;                           ///< the model's central parameters (without this push)
   PushFit own_fit;
   int training_pushes = 0;
+  /// The fold's pressure rim weight (ObjectModel: w of the outline's limit surface, learned from the training pushes)
+  /// and whether it was learned and kept (false: the uniform pressure, w = 0: the ellipsoid, `uniform`, too few
+  /// pushes, or `chosen` preferring the uniform pressure in its cross-validation).
+  double rim_weight = 0;
+  bool rim_weight_learned = false;
 };
 
 struct ForecastStudyOptions {

@@ -13,6 +13,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/reading/text_files.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 
 namespace pushpred {
 namespace {
@@ -704,6 +705,35 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   return out;
 }
 
+double rim_weight_jackknife_standard_error(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
+                                           const std::vector<PushFit>& fits, const CentreOfFrictionOptions& options,
+                                           const CentreOfFrictionFit& full, int jobs) {
+  if (cases.size() != fits.size() || full.fits.size() != fits.size())
+    throw std::logic_error("rim_weight_jackknife_standard_error: one fit per case");
+  const std::size_t n = cases.size();
+  if (!options.fit_rim_weight || !outline_limit_surface(object) || n < 3) return 0;
+  // The refits' start: the full fit's rim weight about the object's own centre (the centre prior's), and the full
+  // fit's per-push parameters.
+  ForecastObject start = object;
+  set_pressure_shape(start, object.centre_of_friction_m, full.rim_weight);
+  std::vector<double> left_out(n, 0.0);
+  parallel_for_index(n, jobs, [&](std::size_t q) {
+    std::vector<RecordedForecastCase> others;
+    std::vector<PushFit> other_fits;
+    for (std::size_t i = 0; i < n; ++i)
+      if (i != q) {
+        others.push_back(cases[i]);
+        other_fits.push_back(full.fits[i]);
+      }
+    left_out[q] = fit_centre_of_friction(start, others, other_fits, options).rim_weight;
+  });
+  const double count = static_cast<double>(n);
+  double mean = 0, square = 0;
+  for (const double w : left_out) mean += w / count;
+  for (const double w : left_out) square += (w - mean) * (w - mean);
+  return std::sqrt((count - 1) / count * square);
+}
+
 CentralForecast central_forecast_named(const std::string& name) {
   if (name == "ensemble_mean") return CentralForecast::EnsembleMean;
   if (name == "median") return CentralForecast::MedianParameters;
@@ -782,32 +812,36 @@ double cross_validated_score(const ForecastObject& object, const std::vector<Rec
   return total;
 }
 
+/// Sets how a setting that learn keeps when cross-validation over the learned pushes prefers it is learned (its
+/// minimum pushes and folds, LearnOptions): "chosen" (the defaults), "learned" (always: no cross-validation) or `never`
+/// (never learned: minimum pushes 0). InputError naming `what` otherwise.
+void set_cross_validated_choice(const std::string& choice, const char* what, const char* never, int default_min_pushes,
+                                int default_folds, int& min_pushes, int& folds) {
+  min_pushes = default_min_pushes;
+  folds = default_folds;
+  if (choice == "learned") {
+    folds = 0;
+  } else if (choice == never) {
+    min_pushes = 0;
+  } else if (choice != "chosen") {
+    throw InputError(std::string(what) + ": 'chosen', 'learned' or '" + never + "', not '" + choice + "'");
+  }
+}
+
 }  // namespace
 
 void set_centre_of_friction_choice(LearnOptions& options, const std::string& choice) {
   const LearnOptions defaults;
-  options.centre_of_friction_min_pushes = defaults.centre_of_friction_min_pushes;
-  options.centre_of_friction_folds = defaults.centre_of_friction_folds;
-  if (choice == "learned") {
-    options.centre_of_friction_folds = 0;
-  } else if (choice == "centroid") {
-    options.centre_of_friction_min_pushes = 0;
-  } else if (choice != "chosen") {
-    throw InputError("centre of friction: 'chosen', 'learned' or 'centroid', not '" + choice + "'");
-  }
+  set_cross_validated_choice(choice, "centre of friction", "centroid", defaults.centre_of_friction_min_pushes,
+                             defaults.centre_of_friction_folds, options.centre_of_friction_min_pushes,
+                             options.centre_of_friction_folds);
 }
 
 void set_pressure_shape_choice(LearnOptions& options, const std::string& choice) {
   const LearnOptions defaults;
-  options.pressure_shape_min_pushes = defaults.pressure_shape_min_pushes;
-  options.pressure_shape_folds = defaults.pressure_shape_folds;
-  if (choice == "learned") {
-    options.pressure_shape_folds = 0;
-  } else if (choice == "uniform") {
-    options.pressure_shape_min_pushes = 0;
-  } else if (choice != "chosen") {
-    throw InputError("pressure shape: 'chosen', 'learned' or 'uniform', not '" + choice + "'");
-  }
+  set_cross_validated_choice(choice, "pressure shape", "uniform", defaults.pressure_shape_min_pushes,
+                             defaults.pressure_shape_folds, options.pressure_shape_min_pushes,
+                             options.pressure_shape_folds);
 }
 
 void set_trend_choice(LearnOptions& options, const std::string& choice) {
@@ -888,7 +922,18 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     if (shape) {
       model.pressure_shape_method = "rim weight fitted jointly over the learned pushes, each with its own parameters" +
                                     std::string(better ? ", with the centre of friction" : "");
-      model.pressure_rim_weight_standard_error = learned.rim_weight_standard_error;
+      if (options.rim_weight_jackknife)
+        model.pressure_rim_weight_standard_error =
+            rim_weight_jackknife_standard_error(object, cases, fits, cof, learned, options.jobs);
+      // At a bound of its range the fits without one push stay there too: their spread says nothing of how far
+      // beyond it the pushes would put w, and the file says so.
+      const RimWeightRange range = rim_weight_range(object.outline->footprint());
+      const double margin = 2 * SharedCentreResidual::kRimWeightStep + 1e-9;
+      if (learned.rim_weight <= range.lower + margin || learned.rim_weight >= range.upper - margin)
+        model.pressure_shape_method +=
+            std::string("; at the ") + (learned.rim_weight <= range.lower + margin ? "lower" : "upper") +
+            " bound of its range (the pressure non-negative everywhere), where its standard error does not measure "
+            "how far beyond it the pushes would put it";
       model.pressure_rim_weight_pushes = static_cast<int>(fits.size());
     }
     model.pushes = std::move(learned.fits);
@@ -1091,7 +1136,9 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
       {"method", m.pressure_shape_method},
       {"definition",
        "outline limit surface only: pressure ~ (1 + rim_weight (|r - centroid|^2 / <|r - centroid|^2> - 1)), tilted "
-       "by a plane so that its centre lies at centre_of_friction_m; 0 uniform, > 0 loads the rim, < 0 the middle"}};
+       "by a plane so that its centre lies at centre_of_friction_m; 0 uniform, > 0 loads the rim, < 0 the middle; "
+       "standard_error: the jackknife's over the learned pushes (each left out in turn, rim_weight refitted on the "
+       "others), 0 when rim_weight is not learned"}};
   nlohmann::json params;
   for (int i = 0; i < 3; ++i)
     params[ForecastParameters::name(i)] = {{"value", m.parameters.vector()(i)},

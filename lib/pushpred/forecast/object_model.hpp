@@ -157,6 +157,18 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
                                            const std::vector<PushFit>& fits,
                                            const CentreOfFrictionOptions& options = {});
 
+/// The jackknife's standard error of the rim weight that fit_centre_of_friction(object, cases, fits, options) found
+/// (`full`): each push left out in turn and the joint fit redone on the others, se^2 = (n - 1) / n sum_i (w_(i) -
+/// mean w_(.))^2 over the n left-out fits. The pushes are the independent draws; Ceres' covariance
+/// (CentreOfFrictionFit::rim_weight_standard_error) takes a push's correlated residuals as independent and misjudges
+/// the spread of w over pushes (docs/forecast.md). Each refit starts from `full`'s rim weight and per-push parameters
+/// (the centre, when fitted, from the object's, where its prior is), so that it converges in a few iterations; the
+/// refits run on `jobs` threads and the result does not depend on it. 0 with fewer than 3 pushes or when
+/// `options.fit_rim_weight` is off or the limit surface is the ellipsoid (no rim weight is fitted then).
+double rim_weight_jackknife_standard_error(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
+                                           const std::vector<PushFit>& fits, const CentreOfFrictionOptions& options,
+                                           const CentreOfFrictionFit& full, int jobs = 1);
+
 /// What a forecast's central trajectory is: the learned pushes' own forecasts averaged (weighted by similarity; with
 /// their spread about it), or the forecast of their parameters' (weighted) median. The mean of the ensemble errs
 /// less on the real pushes (docs/forecast.md): the trajectory bends nonlinearly with the parameters.
@@ -207,7 +219,9 @@ struct ObjectModel {
   Eigen::Vector2d centre_of_friction_standard_error_m = Eigen::Vector2d::Zero();
   int centre_of_friction_pushes = 0;
   std::string centre_of_friction_method = "the object's own (not learned)";
-  /// object.pressure_rim_weight's standard error, and how many pushes it was learned from (0: not learned, 0 uniform).
+  /// object.pressure_rim_weight's standard error (the jackknife's over the learned pushes,
+  /// rim_weight_jackknife_standard_error; 0 when the rim weight is not learned), and how many pushes it was learned
+  /// from (0: not learned, 0 uniform).
   double pressure_rim_weight_standard_error = 0;
   int pressure_rim_weight_pushes = 0;
   std::string pressure_shape_method = "uniform (not learned)";
@@ -232,6 +246,10 @@ struct LearnOptions {
   /// learned pushes better than without it in this many-fold cross-validation over them (fewer than 2: always).
   int pressure_shape_min_pushes = 4;
   int pressure_shape_folds = 3;
+  /// The learned rim weight's standard error by the jackknife over the learned pushes (one more joint fit per push;
+  /// false: not computed, 0, as the study's folds do, which never report it), its refits on `jobs` threads.
+  bool rim_weight_jackknife = true;
+  int jobs = 1;
   CentreOfFrictionOptions centre_of_friction;
 };
 

@@ -214,6 +214,16 @@ nlohmann::json forecast_study_summary(const std::vector<ForecastStudyPush>& push
     objects[name] = o;
   }
   j["objects"] = objects;
+  // Per push, what its fold learned from the others beyond the parameters (pushes.csv has them too).
+  nlohmann::json folds = nlohmann::json::array();
+  for (const auto& p : pushes)
+    folds.push_back({{"push", p.name},
+                     {"object", p.object},
+                     {"surface", p.surface},
+                     {"training_pushes", p.training_pushes},
+                     {"rim_weight", p.rim_weight},
+                     {"rim_weight_learned", p.rim_weight_learned}});
+  j["folds"] = folds;
   nlohmann::json ex = nlohmann::json::array();
   for (const auto& e : excluded) ex.push_back({{"push", e.first}, {"reason", e.second}});
   j["excluded"] = ex;
@@ -229,7 +239,7 @@ std::string forecast_study_csv(const std::vector<ForecastStudyPush>& pushes) {
   out << "push,object,surface,method,final_pos_mm,final_yaw_deg,trajectory_pos_mm,trajectory_yaw_deg,coverage90_pos,"
          "coverage90_yaw,final_radius90_mm,final_yaw_halfwidth90_deg,recorded_travel_mm,recorded_turn_deg,"
          "learned_pusher_friction,learned_torque_ratio_mm,learned_support_friction,own_pusher_friction,"
-         "own_torque_ratio_mm,own_support_friction\n";
+         "own_torque_ratio_mm,own_support_friction,fold_rim_weight,fold_rim_weight_learned\n";
   const auto& methods = forecast_study_methods();
   for (const auto& p : pushes)
     for (std::size_t m = 0; m < methods.size(); ++m) {
@@ -245,7 +255,8 @@ std::string forecast_study_csv(const std::vector<ForecastStudyPush>& pushes) {
       out << "," << kMm * p.recorded_travel_m << "," << kDeg * p.recorded_turn_rad << "," << p.learned.pusher_friction
           << "," << kMm * p.learned.torque_ratio_m << "," << p.learned.support_friction << ","
           << p.own_fit.parameters.pusher_friction << "," << kMm * p.own_fit.parameters.torque_ratio_m << ","
-          << p.own_fit.parameters.support_friction << "\n";
+          << p.own_fit.parameters.support_friction << "," << p.rim_weight << "," << (p.rim_weight_learned ? 1 : 0)
+          << "\n";
     }
   return out.str();
 }

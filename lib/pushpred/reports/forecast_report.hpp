@@ -24,7 +24,8 @@ std::string forecast_figure_script(const std::string& data_file, const std::stri
                                    const std::string& title);
 
 /// The study's summary: per method and overall, and per object, the means of the errors (mm, degrees), coverages and
-/// counts (docs/forecast.md lists the keys), with the note on what of each push is used.
+/// counts (docs/forecast.md lists the keys), with the note on what of each push is used, and per push (`folds`) what
+/// its fold learned beyond the parameters: the pressure's rim weight and whether it was learned.
 nlohmann::json forecast_study_summary(const std::vector<ForecastStudyPush>& pushes,
                                       const std::vector<std::pair<std::string, std::string>>& excluded,
                                       const std::vector<BatchFailure>& failures);

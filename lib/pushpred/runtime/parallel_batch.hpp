@@ -98,6 +98,34 @@ class BatchProgress {
   std::mutex mutex_;
 };
 
+/// Calls `job(i)` for every i in [0, count) on up to `jobs` threads (this one among them), each index handed to
+/// whichever thread is free. A job that throws does not stop the others; the first exception caught is rethrown here
+/// once every thread is done. For a result that does not depend on the jobs, each job writes only its own slot.
+template <class Job>
+void parallel_for_index(std::size_t count, int jobs, Job&& job) {
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  const auto worker = [&] {
+    for (;;) {
+      const std::size_t i = next++;
+      if (i >= count) return;
+      try {
+        job(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(count)));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
 /// One input's outcome in a batch: its result or its failure.
 template <class Result>
 struct BatchItem {
