@@ -135,7 +135,9 @@ std::optional<double> contact_compliance_m_N(const SynchronisedPush& push) {
   if (n < kMinContactSamples) return std::nullopt;
   const double force_variance = sff / n - (sf / n) * (sf / n);
   if (!(force_variance >= kMinContactForceSpread_N * kMinContactForceSpread_N)) return std::nullopt;
-  return (sfp / n - (sf / n) * (sp / n)) / force_variance;
+  const double slope = (sfp / n - (sf / n) * (sp / n)) / force_variance;
+  if (!std::isfinite(slope)) return std::nullopt;
+  return slope;
 }
 
 void test_contact_compliance(const std::vector<SynchronisedPush>& pushes, const FloorContext& context,
