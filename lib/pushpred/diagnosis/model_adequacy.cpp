@@ -9,6 +9,7 @@
 #include <optional>
 #include <random>
 
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/mechanics/outline.hpp"
@@ -157,17 +158,9 @@ void test_contact_compliance(const std::vector<SynchronisedPush>& pushes, const 
                          adequacy.contact_pushes, kMinContactPushes);
     return;
   }
-  const auto median = [](std::vector<double> v) {
-    const std::size_t m = v.size() / 2;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
-    if (v.size() % 2) return v[m];
-    return 0.5 * (v[m] + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m)));
-  };
   const double compliance = median(slopes);
-  std::vector<double> deviations;
-  for (double b : slopes) deviations.push_back(std::abs(b - compliance));
   // The median's standard error: 1.2533 sigma / sqrt(n) for normal slopes, sigma from the MAD.
-  const double compliance_std = 1.2533 * 1.4826 * median(deviations) / std::sqrt(static_cast<double>(slopes.size()));
+  const double compliance_std = 1.2533 * robust_spread(slopes) / std::sqrt(static_cast<double>(slopes.size()));
   adequacy.contact_compliance_m_N = compliance;
   adequacy.contact_compliance_m_N_std = compliance_std;
   adequacy.contact_lag_mm = 1e3 * compliance * context.friction_force_N();
