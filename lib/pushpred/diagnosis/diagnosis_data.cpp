@@ -183,15 +183,13 @@ Eigen::Vector2d mean_force_N(const SynchronisedPush& push, const std::vector<Eig
   return mean / static_cast<double>(samples.size());
 }
 
-namespace {
-
-/// The rod's surface to `outline` at sample k [m]: the tip's centre in the object's body frame, its distance to the
-/// outline less the rod's radius.
 Outline::Closest rod_closest(const SynchronisedPush& push, const Outline& outline, Eigen::Index k) {
   const double c = std::cos(push.pose(k, 2)), s = std::sin(push.pose(k, 2));
   const Eigen::Vector2d d = push.tip_m.row(k).transpose() - push.pose.row(k).head<2>().transpose();
   return outline.closest(Eigen::Vector2d(c * d.x() + s * d.y(), -s * d.x() + c * d.y()));
 }
+
+namespace {
 
 double rod_gap_m(const SynchronisedPush& push, const Outline& outline, Eigen::Index k) {
   return rod_closest(push, outline, k).signed_distance_m - kPusherRadius_m;

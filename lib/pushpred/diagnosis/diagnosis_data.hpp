@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "pushpred/diagnosis/candidate_effect.hpp"
+#include "pushpred/mechanics/outline.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
 
 namespace pushpred {
@@ -103,6 +104,10 @@ std::vector<Eigen::Index> samples_before_tip_moves(const SynchronisedPush& push,
 
 /// The mean recorded force f_C over the grid `samples` [N, world frame]; `samples` must not be empty.
 Eigen::Vector2d mean_force_N(const SynchronisedPush& push, const std::vector<Eigen::Index>& samples);
+
+/// The outline's point closest to the rod's centre at grid sample k (the measured tip's centre in the object's body
+/// frame, Outline::closest): its signed distance less the rod's radius is the gap between rod and object.
+Outline::Closest rod_closest(const SynchronisedPush& push, const Outline& outline, Eigen::Index k);
 
 /// Below this measured gap between the resting rod's surface and the object's outline [m], the rod may touch: the
 /// contact compresses by f / k (a 3.7 N preload on the rig's 1e4 N/m: 0.37 mm, read as a negative gap), the trackers

@@ -12,7 +12,6 @@
 #include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
-#include "pushpred/mechanics/outline.hpp"
 
 namespace pushpred {
 
@@ -121,10 +120,9 @@ std::optional<double> contact_compliance_m_N(const SynchronisedPush& push) {
   for (Eigen::Index i = 0; i < push.size(); ++i) {
     if (!push.in_contact[static_cast<std::size_t>(i)]) continue;
     const double c = std::cos(push.pose(i, 2)), s = std::sin(push.pose(i, 2));
-    const Eigen::Vector2d lever = push.lever_m.row(i).transpose(), force = push.force_N.row(i).transpose();
-    const Eigen::Vector2d lever_body(c * lever.x() + s * lever.y(), -s * lever.x() + c * lever.y());
+    const Eigen::Vector2d force = push.force_N.row(i).transpose();
     const Eigen::Vector2d force_body(c * force.x() + s * force.y(), -s * force.x() + c * force.y());
-    const Outline::Closest closest = outline.closest(lever_body);
+    const Outline::Closest closest = rod_closest(push, outline, i);
     const double penetration = kPusherRadius_m - closest.signed_distance_m;
     const double into = -force_body.dot(closest.normal);
     n += 1;
