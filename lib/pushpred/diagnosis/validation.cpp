@@ -7,12 +7,12 @@
 #include <limits>
 #include <mutex>
 #include <random>
-#include <thread>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_pipeline.hpp"
 #include "pushpred/mechanics/outline.hpp"
+#include "pushpred/runtime/parallel_batch.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred {
@@ -499,25 +499,19 @@ ValidationResult validate_diagnosis_trials(const ValidationOptions& options, con
   const int total = static_cast<int>(indices.size());
   result.trials.resize(indices.size());
   // Trials interleave the kinds (index k draws kinds[k % K]), so a run cut short still covers every kind.
-  std::atomic<int> next{0}, done{0};
+  std::atomic<int> done{0};
   std::mutex progress_mutex;
-  const auto worker = [&] {
-    for (int j = next++; j < total; j = next++) {
-      ValidationTrial& t = result.trials[static_cast<std::size_t>(j)];
-      const int k = indices[static_cast<std::size_t>(j)];
-      t.index = k;
-      run_trial(result.options, t, kinds[static_cast<std::size_t>(k) % kinds.size()]);
-      const int d = ++done;
-      if (progress) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        progress(d, total);
-      }
+  parallel_for_index(indices.size(), options.jobs, [&](std::size_t j) {
+    ValidationTrial& t = result.trials[j];
+    const int k = indices[j];
+    t.index = k;
+    run_trial(result.options, t, kinds[static_cast<std::size_t>(k) % kinds.size()]);
+    const int d = ++done;
+    if (progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(d, total);
     }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 1; j < options.jobs; ++j) threads.emplace_back(worker);
-  worker();
-  for (auto& t : threads) t.join();
+  });
   return result;
 }
 
