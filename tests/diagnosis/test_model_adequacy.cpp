@@ -9,6 +9,7 @@
 #include "diagnosis_checks.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
+#include "pushpred/diagnosis/effect_floor.hpp"
 #include "pushpred/diagnosis/model_adequacy.hpp"
 #include "pushpred/diagnosis/validation.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
@@ -134,10 +135,8 @@ BOOST_AUTO_TEST_CASE(a_compliant_pusher_shows_in_the_contact_and_a_rigid_one_doe
   std::mt19937_64 rng(357300);
   auto scenarios = draw_scenarios(rng, 6, {});
   PreparedPushes rigid = prepare(scenarios);
-  double travel = 0;
-  for (const auto& d : rigid.data)
-    travel += (d.smooth_pose.row(d.rows() - 1).head<2>() - d.smooth_pose.row(0).head<2>()).norm();
-  rigid.context.travel_m = travel / static_cast<double>(rigid.data.size());
+  rigid.context = measure_floor_context(rigid.data, rigid.context.friction_coefficient, 0.0,
+                                        rigid.context.relevance_fraction);  // with how far the objects travel
   const double contact_compliance = 1.0 / scenarios.front().contact_stiffness_N_m;
   const double floor_compliance =
       rigid.context.relevance_fraction * rigid.context.travel_m / rigid.context.friction_force_N();
