@@ -213,8 +213,8 @@ BOOST_AUTO_TEST_CASE(a_true_bias_is_found_on_the_pushes_that_start_clear) {
 // so the rest fit's score should pass the search's BIC threshold about as seldom as a normal statistic would (far
 // below 1 %). Expected to fail, that claim (docs/diagnosis.md, "Limits"): the variance then comes from three pushes'
 // spread, two degrees of freedom, and read as a normal statistic it passes in about 15 % of the draws. Student's t
-// on those degrees of freedom would hold it, but leaves no power with three clear pushes: a true bias of 1 N with the
-// real sensor's zeros, which passes in every draw as it is, then passed in 4 of 20.
+// on those degrees of freedom would hold it, but would leave no power with three clear pushes: a true bias of 1 N
+// with the real sensor's zeros, which passes in every draw (checked below), would pass in 4 of 20.
 BOOST_AUTO_TEST_CASE(three_clear_pushes_whose_zeros_differ_by_chance_do_not_make_a_bias,
                      *boost::unit_test::expected_failures(1)) {
   std::mt19937_64 rng(358700);
