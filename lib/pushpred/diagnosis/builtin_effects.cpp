@@ -334,8 +334,8 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
 // hide most of that noise's share of the mean (with two fit pushes the within-push variance alone let a clean
 // sensor's slow noise pass as a bias of 0.16 N at 9 standard errors; tuning seeds 72000-72059). Score: the Wald
 // statistic minus the BIC penalty 2 ln(N_eff), as for the regression effects.
-DirectFit rest_force_fit(const std::vector<const SynchronisedPush*>& pushes,
-                         const Eigen::Vector2d& shared_rest_force_N) {
+DirectFit rest_force_fit(const std::vector<const SynchronisedPush*>& pushes, const Eigen::Vector2d& shared_rest_force_N,
+                         double sensor_zero_spread_N) {
   std::vector<Eigen::MatrixX2d> blocks;
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   long count = 0;
@@ -383,6 +383,8 @@ DirectFit rest_force_fit(const std::vector<const SynchronisedPush*>& pushes,
   for (int c = 0; c < 2; ++c) {
     double v = within(c);
     if (P >= 2) v = std::max(v, between(c) / (P - 1) / P);
+    // Each clear rest carries its push's own zero: a mean over P of them is uncertain by at least the rig's spread.
+    v = std::max(v, sensor_zero_spread_N * sensor_zero_spread_N / P);
     fit.covariance(c, c) = v;
     wald += v > 0 ? mean(c) * mean(c) / v : 0.0;
   }
@@ -418,8 +420,9 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
   DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
     std::vector<const SynchronisedPush*> recorded;
     for (const auto& d : pushes) recorded.push_back(&d.push);
-    // Every push of a diagnosis carries the same shared rest force (DiagnosisContext::corrected_data).
-    return rest_force_fit(recorded, pushes.empty() ? Eigen::Vector2d::Zero() : pushes.front().shared_rest_force_N);
+    // Every push of a diagnosis carries the same shared rest force and zero spread (DiagnosisContext::corrected_data).
+    if (pushes.empty()) return rest_force_fit(recorded, Eigen::Vector2d::Zero());
+    return rest_force_fit(recorded, pushes.front().shared_rest_force_N, pushes.front().sensor_zero_spread_N);
   }
 };
 

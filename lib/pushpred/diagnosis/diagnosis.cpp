@@ -20,6 +20,8 @@ void DiagnosisOptions::validate() const {
   if (!(adequacy_alpha > 0) || !(adequacy_alpha < 1))
     throw InputError("diagnosis: the adequacy test's level must be between 0 and 1");
   if (study.correction) throw InputError("diagnosis: the study options must not carry a correction of their own");
+  if (!(sensor_zero_spread_N >= 0) || !std::isfinite(sensor_zero_spread_N))
+    throw InputError("diagnosis: the sensor zero's spread must be a non-negative number of newtons");
 }
 
 ErrorSummary summarise_errors(const std::vector<StudyPhase>& phases, const std::string& method) {

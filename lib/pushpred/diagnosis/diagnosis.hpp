@@ -48,6 +48,13 @@
 
 namespace pushpred {
 
+/// The real force sensor's zero error, push to push [N, standard deviation per axis]. Where a live-sensor ABS push's
+/// rest force is not a preload (it does not point into the contact, or is below the sensor's resolution) it reads
+/// 0.10 N RMS per axis over 16 pushes (`pushpred inspect ../shared/data/mcube/abs`, its last lines); the other 21
+/// point into the contact, and every rest force above 0.5 N (up to 5 N) lies within 11 degrees of the inward normal:
+/// preloads, pressed before the tip moves.
+inline constexpr double kSensorZeroSpread_N = 0.1;
+
 struct DiagnosisOptions {
   StudyOptions study;                ///< the paper's method (schedule, plan rate, relation estimator); no correction
   QFilterObserverOptions observer;   ///< the disturbance observer
@@ -69,6 +76,11 @@ struct DiagnosisOptions {
   /// How the friction base and the search's regressions treat each push's own sensor zero (residual_regression.hpp):
   /// PerPush, invariant to it where it can reach; AsRecorded, the zeros stay in the data.
   SensorZeros sensor_zeros = SensorZeros::PerPush;
+  /// The push-to-push spread of the force sensor's zero that the rig is known to have [N, standard deviation per
+  /// axis]: the force that the pushes' clear rests share (the force-offset test, the adequacy test's rest part) is
+  /// never given a standard error below spread / sqrt(pushes). Two to four clear rests alone often spread by chance
+  /// much less than the zeros do, and a chance mean then reads as a bias. 0: the pushes' own spread alone.
+  double sensor_zero_spread_N = kSensorZeroSpread_N;
   void validate() const;
 };
 

@@ -43,6 +43,9 @@ struct DiagnosisPush {
   /// set's pushes; zero for a push prepared alone. Taken off a rest force before judging whether it points into the
   /// contact (samples_without_contact).
   Eigen::Vector2d shared_rest_force_N = Eigen::Vector2d::Zero();
+  /// The rig's known push-to-push spread of the sensor zero [N per axis] (DiagnosisOptions::sensor_zero_spread_N), for
+  /// the force-offset test; 0 for a push prepared alone.
+  double sensor_zero_spread_N = 0;
   /// What the selected refinements of the friction law explain (n x 3, as the observer sees it; zero until the
   /// diagnosis sets it), for direct fits that work against the friction law (time_offset).
   Eigen::MatrixX3d friction_explained;

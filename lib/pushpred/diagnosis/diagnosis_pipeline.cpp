@@ -147,6 +147,7 @@ std::vector<DiagnosisPush> DiagnosisContext::corrected_data(const ModelCorrectio
     obs.inertia_kgm2 = 0;
     data.push_back(prepare_diagnosis_push(corrected[p], 0.0, fit_end_s[p], obs));
     data.back().shared_rest_force_N = shared_rest_force;
+    data.back().sensor_zero_spread_N = options.sensor_zero_spread_N;
   }
   return data;
 }

@@ -91,7 +91,7 @@ void test_rest_force(const std::vector<SynchronisedPush>& pushes, const Eigen::V
                      ModelAdequacy& adequacy) {
   std::vector<const SynchronisedPush*> recorded;
   for (const auto& push : pushes) recorded.push_back(&push);
-  const DirectFit fit = rest_force_fit(recorded, shared_rest_force_N);
+  const DirectFit fit = rest_force_fit(recorded, shared_rest_force_N, options.sensor_zero_spread_N);
   adequacy.rest_pushes = fit.pushes;
   adequacy.rest_tested = std::isfinite(fit.score);
   adequacy.rest_threshold = bic_threshold;

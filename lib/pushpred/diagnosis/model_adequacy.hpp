@@ -157,6 +157,8 @@ struct AdequacyOptions {
   /// Make the force part invariant to each push's own sensor zero (see sensor_zero_columns()); false: the zeros
   /// are taken as recorded.
   bool sensor_zeros = true;
+  /// The rig's known push-to-push spread of the sensor zero [N per axis], for the rest part (rest_force_fit).
+  double sensor_zero_spread_N = 0;
 };
 
 /// The force part and the hints. `model` are the corrected model's columns in the friction base (every one whose

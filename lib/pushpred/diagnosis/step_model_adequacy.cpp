@@ -17,6 +17,7 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   options.replicates = context.options.adequacy_replicates;
   options.alpha = context.options.adequacy_alpha;
   options.floor_margin_std = context.options.floor_margin_std;
+  options.sensor_zero_spread_N = context.options.sensor_zero_spread_N;
   AdequacyOutcome out;
   ModelAdequacy& a = out.adequacy;
   out.hints = test_residual_structure(model.data, columns, floors, options, a);

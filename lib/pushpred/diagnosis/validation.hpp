@@ -37,12 +37,6 @@
 
 namespace pushpred {
 
-/// The real force sensor's zero error, push to push [N, standard deviation per axis]. Where a live-sensor ABS push's
-/// rest force is not a preload (it does not point into the contact, or is below the sensor's resolution) it reads
-/// 0.10 N RMS per axis over 16 pushes (`pushpred inspect ../shared/data/mcube/abs`, its last lines); the other 21
-/// point into the contact, and every rest force above 0.5 N (up to 5 N) lies within 11 degrees of the inward normal:
-/// preloads, pressed before the tip moves.
-inline constexpr double kSensorZeroSpread_N = 0.1;
 /// A pessimistic bound on the sensor's zero error [N per axis], the size the large real rest forces would have if
 /// they were zeros rather than preloads: what the diagnosis must survive, not what the rig does.
 inline constexpr double kPessimisticSensorZeroSpread_N = 0.6;
