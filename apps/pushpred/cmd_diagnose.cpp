@@ -23,7 +23,7 @@ struct DiagnoseArgs {
   double bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
   bool per_object = false, no_plots = false, quick_base = false;
-  double relevance_fraction = 0.05, floor_margin_std = 1.0;
+  double relevance_fraction = 0.05, floor_margin_std = 1.0, sensor_zero_spread_N = kSensorZeroSpread_N;
   int jobs = default_jobs();
 };
 
@@ -34,6 +34,7 @@ int run_diagnose(const DiagnoseArgs& a) {
   run.options.bic_threshold = a.bic_threshold;
   run.options.relevance_fraction = a.relevance_fraction;
   run.options.floor_margin_std = a.floor_margin_std;
+  run.options.sensor_zero_spread_N = a.sensor_zero_spread_N;
   run.options.fit_base_settings = !a.quick_base;
   run.exclude = a.exclude;
   run.preprocess.rate_hz = a.rate_hz;
@@ -64,6 +65,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "Share of the support friction force below which an effect is negligible (default 0.05)")
       ->check(CLI::Range(1e-6, 0.999999));
   add_floor_margin(*sub, a->floor_margin_std);
+  add_sensor_zero_spread(*sub, a->sensor_zero_spread_N);
   sub->add_flag("--quick-base", a->quick_base,
                 "Do not fit the base model's settings (quasi-static stop fraction) on the fit phases: faster");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");

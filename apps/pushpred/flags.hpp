@@ -87,6 +87,17 @@ inline CLI::Option* add_floor_margin(CLI::App& sub, double& margin_std) {
       ->check(kNonNegativeNumber);
 }
 
+/// `--sensor-zero-spread N`: the rig's known push-to-push spread of the force sensor's zero
+/// (DiagnosisOptions::sensor_zero_spread_N).
+inline CLI::Option* add_sensor_zero_spread(CLI::App& sub, double& spread_N) {
+  return sub
+      .add_option("--sensor-zero-spread", spread_N,
+                  "The rig's push-to-push spread of the force sensor's zero, sd per axis in N (default 0.1, the "
+                  "MCube rig's as `pushpred inspect` measures it; 0: the pushes' own spread alone): a bias the "
+                  "pushes' rests share is judged against it")
+      ->check(kNonNegativeNumber);
+}
+
 /// `--shard I/N` where a subcommand can split its work; `help` says what is shared out. The spec is parsed when the
 /// subcommand runs (parse_shard_spec), so that a bad one is refused like the subcommand's other input errors.
 inline CLI::Option* add_shard(CLI::App& sub, std::string& spec, const std::string& help) {

@@ -132,7 +132,8 @@ const std::vector<std::pair<const char*, double DiagnosisOptions::*>>& number_op
   static const std::vector<std::pair<const char*, double DiagnosisOptions::*>> options{
       {"bic_threshold", &DiagnosisOptions::bic_threshold},
       {"relevance_fraction", &DiagnosisOptions::relevance_fraction},
-      {"floor_margin_std", &DiagnosisOptions::floor_margin_std}};
+      {"floor_margin_std", &DiagnosisOptions::floor_margin_std},
+      {"sensor_zero_spread_N", &DiagnosisOptions::sensor_zero_spread_N}};
   return options;
 }
 const std::vector<std::pair<const char*, bool DiagnosisOptions::*>>& flag_options() {

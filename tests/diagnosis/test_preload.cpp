@@ -249,4 +249,57 @@ BOOST_AUTO_TEST_CASE(three_clear_pushes_whose_zeros_differ_by_chance_do_not_make
   BOOST_TEST(found == 20);
 }
 
+
+// The same three clean pushes with the real sensor's zeros, and the rig's zero spread known
+// (DiagnosisOptions::sensor_zero_spread_N): a chance mean of three zeros is judged against the spread the zeros
+// have, not against the spread three of them happen to show, and passes the BIC threshold about as seldom as a
+// normal statistic would; judged against their own spread alone, the same draws pass far more often. A bias five
+// times the spread in each axis is still found in every draw that has two clear rests.
+BOOST_AUTO_TEST_CASE(with_the_rigs_zero_spread_known_chance_zeros_do_not_make_a_bias_and_a_true_one_still_does) {
+  std::mt19937_64 rng(359700);
+  auto scenarios = draw_scenarios(rng, 3, {});
+  for (auto& s : scenarios) s.approach_gap_m = 0.001;
+  const std::vector<SynchronisedPush> clean = simulate_all(scenarios);
+  const auto draw = [&](const Eigen::Vector2d& bias_N) {
+    std::normal_distribution<double> zero(0.0, kSensorZeroSpread_N);
+    std::vector<SynchronisedPush> pushes = clean;
+    for (auto& p : pushes) {
+      const Eigen::RowVector2d offset(zero(rng), zero(rng));
+      p.force_N.rowwise() += offset - bias_N.transpose();  // the sensor reads -f_C + b
+    }
+    return pushes;
+  };
+  const auto fit = [](const std::vector<SynchronisedPush>& pushes, double spread_N) {
+    std::vector<const SynchronisedPush*> pointers;
+    for (const auto& p : pushes) pointers.push_back(&p);
+    return rest_force_fit(pointers, Eigen::Vector2d::Zero(), spread_N);
+  };
+  const double threshold = DiagnosisOptions{}.bic_threshold;
+  const int draws = 200;
+  int with_spread = 0, own_spread_only = 0, tested = 0;
+  for (int k = 0; k < draws; ++k) {
+    const std::vector<SynchronisedPush> pushes = draw(Eigen::Vector2d::Zero());
+    const DirectFit known = fit(pushes, kSensorZeroSpread_N);
+    if (!std::isfinite(known.score)) continue;
+    ++tested;
+    with_spread += known.score > threshold;
+    own_spread_only += fit(pushes, 0.0).score > threshold;
+  }
+  BOOST_TEST_MESSAGE("chance zeros passed in " << with_spread << " of " << tested << " draws with the spread known, "
+                                               << own_spread_only << " with the pushes' own spread alone");
+  BOOST_TEST_REQUIRE(tested >= draws / 2);
+  BOOST_TEST(with_spread <= tested / 50);
+  BOOST_TEST(own_spread_only > with_spread);
+  const Eigen::Vector2d bias(5 * kSensorZeroSpread_N, -5 * kSensorZeroSpread_N);
+  int found = 0, tested_biased = 0;
+  for (int k = 0; k < 20; ++k) {
+    const DirectFit biased = fit(draw(bias), kSensorZeroSpread_N);
+    if (!std::isfinite(biased.score)) continue;  // fewer than two rests read clear: no test
+    ++tested_biased;
+    found += biased.score > threshold;
+  }
+  BOOST_TEST_REQUIRE(tested_biased >= 15);
+  BOOST_TEST(found == tested_biased);
+}
+
 BOOST_AUTO_TEST_SUITE_END()

@@ -439,6 +439,7 @@ nlohmann::json diagnosis_json(const DiagnosisResult& r, const DiagnosisOptions& 
             {"bic_threshold", o.bic_threshold},
             {"relevance_fraction", o.relevance_fraction},
             {"floor_margin_std", o.floor_margin_std},
+            {"sensor_zero_spread_N", o.sensor_zero_spread_N},
             {"fit_base_settings", o.fit_base_settings},
             {"adequacy_replicates", o.adequacy_replicates},
             {"adequacy_alpha", o.adequacy_alpha}}},

@@ -79,6 +79,7 @@ nlohmann::json validation_json(const ValidationResult& r) {
             {"relevance_fraction", o.diagnosis.relevance_fraction},
             {"bic_threshold", o.diagnosis.bic_threshold},
             {"floor_margin_std", o.diagnosis.floor_margin_std},
+            {"sensor_zero_spread_N", o.diagnosis.sensor_zero_spread_N},
             {"hide", o.hide},
             {"draw_preloads", o.draw_preloads},
             {"draw_sensor_offsets", o.draw_sensor_offsets},
@@ -118,6 +119,7 @@ std::string validation_markdown(const ValidationResult& r) {
      << (o.draw_sensor_offsets
              ? ", with its own force-sensor offset (sd " + fixed(o.sensor_offset_spread_N, 2) + " N per axis)"
              : std::string(", the sensor zeroed"))
+     << "; the diagnosis assumes a zero spread of " << fixed(o.diagnosis.sensor_zero_spread_N, 2) << " N per axis"
      << ". Scenarios and ranges: lib/pushpred/diagnosis/validation.hpp.";
   if (!o.hide.empty()) {
     std::string hidden;
