@@ -13,7 +13,8 @@ std::string greedy_prefix(SearchStage stage) {
 }
 
 std::string motion_numbers(const SelectionDecision& d) {
-  return diagnosis_format(" (normalised error %.3f with it, %.3f without)", d.error_with, d.error_without);
+  return diagnosis_format(" (normalised error %.3f with it, %.3f without", d.error_with, d.error_without) +
+         "; better on " + std::to_string(d.pushes_better) + " of " + std::to_string(d.pushes) + " fit pushes)";
 }
 
 /// The support's total friction torque coefficient, whose sign decides whether a fit drives the rotation.

@@ -80,6 +80,7 @@ struct SelectionDecision {
   double torque = 0;                          ///< mu + torque_excess in the joint fit [-]
   double support_friction = 0;                ///< the Coulomb coefficient mu in the joint fit [-]
   double error_with = 0, error_without = 0;   ///< the fit phases' mean normalised error with it and without it
+  int pushes_better = 0, pushes = 0;          ///< fit pushes whose own phases it predicts better, of all fit pushes
   double samples = 0, effective_samples = 0;  ///< a direct test's samples
 };
 

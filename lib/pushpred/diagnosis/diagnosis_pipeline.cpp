@@ -306,6 +306,21 @@ double DiagnosisContext::fit_phase_error(const ModelCorrection& correction) cons
   return sum / static_cast<double>(e.size());
 }
 
+std::vector<double> DiagnosisContext::fit_push_errors(const ModelCorrection& correction) const {
+  const std::vector<PushStudy> s = studies(fit_pointers(), correction);
+  std::vector<double> out;
+  for (const PushStudy& study : s) {
+    std::vector<StudyPhase> phases;
+    for (const StudyPhase& sp : fit_phases(s))
+      if (sp.study == &study) phases.push_back(sp);
+    const std::vector<double> e = normalised(phases, kCorrectedMethod);
+    double sum = 0;
+    for (double v : e) sum += v;
+    out.push_back(e.empty() ? std::numeric_limits<double>::infinity() : sum / static_cast<double>(e.size()));
+  }
+  return out;
+}
+
 std::vector<EffectReport> blank_reports(const EffectLibrary& library) {
   const auto& effects = library.effects();
   std::vector<EffectReport> reports(effects.size());

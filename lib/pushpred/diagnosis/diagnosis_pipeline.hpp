@@ -115,6 +115,9 @@ struct DiagnosisContext {
   /// The mean normalised error of the corrected prediction with `correction` over the fit pushes' phases; infinite
   /// when there is none. Throws what the study throws.
   double fit_phase_error(const ModelCorrection& correction) const;
+  /// Per fit push, the mean normalised error of its phases (as fit_phase_error), in fit-push order; infinite for a
+  /// push without phases. Throws what the study throws.
+  std::vector<double> fit_push_errors(const ModelCorrection& correction) const;
 };
 
 /// The model as built so far: its regression terms (the base friction law and its refinements, the physical
@@ -175,8 +178,8 @@ struct BaseStructure {
 BaseStructure base_structure(const DiagnosisContext& context, const ModelState& model);
 
 // 5b. A found effect that changes how the pushing model moves the object (confirmed_by_motion) stays found only if
-// the fit pushes' motion is predicted better with it; without the ones ruled out the friction laws are searched
-// again and the base structure chosen anew.
+// the fit pushes' motion is predicted better with it, on the mean and on more than half of the fit pushes; without
+// the ones ruled out the friction laws are searched again and the base structure chosen anew.
 struct MotionConfirmation {
   ModelState model;
   BaseStructure structure;  ///< the structure of `model` (its decisions, when chosen anew, are in `trace`)
