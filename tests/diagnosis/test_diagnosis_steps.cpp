@@ -514,6 +514,18 @@ BOOST_AUTO_TEST_CASE(a_true_offset_predicts_most_fit_pushes_better) {
   BOOST_TEST(decision.find("better on 3 of 4 fit pushes") != std::string::npos, decision);
 }
 
+BOOST_AUTO_TEST_CASE(a_bias_is_read_from_the_held_out_pushes_rests_when_the_fit_pushes_start_pressed) {
+  // A blind trial of the tuning seeds 359400 (validation defaults, rect3, a bias of -0.66 N on each axis, 4 fit and 4
+  // held-out pushes): of the fit pushes only one rests clear of the object, which cannot tell a shared bias from its
+  // own zero; the held-out pushes' rests, part of no prediction phase, add the second.
+  const auto [v, r] = blind_trial(359400, 18, "force_offset", true);
+  const EffectReport& bias = report(r, "force_offset");
+  BOOST_TEST(bias.selected, bias.note);
+  BOOST_TEST(v.true_named, findings_text(r));
+  const double truth_N = std::abs(v.amount) * std::sqrt(2.0);  // the drawn amount is each axis's
+  BOOST_TEST(bias.amount == truth_N, boost::test_tools::tolerance(0.25));
+}
+
 BOOST_AUTO_TEST_CASE(a_drag_that_would_turn_the_support_friction_torque_negative_is_not_found) {
   // A blind Stribeck trial of seeds 180000 (rect1, 4 pushes). A drag of 15.6 1/s fits the sliding data jointly with
   // mu 0.14 and a torque excess of -0.46: the support's friction torque would drive the rotation, and the corrected

@@ -417,12 +417,21 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     c.sensor_bias_N += theta.head<2>();
   }
 
-  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override {
+  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const override { return fit_directly(pushes, {}); }
+  /// The held-out pushes' rests too: a bias needs two clear rests to show, half the pushes often start pressed, and
+  /// where nothing touches is part of no prediction phase.
+  DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes,
+                         const std::vector<SynchronisedPush>& held_out) const override {
+    std::vector<SynchronisedPush> all;
+    for (const auto& d : pushes) all.push_back(d.push);
+    all.insert(all.end(), held_out.begin(), held_out.end());
     std::vector<const SynchronisedPush*> recorded;
-    for (const auto& d : pushes) recorded.push_back(&d.push);
-    // Every push of a diagnosis carries the same shared rest force and zero spread (DiagnosisContext::corrected_data).
-    if (pushes.empty()) return rest_force_fit(recorded, Eigen::Vector2d::Zero());
-    return rest_force_fit(recorded, pushes.front().shared_rest_force_N, pushes.front().sensor_zero_spread_N);
+    for (const auto& push : all) recorded.push_back(&push);
+    // Every push of a diagnosis carries the same zero spread (DiagnosisContext::corrected_data).
+    const double spread_N = pushes.empty() ? 0.0 : pushes.front().sensor_zero_spread_N;
+    return rest_force_fit(recorded, held_out.empty() && !pushes.empty() ? pushes.front().shared_rest_force_N
+                                                                         : shared_rest_force_N(all),
+                          spread_N);
   }
 };
 

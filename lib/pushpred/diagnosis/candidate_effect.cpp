@@ -134,6 +134,11 @@ DirectFit CandidateEffect::fit_directly(const std::vector<DiagnosisPush>&) const
   throw InputError("effect " + kind() + " is not fitted directly");
 }
 
+DirectFit CandidateEffect::fit_directly(const std::vector<DiagnosisPush>& pushes,
+                                        const std::vector<SynchronisedPush>&) const {
+  return fit_directly(pushes);
+}
+
 const ForceLawEffect* CandidateEffect::as_force_law() const { return dynamic_cast<const ForceLawEffect*>(this); }
 const DataCorrectionEffect* CandidateEffect::as_data_correction() const {
   return dynamic_cast<const DataCorrectionEffect*>(this);

@@ -37,6 +37,7 @@
 namespace pushpred {
 
 struct DiagnosisPush;
+struct SynchronisedPush;
 class CandidateEffect;
 class ForceLawEffect;
 
@@ -289,6 +290,10 @@ class CandidateEffect {
   /// Direct effects, and prediction structures with parameters: estimates theta from the fit pushes (as corrected so
   /// far). For prediction structures the score is not used. Default: throws.
   virtual DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes) const;
+  /// The same, where the effect may also read what the held-out pushes record before the tip moves (`held_out`,
+  /// corrected like `pushes`): no prediction phase holds those samples. Default: fit_directly(pushes).
+  virtual DirectFit fit_directly(const std::vector<DiagnosisPush>& pushes,
+                                 const std::vector<SynchronisedPush>& held_out) const;
 
   // --- How it corrects the model.
   /// Adds the effect with parameters `theta` (and `setting`) to `correction`. `self` is this effect, shared, for

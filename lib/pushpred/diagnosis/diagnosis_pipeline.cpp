@@ -306,6 +306,13 @@ double DiagnosisContext::fit_phase_error(const ModelCorrection& correction) cons
   return sum / static_cast<double>(e.size());
 }
 
+std::vector<SynchronisedPush> DiagnosisContext::held_out_rests(const std::vector<Selection>& terms) const {
+  const ModelCorrection correction = correction_of(terms, false);
+  std::vector<SynchronisedPush> out;
+  for (const auto& push : test_pushes) out.push_back(apply_data_correction(push, correction));
+  return out;
+}
+
 std::vector<double> DiagnosisContext::fit_push_errors(const ModelCorrection& correction) const {
   const std::vector<PushStudy> s = studies(fit_pointers(), correction);
   std::vector<double> out;

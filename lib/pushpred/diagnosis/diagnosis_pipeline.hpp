@@ -118,6 +118,9 @@ struct DiagnosisContext {
   /// Per fit push, the mean normalised error of its phases (as fit_phase_error), in fit-push order; infinite for a
   /// push without phases. Throws what the study throws.
   std::vector<double> fit_push_errors(const ModelCorrection& correction) const;
+  /// The held-out pushes with the data corrections of `terms` applied, for what they record before the tip moves
+  /// (CandidateEffect::fit_directly).
+  std::vector<SynchronisedPush> held_out_rests(const std::vector<Selection>& terms) const;
 };
 
 /// The model as built so far: its regression terms (the base friction law and its refinements, the physical

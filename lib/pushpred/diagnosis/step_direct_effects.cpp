@@ -12,7 +12,7 @@ DirectEffects direct_effects(const DiagnosisContext& context, const ModelState& 
   DirectEffects out{model, {}};
   for (std::size_t i = 0; i < effects.size(); ++i) {
     if (effects[i]->test() != EffectTest::Direct || context.is_base(i)) continue;
-    const DirectFit f = effects[i]->fit_directly(out.model.data);
+    const DirectFit f = effects[i]->fit_directly(out.model.data, context.held_out_rests(out.model.terms));
     SelectionDecision fitted = decision_about(i, Verdict::DirectFitted, SearchStage::Direct);
     fitted.score = f.score;
     fitted.theta = f.theta;

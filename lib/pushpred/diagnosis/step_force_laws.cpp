@@ -70,7 +70,7 @@ ModelState retest_direct(const DiagnosisContext& context, ModelState model, cons
         for (std::size_t j = 0; j < cols.size(); ++j)
           data[p].friction_explained += theta(static_cast<Eigen::Index>(j)) * cols[j][p];
     }
-    const DirectFit f = effect->fit_directly(data);
+    const DirectFit f = effect->fit_directly(data, context.held_out_rests(refitted.terms));
     attempt.line(effect->kind() + diagnosis_format(":   score %.1f beside them", f.score));
     changed = true;
     if (!(f.score > context.options.bic_threshold) || !effect->plausibility(f.theta, floors).plausible()) {
