@@ -132,6 +132,20 @@ BOOST_AUTO_TEST_CASE(an_effect_the_motion_contradicts_is_reported_as_such_and_no
   BOOST_TEST(j["effects"][0]["amount"]["std"].get<double>() == 0.002);
 }
 
+BOOST_AUTO_TEST_CASE(an_effect_standing_in_for_an_unexplained_residual_is_reported_as_such_and_not_found) {
+  DiagnosisResult r = made_up_result();
+  r.effects[0].selected = false;
+  r.effects[0].passed_test = true;
+  r.effects[0].stands_in_for_unexplained = true;
+  BOOST_TEST(effects_found(r).empty());
+  BOOST_TEST(findings_text(r).find("standing in for the unexplained residual (not found beside it): time_offset") !=
+                 std::string::npos,
+             findings_text(r));
+  const nlohmann::json j = diagnosis_json(r, DiagnosisOptions{});
+  BOOST_TEST(j["effects"][0]["stands_in_for_unexplained"].get<bool>());
+  BOOST_TEST(!j["effects"][0]["contradicted_by_motion"].get<bool>());
+}
+
 BOOST_AUTO_TEST_CASE(a_found_effect_that_does_not_help_prediction_is_reported_with_its_held_out_change) {
   DiagnosisResult r = made_up_result();
   r.effects[0].amount = 0.02;

@@ -78,15 +78,17 @@ DiagnosisResult diagnose(const std::vector<SynchronisedPush>& pushes, const Effe
   const MotionConfirmation confirmed = step(
       "motion_confirmation", [&] { return motion_confirmation(context, laws.model, structure, laws.floors); },
       MotionConfirmation{laws.model, structure, {}, {}});
-  const HeldOutErrors errors = held_out(context, confirmed.model, confirmed.structure, paper.residual_before);
+  const MotionConfirmation checked = step(
+      "stand_in_check", [&] { return stand_in_check(context, confirmed, laws.floors); }, confirmed);
+  const HeldOutErrors errors = held_out(context, checked.model, checked.structure, paper.residual_before);
   traces.push_back(errors.trace);
   AdequacyOutcome adequacy;
   if (options.adequacy_replicates > 0)
     adequacy = step(
         "model_adequacy",
-        [&] { return model_adequacy(context, confirmed.model, laws.floors, errors.fit_phase_biases); },
+        [&] { return model_adequacy(context, checked.model, laws.floors, errors.fit_phase_biases); },
         AdequacyOutcome{});
-  return diagnosis_result(input, paper, laws.floors, confirmed, errors, adequacy, traces);
+  return diagnosis_result(input, paper, laws.floors, checked, errors, adequacy, traces);
 }
 
 }  // namespace pushpred

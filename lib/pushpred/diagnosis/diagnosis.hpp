@@ -104,6 +104,10 @@ struct EffectReport {
   /// Significant and above its floor, but the fit pushes' motion contradicts it (CandidateEffect::
   /// confirmed_by_motion): with it the corrected model predicted their phases no better. Not found.
   bool contradicted_by_motion = false;
+  /// Significant and above its floor, but the corrected model leaves an unexplained force residual, and beside that
+  /// residual's leading generic signature it no longer passes its test: a stand-in for physics the catalogue lacks.
+  /// Not found.
+  bool stands_in_for_unexplained = false;
   bool selected = false;     ///< in the corrected model: found (significant, above the floor), or part of the base
   double amount = 0;         ///< CandidateEffect::amount() of theta, in amount_unit
   double amount_std = 0;     ///< its standard error (theta_std through the amount's gradient; 0: not known)

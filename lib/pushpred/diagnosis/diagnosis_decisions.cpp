@@ -95,6 +95,9 @@ std::optional<std::string> decision_log_line(const SelectionDecision& d, const s
       return kind + ": confirmed by the fit pushes' motion" + motion_numbers(d);
     case Verdict::ContradictedByMotion:
       return kind + ": contradicted by the fit pushes' motion" + motion_numbers(d) + ": not found";
+    case Verdict::StandsInForUnexplained:
+      return kind + ": stands in for the unexplained residual: beside its leading signature " + d.reason +
+             diagnosis_format(" its score is %.1f (%.1f alone): not found", d.score_beside, d.score);
     case Verdict::BaseStructureNote:
     case Verdict::BaseStructurePart:
     case Verdict::Fitted:
@@ -237,6 +240,16 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
     case Verdict::ReopenedForSearch:
       r.passed_test = r.negligible = false;
       r.note.clear();
+      return;
+    case Verdict::StandsInForUnexplained:
+      r.stands_in_for_unexplained = true;
+      r.theta = d.theta;
+      r.theta_std = d.theta_std;
+      r.note = "significant and above its floor, but the corrected model leaves a residual it does not explain, and "
+               "beside that residual's leading signature (" +
+               d.reason + diagnosis_format(") it no longer passes its test (score %.1f): a stand-in for physics the "
+                                           "catalogue lacks",
+                                           d.score_beside);
       return;
   }
 }

@@ -24,6 +24,7 @@ enum class SearchStage {
   JointRefit,          ///< the found set re-fitted jointly with the data corrections applied
   Retest,              ///< a data correction tested again beside the friction refinements found without it
   MotionConfirmation,  ///< a found effect that changes the motion, checked against the fit pushes' motion
+  StandIn,             ///< a found effect checked beside the structure the corrected model leaves unexplained
   BaseStructure,       ///< the base model's prediction structure
 };
 
@@ -61,6 +62,9 @@ enum class Verdict {
   ContradictedByMotion,  ///< no better with it: not found (theta, error_with, error_without)
   ReopenedForSearch,     ///< its earlier verdict is void: the friction laws are searched again without a contradicted
                          ///< effect
+  // The structure left.
+  StandsInForUnexplained,  ///< beside the leading signature of an unexplained residual (`reason`) it no longer
+                           ///< passes its test (score): not found
 };
 
 /// One decision about one candidate (an index into the library), with what it rests on. Fields a verdict does not
@@ -80,6 +84,7 @@ struct SelectionDecision {
   double torque = 0;                          ///< mu + torque_excess in the joint fit [-]
   double support_friction = 0;                ///< the Coulomb coefficient mu in the joint fit [-]
   double error_with = 0, error_without = 0;   ///< the fit phases' mean normalised error with it and without it
+  double score_beside = 0;                    ///< StandsInForUnexplained: its score beside the signature
   int pushes_better = 0, pushes = 0;          ///< fit pushes whose own phases it predicts better, of all fit pushes
   double samples = 0, effective_samples = 0;  ///< a direct test's samples
 };

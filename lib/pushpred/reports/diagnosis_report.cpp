@@ -49,6 +49,7 @@ nlohmann::json effect_json(const EffectReport& r) {
                       {"passed_test", r.passed_test},
                       {"negligible", r.negligible},
                       {"contradicted_by_motion", r.contradicted_by_motion},
+                      {"stands_in_for_unexplained", r.stands_in_for_unexplained},
                       {"selected", r.selected},
                       {"score", number_or_null(r.score)},
                       {"parameters", parameters}};
@@ -277,12 +278,13 @@ std::string found_effect_text(const DiagnosisResult& r, const EffectReport& e) {
 }  // namespace
 
 std::string findings_text(const DiagnosisResult& r) {
-  std::vector<std::string> found, negligible, contradicted;
+  std::vector<std::string> found, negligible, contradicted, stand_ins;
   for (const auto& e : r.effects) {
     if (e.structural) continue;
     if (e.selected) found.push_back(found_effect_text(r, e));
     else if (e.negligible) negligible.push_back(e.kind);
     else if (e.contradicted_by_motion) contradicted.push_back(e.kind);
+    else if (e.stands_in_for_unexplained) stand_ins.push_back(e.kind);
   }
   const ModelAdequacy& a = r.adequacy;
   const bool unexplained = a.tested && !a.explained;
@@ -296,6 +298,8 @@ std::string findings_text(const DiagnosisResult& r) {
     s = "found: " + joined(found) + (unexplained ? "; " + a.verdict() : a.tested ? "; residual explained" : "");
   if (!negligible.empty()) s += "; significant but negligible: " + joined(negligible);
   if (!contradicted.empty()) s += "; significant, but contradicted by the fit pushes' motion: " + joined(contradicted);
+  if (!stand_ins.empty())
+    s += "; significant, but standing in for the unexplained residual (not found beside it): " + joined(stand_ins);
   const auto fixes = kinds_of(r, true);
   if (!fixes.empty()) s += "; base model: " + joined(fixes);
   return s;
@@ -617,7 +621,8 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
                                      : general(e.amount) + " / " + general(e.floor.amount) + " " + e.amount_unit +
                                            (e.negligible               ? " (negligible)"
                                             : e.contradicted_by_motion ? " (contradicted)"
-                                                                       : ""),
+                                            : e.stands_in_for_unexplained ? " (stand-in)"
+                                                                          : ""),
                         e.selected ? (e.structural ? "base" : "**found**") : "no",
                         std::isfinite(e.score) ? general(e.score) : std::string("—"), effect_parameters_text(e),
                         e.has_ablation ? fixed(e.held_out_without.pos_mm_mean) + " mm / " +
