@@ -486,7 +486,8 @@ BOOST_AUTO_TEST_CASE(a_true_mass_centre_offset_is_confirmed_by_the_motion) {
 /// The motion confirmation's decision about com_offset in `r`'s log.
 std::string motion_decision(const DiagnosisResult& r) {
   const auto it = std::find_if(r.log.begin(), r.log.end(), [](const std::string& line) {
-    return line.find("com_offset: c") != std::string::npos && line.find("by the fit pushes' motion") != std::string::npos;
+    return line.find("com_offset: c") != std::string::npos &&
+           line.find("by the fit pushes' motion") != std::string::npos;
   });
   return it == r.log.end() ? std::string() : *it;
 }
@@ -535,10 +536,11 @@ BOOST_AUTO_TEST_CASE(an_effect_that_stands_in_for_a_hidden_bias_is_not_found) {
   o.seed = 359200;
   o.hide = {"force_offset"};
   ValidationTrial v;
-  const DiagnosisResult r = diagnose(simulate_trial(draw_validation_trial(o, 5, "force_offset", v)),
-                                     validation_library(o), o.diagnosis);
+  const DiagnosisResult r =
+      diagnose(simulate_trial(draw_validation_trial(o, 5, "force_offset", v)), validation_library(o), o.diagnosis);
   const EffectReport& stribeck = report(r, "stribeck_friction");
-  BOOST_TEST(stribeck.passed_test, "it should pass its own test, or this no longer tests the stand-in: " << stribeck.note);
+  BOOST_TEST(stribeck.passed_test,
+             "it should pass its own test, or this no longer tests the stand-in: " << stribeck.note);
   BOOST_TEST(stribeck.stands_in_for_unexplained, stribeck.note);
   BOOST_TEST(!stribeck.selected);
   BOOST_TEST(stribeck.note.find("world_force") != std::string::npos, stribeck.note);

@@ -249,7 +249,6 @@ BOOST_AUTO_TEST_CASE(three_clear_pushes_whose_zeros_differ_by_chance_do_not_make
   BOOST_TEST(found == 20);
 }
 
-
 // The same three clean pushes with the real sensor's zeros, and the rig's zero spread known
 // (DiagnosisOptions::sensor_zero_spread_N): a chance mean of three zeros is judged against the spread the zeros
 // have, not against the spread three of them happen to show, and passes the BIC threshold about as seldom as a

@@ -429,9 +429,9 @@ class ForceOffsetEffect final : public DataCorrectionEffect {
     for (const auto& push : all) recorded.push_back(&push);
     // Every push of a diagnosis carries the same zero spread (DiagnosisContext::corrected_data).
     const double spread_N = pushes.empty() ? 0.0 : pushes.front().sensor_zero_spread_N;
-    return rest_force_fit(recorded, held_out.empty() && !pushes.empty() ? pushes.front().shared_rest_force_N
-                                                                         : shared_rest_force_N(all),
-                          spread_N);
+    return rest_force_fit(
+        recorded, held_out.empty() && !pushes.empty() ? pushes.front().shared_rest_force_N : shared_rest_force_N(all),
+        spread_N);
   }
 };
 

@@ -85,8 +85,7 @@ DiagnosisResult diagnose(const std::vector<SynchronisedPush>& pushes, const Effe
   AdequacyOutcome adequacy;
   if (options.adequacy_replicates > 0)
     adequacy = step(
-        "model_adequacy",
-        [&] { return model_adequacy(context, checked.model, laws.floors, errors.fit_phase_biases); },
+        "model_adequacy", [&] { return model_adequacy(context, checked.model, laws.floors, errors.fit_phase_biases); },
         AdequacyOutcome{});
   return diagnosis_result(input, paper, laws.floors, checked, errors, adequacy, traces);
 }

@@ -245,11 +245,14 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
       r.stands_in_for_unexplained = true;
       r.theta = d.theta;
       r.theta_std = d.theta_std;
-      r.note = "significant and above its floor, but the corrected model leaves a residual it does not explain, and "
-               "beside that residual's leading signature (" +
-               d.reason + diagnosis_format(") it no longer passes its test (score %.1f): a stand-in for physics the "
-                                           "catalogue lacks",
-                                           d.score_beside);
+      r.note =
+          "significant and above its floor, but the corrected model leaves a residual it does not explain, and "
+          "beside that residual's leading signature (" +
+          d.reason +
+          diagnosis_format(
+              ") it no longer passes its test (score %.1f): a stand-in for physics the "
+              "catalogue lacks",
+              d.score_beside);
       return;
   }
 }

@@ -284,7 +284,8 @@ std::string findings_text(const DiagnosisResult& r) {
     if (e.selected) found.push_back(found_effect_text(r, e));
     else if (e.negligible) negligible.push_back(e.kind);
     else if (e.contradicted_by_motion) contradicted.push_back(e.kind);
-    else if (e.stands_in_for_unexplained) stand_ins.push_back(e.kind);
+    else if (e.stands_in_for_unexplained)
+      stand_ins.push_back(e.kind);
   }
   const ModelAdequacy& a = r.adequacy;
   const bool unexplained = a.tested && !a.explained;
@@ -619,8 +620,8 @@ std::string diagnosis_markdown(const DiagnosisResult& r, const DiagnosisOptions&
                                         : "no",
                         e.structural ? std::string("base model")
                                      : general(e.amount) + " / " + general(e.floor.amount) + " " + e.amount_unit +
-                                           (e.negligible               ? " (negligible)"
-                                            : e.contradicted_by_motion ? " (contradicted)"
+                                           (e.negligible                  ? " (negligible)"
+                                            : e.contradicted_by_motion    ? " (contradicted)"
                                             : e.stands_in_for_unexplained ? " (stand-in)"
                                                                           : ""),
                         e.selected ? (e.structural ? "base" : "**found**") : "no",
