@@ -1,13 +1,13 @@
 // Step 5c: a found effect that stands in for physics the catalogue lacks. Where the corrected model still leaves a
 // force residual that the adequacy test's force part calls unexplained (on the fit pushes, as step 7 tests it), each
-// found force law must still pass its test (robust Wald less its BIC penalty, as it joined) with the
-// residual's leading generic signature beside it as a nuisance. An effect that passes only without it took up part
-// of a structure it does not describe (a hidden bias read as Stribeck friction, a tilted support's torque as a
-// mass-centre offset): not found, and the rest re-fitted. Where the residual is explained, or nothing physical was
-// found, nothing changes. Data corrections (delay, bias, mass) are not held to this: they change the data every
+// found force law must still pass its test (robust Wald less its BIC penalty, as it joined) with the residual's
+// leading generic signature beside it as a nuisance. An effect that passes only without it took up part of a
+// structure it does not describe (a hidden mass-centre offset read as Stribeck friction, a tilted support's torque
+// as a mass-centre offset): not found, and the rest re-fitted. Where the residual is explained, or nothing physical
+// was found, nothing changes. Data corrections (delay, bias, mass) are not held to this: they change the data every
 // signature is built from. Only fit pushes are read. On the tuning seeds 359000-359499 it kept every finding of the
-// blind trials and cleared 5 of the 20 other kinds named where a kind was hidden; without the spanned-share rule below
-// it also dropped a true friction patch (359500-359609).
+// blind trials and cleared 5 of the 20 trials where a hidden kind had another kind named; without the spanned-share
+// rule below it also dropped a true friction patch (359500-359609).
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
