@@ -53,4 +53,13 @@ for spread in -0.1 nan; do
     "the error names flag and value ($spread)"
   expect_absent "$tmp/bad5" "output written for a sensor-offset spread of $spread"
 done
+expect_in "$tmp/h/validation.md" "the diagnosis assumes a zero spread of 0.10 N per axis" \
+  "validation.md states the zero spread the diagnosis assumes"
+for spread in -0.1 nan; do
+  expect_exit 2 "a sensor-zero spread of $spread" -- "$bin" validate-diagnosis --trials 1 \
+    --sensor-zero-spread "$spread" --out "$tmp/bad6"
+  expect_in "$tmp/err" "--sensor-zero-spread: must be a finite number >= 0, got '$spread'" \
+    "the error names flag and value ($spread)"
+  expect_absent "$tmp/bad6" "output written for a sensor-zero spread of $spread"
+done
 finish
