@@ -299,32 +299,34 @@ std::vector<double> DiagnosisContext::normalised(const std::vector<StudyPhase>& 
 }
 
 double DiagnosisContext::fit_phase_error(const ModelCorrection& correction) const {
-  const std::vector<double> e = normalised(fit_phases(studies(fit_pointers(), correction)), kCorrectedMethod);
-  if (e.empty()) return std::numeric_limits<double>::infinity();
+  return fit_phase_errors(correction).mean;
+}
+
+DiagnosisContext::FitPhaseErrors DiagnosisContext::fit_phase_errors(const ModelCorrection& correction) const {
+  const std::vector<PushStudy> s = studies(fit_pointers(), correction);
+  const std::vector<StudyPhase> phases = fit_phases(s);
+  const std::vector<double> e = normalised(phases, kCorrectedMethod);
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  std::vector<double> push_sum(s.size(), 0.0);
+  std::vector<int> push_count(s.size(), 0);
   double sum = 0;
-  for (double v : e) sum += v;
-  return sum / static_cast<double>(e.size());
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    sum += e[i];
+    const auto p = static_cast<std::size_t>(phases[i].study - s.data());
+    push_sum[p] += e[i];
+    ++push_count[p];
+  }
+  FitPhaseErrors out;
+  out.mean = e.empty() ? kNone : sum / static_cast<double>(e.size());
+  for (std::size_t p = 0; p < s.size(); ++p)
+    out.per_push.push_back(push_count[p] ? push_sum[p] / static_cast<double>(push_count[p]) : kNone);
+  return out;
 }
 
 std::vector<SynchronisedPush> DiagnosisContext::held_out_rests(const std::vector<Selection>& terms) const {
   const ModelCorrection correction = correction_of(terms, false);
   std::vector<SynchronisedPush> out;
   for (const auto& push : test_pushes) out.push_back(apply_data_correction(push, correction));
-  return out;
-}
-
-std::vector<double> DiagnosisContext::fit_push_errors(const ModelCorrection& correction) const {
-  const std::vector<PushStudy> s = studies(fit_pointers(), correction);
-  std::vector<double> out;
-  for (const PushStudy& study : s) {
-    std::vector<StudyPhase> phases;
-    for (const StudyPhase& sp : fit_phases(s))
-      if (sp.study == &study) phases.push_back(sp);
-    const std::vector<double> e = normalised(phases, kCorrectedMethod);
-    double sum = 0;
-    for (double v : e) sum += v;
-    out.push_back(e.empty() ? std::numeric_limits<double>::infinity() : sum / static_cast<double>(e.size()));
-  }
   return out;
 }
 

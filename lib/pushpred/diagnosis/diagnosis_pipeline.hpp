@@ -115,9 +115,13 @@ struct DiagnosisContext {
   /// The mean normalised error of the corrected prediction with `correction` over the fit pushes' phases; infinite
   /// when there is none. Throws what the study throws.
   double fit_phase_error(const ModelCorrection& correction) const;
-  /// Per fit push, the mean normalised error of its phases (as fit_phase_error), in fit-push order; infinite for a
-  /// push without phases. Throws what the study throws.
-  std::vector<double> fit_push_errors(const ModelCorrection& correction) const;
+  /// From one run of the studies: the mean of fit_phase_error, and per fit push (in fit-push order) the mean over its
+  /// own phases, infinite for a push without phases.
+  struct FitPhaseErrors {
+    double mean = 0;
+    std::vector<double> per_push;
+  };
+  FitPhaseErrors fit_phase_errors(const ModelCorrection& correction) const;
   /// The held-out pushes with the data corrections of `terms` applied, for what they record before the tip moves
   /// (CandidateEffect::fit_directly).
   std::vector<SynchronisedPush> held_out_rests(const std::vector<Selection>& terms) const;

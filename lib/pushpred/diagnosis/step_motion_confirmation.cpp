@@ -36,12 +36,14 @@ void confirm(const DiagnosisContext& context, const FloorContext& floors, Motion
     std::vector<Selection> without = with;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
     SelectionDecision d = decision_about(i, Verdict::ConfirmedByMotion, SearchStage::MotionConfirmation);
-    d.error_with = context.fit_phase_error(context.correction_of(with, true));
-    d.error_without = context.fit_phase_error(context.correction_of(without, true));
-    const std::vector<double> push_with = context.fit_push_errors(context.correction_of(with, true));
-    const std::vector<double> push_without = context.fit_push_errors(context.correction_of(without, true));
-    d.pushes = static_cast<int>(push_with.size());
-    for (std::size_t p = 0; p < push_with.size(); ++p) d.pushes_better += push_with[p] < push_without[p];
+    const DiagnosisContext::FitPhaseErrors errors_with = context.fit_phase_errors(context.correction_of(with, true));
+    const DiagnosisContext::FitPhaseErrors errors_without =
+        context.fit_phase_errors(context.correction_of(without, true));
+    d.error_with = errors_with.mean;
+    d.error_without = errors_without.mean;
+    d.pushes = static_cast<int>(errors_with.per_push.size());
+    for (std::size_t p = 0; p < errors_with.per_push.size(); ++p)
+      d.pushes_better += errors_with.per_push[p] < errors_without.per_push[p];
     if (d.error_with < d.error_without && 2 * d.pushes_better > d.pushes) {
       out.trace.decide(d);
       ++k;
