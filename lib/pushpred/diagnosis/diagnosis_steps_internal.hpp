@@ -6,8 +6,18 @@
 
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/diagnosis_pipeline.hpp"
+#include "pushpred/diagnosis/model_adequacy.hpp"
 
 namespace pushpred {
+
+/// The adequacy test's options from the diagnosis's.
+AdequacyOptions adequacy_options(const DiagnosisOptions& options);
+
+/// The adequacy test's force part (test_residual_structure) on `model`'s data, against every regression term whose
+/// amount the residual still carries (data corrections are applied to the data), with adequacy_options(): fills the
+/// force fields of `adequacy` and returns the hints. Step 7 and the stand-in check run it.
+std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& context, const ModelState& model,
+                                                  const FloorContext& floors, ModelAdequacy& adequacy);
 
 /// printf-style formatting of up to three numbers, for log lines and notes.
 std::string diagnosis_format(const char* fmt, double a, double b = 0, double c = 0);

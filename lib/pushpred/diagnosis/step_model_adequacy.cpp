@@ -4,23 +4,32 @@
 
 namespace pushpred {
 
-AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState& model, const FloorContext& floors,
-                               const std::vector<PhaseBias>& fit_phase_biases) {
-  // Every regression term whose amount the residual still carries (data corrections are applied to the data).
+AdequacyOptions adequacy_options(const DiagnosisOptions& options) {
+  AdequacyOptions out;
+  out.replicates = options.adequacy_replicates;
+  out.alpha = options.adequacy_alpha;
+  out.floor_margin_std = options.floor_margin_std;
+  out.sensor_zero_spread_N = options.sensor_zero_spread_N;
+  return out;
+}
+
+std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& context, const ModelState& model,
+                                                  const FloorContext& floors, ModelAdequacy& adequacy) {
   std::vector<EffectColumns> storage;
   for (const auto& s : model.terms)
     if (context.effect(s.candidate).test() == EffectTest::Regression && !corrects_data(context.effect(s.candidate)))
       storage.push_back(context.columns(model.data, s.candidate, s.setting));
   std::vector<const EffectColumns*> columns;
   for (const auto& c : storage) columns.push_back(&c);
-  AdequacyOptions options;
-  options.replicates = context.options.adequacy_replicates;
-  options.alpha = context.options.adequacy_alpha;
-  options.floor_margin_std = context.options.floor_margin_std;
-  options.sensor_zero_spread_N = context.options.sensor_zero_spread_N;
+  return test_residual_structure(model.data, columns, floors, adequacy_options(context.options), adequacy);
+}
+
+AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState& model, const FloorContext& floors,
+                               const std::vector<PhaseBias>& fit_phase_biases) {
+  const AdequacyOptions options = adequacy_options(context.options);
   AdequacyOutcome out;
   ModelAdequacy& a = out.adequacy;
-  out.hints = test_residual_structure(model.data, columns, floors, options, a);
+  out.hints = test_corrected_residual(context, model, floors, a);
   // The rest part reads every push's rest, held-out pushes' too: where nothing touches is no part of a prediction
   // phase, and the verdict fits nothing a prediction uses; a bias needs two clear rests to show, and half the pushes
   // often start pressed.

@@ -13,7 +13,6 @@
 #include <cmath>
 
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
-#include "pushpred/diagnosis/model_adequacy.hpp"
 
 namespace pushpred {
 
@@ -35,28 +34,20 @@ MotionConfirmation stand_in_check(const DiagnosisContext& context, const MotionC
   if (physical.empty() || context.options.adequacy_replicates <= 0) return out;
 
   // The force part of the adequacy test, as step 7 runs it.
-  std::vector<EffectColumns> storage;
-  for (const auto& s : model.terms)
-    if (context.effect(s.candidate).test() == EffectTest::Regression && !corrects_data(context.effect(s.candidate)))
-      storage.push_back(context.columns(model.data, s.candidate, s.setting));
-  std::vector<const EffectColumns*> columns;
-  for (const auto& c : storage) columns.push_back(&c);
-  AdequacyOptions options;
-  options.replicates = context.options.adequacy_replicates;
-  options.alpha = context.options.adequacy_alpha;
-  options.floor_margin_std = context.options.floor_margin_std;
-  options.sensor_zero_spread_N = context.options.sensor_zero_spread_N;
   ModelAdequacy adequacy;
-  const std::vector<ResidualHint> hints = test_residual_structure(model.data, columns, floors, options, adequacy);
+  const std::vector<ResidualHint> hints = test_corrected_residual(context, model, floors, adequacy);
   if (!adequacy.structure_unexplained) return out;
-  std::vector<ResidualSignature> signatures = residual_signatures(model.data, floors.friction_coefficient);
-  const auto leading = std::find_if(hints.begin(), hints.end(), [&](const ResidualHint& h) {
-    return std::any_of(signatures.begin(), signatures.end(),
-                       [&](const ResidualSignature& s) { return s.name == h.signature; });
-  });
-  if (leading == hints.end()) return out;
-  const ResidualSignature& signature = *std::find_if(
-      signatures.begin(), signatures.end(), [&](const ResidualSignature& s) { return s.name == leading->signature; });
+  // The leading hint that is a generic signature (hints are sorted by share; shared_force is not a signature).
+  const std::vector<ResidualSignature> signatures = residual_signatures(model.data, floors.friction_coefficient);
+  const ResidualSignature* signature = nullptr;
+  for (const ResidualHint& hint : hints) {
+    const auto it = std::find_if(signatures.begin(), signatures.end(),
+                                 [&](const ResidualSignature& s) { return s.name == hint.signature; });
+    if (it == signatures.end()) continue;
+    signature = &*it;
+    break;
+  }
+  if (!signature) return out;
 
   // The friction group's fit (fit_selected) with the signature's columns last.
   std::vector<EffectColumns> group;
@@ -73,7 +64,7 @@ MotionConfirmation stand_in_check(const DiagnosisContext& context, const MotionC
   }
   std::vector<const EffectColumns*> pointers;
   for (const auto& c : group) pointers.push_back(&c);
-  pointers.push_back(&signature.columns);
+  pointers.push_back(&signature->columns);
   const ResidualRegression regression(model.data, Relation::Friction, context.options.sensor_zeros);
   const RegressionFit fit = regression.fit(pointers, extra);
   if (!fit.identifiable) return out;
@@ -84,7 +75,7 @@ MotionConfirmation stand_in_check(const DiagnosisContext& context, const MotionC
   Eigen::VectorXd y;
   Eigen::MatrixXd X;
   regression.stack(pointers, y, X);
-  const auto signature_width = static_cast<Eigen::Index>(signature.columns.size());
+  const auto signature_width = static_cast<Eigen::Index>(signature->columns.size());
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> signature_qr(X.rightCols(signature_width));
   const auto spanned_share = [&](Eigen::Index from, Eigen::Index count) {
     const Eigen::MatrixXd E = X.middleCols(from, count);
@@ -113,7 +104,7 @@ MotionConfirmation stand_in_check(const DiagnosisContext& context, const MotionC
       continue;
     }
     SelectionDecision d = decision_about(s.candidate, Verdict::StandsInForUnexplained, SearchStage::StandIn);
-    d.reason = leading->signature;
+    d.reason = signature->name;
     d.score = s.score;
     d.score_beside = beside;
     d.theta = s.total;
