@@ -1,15 +1,16 @@
 #pragma once
 // The model-adequacy test after the found effects: does the corrected model still leave structure that noise and
-// parameter uncertainty do not explain? Two parts, each significant-and-above-a-floor like a candidate effect:
+// parameter uncertainty do not explain? Four parts, each significant-and-above-a-floor like a candidate effect:
 //
-// - Force residual. The fit pushes' disturbance residual against the corrected friction model (the base friction
-//   law, its refinements and the found force laws, on the data as the found data corrections left them; sliding
-//   samples the friction base uses) is regressed on generic signatures of missing physics (residual_signatures()).
+// - Force residual. The pushes' disturbance residual (the diagnosis reads every push, held-out ones too; the stand-in
+//   check the fit pushes only) against the corrected friction model (the base friction law, its refinements and the
+//   found force laws, on the data as the found data corrections left them; sliding samples the friction base uses)
+//   is regressed on generic signatures of missing physics (residual_signatures()).
 //   Statistic: per signature, R^2, the share of the residual's weighted variance it accounts for with the model's
 //   own columns projected out (so the model's parameters are re-fitted with it: their uncertainty is in the null),
 //   standardised by the null replicates' mean and standard deviation of that share; the statistic is the largest
 //   over the signatures. Null: a block bootstrap of the model's residual (blocks of kAdequacyBlock_s drawn from any
-//   fit push, the three channels together), which keeps the noise's autocorrelation and cross-channel correlation
+//   push, the three channels together), which keeps the noise's autocorrelation and cross-channel correlation
 //   and breaks any tie to the state; each replicate is projected off the model's columns again and its statistic
 //   taken the same way. What is resampled is the residual of the model with the signatures (the unrestricted fit):
 //   under the null it is the same noise, and where a signature holds structure the null does not carry it (resampling
@@ -70,6 +71,7 @@ struct ModelAdequacy {
   int replicates = 0;   ///< bootstrap replicates (force) and sign-flip draws (motion)
   // Force residual.
   bool force_tested = false;
+  int force_pushes = 0;        ///< pushes the force residual was read on
   double force_share = 0;      ///< R^2 of all signatures together on the residual [-]
   double force_statistic = 0;  ///< the largest standardised R^2 of one signature (see above) [-]
   double force_threshold = 0;  ///< the null's (1 - alpha) quantile of that statistic

@@ -351,6 +351,7 @@ nlohmann::json adequacy_json(const ModelAdequacy& a) {
       {"replicates", a.replicates},
       {"force",
        {{"tested", a.force_tested},
+        {"pushes", a.force_pushes},
         {"unexplained", a.force_unexplained},
         {"statistic", a.force_statistic},
         {"threshold", a.force_threshold},
@@ -530,7 +531,7 @@ std::string adequacy_markdown(const DiagnosisResult& r) {
   md << "**" << a.verdict() << ".** " << a.statistic << ". Floors: " << a.basis << ".\n\n"
      << markdown_header({"part", "statistic", "null threshold", "p", "size", "floor", "verdict"});
   if (a.force_tested)
-    md << markdown_row({"force residual", "z " + fixed(a.force_statistic), fixed(a.force_threshold),
+    md << markdown_row({"force residual (" + std::to_string(a.force_pushes) + " pushes)", "z " + fixed(a.force_statistic), fixed(a.force_threshold),
                         general(a.force_p_value), general(a.force_N) + " N, " + general(a.torque_Nm) + " N m",
                         general(a.force_floor_N) + " N, " + general(a.torque_floor_Nm) + " N m",
                         a.structure_unexplained ? "unexplained" : "explained"});
