@@ -52,7 +52,12 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   observer.mass_kg = 0;  // from the corrected shape, as DiagnosisContext::corrected_data
   observer.inertia_kgm2 = 0;
   for (std::size_t p = model.data.size(); p < all.size(); ++p) {
-    data.push_back(prepare_diagnosis_push(all[p], 0.0, all[p].duration_s(), observer));
+    try {
+      data.push_back(prepare_diagnosis_push(all[p], 0.0, all[p].duration_s(), observer));
+    } catch (const InputError& e) {  // the force part goes on without it; force_pushes says how many it read
+      out.trace.line("model adequacy: held-out push " + all[p].source + " left out of the force part: " + e.what());
+      continue;
+    }
     data.back().sensor_zero_spread_N = context.options.sensor_zero_spread_N;
   }
   for (auto& d : data) d.shared_rest_force_N = shared_rest;
