@@ -13,9 +13,13 @@ namespace pushpred {
 /// The adequacy test's options from the diagnosis's.
 AdequacyOptions adequacy_options(const DiagnosisOptions& options);
 
-/// The adequacy test's force part (test_residual_structure) on `model`'s data, against every regression term whose
-/// amount the residual still carries (data corrections are applied to the data), with adequacy_options(): fills the
-/// force fields of `adequacy` and returns the hints. Step 7 and the stand-in check run it.
+/// The adequacy test's force part (test_residual_structure) on `data`, against every regression term of `terms` whose
+/// amount the residual still carries (data corrections are applied to the data), with `options`: fills the force
+/// fields of `adequacy` and returns the hints. Step 7 runs it on every push.
+std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& context, const std::vector<Selection>& terms,
+                                                  const std::vector<DiagnosisPush>& data, const FloorContext& floors,
+                                                  const AdequacyOptions& options, ModelAdequacy& adequacy);
+/// The same on `model`'s data (the fit pushes) with adequacy_options(): the stand-in check runs it.
 std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& context, const ModelState& model,
                                                   const FloorContext& floors, ModelAdequacy& adequacy);
 

@@ -498,10 +498,11 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
     (c == 0 ? adequacy.force_N_std : adequacy.torque_Nm_std) = sd;
   }
   adequacy.force_tested = adequacy.force_floor_N > 0;
+  const double margin = options.structure_margin_std;
   adequacy.structure_unexplained =
       adequacy.force_tested && adequacy.force_p_value <= options.alpha &&
-      (adequacy.force_N - options.floor_margin_std * adequacy.force_N_std > adequacy.force_floor_N ||
-       adequacy.torque_Nm - options.floor_margin_std * adequacy.torque_Nm_std > adequacy.torque_floor_Nm);
+      (adequacy.force_N - margin * adequacy.force_N_std > adequacy.force_floor_N ||
+       adequacy.torque_Nm - margin * adequacy.torque_Nm_std > adequacy.torque_floor_Nm);
 
   // The force the measured pushes share, beyond their zeros' chance mean: F = (t_x^2 + t_y^2) / 2, t = c / se per
   // axis, se^2 the zeros' mean's variance (their spread over the pushes / m) plus what noise gives the fit (the

@@ -19,8 +19,8 @@
 //   signatures' fit) over the sliding samples beyond what the signatures pick out of the replicates (the square
 //   root of the observed mean square less the replicates' mean), force [N] and torque [N m], against the floor
 //   kappa mu m g and kappa mu m g rho (FloorContext): a term below it changes the motion less than the support's
-//   own variation. Like an effect's amount, the size must clear its floor by floor_margin_std of its standard errors
-//   (the replicates' spread of the chance structure's RMS).
+//   own variation. Like an effect's amount, the size must clear its floor by a margin of its standard errors (the
+//   replicates' spread of the chance structure's RMS): structure_margin_std.
 // - Motion. The corrected model's signed prediction error of each fit phase (predicted - measured, averaged over
 //   the phase), in the world frame (x, y), in the frame of the phase's own travel (along, across) and in yaw.
 //   Statistic: the largest |t| of the five components' means over the phases. Null: random sign flips of whole
@@ -60,6 +60,16 @@ namespace pushpred {
 /// Bootstrap block length [s]: the Newey-West lag window (residual_regression.hpp), beyond the observer's and the
 /// sensor noise's correlation times. Chosen between 0.1 and 0.4 s on tuning seeds 231000-232011 (docs/diagnosis.md).
 inline constexpr double kAdequacyBlock_s = 0.2;
+
+/// The diagnosis's verdict counts the force part's structure when its size clears the floor by this many times the
+/// floor margin of its standard errors (AdequacyOptions::structure_margin_std). That standard error is noise's alone,
+/// which shrinks as the verdict reads every push, while the clean simulator's pushes carry structure of about the floor
+/// that the base model only approximates (the contact, the support's pressure): twice the margin keeps those
+/// explained and a missing effect at twice its floor unexplained. Chosen between 1 and 2 on the tuning seeds
+/// 362000-362654 (with it in the verdict and the stand-in check: clean explained 94 -> 96 of 100, hidden kinds
+/// unexplained 127 -> 126 of 140, no finding changed there). The stand-in check, which reads the fit pushes only, keeps
+/// the plain margin it was chosen with (test_diagnosis_steps' tilted-support trial needs it).
+inline constexpr double kAdequacyStructureMargin = 2.0;
 
 /// The outcome of the model-adequacy test (see above). Units as named; mm and degrees for the motion.
 struct ModelAdequacy {
@@ -154,6 +164,8 @@ struct AdequacyOptions {
   /// A size counts when it exceeds its floor by this many of its standard errors (as an effect's amount must:
   /// DiagnosisOptions::floor_margin_std).
   double floor_margin_std = 1.0;
+  /// The same for the force part's structure (kAdequacyStructureMargin).
+  double structure_margin_std = 1.0;
   double alpha = 0.01;
   std::uint64_t seed = 0x5eed;  ///< fixed: the same data give the same verdict
   /// Make the force part invariant to each push's own sensor zero (see sensor_zero_columns()); false: the zeros

@@ -10,30 +10,32 @@ AdequacyOptions adequacy_options(const DiagnosisOptions& options) {
   out.replicates = options.adequacy_replicates;
   out.alpha = options.adequacy_alpha;
   out.floor_margin_std = options.floor_margin_std;
+  out.structure_margin_std = options.floor_margin_std;
   out.sensor_zero_spread_N = options.sensor_zero_spread_N;
   return out;
 }
 
 std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& context, const std::vector<Selection>& terms,
                                                   const std::vector<DiagnosisPush>& data, const FloorContext& floors,
-                                                  ModelAdequacy& adequacy) {
+                                                  const AdequacyOptions& options, ModelAdequacy& adequacy) {
   std::vector<EffectColumns> storage;
   for (const auto& s : terms)
     if (context.effect(s.candidate).test() == EffectTest::Regression && !corrects_data(context.effect(s.candidate)))
       storage.push_back(context.columns(data, s.candidate, s.setting));
   std::vector<const EffectColumns*> columns;
   for (const auto& c : storage) columns.push_back(&c);
-  return test_residual_structure(data, columns, floors, adequacy_options(context.options), adequacy);
+  return test_residual_structure(data, columns, floors, options, adequacy);
 }
 
 std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& context, const ModelState& model,
                                                   const FloorContext& floors, ModelAdequacy& adequacy) {
-  return test_corrected_residual(context, model.terms, model.data, floors, adequacy);
+  return test_corrected_residual(context, model.terms, model.data, floors, adequacy_options(context.options), adequacy);
 }
 
 AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState& model, const FloorContext& floors,
                                const std::vector<PhaseBias>& fit_phase_biases) {
-  const AdequacyOptions options = adequacy_options(context.options);
+  AdequacyOptions options = adequacy_options(context.options);
+  options.structure_margin_std = kAdequacyStructureMargin * context.options.floor_margin_std;
   AdequacyOutcome out;
   ModelAdequacy& a = out.adequacy;
   // The force, rest and contact parts read the held-out pushes too (data-corrected; the force laws re-fitted on all
@@ -61,7 +63,7 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
     data.back().sensor_zero_spread_N = context.options.sensor_zero_spread_N;
   }
   for (auto& d : data) d.shared_rest_force_N = shared_rest;
-  out.hints = test_corrected_residual(context, model.terms, data, floors, a);
+  out.hints = test_corrected_residual(context, model.terms, data, floors, options, a);
   a.force_pushes = static_cast<int>(data.size());
   test_contact_compliance(all, floors, options, a);
   test_rest_force(all, shared_rest, floors, context.options.bic_threshold, options, a);
