@@ -22,7 +22,6 @@ struct StudyArgs {
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
-  std::string bandwidths = kBandwidthDefaultChoice;
   std::string limit_surface = "ellipsoid";
   std::string pressure_shape = kPressureShapeDefaultChoice;
 };
@@ -37,7 +36,6 @@ int run_study(const StudyArgs& a) {
   options.learn.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options.learn, a.centre_of_friction);
   set_trend_choice(options.learn, a.trend);
-  set_bandwidth_choice(options.learn, a.bandwidths);
   set_pressure_shape_choice(options.learn, a.pressure_shape);
   std::vector<std::pair<std::string, std::string>> excluded = in.excluded;
   const std::vector<ForecastStudyPush> pushes = run_forecast_study(in.cases, in.fits, options, &excluded);
@@ -94,10 +92,6 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
                   "learned pushes when that forecasts them better leaving each out)")
       ->check(CLI::IsMember({"chosen", "none"}));
-  sub->add_option("--bandwidths", a->bandwidths,
-                  "The similarity bandwidths the learned pushes' weighting is chosen among by their own leave-one-out "
-                  "error: standard (default: 0, 2, 1, 0.5) or fine (adds 0.25: only the nearest pushes count)")
-      ->check(CLI::IsMember({"standard", "fine"}));
   sub->add_option("--limit-surface", a->limit_surface,
                   "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
                   "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")

@@ -28,7 +28,6 @@ struct LearnArgs {
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
-  std::string bandwidths = kBandwidthDefaultChoice;
   std::string limit_surface = "ellipsoid";
   std::string pressure_shape = kPressureShapeDefaultChoice;
 };
@@ -104,7 +103,6 @@ int run_learn(const LearnArgs& a) {
   options.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options, a.centre_of_friction);
   set_trend_choice(options, a.trend);
-  set_bandwidth_choice(options, a.bandwidths);
   set_pressure_shape_choice(options, a.pressure_shape);
   options.jobs = a.jobs;
   const ObjectModel model =
@@ -189,10 +187,6 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
                   "learned pushes when that forecasts them better leaving each out)")
       ->check(CLI::IsMember({"chosen", "none"}));
-  sub->add_option("--bandwidths", a->bandwidths,
-                  "The similarity bandwidths the learned pushes' weighting is chosen among by their own leave-one-out "
-                  "error: standard (default: 0, 2, 1, 0.5) or fine (adds 0.25: only the nearest pushes count)")
-      ->check(CLI::IsMember({"standard", "fine"}));
   sub->add_option("--limit-surface", a->limit_surface,
                   "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
                   "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")

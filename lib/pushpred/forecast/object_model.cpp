@@ -854,16 +854,6 @@ void set_trend_choice(LearnOptions& options, const std::string& choice) {
   }
 }
 
-void set_bandwidth_choice(LearnOptions& options, const std::string& choice) {
-  if (choice == "standard") {
-    options.bandwidths = kStandardBandwidths;
-  } else if (choice == "fine") {
-    options.bandwidths = kFineBandwidths;
-  } else {
-    throw InputError("similarity bandwidths: 'standard' or 'fine', not '" + choice + "'");
-  }
-}
-
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
                                const std::vector<PushFit>& fits, const LearnOptions& options) {

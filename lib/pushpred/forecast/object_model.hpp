@@ -275,17 +275,6 @@ void set_trend_choice(LearnOptions& options, const std::string& choice);
 /// The choice LearnOptions' defaults make.
 inline constexpr const char* kTrendDefaultChoice = "none";
 
-/// The similarity bandwidths h a forecast's weighting is chosen among (ObjectModel::similarity_bandwidth, by the
-/// learned pushes' own leave-one-out error): "standard" 0 (all alike), 2, 1 and 0.5; "fine" adds 0.25 (a learned push
-/// 5 degrees of push angle, 3.75 mm of contact point or a factor 1.28 of speed from the plan weighs e^-1/2 of one
-/// that pushes alike), for objects pushed densely enough that only the nearest pushes should count.
-inline const std::vector<double> kStandardBandwidths = {0.0, 2.0, 1.0, 0.5};
-inline const std::vector<double> kFineBandwidths = {0.0, 2.0, 1.0, 0.5, 0.25};
-/// Sets the bandwidths `options` chooses among: "standard" or "fine". InputError otherwise.
-void set_bandwidth_choice(LearnOptions& options, const std::string& choice);
-/// The choice LearnOptions' defaults make.
-inline constexpr const char* kBandwidthDefaultChoice = "standard";
-
 /// Learns the object from the fits of its pushes (at least one; with `centre_of_friction_min_pushes` or more the
 /// centre of friction is fitted jointly and the pushes' own parameters refitted under it, when it forecasts the
 /// learned pushes better in cross-validation (`centre_of_friction_folds`); with three or more the
