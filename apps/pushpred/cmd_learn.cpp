@@ -28,6 +28,7 @@ struct LearnArgs {
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
+  std::string similarity = kSimilarityDefaultChoice;
   std::string limit_surface = "ellipsoid";
   std::string pressure_shape = kPressureShapeDefaultChoice;
 };
@@ -103,6 +104,7 @@ int run_learn(const LearnArgs& a) {
   options.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options, a.centre_of_friction);
   set_trend_choice(options, a.trend);
+  set_similarity_choice(options, a.similarity);
   set_pressure_shape_choice(options, a.pressure_shape);
   options.jobs = a.jobs;
   const ObjectModel model =
@@ -187,6 +189,11 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
                   "learned pushes when that forecasts them better leaving each out)")
       ->check(CLI::IsMember({"chosen", "none"}));
+  sub->add_option("--similarity", a->similarity,
+                  "How the learned pushes are weighted by how alike they push to the plan: chosen (one bandwidth, "
+                  "chosen by their own leave-one-out error) or averaged (the weights under the bandwidths 0, 2, 1 and "
+                  "0.5 averaged; none chosen)")
+      ->check(CLI::IsMember({"chosen", "averaged"}));
   sub->add_option("--limit-surface", a->limit_surface,
                   "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
                   "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")
