@@ -147,6 +147,10 @@ int run_learn(const LearnArgs& a) {
     std::printf("the learned pushes' own fits (each push's own parameters) at the end: %.2f mm, %.2f deg mean\n",
                 1e3 * position, yaw * 180 / M_PI);
   }
+  if (model.similarity_averaged)
+    std::printf("similarity weighting: averaged over the bandwidths 0, 2, 1 and 0.5\n");
+  else
+    std::printf("similarity weighting: one bandwidth, %g (0: all alike)\n", model.similarity_bandwidth);
   if (model.trend.active()) {
     std::printf(
         "parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "

@@ -169,6 +169,7 @@ BOOST_AUTO_TEST_CASE(learned_leaving_one_out_the_outline_surface_forecasts_the_y
       ForecastStudyOptions options;
       set_centre_of_friction_choice(options.learn, "centroid");
       set_pressure_shape_choice(options.learn, "uniform");  // the comparison of the surfaces as they were chosen
+      set_similarity_choice(options.learn, "chosen");       // (one chosen bandwidth)
       const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
       const auto [position, yaw] = mean_final_errors(study);
       BOOST_TEST_MESSAGE(name << ", limit surface " << limit_surface_name(kind) << ": final " << position << " mm, "
@@ -345,6 +346,7 @@ BOOST_AUTO_TEST_CASE(the_pressure_shapes_default_is_chosen_on_simulated_objects,
       ForecastStudyOptions options;
       set_centre_of_friction_choice(options.learn, "centroid");
       set_pressure_shape_choice(options.learn, choice);
+      set_similarity_choice(options.learn, "chosen");  // as the choice was made
       const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
       const auto [position, yaw] = mean_final_errors(study);
       BOOST_TEST_MESSAGE(o.shape << ", rim weight " << o.rim_weight << ", pressure shape " << choice << ": final "

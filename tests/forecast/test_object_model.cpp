@@ -211,8 +211,10 @@ BOOST_AUTO_TEST_CASE(a_parameter_trend_recovers_a_linear_dependence_on_the_push_
 /// Final mm + deg, leaving one push out, of `count` simulated rect1 pushes from all four sides at 20-120 mm/s (seeds
 /// from `first`), the rod's friction varying push to push (0.15-0.45) and the support's either falling with the
 /// speed (mu_s = 0.45 (v / 50 mm/s)^-0.6, as the real butter's fitted friction does) or independent of it (0.3-0.6),
-/// learned without a trend and with one chosen inside each fold: final mm + deg of each.
-std::array<double, 2> speed_trend_study(int count, std::uint64_t first, bool dependent) {
+/// learned without a trend and with one chosen inside each fold: final mm + deg of each. The learned pushes are weighted
+/// by `similarity` (set_similarity_choice).
+std::array<double, 2> speed_trend_study(int count, std::uint64_t first, bool dependent,
+                                        const char* similarity = "chosen") {
   std::mt19937_64 rng(first);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<RecordedForecastCase> cases;
@@ -229,13 +231,14 @@ std::array<double, 2> speed_trend_study(int count, std::uint64_t first, bool dep
   for (int with_trend = 0; with_trend < 2; ++with_trend) {
     ForecastStudyOptions options;
     set_trend_choice(options.learn, with_trend ? "chosen" : "none");
+    set_similarity_choice(options.learn, similarity);
     const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
     double position = 0, yaw = 0;
     for (const auto& p : study) {
       position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
       yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
     }
-    BOOST_TEST_MESSAGE(count << " pushes, seeds from " << first << ", support friction "
+    BOOST_TEST_MESSAGE(count << " pushes, seeds from " << first << ", similarity " << similarity << ", support friction "
                              << (dependent ? "following the speed" : "independent of it")
                              << (with_trend ? ", trend chosen in each fold" : ", no trend") << ": final " << position
                              << " mm, " << yaw << " deg");
@@ -249,10 +252,13 @@ BOOST_AUTO_TEST_CASE(a_trend_chosen_inside_each_fold_costs_little_on_simulated_p
   // Seeds 340000-340013 (support friction following the speed) and 340100-340113 (independent of it), 14 pushes
   // each: the in-fold choice with its one-standard-error rule keeps the forecast's final error within 5 % of no
   // trend's. It does not beat it there either, which is why the trend is not the default
-  // (`--log_level=message` prints the errors).
+  // (`--log_level=message` prints the errors). The rule was chosen with one chosen similarity bandwidth, which is
+  // what is held to it; with the averaged weighting (learn's default) the same studies are printed, not held to it
+  // (docs/forecast.md).
   for (const bool dependent : {true, false}) {
     const std::array<double, 2> score = speed_trend_study(14, dependent ? 340000 : 340100, dependent);
     BOOST_TEST(score[1] < 1.05 * score[0]);
+    speed_trend_study(14, dependent ? 340000 : 340100, dependent, "averaged");
   }
 }
 
@@ -351,6 +357,7 @@ BOOST_AUTO_TEST_CASE(learning_the_centre_of_friction_helps_on_simulated_objects_
     for (const char* choice : {"chosen", "learned", "centroid"}) {
       ForecastStudyOptions options;
       set_centre_of_friction_choice(options.learn, choice);
+      set_similarity_choice(options.learn, "chosen");  // one chosen bandwidth, as the choice was made
       const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
       double position = 0, yaw = 0;
       for (const auto& p : study) {
@@ -468,6 +475,7 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
         ForecastStudyOptions options;
         options.learn.central = central;
         options.learn.centre_of_friction_min_pushes = 0;  // the centroid's, as the choices were made
+        set_similarity_choice(options.learn, "chosen");   // and one chosen bandwidth
         const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
         double position = 0, yaw = 0;
         for (const auto& p : study) {
@@ -481,7 +489,9 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
       }
       if (width > 0) {
         // The same pushes (their pressure centred on the mass centre) with the centre of friction learned.
-        const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, {});
+        ForecastStudyOptions options;
+        set_similarity_choice(options.learn, "chosen");
+        const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
         double position = 0, yaw = 0;
         for (const auto& p : study) {
           position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
@@ -575,6 +585,8 @@ BOOST_AUTO_TEST_CASE(the_averaged_similarity_weighs_each_learned_push_by_its_mea
     BOOST_TEST(std::string(e.what()).find("similarity_weighting") != std::string::npos);
   }
   LearnOptions options;
+  BOOST_TEST(options.similarity_averaged);  // learn's default
+  set_similarity_choice(options, "chosen");
   BOOST_TEST(!options.similarity_averaged);
   set_similarity_choice(options, "averaged");
   BOOST_TEST(options.similarity_averaged);
