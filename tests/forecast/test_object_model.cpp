@@ -211,8 +211,8 @@ BOOST_AUTO_TEST_CASE(a_parameter_trend_recovers_a_linear_dependence_on_the_push_
 /// Final mm + deg, leaving one push out, of `count` simulated rect1 pushes from all four sides at 20-120 mm/s (seeds
 /// from `first`), the rod's friction varying push to push (0.15-0.45) and the support's either falling with the
 /// speed (mu_s = 0.45 (v / 50 mm/s)^-0.6, as the real butter's fitted friction does) or independent of it (0.3-0.6),
-/// learned without a trend and with one chosen inside each fold: final mm + deg of each. The learned pushes are weighted
-/// by `similarity` (set_similarity_choice).
+/// learned without a trend and with one chosen inside each fold: final mm + deg of each. The learned pushes are
+/// weighted by `similarity` (set_similarity_choice).
 std::array<double, 2> speed_trend_study(int count, std::uint64_t first, bool dependent,
                                         const char* similarity = "chosen") {
   std::mt19937_64 rng(first);
@@ -238,8 +238,8 @@ std::array<double, 2> speed_trend_study(int count, std::uint64_t first, bool dep
       position += 1e3 * p.errors[0].final_position_m / static_cast<double>(study.size());
       yaw += p.errors[0].final_yaw_rad * 180 / M_PI / static_cast<double>(study.size());
     }
-    BOOST_TEST_MESSAGE(count << " pushes, seeds from " << first << ", similarity " << similarity << ", support friction "
-                             << (dependent ? "following the speed" : "independent of it")
+    BOOST_TEST_MESSAGE(count << " pushes, seeds from " << first << ", similarity " << similarity
+                             << ", support friction " << (dependent ? "following the speed" : "independent of it")
                              << (with_trend ? ", trend chosen in each fold" : ", no trend") << ": final " << position
                              << " mm, " << yaw << " deg");
     score[static_cast<std::size_t>(with_trend)] = position + yaw;
@@ -484,8 +484,8 @@ BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_
         }
         BOOST_TEST_MESSAGE(name << ", prior width " << width << ", central " << central_forecast_name(central)
                                 << ": final " << position << " mm, " << yaw << " deg");
-        (central == CentralForecast::MedianParameters ? median_central
-                                                      : (width > 0 ? with_prior : without_prior)) += position + yaw;
+        (central == CentralForecast::MedianParameters ? median_central : (width > 0 ? with_prior : without_prior)) +=
+            position + yaw;
       }
       if (width > 0) {
         // The same pushes (their pressure centred on the mass centre) with the centre of friction learned.
@@ -687,9 +687,8 @@ BOOST_AUTO_TEST_CASE(the_averaged_similarity_forecasts_simulated_objects_better,
       total[std::string(choice) + " trajectory"] += trajectory_mm + trajectory_deg;
     }
   }
-  BOOST_TEST_MESSAGE("sums of final mm and deg: chosen " << total["chosen"] << ", averaged " << total["averaged"]
-                                                         << "; of trajectory mm and deg: chosen "
-                                                         << total["chosen trajectory"] << ", averaged "
-                                                         << total["averaged trajectory"]);
+  BOOST_TEST_MESSAGE("sums of final mm and deg: chosen "
+                     << total["chosen"] << ", averaged " << total["averaged"] << "; of trajectory mm and deg: chosen "
+                     << total["chosen trajectory"] << ", averaged " << total["averaged trajectory"]);
   BOOST_TEST(total["averaged"] < total["chosen"]);
 }
