@@ -22,6 +22,7 @@ struct StudyArgs {
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
+  std::string similarity = kSimilarityDefaultChoice;
   std::string limit_surface = "ellipsoid";
   std::string pressure_shape = kPressureShapeDefaultChoice;
 };
@@ -36,6 +37,7 @@ int run_study(const StudyArgs& a) {
   options.learn.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options.learn, a.centre_of_friction);
   set_trend_choice(options.learn, a.trend);
+  set_similarity_choice(options.learn, a.similarity);
   set_pressure_shape_choice(options.learn, a.pressure_shape);
   std::vector<std::pair<std::string, std::string>> excluded = in.excluded;
   const std::vector<ForecastStudyPush> pushes = run_forecast_study(in.cases, in.fits, options, &excluded);
@@ -92,6 +94,11 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
                   "learned pushes when that forecasts them better leaving each out)")
       ->check(CLI::IsMember({"chosen", "none"}));
+  sub->add_option("--similarity", a->similarity,
+                  "How the learned pushes are weighted by how alike they push to the plan: chosen (one bandwidth, "
+                  "chosen by their own leave-one-out error) or averaged (the weights under the bandwidths 0, 2, 1 and "
+                  "0.5 averaged; none chosen)")
+      ->check(CLI::IsMember({"chosen", "averaged"}));
   sub->add_option("--limit-surface", a->limit_surface,
                   "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
                   "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")

@@ -28,6 +28,7 @@ struct LearnArgs {
   std::string central = "ensemble_mean";
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
+  std::string similarity = kSimilarityDefaultChoice;
   std::string limit_surface = "ellipsoid";
   std::string pressure_shape = kPressureShapeDefaultChoice;
 };
@@ -103,6 +104,7 @@ int run_learn(const LearnArgs& a) {
   options.central = central_forecast_named(a.central);
   set_centre_of_friction_choice(options, a.centre_of_friction);
   set_trend_choice(options, a.trend);
+  set_similarity_choice(options, a.similarity);
   set_pressure_shape_choice(options, a.pressure_shape);
   options.jobs = a.jobs;
   const ObjectModel model =
@@ -145,6 +147,10 @@ int run_learn(const LearnArgs& a) {
     std::printf("the learned pushes' own fits (each push's own parameters) at the end: %.2f mm, %.2f deg mean\n",
                 1e3 * position, yaw * 180 / M_PI);
   }
+  if (model.similarity_averaged)
+    std::printf("similarity weighting: averaged over the bandwidths 0, 2, 1 and 0.5\n");
+  else
+    std::printf("similarity weighting: one bandwidth, %g (0: all alike)\n", model.similarity_bandwidth);
   if (model.trend.active()) {
     std::printf(
         "parameter trend over the plan (ridge %g), change of the logarithm per 20 deg of angle, 15 mm of "
@@ -187,6 +193,11 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
                   "learned pushes when that forecasts them better leaving each out)")
       ->check(CLI::IsMember({"chosen", "none"}));
+  sub->add_option("--similarity", a->similarity,
+                  "How the learned pushes are weighted by how alike they push to the plan: chosen (one bandwidth, "
+                  "chosen by their own leave-one-out error) or averaged (the weights under the bandwidths 0, 2, 1 and "
+                  "0.5 averaged; none chosen)")
+      ->check(CLI::IsMember({"chosen", "averaged"}));
   sub->add_option("--limit-surface", a->limit_surface,
                   "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
                   "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")

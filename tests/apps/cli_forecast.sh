@@ -15,7 +15,7 @@ expect_exit 0 "learn hex from six pushes and a frozen rect1" -- "$bin" learn $he
 expect_in "$tmp/out" "learned hex on abs from 6 pushes" "the learned pushes are counted"
 expect_in "$tmp/err" "excluded $(basename "$frozen" .h5): force sensor frozen" "the frozen sensor is named"
 expect_in "$tmp/hex.json" '"format": "pushpred-object-model"' "the object file says its format"
-expect_in "$tmp/hex.json" '"version": 5' "the object file says its version"
+expect_in "$tmp/hex.json" '"version": 6' "the object file says its version"
 expect_in "$tmp/hex.json" '"limit_surface": "ellipsoid"' "the ellipsoidal limit surface by default"
 expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
 expect_in "$tmp/hex.json" '"parameter_trend"' "the object file holds the parameter trend"

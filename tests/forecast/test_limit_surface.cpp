@@ -169,6 +169,7 @@ BOOST_AUTO_TEST_CASE(learned_leaving_one_out_the_outline_surface_forecasts_the_y
       ForecastStudyOptions options;
       set_centre_of_friction_choice(options.learn, "centroid");
       set_pressure_shape_choice(options.learn, "uniform");  // the comparison of the surfaces as they were chosen
+      set_similarity_choice(options.learn, "chosen");       // (one chosen bandwidth)
       const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
       const auto [position, yaw] = mean_final_errors(study);
       BOOST_TEST_MESSAGE(name << ", limit surface " << limit_surface_name(kind) << ": final " << position << " mm, "
@@ -345,6 +346,7 @@ BOOST_AUTO_TEST_CASE(the_pressure_shapes_default_is_chosen_on_simulated_objects,
       ForecastStudyOptions options;
       set_centre_of_friction_choice(options.learn, "centroid");
       set_pressure_shape_choice(options.learn, choice);
+      set_similarity_choice(options.learn, "chosen");  // as the choice was made
       const std::vector<ForecastStudyPush> study = run_forecast_study(cases, fits, options);
       const auto [position, yaw] = mean_final_errors(study);
       BOOST_TEST_MESSAGE(o.shape << ", rim weight " << o.rim_weight << ", pressure shape " << choice << ": final "
@@ -380,6 +382,7 @@ BOOST_AUTO_TEST_CASE(the_rim_weights_standard_error_is_its_spread_over_redrawn_p
     BOOST_TEST_REQUIRE(cases.size() == 10u);
     LearnOptions options;
     options.bandwidths = {0.0};  // what is tested is the rim weight, not the forecast's weighting
+    options.similarity_averaged = false;
     set_centre_of_friction_choice(options, "centroid");
     set_pressure_shape_choice(options, "learned");
     last = learn_object_model(cases[0].forecast_object, "abs", "shape table: rect1", cases, fits, options);
@@ -440,7 +443,7 @@ BOOST_AUTO_TEST_CASE(the_object_file_keeps_the_rim_weight_reads_version_4_and_re
                  .pressure_rim_weight_standard_error == model.pressure_rim_weight_standard_error);
   BOOST_TEST(model.object.pressure_surface->rim_weight() == model.object.pressure_rim_weight);
   nlohmann::json j = object_model_to_json(model);
-  BOOST_TEST(j.at("version").get<int>() == 5);
+  BOOST_TEST(j.at("version").get<int>() == kObjectModelVersion);
   BOOST_TEST(j.at("object").at("pressure_shape").at("rim_weight").get<double>() == model.object.pressure_rim_weight);
   const ObjectModel back = object_model_from_json(j, "object.json", "");
   BOOST_TEST(back.object.pressure_rim_weight == model.object.pressure_rim_weight);

@@ -100,3 +100,20 @@ def test_the_pressures_rim_weight_is_learned_as_the_cli_learns_it(executable, he
     assert pushpred.object_model_from_dict(d).pressure_rim_weight == 0.0
     with pytest.raises(pushpred.InputError, match="pressure shape"):
         pushpred.learn_object_model(files, limit_surface="outline", pressure_shape="conical")
+
+
+def test_the_similarity_weighting_is_learned_as_the_cli_learns_it(executable, hex_files, model, tmp_path):
+    # The default averages the weights over the bandwidths; "chosen" keeps one bandwidth, as `learn --similarity`.
+    assert model.to_dict()["similarity_weighting"] == "averaged"
+    chosen = pushpred.learn_object_model(hex_files, jobs=2, similarity="chosen")
+    run_cli(executable, "learn", *hex_files, "--similarity", "chosen", "--out", tmp_path / "hex.json", "--jobs", 1)
+    from_cli = json.loads((tmp_path / "hex.json").read_text())
+    assert chosen.to_dict()["similarity_weighting"] == from_cli["similarity_weighting"] == "chosen"
+    assert chosen.to_dict()["similarity_bandwidth"] == from_cli["similarity_bandwidth"]
+    # The two weightings forecast the same plan differently (the learned pushes push unlike it).
+    tip, direction = np.array([-0.066, 0.01]), np.array([1.0, 0.2])
+    a = model.forecast(np.zeros(3), tip=tip, direction=direction, speed_m_s=0.05)["pose"][-1]
+    b = chosen.forecast(np.zeros(3), tip=tip, direction=direction, speed_m_s=0.05)["pose"][-1]
+    assert np.abs(a - b).max() > 1e-9
+    with pytest.raises(pushpred.InputError, match="similarity"):
+        pushpred.learn_object_model(hex_files, similarity="nearest")

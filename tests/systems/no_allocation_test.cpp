@@ -315,9 +315,13 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
     model.pushes.push_back(f);
   }
   model.similarity_bandwidth = 1.0;
+  // The weighting averaged over the bandwidths (ObjectModel::similarity_averaged).
+  ObjectModel averaged = model;
+  averaged.similarity_averaged = true;
   ForecastDistribution d;
   ForecastWorkspace work;
   forecast_distribution_into(model, plan, Eigen::Vector3d::Zero(), times, d, work);
+  forecast_distribution_into(averaged, plan, Eigen::Vector3d::Zero(), times, d, work);
   double sum = 0;
   const long count = allocations_in([&] {
     for (const ForecastObject* o : {&polygon, &ellipse, &polygon_outline_surface, &ellipse_outline_surface}) {
@@ -325,6 +329,8 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
       sum += poses.sum();
     }
     forecast_distribution_into(model, plan, Eigen::Vector3d::Zero(), times, d, work);
+    sum += d.position_radius_m.sum();
+    forecast_distribution_into(averaged, plan, Eigen::Vector3d::Zero(), times, d, work);
     sum += d.position_radius_m.sum();
   });
   BOOST_TEST(std::isfinite(sum));

@@ -120,10 +120,30 @@ double weighted_quantile(std::vector<std::pair<double, double>> value_weight, do
   return value_weight.back().first;
 }
 
+/// The bandwidth argument of member_weights that stands for the averaged weighting (ObjectModel::similarity_averaged).
+constexpr double kAveragedBandwidth = -1;
+double weighting_bandwidth(const ObjectModel& model) {
+  return model.similarity_averaged ? kAveragedBandwidth : model.similarity_bandwidth;
+}
+
 /// The weights of `members` for a plan described by `d` under bandwidth h (all 1 for h = 0; members far beyond the
-/// bandwidth get 0 so that they cost no forecast).
+/// bandwidth get 0 so that they cost no forecast), or for h = kAveragedBandwidth the mean over kAveragedBandwidths of
+/// the weights under each, normalised to sum 1.
 void member_weights(const std::vector<const PushFit*>& members, double h, const PushDescriptor& d,
                     std::vector<double>& w) {
+  if (h == kAveragedBandwidth) {
+    thread_local std::vector<double> part;
+    w.assign(members.size(), 0.0);
+    for (const double each : kAveragedBandwidths) {
+      member_weights(members, each, d, part);
+      double total = 0;
+      for (const double x : part) total += x;
+      if (!(total > 0)) continue;
+      for (std::size_t i = 0; i < members.size(); ++i)
+        w[i] += part[i] / (total * static_cast<double>(kAveragedBandwidths.size()));
+    }
+    return;
+  }
   w.assign(members.size(), 1.0);
   if (!(h > 0)) return;
   double best = 0;
@@ -854,6 +874,16 @@ void set_trend_choice(LearnOptions& options, const std::string& choice) {
   }
 }
 
+void set_similarity_choice(LearnOptions& options, const std::string& choice) {
+  if (choice == "chosen") {
+    options.similarity_averaged = false;
+  } else if (choice == "averaged") {
+    options.similarity_averaged = true;
+  } else {
+    throw InputError("similarity weighting: 'chosen' or 'averaged', not '" + choice + "'");
+  }
+}
+
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
                                const std::vector<PushFit>& fits, const LearnOptions& options) {
@@ -863,6 +893,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   if (cases.size() != fits.size()) throw std::logic_error("learn_object_model: one case per fit");
   object.validate();
   if (bandwidths.empty()) bandwidths = {0.0};
+  if (options.similarity_averaged) bandwidths = {kAveragedBandwidth};
   ObjectModel model;
   model.surface = surface;
   model.object = object;
@@ -1009,6 +1040,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     model.similarity_bandwidth = bandwidths.size() == 1 ? bandwidths.front() : 0.0;
     ridge = ridges.size() == 1 ? ridges.front() : 0.0;
   }
+  model.similarity_averaged = options.similarity_averaged;
+  if (model.similarity_averaged) model.similarity_bandwidth = 0;
   std::vector<const PushFit*> everyone;
   for (const auto& f : learned_fits) everyone.push_back(&f);
   model.trend = fit_trend(everyone, ridge);
@@ -1022,7 +1055,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       Eigen::VectorXd ps(times.size()), ys(times.size());
       ForecastRun run;
       const std::vector<const PushFit*> others = others_of(q);
-      central_and_spread(learned_object, others, model.similarity_bandwidth, fit_trend(others, model.trend.ridge),
+      central_and_spread(learned_object, others, weighting_bandwidth(model), fit_trend(others, model.trend.ridge),
                          c.plan, c.start_pose, times, settings, mean, ps, ys, member, run, options.central);
       const double weight = 1.0 / static_cast<double>(idx.size());
       for (std::size_t k = 0; k < idx.size(); ++k) {
@@ -1058,7 +1091,7 @@ ForecastParameters central_parameters(const ObjectModel& model, const PushDescri
   }
   if (members.empty()) return model.parameters;
   std::vector<double> w;
-  member_weights(members, model.similarity_bandwidth, descriptor, w);
+  member_weights(members, weighting_bandwidth(model), descriptor, w);
   return weighted_median_parameters(parameters, w);
 }
 
@@ -1161,6 +1194,7 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
   }
   j["pushes"] = pushes;
   j["similarity_bandwidth"] = m.similarity_bandwidth;
+  j["similarity_weighting"] = m.similarity_averaged ? "averaged" : "chosen";
   nlohmann::json slopes = nlohmann::json::array();
   for (int i = 0; i < 3; ++i) {
     nlohmann::json row = nlohmann::json::array();
@@ -1332,6 +1366,12 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       m.similarity_bandwidth = number_at(j, "similarity_bandwidth", "model");
       if (m.similarity_bandwidth < 0) throw InputError("'similarity_bandwidth' must not be negative");
     }
+    if (j.contains("similarity_weighting")) {  // version 6 on; optional (absent: one chosen bandwidth)
+      const auto& sw = j.at("similarity_weighting");
+      if (!sw.is_string() || (sw.get<std::string>() != "averaged" && sw.get<std::string>() != "chosen"))
+        throw InputError("'similarity_weighting' must be \"chosen\" or \"averaged\"");
+      m.similarity_averaged = sw.get<std::string>() == "averaged";
+    }
     if (j.contains("parameter_trend")) {  // version 3 on; optional
       const auto& t = j.at("parameter_trend");
       m.trend.ridge = number_at(t, "ridge", "parameter_trend");
@@ -1418,7 +1458,7 @@ void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, c
     out.position_spread_m.setZero();
     out.yaw_spread_rad.setZero();
   } else {
-    central_and_spread(model.object, members, model.similarity_bandwidth, model.trend, plan, pose0, times,
+    central_and_spread(model.object, members, weighting_bandwidth(model), model.trend, plan, pose0, times,
                        model.settings, out.mean, out.position_spread_m, out.yaw_spread_rad, work.member, out.run,
                        model.central);
   }

@@ -32,8 +32,8 @@ namespace pushpred {
 /// "centre_of_friction" block: their centre of friction is the one in "object", the outline's centroid; versions 1
 /// and 2 have no "parameter_trend": their parameters do not follow the plan; versions 1 to 3 have no
 /// "limit_surface": theirs is the ellipsoid; versions 1 to 4 have no "pressure_shape": their pressure's rim weight
-/// is 0, uniform).
-inline constexpr int kObjectModelVersion = 5;
+/// is 0, uniform; versions 1 to 5 have no "similarity_weighting": theirs is one chosen bandwidth).
+inline constexpr int kObjectModelVersion = 6;
 
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.
@@ -205,8 +205,14 @@ struct ObjectModel {
   /// h: a forecast weighs learned push i by exp(-d_i^2 / (2 h^2)), d_i its descriptor's distance to the plan's; its
   /// central parameters are the weighted median (in logarithms) and its regions the weighted spread. 0: all alike
   /// (the central parameters are `parameters`). Chosen by learn among 0, 2, 1 and 0.5 by the learned pushes' own
-  /// leave-one-out error.
+  /// leave-one-out error when the weighting is not averaged (similarity_averaged, learn's default).
   double similarity_bandwidth = 0;
+  /// How the learned pushes are weighted for a plan: false, by the one bandwidth `similarity_bandwidth`; true
+  /// (averaged), by the mean over the bandwidths kAveragedBandwidths of each push's normalised weight under that
+  /// bandwidth (w_i(h) / sum_j w_j(h)): a weighting with a narrow core and wide tails, for which no bandwidth is
+  /// chosen (similarity_bandwidth is then 0 and unused). The choice among bandwidths on a dozen learned pushes is
+  /// noisy; their average is not.
+  bool similarity_averaged = false;
   /// The parameters' trend over the plan (inactive: none). Chosen by learn with the bandwidth, among
   /// LearnOptions::trend_ridges, by the learned pushes' own leave-one-out error; kept only when it beats the best
   /// bandwidth without a trend by more than one standard error of their paired per-push differences.
@@ -230,6 +236,9 @@ struct ObjectModel {
 struct LearnOptions {
   CentralForecast central = CentralForecast::EnsembleMean;
   std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates
+  /// ObjectModel::similarity_averaged (then `bandwidths` is unused). The default: on simulated pushes it forecast
+  /// better than one chosen bandwidth, and on the real ones it was not worse (docs/forecast.md).
+  bool similarity_averaged = true;
   /// The trend's candidate ridge weights (0: no trend), each tried with every bandwidth; the trend is fitted anew on
   /// the others for every left-out push. The default offers none (set_trend_choice "chosen" offers
   /// kTrendCandidateRidges): on simulated pushes the in-fold choice did not forecast better (docs/forecast.md).
@@ -274,6 +283,16 @@ inline const std::vector<double> kTrendCandidateRidges = {0.0, 1.0, 0.1};
 void set_trend_choice(LearnOptions& options, const std::string& choice);
 /// The choice LearnOptions' defaults make.
 inline constexpr const char* kTrendDefaultChoice = "none";
+
+/// The bandwidths an averaged similarity weighting averages over (ObjectModel::similarity_averaged): 0 (all alike),
+/// 2, 1 and 0.5, the candidates a chosen bandwidth is chosen among.
+inline const std::vector<double> kAveragedBandwidths = {0.0, 2.0, 1.0, 0.5};
+/// Sets how `options` weighs the learned pushes for a plan: "chosen" (one bandwidth, chosen among
+/// LearnOptions::bandwidths by the learned pushes' own leave-one-out error) or "averaged" (ObjectModel::
+/// similarity_averaged). InputError otherwise.
+void set_similarity_choice(LearnOptions& options, const std::string& choice);
+/// The choice LearnOptions' defaults make.
+inline constexpr const char* kSimilarityDefaultChoice = "averaged";
 
 /// Learns the object from the fits of its pushes (at least one; with `centre_of_friction_min_pushes` or more the
 /// centre of friction is fitted jointly and the pushes' own parameters refitted under it, when it forecasts the
