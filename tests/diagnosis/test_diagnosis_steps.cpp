@@ -87,6 +87,16 @@ Trial blind_trial(std::uint64_t seed, int index, const std::string& kind, bool z
   return t;
 }
 
+/// Trial `index` of `validate-diagnosis --kinds KIND --hide KIND --seed SEED` (the validation's defaults, preloads and
+/// sensor zeros drawn): `kind` simulated and diagnosed with a catalogue that lacks it.
+DiagnosisResult hidden_trial(std::uint64_t seed, int index, const std::string& kind) {
+  ValidationOptions o;
+  o.seed = seed;
+  o.hide = {kind};
+  ValidationTrial v;
+  return diagnose(simulate_trial(draw_validation_trial(o, index, kind, v)), validation_library(o), o.diagnosis);
+}
+
 /// The steps' shared context for `pushes`: split and the paper's method run.
 struct Steps {
   explicit Steps(const std::vector<SynchronisedPush>& pushes, const DiagnosisOptions& options = fast_options())
@@ -532,12 +542,7 @@ BOOST_AUTO_TEST_CASE(an_offset_that_stands_in_for_a_tilted_support_is_not_found)
   // the tilt being outside the catalogue: a 3.8 mm mass-centre offset takes up part of its torque (score 190, nearly
   // twice its floor, confirmed by the motion), but the residual stays unexplained, and beside that residual's leading
   // signature (a constant force in the world frame, which is what a tilt is) the offset no longer passes its test.
-  ValidationOptions o;
-  o.seed = 359200;
-  o.hide = {"support_tilt"};
-  ValidationTrial v;
-  const DiagnosisResult r =
-      diagnose(simulate_trial(draw_validation_trial(o, 10, "support_tilt", v)), validation_library(o), o.diagnosis);
+  const DiagnosisResult r = hidden_trial(359200, 10, "support_tilt");
   const EffectReport& com = report(r, "com_offset");
   BOOST_TEST(com.passed_test, "it should pass its own test, or this no longer tests the stand-in: " << com.note);
   BOOST_TEST(com.stands_in_for_unexplained, com.note);
@@ -552,12 +557,7 @@ BOOST_AUTO_TEST_CASE(the_held_out_pushes_force_shows_a_hidden_delay_that_two_fit
   // A trial of the tuning seeds 362200 (validation defaults, ellip1, four pushes: two fit, two held out), a force delay
   // of 4.8 floors outside the catalogue. On the two fit pushes alone the force part called the residual explained;
   // with the held-out pushes' force beside theirs (nothing a prediction uses is fitted on them) it is unexplained.
-  ValidationOptions o;
-  o.seed = 362200;
-  o.hide = {"time_offset"};
-  ValidationTrial v;
-  const DiagnosisResult r =
-      diagnose(simulate_trial(draw_validation_trial(o, 1, "time_offset", v)), validation_library(o), o.diagnosis);
+  const DiagnosisResult r = hidden_trial(362200, 1, "time_offset");
   BOOST_TEST(r.fit_sources.size() == 2u);
   BOOST_TEST(r.adequacy.force_pushes == 4);
   BOOST_TEST(r.adequacy.force_unexplained, findings_text(r));
@@ -570,12 +570,7 @@ BOOST_AUTO_TEST_CASE(a_drag_outside_the_catalogue_is_not_read_as_a_delay) {
   // catalogue: the delay's search against Coulomb friction alone found a lag in it (a force read late looks like a
   // drag where the push speeds up and slows down); with a drag fitted beside mu as a nuisance it finds none, and the
   // drag shows as an unexplained residual.
-  ValidationOptions o;
-  o.seed = 362200;
-  o.hide = {"viscous_friction"};
-  ValidationTrial v;
-  const DiagnosisResult r =
-      diagnose(simulate_trial(draw_validation_trial(o, 3, "viscous_friction", v)), validation_library(o), o.diagnosis);
+  const DiagnosisResult r = hidden_trial(362200, 3, "viscous_friction");
   BOOST_TEST(!report(r, "time_offset").selected, findings_text(r));
   BOOST_TEST(!r.adequacy.explained, findings_text(r));
   for (const auto& e : r.effects) BOOST_TEST((e.structural || !e.selected), e.kind << ": " << findings_text(r));

@@ -225,9 +225,8 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
     // falls (a clean set and the same set with a delay written into it).
     const PooledSearch plain = pooled_fit(pushes, false);
     DirectFit fit = plain.fit;
-    const PooledSearch beside_drag = pooled_fit(pushes, true);
-    if (beside_drag.rss_at_zero < plain.rss_at_minimum) {
-      fit.score = std::min(fit.score, beside_drag.fit.score);
+    if (pooled_fit(pushes, true, false).rss_at_zero < plain.rss_at_minimum) {
+      fit.score = std::min(fit.score, pooled_fit(pushes, true).fit.score);
       fit.note = "a drag explains the residual better than a delay: its evidence is its score beside one";
     }
     if (pushes.size() < 3) return fit;
@@ -255,8 +254,9 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
     DirectFit fit;
     double rss_at_zero = 0, rss_at_minimum = 0;  ///< weighted residual sums of squares at tau = 0 and at the fit
   };
-  /// The search above over `pushes` together (one delay shared by all), with a drag beside mu or not.
-  PooledSearch pooled_fit(const std::vector<DiagnosisPush>& pushes, bool with_drag) const {
+  /// The search above over `pushes` together (one delay shared by all), with a drag beside mu or not; without
+  /// `search_delay` only the residual at tau = 0 (rss_at_zero; the fit is empty).
+  PooledSearch pooled_fit(const std::vector<DiagnosisPush>& pushes, bool with_drag, bool search_delay = true) const {
     const ResidualRegression linear(pushes, Relation::Linear);
     const double neff = linear.effective_samples();
     const Eigen::Vector3d scale = linear.channel_scale();
@@ -264,16 +264,17 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
     std::vector<Eigen::MatrixX3d> coulomb, drag;
     std::vector<std::vector<char>> used;
     for (const auto& d : pushes) {
-      Eigen::MatrixX3d raw(d.rows(), 3), raw_drag(d.rows(), 3);
+      Eigen::MatrixX3d raw(d.rows(), 3), raw_drag = Eigen::MatrixX3d::Zero(d.rows(), 3);
       const FrictionFootprint footprint = FrictionFootprint::of(d.push.shape);
       for (Eigen::Index k = 0; k < d.rows(); ++k) {
         const EffectState st = d.state(k);
         raw.row(k) = coulomb_friction_wrench(st.pose, st.velocity, d.push.shape, footprint).transpose();
-        raw_drag.row(k) << -d.push.shape.mass_kg * st.velocity(0), -d.push.shape.mass_kg * st.velocity(1),
-            -d.push.shape.inertia_kgm2 * st.velocity(2);
+        if (with_drag)
+          raw_drag.row(k) << -d.push.shape.mass_kg * st.velocity(0), -d.push.shape.mass_kg * st.velocity(1),
+              -d.push.shape.inertia_kgm2 * st.velocity(2);
       }
       coulomb.push_back(d.as_observed(raw));
-      drag.push_back(with_drag ? d.as_observed(raw_drag) : Eigen::MatrixX3d::Zero(d.rows(), 3));
+      drag.push_back(with_drag ? d.as_observed(raw_drag) : raw_drag);
       used.push_back(friction_law_samples(d));
     }
     const auto rss = [&](double tau) {
@@ -332,6 +333,10 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
       }
       return best;
     };
+    if (!search_delay) {
+      const double at_zero = rss(0.0);
+      return {DirectFit{}, at_zero, at_zero};
+    }
     double tau = 0;
     search(-kMaxDelay_s, kMaxDelay_s, 0.004, tau);
     const double step = 0.0005;

@@ -141,15 +141,20 @@ std::vector<DiagnosisPush> DiagnosisContext::corrected_data(const ModelCorrectio
   std::vector<SynchronisedPush> corrected;
   for (const auto& push : fit_pushes) corrected.push_back(apply_data_correction(push, c));
   const Eigen::Vector2d shared_rest_force = shared_rest_force_N(corrected);
-  for (std::size_t p = 0; p < corrected.size(); ++p) {
-    QFilterObserverOptions obs = options.observer;
-    obs.mass_kg = 0;  // from the corrected shape
-    obs.inertia_kgm2 = 0;
-    data.push_back(prepare_diagnosis_push(corrected[p], 0.0, fit_end_s[p], obs));
-    data.back().shared_rest_force_N = shared_rest_force;
-    data.back().sensor_zero_spread_N = options.sensor_zero_spread_N;
-  }
+  for (std::size_t p = 0; p < corrected.size(); ++p)
+    data.push_back(prepared(corrected[p], fit_end_s[p], shared_rest_force));
   return data;
+}
+
+DiagnosisPush DiagnosisContext::prepared(const SynchronisedPush& corrected, double t1_s,
+                                         const Eigen::Vector2d& shared_rest_force) const {
+  QFilterObserverOptions obs = options.observer;
+  obs.mass_kg = 0;  // from the corrected shape
+  obs.inertia_kgm2 = 0;
+  DiagnosisPush out = prepare_diagnosis_push(corrected, 0.0, t1_s, obs);
+  out.shared_rest_force_N = shared_rest_force;
+  out.sensor_zero_spread_N = options.sensor_zero_spread_N;
+  return out;
 }
 
 EffectColumns DiagnosisContext::columns(const std::vector<DiagnosisPush>& data, std::size_t candidate,

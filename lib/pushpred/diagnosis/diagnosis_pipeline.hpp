@@ -76,6 +76,10 @@ struct DiagnosisContext {
   bool in_group(std::size_t candidate, Relation group) const;
   /// The fit pushes as `data_correction` corrects them, with the observer run over their fit spans.
   std::vector<DiagnosisPush> corrected_data(const ModelCorrection& data_correction) const;
+  /// One push already corrected, with the observer run over [0, t1_s] (the mass and inertia its corrected shape's) and
+  /// the rest force the pushes share. Throws InputError as prepare_diagnosis_push().
+  DiagnosisPush prepared(const SynchronisedPush& corrected, double t1_s,
+                         const Eigen::Vector2d& shared_rest_force) const;
   /// A candidate's regressor columns on `data`.
   EffectColumns columns(const std::vector<DiagnosisPush>& data, std::size_t candidate, double setting) const;
   /// The correction of `selected`: data corrections only, or the whole model for the prediction.

@@ -50,19 +50,14 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
     for (const auto& push : context.test_pushes) all.push_back(apply_data_correction(push, data_correction));
   const Eigen::Vector2d shared_rest = shared_rest_force_N(all);
   std::vector<DiagnosisPush> data = model.data;
-  QFilterObserverOptions observer = context.options.observer;
-  observer.mass_kg = 0;  // from the corrected shape, as DiagnosisContext::corrected_data
-  observer.inertia_kgm2 = 0;
+  for (auto& d : data) d.shared_rest_force_N = shared_rest;
   for (std::size_t p = model.data.size(); p < all.size(); ++p) {
     try {
-      data.push_back(prepare_diagnosis_push(all[p], 0.0, all[p].duration_s(), observer));
+      data.push_back(context.prepared(all[p], all[p].duration_s(), shared_rest));
     } catch (const InputError& e) {  // the force part goes on without it; force_pushes says how many it read
       out.trace.line("model adequacy: held-out push " + all[p].source + " left out of the force part: " + e.what());
-      continue;
     }
-    data.back().sensor_zero_spread_N = context.options.sensor_zero_spread_N;
   }
-  for (auto& d : data) d.shared_rest_force_N = shared_rest;
   out.hints = test_corrected_residual(context, model.terms, data, floors, options, a);
   a.force_pushes = static_cast<int>(data.size());
   test_contact_compliance(all, floors, options, a);
