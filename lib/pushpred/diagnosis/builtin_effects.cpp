@@ -203,9 +203,9 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
   // mass centre would bend the torque channel's curve). A drag's force follows the speed, and where a push speeds up
   // and slows down a force read a little late looks like one: where a drag alone (mu and c refitted, no delay) leaves
   // a smaller residual than the best delay alone, the delay's score is its search's with the drag beside mu as a
-  // nuisance, never a finding here (fit_directly). Without it a drag outside the catalogue passed for a delay in 3 of
-  // 16 hidden-drag trials of the tuning seeds 362200-362219; with the drag beside every search a delay written into
-  // real pushes was absorbed by it (hex, 20 ms read as 14 +- 5 ms). The residual sum of squares is searched over
+  // nuisance, never a finding here (fit_directly): otherwise a drag outside the catalogue passes for a delay (3 of 16
+  // hidden-drag trials of the tuning seeds 362200-362219). Not beside every search: where the real pushes' speeds and
+  // force rates go together, a drag would take up part of a true delay (hex, 20 ms written into its pushes). The residual sum of squares is searched over
   // tau on a 4 ms grid over +-kMaxDelay_s, refined on a 0.5 ms grid, and its minimum located by a parabola.
   // Score: the BIC drop N_eff ln(RSS(0) / RSS(tau)) - ln(N_eff); standard error from the parabola's curvature
   // (the profile likelihood with N_eff samples: RSS rises by RSS / N_eff one standard error away).
