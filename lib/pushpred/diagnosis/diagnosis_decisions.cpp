@@ -233,8 +233,8 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
       r.theta = d.theta;
       r.theta_std = d.theta_std;
       r.note =
-          "significant and above its floor, but the fit pushes' motion contradicts it: the corrected model "
-          "predicts their phases no better with it" +
+          "significant and above its floor, but the fit pushes' motion contradicts it: the corrected model " +
+          diagnosis_format("predicts their phases less than %.0f %% better with it", 100 * kMotionConfirmationGain) +
           motion_numbers(d) + "; a residual of its shape that is not this effect";
       return;
     case Verdict::ReopenedForSearch:
