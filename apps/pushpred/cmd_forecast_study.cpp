@@ -85,8 +85,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--central", a->central,
                   "The central forecast at each time from the learned pushes' own forecasts: ensemble_mean (their "
                   "weighted mean), ensemble_median (their positions' weighted geometric median and their yaws' weighted "
-                  "median), ensemble_median_yaw (the mean's position, the median's yaw) or median (the forecast of "
-                  "their parameters' median); default " +
+                  "median) or median (the forecast of their parameters' median); default " +
                       std::string(kCentralForecastDefaultChoice))
       ->check(CLI::IsMember(kCentralForecastNames));
   sub->add_option("--centre-of-friction", a->centre_of_friction,

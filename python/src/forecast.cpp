@@ -195,8 +195,8 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       "Learns one object's model from recorded pushes of it on one surface, as `pushpred learn` does (frozen force "
       "sensors left out); limit_surface \"ellipsoid\" (default) or \"outline\" as its --limit-surface, "
       "pressure_shape \"chosen\" (default), \"learned\" or \"uniform\" as its --pressure-shape, similarity "
-      "\"chosen\" or \"averaged\" as its --similarity, central \"ensemble_mean\", \"ensemble_median\", "
-      "\"ensemble_median_yaw\" or \"median\" as its --central.");
+      "\"chosen\" or \"averaged\" as its --similarity, central \"ensemble_mean\", \"ensemble_median\" or "
+      "\"median\" as its --central.");
 }
 
 }  // namespace pushpred::python

@@ -204,7 +204,7 @@ ParameterTrend fit_trend(const std::vector<const PushFit*>& members, double ridg
 
 /// The central forecast of a plan from `members` (weighted by bandwidth h, moved along `trend`; CentralForecast) and,
 /// when `spread` is set, the members' weighted RMS spread about it: the core of forecast_distribution_into and of the
-/// calibration. The median central forecasts keep the members' trajectories in `work`.
+/// calibration. The ensemble's median keeps the members' trajectories in `work`.
 void central_and_spread(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
                         const ParameterTrend& trend, const TipPlan& plan, const Eigen::Vector3d& pose0,
                         const Eigen::VectorXd& times, const ForecastSettings& settings,
@@ -222,9 +222,9 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
   const Eigen::Index n = times.size();
   Eigen::MatrixX3d& member = work.member;
   if (member.rows() != n) member.resize(n, 3);
-  if (mode == CentralForecast::EnsembleMedian || mode == CentralForecast::EnsembleMedianYaw) {
+  if (mode == CentralForecast::EnsembleMedian) {
     // Every member's trajectory kept (nothing allocated after the first call of a size), then at each time the
-    // medians, the mean's position for EnsembleMedianYaw, and the spread about them.
+    // medians and the spread about them.
     const Eigen::Index capacity = static_cast<Eigen::Index>(members.size());
     if (work.ensemble_xy.rows() != 2 * capacity || work.ensemble_xy.cols() != n) work.ensemble_xy.resize(2 * capacity, n);
     if (work.ensemble_yaw.rows() != capacity || work.ensemble_yaw.cols() != n) work.ensemble_yaw.resize(capacity, n);
@@ -251,10 +251,7 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
     const auto weights = work.weights.head(count);
     for (Eigen::Index k = 0; k < n; ++k) {
       const Eigen::Map<const Eigen::Matrix2Xd> xy(work.ensemble_xy.col(k).data(), 2, count);
-      if (mode == CentralForecast::EnsembleMedian)
-        mean.row(k).head<2>() = weighted_geometric_median(xy, weights).transpose();
-      else
-        mean.row(k).head<2>() = (xy * weights / total).transpose();
+      mean.row(k).head<2>() = weighted_geometric_median(xy, weights).transpose();
       work.value_weight.resize(static_cast<std::size_t>(count));
       for (Eigen::Index a = 0; a < count; ++a)
         work.value_weight[static_cast<std::size_t>(a)] = {work.ensemble_yaw(a, k), weights(a)};
@@ -797,9 +794,7 @@ CentralForecast central_forecast_named(const std::string& name) {
   if (name == "ensemble_mean") return CentralForecast::EnsembleMean;
   if (name == "median") return CentralForecast::MedianParameters;
   if (name == "ensemble_median") return CentralForecast::EnsembleMedian;
-  if (name == "ensemble_median_yaw") return CentralForecast::EnsembleMedianYaw;
-  throw InputError("central forecast: 'ensemble_mean', 'median', 'ensemble_median' or 'ensemble_median_yaw', not '" +
-                   name + "'");
+  throw InputError("central forecast: 'ensemble_mean', 'median' or 'ensemble_median', not '" + name + "'");
 }
 
 const char* central_forecast_name(CentralForecast c) {
@@ -807,7 +802,6 @@ const char* central_forecast_name(CentralForecast c) {
     case CentralForecast::EnsembleMean: return "ensemble_mean";
     case CentralForecast::MedianParameters: return "median";
     case CentralForecast::EnsembleMedian: return "ensemble_median";
-    case CentralForecast::EnsembleMedianYaw: return "ensemble_median_yaw";
   }
   return "ensemble_mean";
 }
@@ -1528,8 +1522,7 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
     }
     if (j.contains("central")) {
       if (!j.at("central").is_string())
-        throw InputError("'central' must be \"ensemble_mean\", \"median\", \"ensemble_median\" or "
-                         "\"ensemble_median_yaw\"");
+        throw InputError("'central' must be \"ensemble_mean\", \"median\" or \"ensemble_median\"");
       m.central = central_forecast_named(j.at("central").get<std::string>());
     }
     if (j.contains("regions")) {

@@ -175,18 +175,16 @@ double rim_weight_jackknife_standard_error(const ForecastObject& object, const s
 /// - EnsembleMedian ("ensemble_median"): their positions' weighted geometric median (weighted_geometric_median) and
 ///   their yaws' weighted median (weighted_median), the best point under the absolute error the study scores; where
 ///   the ensemble splits across the contact's stick/slide switch it lies on the heavier mode, not between them;
-/// - EnsembleMedianYaw ("ensemble_median_yaw"): the mean's position and the median's yaw;
 /// - MedianParameters ("median"): the forecast of their parameters' (weighted) median.
 /// The regions are centred on the central forecast, with the ensemble's spread about it. The mean of the ensemble
 /// errs less than the median parameters on the real pushes (docs/forecast.md): the trajectory bends nonlinearly with
 /// the parameters.
-enum class CentralForecast { EnsembleMean, MedianParameters, EnsembleMedian, EnsembleMedianYaw };
-/// "ensemble_mean", "median", "ensemble_median", "ensemble_median_yaw"; InputError otherwise.
+enum class CentralForecast { EnsembleMean, MedianParameters, EnsembleMedian };
+/// "ensemble_mean", "median", "ensemble_median"; InputError otherwise.
 CentralForecast central_forecast_named(const std::string& name);
 const char* central_forecast_name(CentralForecast central);
 /// The names central_forecast_named takes, in that order.
-inline const std::vector<std::string> kCentralForecastNames = {"ensemble_mean", "median", "ensemble_median",
-                                                               "ensemble_median_yaw"};
+inline const std::vector<std::string> kCentralForecastNames = {"ensemble_mean", "median", "ensemble_median"};
 /// The central forecast LearnOptions' defaults make (docs/forecast.md: chosen on simulated pushes).
 inline constexpr const char* kCentralForecastDefaultChoice = "ensemble_mean";
 
@@ -361,7 +359,7 @@ struct ForecastDistribution {
 /// allocated.
 struct ForecastWorkspace {
   Eigen::MatrixX3d member;
-  /// The median central forecasts' storage: the ensemble's positions (rows 2m, 2m + 1 of member m) and yaws (row m)
+  /// The median central forecast's storage: the ensemble's positions (rows 2m, 2m + 1 of member m) and yaws (row m)
   /// at each output time (columns), the members' weights, and the yaw median's sort buffer.
   Eigen::MatrixXd ensemble_xy, ensemble_yaw;
   Eigen::VectorXd weights;
