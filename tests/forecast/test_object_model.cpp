@@ -1,7 +1,7 @@
 // Learning an object and forecasting with its 90 % regions: against the project's simulator (distributed Coulomb
 // support friction and a compliant rod, not the forecast's own equations) with known parameters, the object file's
 // round trip, and its refusal of bad files by name. Simulated seeds 270000-270099; the centre of friction's
-// 310000-310199.
+// 310000-310199; the central forecasts' 380000-382623.
 #include <Eigen/Geometry>
 #include <array>
 #include <boost/test/unit_test.hpp>

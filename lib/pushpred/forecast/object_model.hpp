@@ -194,12 +194,13 @@ inline constexpr const char* kCentralForecastDefaultChoice = "ensemble_mean";
 double weighted_median(std::vector<std::pair<double, double>>& value_weight);
 
 /// The weighted geometric median of `points` (columns), the point minimising sum_i w_i |x_i - y|: Weiszfeld's
-/// iteration from the weighted mean, with Vardi and Zhang's step where the iterate meets a point (so that a point
-/// that is the median is found and one that is not is left), until a step is below `tolerance_m` or after
-/// `max_iterations`. Weights non-negative (at least one positive); nothing allocated.
+/// iteration from `*start` (a nearby median, as the previous output time's; nullptr: the weighted mean), with Vardi
+/// and Zhang's step where the iterate meets a point (so that a point that is the median is found and one that is not
+/// is left), until a step is below `tolerance_m` or after `max_iterations`. Weights non-negative (at least one
+/// positive); nothing allocated.
 Eigen::Vector2d weighted_geometric_median(const Eigen::Ref<const Eigen::Matrix2Xd>& points,
                                           const Eigen::Ref<const Eigen::VectorXd>& weights, double tolerance_m = 1e-9,
-                                          int max_iterations = 200);
+                                          int max_iterations = 200, const Eigen::Vector2d* start = nullptr);
 
 /// How the 90 % regions are sized (see the header's comment).
 struct RegionCalibration {
