@@ -705,8 +705,7 @@ BOOST_AUTO_TEST_CASE(the_weighted_medians_find_the_centre_of_symmetric_points_an
   const Eigen::Vector2d centre(0.012, -0.034);
   Eigen::Matrix2Xd points(2, 8);
   Eigen::VectorXd weights(8);
-  const std::array<Eigen::Vector2d, 4> offsets{
-      {{0.01, 0.0}, {0.003, 0.02}, {-0.007, 0.004}, {0.0005, -0.0011}}};
+  const std::array<Eigen::Vector2d, 4> offsets{{{0.01, 0.0}, {0.003, 0.02}, {-0.007, 0.004}, {0.0005, -0.0011}}};
   for (int k = 0; k < 4; ++k) {
     points.col(2 * k) = centre + offsets[static_cast<std::size_t>(k)];
     points.col(2 * k + 1) = centre - offsets[static_cast<std::size_t>(k)];
@@ -722,7 +721,9 @@ BOOST_AUTO_TEST_CASE(the_weighted_medians_find_the_centre_of_symmetric_points_an
   four << 0.0, 0.03, 0.01, -0.02, 0.0, 0.005, 0.04, 0.015;
   const Eigen::Vector4d w4(1.0, 2.0, 0.7, 1.3);
   const Eigen::Vector2d m = weighted_geometric_median(four, w4);
-  auto cost = [&](const Eigen::Vector2d& y) { return ((four.colwise() - y).colwise().norm().transpose().cwiseProduct(w4)).sum(); };
+  auto cost = [&](const Eigen::Vector2d& y) {
+    return ((four.colwise() - y).colwise().norm().transpose().cwiseProduct(w4)).sum();
+  };
   for (int k = 0; k < 16; ++k) {
     const Eigen::Vector2d probe = m + 1e-5 * Eigen::Vector2d(std::cos(k * M_PI / 8), std::sin(k * M_PI / 8));
     BOOST_TEST(cost(probe) > cost(m));
@@ -780,7 +781,8 @@ BOOST_AUTO_TEST_CASE(on_the_stick_slide_switch_the_ensemble_median_lies_on_the_h
 }
 
 // Labelled slow (leave-one-out studies over 388 simulated pushes, two central forecasts each; about 30 s).
-BOOST_AUTO_TEST_CASE(the_ensemble_mean_forecasts_simulated_objects_better_than_its_median, *boost::unit_test::label("slow")) {
+BOOST_AUTO_TEST_CASE(the_ensemble_mean_forecasts_simulated_objects_better_than_its_median,
+                     *boost::unit_test::label("slow")) {
   // The simulated evidence on which the central forecast's default was decided (docs/forecast.md): the seven kinds of
   // set of the_averaged_similarity_forecasts_simulated_objects_better (rect1, ellip3, hex and ellip1, frictions
   // following the plan or drawn independently of it) on fresh seeds, three replicates: kind k (0-6) of replicate r

@@ -230,7 +230,8 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
     // Every member's trajectory kept (nothing allocated after the first call of a size), then at each time the
     // medians and the spread about them.
     const Eigen::Index capacity = static_cast<Eigen::Index>(members.size());
-    if (work.ensemble_xy.rows() != 2 * capacity || work.ensemble_xy.cols() != n) work.ensemble_xy.resize(2 * capacity, n);
+    if (work.ensemble_xy.rows() != 2 * capacity || work.ensemble_xy.cols() != n)
+      work.ensemble_xy.resize(2 * capacity, n);
     if (work.ensemble_yaw.rows() != capacity || work.ensemble_yaw.cols() != n) work.ensemble_yaw.resize(capacity, n);
     if (work.weights.size() != capacity) work.weights.resize(capacity);
     if (work.value_weight.size() < members.size()) work.value_weight.resize(members.size());
@@ -259,7 +260,8 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
     for (Eigen::Index k = 0; k < n; ++k) {
       const Eigen::Map<const Eigen::Matrix2Xd> xy(work.ensemble_xy.col(k).data(), 2, count);
       const Eigen::Vector2d ensemble_mean = xy * weights / total;
-      const Eigen::Vector2d start = k > 0 ? Eigen::Vector2d(previous_median + ensemble_mean - previous_mean) : ensemble_mean;
+      const Eigen::Vector2d start =
+          k > 0 ? Eigen::Vector2d(previous_median + ensemble_mean - previous_mean) : ensemble_mean;
       previous_median = weighted_geometric_median(xy, weights, kMedianTolerance_m, 200, &start);
       previous_mean = ensemble_mean;
       mean.row(k).head<2>() = previous_median.transpose();
@@ -810,9 +812,12 @@ CentralForecast central_forecast_named(const std::string& name) {
 
 const char* central_forecast_name(CentralForecast c) {
   switch (c) {
-    case CentralForecast::EnsembleMean: return "ensemble_mean";
-    case CentralForecast::MedianParameters: return "median";
-    case CentralForecast::EnsembleMedian: return "ensemble_median";
+    case CentralForecast::EnsembleMean:
+      return "ensemble_mean";
+    case CentralForecast::MedianParameters:
+      return "median";
+    case CentralForecast::EnsembleMedian:
+      return "ensemble_median";
   }
   return "ensemble_mean";
 }
@@ -920,8 +925,8 @@ double held_out_score(const ForecastObject& object, const std::vector<const Push
   Eigen::MatrixX3d mean(times.size(), 3);
   Eigen::VectorXd ps(times.size()), ys(times.size());
   ForecastRun run;
-  central_and_spread(object, members, h, trend, c.plan, c.start_pose, times, settings, mean, ps, ys, work, run,
-                     central, false);
+  central_and_spread(object, members, h, trend, c.plan, c.start_pose, times, settings, mean, ps, ys, work, run, central,
+                     false);
   double pos = 0, yaw = 0;
   for (std::size_t k = 0; k < idx.size(); ++k) {
     pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
