@@ -108,6 +108,37 @@ static void BM_forecast_with_regions_and_trend(benchmark::State& state) {
 }
 BENCHMARK(BM_forecast_with_regions_and_trend)->Name("forecast/trajectory_with_regions_16_members_trend");
 
+/// The fixture's model with its 16 members' parameters spread (rod friction over a factor 2.7 and c over 1.6 about the
+/// fit), so that their trajectories differ, and the central forecast `central`.
+static pushpred::ObjectModel spread_model(pushpred::CentralForecast central) {
+  pushpred::ObjectModel model = fixture().model;
+  for (std::size_t k = 0; k < model.pushes.size(); ++k) {
+    const double u = static_cast<double>(k) / static_cast<double>(model.pushes.size() - 1) - 0.5;
+    model.pushes[k].parameters.pusher_friction *= std::exp(u);
+    model.pushes[k].parameters.torque_ratio_m *= std::exp(0.5 * u);
+  }
+  model.central = central;
+  return model;
+}
+
+static void BM_forecast_with_regions_spread(benchmark::State& state, pushpred::CentralForecast central) {
+  // The ensemble's mean or its median (weighted geometric median in position at every output time) over members
+  // whose trajectories differ.
+  const pushpred::ObjectModel model = spread_model(central);
+  const Fixture& f = fixture();
+  pushpred::ForecastDistribution d;
+  pushpred::ForecastWorkspace work;
+  for (auto _ : state) {
+    pushpred::forecast_distribution_into(model, f.c.plan, f.c.start_pose, f.c.times_s, d, work);
+    benchmark::DoNotOptimize(d.mean.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK_CAPTURE(BM_forecast_with_regions_spread, mean, pushpred::CentralForecast::EnsembleMean)
+    ->Name("forecast/trajectory_with_regions_16_spread_members");
+BENCHMARK_CAPTURE(BM_forecast_with_regions_spread, median, pushpred::CentralForecast::EnsembleMedian)
+    ->Name("forecast/trajectory_with_regions_16_spread_members_median");
+
 static void BM_quasi_static_phase(benchmark::State& state) {
   const Fixture& f = fixture();
   const std::vector<pushpred::TimeInterval> intervals = pushpred::split_into_intervals(f.push, {});

@@ -19,7 +19,7 @@ struct StudyArgs {
   std::vector<std::string> files;
   std::string out, data;
   int jobs = default_jobs();
-  std::string central = "ensemble_mean";
+  std::string central = kCentralForecastDefaultChoice;
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
   std::string similarity = kSimilarityDefaultChoice;
@@ -82,10 +82,12 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_out_folder(*sub, a->out);
   sub->add_option("--data", a->data, "Data folder (butter's outline); default: PUSHPRED_DATA or ../shared/data/mcube");
   add_shapes(*sub);
-  sub->add_option("--central", a->central,
-                  "The central forecast: ensemble_mean (the learned pushes' own forecasts averaged, default) or median "
-                  "(the forecast of their parameters' median)")
-      ->check(CLI::IsMember({"ensemble_mean", "median"}));
+  const std::string central_help =
+      "The central forecast at each time from the learned pushes' own forecasts: ensemble_mean (their weighted mean), "
+      "ensemble_median (their positions' weighted geometric median and their yaws' weighted median) or median (the "
+      "forecast of their parameters' median); default " +
+      std::string(kCentralForecastDefaultChoice);
+  sub->add_option("--central", a->central, central_help)->check(CLI::IsMember(kCentralForecastNames));
   sub->add_option("--centre-of-friction", a->centre_of_friction,
                   "chosen (default: learned jointly over the pushes when that forecasts them better in "
                   "cross-validation, else the centroid), learned (always) or centroid (never learned)")

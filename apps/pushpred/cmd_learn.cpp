@@ -25,7 +25,7 @@ struct LearnArgs {
   std::string out, data, outline_file, ellipse, name;
   double circle_m = 0, mass_kg = 0, inertia_kgm2 = 0;
   int jobs = default_jobs();
-  std::string central = "ensemble_mean";
+  std::string central = kCentralForecastDefaultChoice;
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
   std::string similarity = kSimilarityDefaultChoice;
@@ -181,10 +181,12 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--inertia", a->inertia_kgm2, "Moment of inertia of one's own object about its mass centre [kg m^2]")
       ->check(kPositiveNumber);
   sub->add_option("--name", a->name, "Name of one's own object");
-  sub->add_option("--central", a->central,
-                  "The central forecast: ensemble_mean (the learned pushes' own forecasts averaged, default) or median "
-                  "(the forecast of their parameters' median)")
-      ->check(CLI::IsMember({"ensemble_mean", "median"}));
+  const std::string central_help =
+      "The central forecast at each time from the learned pushes' own forecasts: ensemble_mean (their weighted mean), "
+      "ensemble_median (their positions' weighted geometric median and their yaws' weighted median) or median (the "
+      "forecast of their parameters' median); default " +
+      std::string(kCentralForecastDefaultChoice);
+  sub->add_option("--central", a->central, central_help)->check(CLI::IsMember(kCentralForecastNames));
   sub->add_option("--centre-of-friction", a->centre_of_friction,
                   "chosen (default: learned jointly over the pushes when that forecasts them better in "
                   "cross-validation, else the centroid), learned (always) or centroid (never learned)")

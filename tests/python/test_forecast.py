@@ -117,3 +117,29 @@ def test_the_similarity_weighting_is_learned_as_the_cli_learns_it(executable, he
     assert np.abs(a - b).max() > 1e-9
     with pytest.raises(pushpred.InputError, match="similarity"):
         pushpred.learn_object_model(hex_files, similarity="nearest")
+
+
+def test_the_central_forecast_is_learned_as_the_cli_learns_it(executable, hex_files, model, tmp_path):
+    # The default is the ensemble's mean; "ensemble_median" (its weighted geometric median in position, weighted median
+    # in yaw) as `learn --central ensemble_median`, kept in the file and used by its forecast.
+    assert model.to_dict()["central"] == "ensemble_mean"
+    median = pushpred.learn_object_model(hex_files, jobs=2, central="ensemble_median")
+    run_cli(executable, "learn", *hex_files, "--central", "ensemble_median", "--out", tmp_path / "hex.json",
+            "--jobs", 1)
+    from_cli = json.loads((tmp_path / "hex.json").read_text())
+    assert median.to_dict()["central"] == from_cli["central"] == "ensemble_median"
+    assert median.to_dict()["regions"] == from_cli["regions"]
+    run_cli(executable, "forecast", "--model", tmp_path / "hex.json", "--object-pose", "0,0,0", "--tip", "-66,10",
+            "--direction", "10", "--speed", "50", "--out", tmp_path / "f")
+    cli = np.genfromtxt(tmp_path / "f" / "forecast.csv", delimiter=",", names=True)
+    d = np.deg2rad(10.0)
+    f = median.forecast(np.zeros(3), tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]),
+                        speed_m_s=0.05)
+    np.testing.assert_allclose(1e3 * f["pose"][:, 0], cli["x_mm"], atol=1e-6)
+    np.testing.assert_allclose(np.rad2deg(f["pose"][:, 2]), cli["yaw_deg"], atol=1e-6)
+    # The median is not the mean of the same ensemble.
+    mean = model.forecast(np.zeros(3), tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]),
+                          speed_m_s=0.05, times_s=f["t_s"])
+    assert np.abs(mean["pose"] - f["pose"]).max() > 1e-6
+    with pytest.raises(pushpred.InputError, match="central"):
+        pushpred.learn_object_model(hex_files, central="mode")

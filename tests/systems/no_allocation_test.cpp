@@ -318,10 +318,14 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
   // The weighting averaged over the bandwidths (ObjectModel::similarity_averaged).
   ObjectModel averaged = model;
   averaged.similarity_averaged = true;
+  // The ensemble's median as the central forecast (CentralForecast::EnsembleMedian), which keeps the ensemble's
+  // trajectories in the workspace.
+  ObjectModel median = averaged;
+  median.central = CentralForecast::EnsembleMedian;
   ForecastDistribution d;
   ForecastWorkspace work;
-  forecast_distribution_into(model, plan, Eigen::Vector3d::Zero(), times, d, work);
-  forecast_distribution_into(averaged, plan, Eigen::Vector3d::Zero(), times, d, work);
+  for (const ObjectModel* m : {&model, &averaged, &median})
+    forecast_distribution_into(*m, plan, Eigen::Vector3d::Zero(), times, d, work);
   double sum = 0;
   const long count = allocations_in([&] {
     for (const ForecastObject* o : {&polygon, &ellipse, &polygon_outline_surface, &ellipse_outline_surface}) {
@@ -332,6 +336,8 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
     sum += d.position_radius_m.sum();
     forecast_distribution_into(averaged, plan, Eigen::Vector3d::Zero(), times, d, work);
     sum += d.position_radius_m.sum();
+    forecast_distribution_into(median, plan, Eigen::Vector3d::Zero(), times, d, work);
+    sum += d.position_radius_m.sum() + d.mean.sum();
   });
   BOOST_TEST(std::isfinite(sum));
   BOOST_TEST(count == 0);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -165,20 +166,7 @@ ForecastParameters weighted_median_parameters(const std::vector<ForecastParamete
     value_weight.clear();
     for (std::size_t m = 0; m < members.size(); ++m)
       if (w[m] > 0) value_weight.emplace_back(std::log(members[m].vector()(i)), w[m]);
-    std::sort(value_weight.begin(), value_weight.end());
-    double total = 0, acc = 0;
-    for (const auto& vw : value_weight) total += vw.second;
-    // The weighted median: the mean of the values where the cumulative weight crosses half from below and above.
-    double lower = value_weight.back().first, upper = value_weight.back().first;
-    for (std::size_t k = 0; k < value_weight.size(); ++k) {
-      acc += value_weight[k].second;
-      if (acc >= 0.5 * total - 1e-12 * total) {
-        lower = value_weight[k].first;
-        upper = (acc <= 0.5 * total + 1e-12 * total && k + 1 < value_weight.size()) ? value_weight[k + 1].first : lower;
-        break;
-      }
-    }
-    out(i) = std::exp(0.5 * (lower + upper));
+    out(i) = std::exp(weighted_median(value_weight));
   }
   return ForecastParameters::from_vector(out);
 }
@@ -214,13 +202,18 @@ ParameterTrend fit_trend(const std::vector<const PushFit*>& members, double ridg
   return trend;
 }
 
-/// The central forecast of a plan from `members` (weighted by bandwidth h, moved along `trend`) and, when `spread`
-/// is set, the members' weighted RMS spread about it: the core of forecast_distribution_into and of the calibration.
+/// The ensemble median's stopping step, 0.1 micrometre: where the members lie near a line the sum of distances is
+/// nearly flat along it and Weiszfeld's steps shrink slowly; a hundredth of the study's 0.01 mm.
+constexpr double kMedianTolerance_m = 1e-7;
+
+/// The central forecast of a plan from `members` (weighted by bandwidth h, moved along `trend`; CentralForecast) and,
+/// when `spread` is set, the members' weighted RMS spread about it: the core of forecast_distribution_into and of the
+/// calibration. The ensemble's median keeps the members' trajectories in `work`.
 void central_and_spread(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
                         const ParameterTrend& trend, const TipPlan& plan, const Eigen::Vector3d& pose0,
                         const Eigen::VectorXd& times, const ForecastSettings& settings,
                         Eigen::Ref<Eigen::MatrixX3d> mean, Eigen::Ref<Eigen::VectorXd> pos_spread,
-                        Eigen::Ref<Eigen::VectorXd> yaw_spread, Eigen::MatrixX3d& member, ForecastRun& run,
+                        Eigen::Ref<Eigen::VectorXd> yaw_spread, ForecastWorkspace& work, ForecastRun& run,
                         CentralForecast mode, bool spread = true) {
   thread_local std::vector<double> w;
   thread_local std::vector<ForecastParameters> parameters;
@@ -229,15 +222,71 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
   parameters.resize(members.size());
   for (std::size_t m = 0; m < members.size(); ++m) parameters[m] = parameters_along_trend(*members[m], trend, d);
   run = forecast_into(object, weighted_median_parameters(parameters, w), plan, pose0, times, mean, settings);
+  if (!spread && mode == CentralForecast::MedianParameters) return;
+  const Eigen::Index n = times.size();
+  Eigen::MatrixX3d& member = work.member;
+  if (member.rows() != n) member.resize(n, 3);
+  if (mode == CentralForecast::EnsembleMedian) {
+    // Every member's trajectory kept (nothing allocated after the first call of a size), then at each time the
+    // medians and the spread about them.
+    const Eigen::Index capacity = static_cast<Eigen::Index>(members.size());
+    if (work.ensemble_xy.rows() != 2 * capacity || work.ensemble_xy.cols() != n)
+      work.ensemble_xy.resize(2 * capacity, n);
+    if (work.ensemble_yaw.rows() != capacity || work.ensemble_yaw.cols() != n) work.ensemble_yaw.resize(capacity, n);
+    if (work.weights.size() != capacity) work.weights.resize(capacity);
+    if (work.value_weight.size() < members.size()) work.value_weight.resize(members.size());
+    Eigen::Index count = 0;
+    double total = 0;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      if (!(w[m] > 0)) continue;
+      forecast_into(object, parameters[m], plan, pose0, times, member, settings);
+      work.ensemble_xy.middleRows(2 * count, 2) = member.leftCols<2>().transpose();
+      work.ensemble_yaw.row(count) = member.col(2).transpose();
+      work.weights(count) = w[m];
+      total += w[m];
+      ++count;
+    }
+    if (count == 0 || !(total > 0)) {
+      if (spread) {
+        pos_spread.setZero();
+        yaw_spread.setZero();
+      }
+      return;
+    }
+    const auto weights = work.weights.head(count);
+    // Each time's position median from the previous one moved as the ensemble's mean moved (the trajectories are
+    // smooth, so Weiszfeld's iteration starts next to it).
+    Eigen::Vector2d previous_median, previous_mean;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Eigen::Map<const Eigen::Matrix2Xd> xy(work.ensemble_xy.col(k).data(), 2, count);
+      const Eigen::Vector2d ensemble_mean = xy * weights / total;
+      const Eigen::Vector2d start =
+          k > 0 ? Eigen::Vector2d(previous_median + ensemble_mean - previous_mean) : ensemble_mean;
+      previous_median = weighted_geometric_median(xy, weights, kMedianTolerance_m, 200, &start);
+      previous_mean = ensemble_mean;
+      mean.row(k).head<2>() = previous_median.transpose();
+      work.value_weight.resize(static_cast<std::size_t>(count));
+      for (Eigen::Index a = 0; a < count; ++a)
+        work.value_weight[static_cast<std::size_t>(a)] = {work.ensemble_yaw(a, k), weights(a)};
+      mean(k, 2) = weighted_median(work.value_weight);
+      if (!spread) continue;
+      double pos2 = 0, yaw2 = 0;
+      for (Eigen::Index a = 0; a < count; ++a) {
+        pos2 += weights(a) * (xy.col(a) - mean.row(k).head<2>().transpose()).squaredNorm();
+        yaw2 += weights(a) * (work.ensemble_yaw(a, k) - mean(k, 2)) * (work.ensemble_yaw(a, k) - mean(k, 2));
+      }
+      pos_spread(k) = std::sqrt(pos2 / total);
+      yaw_spread(k) = std::sqrt(yaw2 / total);
+    }
+    return;
+  }
   const bool ensemble_mean = mode == CentralForecast::EnsembleMean;
-  if (!spread && !ensemble_mean) return;
-  if (member.rows() != times.size()) member.resize(times.size(), 3);
   thread_local Eigen::MatrixX3d sum;
   thread_local Eigen::VectorXd sum_pos2, sum_yaw2;
   if (ensemble_mean) {
-    sum.setZero(times.size(), 3);
-    sum_pos2.setZero(times.size());
-    sum_yaw2.setZero(times.size());
+    sum.setZero(n, 3);
+    sum_pos2.setZero(n);
+    sum_yaw2.setZero(n);
   }
   pos_spread.setZero();
   yaw_spread.setZero();
@@ -252,7 +301,7 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
       sum_yaw2 += w[m] * member.col(2).cwiseAbs2();
       continue;
     }
-    for (Eigen::Index k = 0; k < times.size(); ++k) {
+    for (Eigen::Index k = 0; k < n; ++k) {
       pos_spread(k) += w[m] * (member.row(k).head<2>() - mean.row(k).head<2>()).squaredNorm();
       yaw_spread(k) += w[m] * (member(k, 2) - mean(k, 2)) * (member(k, 2) - mean(k, 2));
     }
@@ -757,11 +806,111 @@ double rim_weight_jackknife_standard_error(const ForecastObject& object, const s
 CentralForecast central_forecast_named(const std::string& name) {
   if (name == "ensemble_mean") return CentralForecast::EnsembleMean;
   if (name == "median") return CentralForecast::MedianParameters;
-  throw InputError("central forecast: 'ensemble_mean' or 'median', not '" + name + "'");
+  if (name == "ensemble_median") return CentralForecast::EnsembleMedian;
+  throw InputError("central forecast: 'ensemble_mean', 'median' or 'ensemble_median', not '" + name + "'");
 }
 
 const char* central_forecast_name(CentralForecast c) {
-  return c == CentralForecast::EnsembleMean ? "ensemble_mean" : "median";
+  switch (c) {
+    case CentralForecast::EnsembleMean:
+      return "ensemble_mean";
+    case CentralForecast::MedianParameters:
+      return "median";
+    case CentralForecast::EnsembleMedian:
+      return "ensemble_median";
+  }
+  return "ensemble_mean";
+}
+
+double weighted_median(std::vector<std::pair<double, double>>& value_weight) {
+  if (value_weight.empty()) return std::nan("");
+  std::sort(value_weight.begin(), value_weight.end());
+  double total = 0, acc = 0;
+  for (const auto& vw : value_weight) total += vw.second;
+  // The mean of the values where the cumulative weight crosses half from below and above.
+  double lower = value_weight.back().first, upper = value_weight.back().first;
+  for (std::size_t k = 0; k < value_weight.size(); ++k) {
+    acc += value_weight[k].second;
+    if (acc >= 0.5 * total - 1e-12 * total) {
+      lower = value_weight[k].first;
+      upper = (acc <= 0.5 * total + 1e-12 * total && k + 1 < value_weight.size()) ? value_weight[k + 1].first : lower;
+      break;
+    }
+  }
+  return 0.5 * (lower + upper);
+}
+
+Eigen::Vector2d weighted_geometric_median(const Eigen::Ref<const Eigen::Matrix2Xd>& points,
+                                          const Eigen::Ref<const Eigen::VectorXd>& weights, double tolerance_m,
+                                          int max_iterations, const Eigen::Vector2d* start) {
+  const Eigen::Index n = points.cols();
+  const double total = weights.sum();
+  if (n == 0 || !(total > 0)) return Eigen::Vector2d::Constant(std::nan(""));
+  const Eigen::Vector2d mean = points * weights / total;
+  Eigen::Vector2d y = start != nullptr && start->allFinite() ? *start : mean;
+  double scale = 0;
+  for (Eigen::Index i = 0; i < n; ++i) scale = std::max(scale, (points.col(i) - mean).norm());
+  // Points closer than `coincide` to y are taken to be at it. Weiszfeld's iterates approach a median that is one of
+  // the points only slowly (as for points near a line, whose median is one of them), so each iteration first asks
+  // whether the point nearest the iterate is the median (each point asked once).
+  const double coincide = 1e-12 * std::max(scale, 1e-300);
+  Eigen::Index asked = -1;
+  // Whether y is the median with weight `at` there: the others, each pulling with its weight along its unit vector
+  // from y, pull less than `at` (Vardi & Zhang 2000); `pull` and the Weiszfeld sums are filled on the way.
+  Eigen::Vector2d numerator, pull;
+  double denominator = 0;
+  auto sums_at = [&](const Eigen::Vector2d& at_point, double& at_weight) {
+    numerator.setZero();
+    pull.setZero();
+    denominator = 0;
+    at_weight = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (!(weights(i) > 0)) continue;
+      const Eigen::Vector2d r = points.col(i) - at_point;
+      const double distance = r.norm();
+      if (distance <= coincide) {
+        at_weight += weights(i);
+        continue;
+      }
+      numerator += weights(i) / distance * points.col(i);
+      denominator += weights(i) / distance;
+      pull += weights(i) / distance * r;
+    }
+  };
+  for (int iteration = 0; iteration < max_iterations; ++iteration) {
+    // The point nearest the iterate, when near it: the median if the others pull less than its weight.
+    Eigen::Index nearest = -1;
+    double nearest_distance = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (!(weights(i) > 0)) continue;
+      const double distance = (points.col(i) - y).norm();
+      if (distance < nearest_distance) {
+        nearest_distance = distance;
+        nearest = i;
+      }
+    }
+    if (nearest >= 0 && nearest != asked) {
+      asked = nearest;
+      const Eigen::Vector2d candidate = points.col(nearest);
+      double at = 0;
+      sums_at(candidate, at);
+      if (!(denominator > 0) || pull.norm() <= at) return candidate;
+    }
+    double at = 0;
+    sums_at(y, at);
+    if (!(denominator > 0)) return y;  // every weighted point at the iterate
+    Eigen::Vector2d next = numerator / denominator;
+    if (at > 0) {
+      // At a point of weight `at`: it is the median when the others pull less than its weight; else step off it.
+      const double p = pull.norm();
+      if (p <= at) return y;
+      next = (1 - at / p) * next + (at / p) * y;
+    }
+    const double step = (next - y).norm();
+    y = next;
+    if (step < tolerance_m) break;
+  }
+  return y;
 }
 
 namespace {
@@ -770,14 +919,14 @@ namespace {
 /// and trajectory-mean errors, 1 mm and 1 degree alike. What learn chooses its settings by.
 double held_out_score(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
                       const ParameterTrend& trend, const RecordedForecastCase& c, const ForecastSettings& settings,
-                      CentralForecast central, Eigen::MatrixX3d& member) {
+                      CentralForecast central, ForecastWorkspace& work) {
   std::vector<Eigen::Index> idx;
   const Eigen::VectorXd times = scoring_times(c, idx);
   Eigen::MatrixX3d mean(times.size(), 3);
   Eigen::VectorXd ps(times.size()), ys(times.size());
   ForecastRun run;
-  central_and_spread(object, members, h, trend, c.plan, c.start_pose, times, settings, mean, ps, ys, member, run,
-                     central, false);
+  central_and_spread(object, members, h, trend, c.plan, c.start_pose, times, settings, mean, ps, ys, work, run, central,
+                     false);
   double pos = 0, yaw = 0;
   for (std::size_t k = 0; k < idx.size(); ++k) {
     pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
@@ -795,7 +944,7 @@ double held_out_score(const ForecastObject& object, const std::vector<const Push
 /// others' own fits about `object`'s own centre and pressure. What learn keeps a learned centre or rim weight by.
 double cross_validated_score(const ForecastObject& object, const std::vector<RecordedForecastCase>& cases,
                              const std::vector<PushFit>& fits, const LearnOptions& options, int folds, bool fit_centre,
-                             bool fit_rim_weight, Eigen::MatrixX3d& member) {
+                             bool fit_rim_weight, ForecastWorkspace& work) {
   CentreOfFrictionOptions cof = options.centre_of_friction;
   cof.fit.settings = options.settings;
   cof.fit_centre = fit_centre;
@@ -818,7 +967,7 @@ double cross_validated_score(const ForecastObject& object, const std::vector<Rec
       std::vector<const PushFit*> own_members;
       for (const auto& f : train_fits) own_members.push_back(&f);
       for (std::size_t q : test)
-        total += held_out_score(object, own_members, 0, {}, cases[q], options.settings, options.central, member);
+        total += held_out_score(object, own_members, 0, {}, cases[q], options.settings, options.central, work);
       continue;
     }
     const CentreOfFrictionFit fit = fit_centre_of_friction(object, train_cases, train_fits, cof);
@@ -827,7 +976,7 @@ double cross_validated_score(const ForecastObject& object, const std::vector<Rec
     std::vector<const PushFit*> learned_members;
     for (const auto& f : fit.fits) learned_members.push_back(&f);
     for (std::size_t q : test)
-      total += held_out_score(moved, learned_members, 0, {}, cases[q], options.settings, options.central, member);
+      total += held_out_score(moved, learned_members, 0, {}, cases[q], options.settings, options.central, work);
   }
   return total;
 }
@@ -900,7 +1049,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   model.outline_source = outline_source;
   model.pushes = fits;
   model.settings = settings;
-  Eigen::MatrixX3d member;
+  ForecastWorkspace work;
   const bool enough = options.centre_of_friction_min_pushes > 0 &&
                       fits.size() >= static_cast<std::size_t>(options.centre_of_friction_min_pushes);
   if (options.centre_of_friction_min_pushes > 0 && !enough)
@@ -913,7 +1062,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     if (it == scores.end())
       it = scores
                .emplace(key,
-                        cross_validated_score(object, cases, fits, options, folds, fit_centre, fit_rim_weight, member))
+                        cross_validated_score(object, cases, fits, options, folds, fit_centre, fit_rim_weight, work))
                .first;
     return it->second;
   };
@@ -1013,7 +1162,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
         Choice c{h, r, 0, {}};
         for (std::size_t q = 0; q < fits.size(); ++q) {
           c.per_push.push_back(
-              held_out_score(learned_object, others_of(q), h, trends[q], cases[q], settings, options.central, member));
+              held_out_score(learned_object, others_of(q), h, trends[q], cases[q], settings, options.central, work));
           c.total += c.per_push.back();
         }
         Choice& best = r > 0 ? with_trend : without_trend;
@@ -1056,7 +1205,7 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       ForecastRun run;
       const std::vector<const PushFit*> others = others_of(q);
       central_and_spread(learned_object, others, weighting_bandwidth(model), fit_trend(others, model.trend.ridge),
-                         c.plan, c.start_pose, times, settings, mean, ps, ys, member, run, options.central);
+                         c.plan, c.start_pose, times, settings, mean, ps, ys, work, run, options.central);
       const double weight = 1.0 / static_cast<double>(idx.size());
       for (std::size_t k = 0; k < idx.size(); ++k) {
         const Eigen::Index e = static_cast<Eigen::Index>(k);
@@ -1392,7 +1541,8 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       }
     }
     if (j.contains("central")) {
-      if (!j.at("central").is_string()) throw InputError("'central' must be \"ensemble_mean\" or \"median\"");
+      if (!j.at("central").is_string())
+        throw InputError("'central' must be \"ensemble_mean\", \"median\" or \"ensemble_median\"");
       m.central = central_forecast_named(j.at("central").get<std::string>());
     }
     if (j.contains("regions")) {
@@ -1459,7 +1609,7 @@ void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, c
     out.yaw_spread_rad.setZero();
   } else {
     central_and_spread(model.object, members, weighting_bandwidth(model), model.trend, plan, pose0, times,
-                       model.settings, out.mean, out.position_spread_m, out.yaw_spread_rad, work.member, out.run,
+                       model.settings, out.mean, out.position_spread_m, out.yaw_spread_rad, work, out.run,
                        model.central);
   }
   const RegionCalibration& r = model.regions;

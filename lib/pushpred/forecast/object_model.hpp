@@ -169,12 +169,38 @@ double rim_weight_jackknife_standard_error(const ForecastObject& object, const s
                                            const std::vector<PushFit>& fits, const CentreOfFrictionOptions& options,
                                            const CentreOfFrictionFit& full, int jobs = 1);
 
-/// What a forecast's central trajectory is: the learned pushes' own forecasts averaged (weighted by similarity; with
-/// their spread about it), or the forecast of their parameters' (weighted) median. The mean of the ensemble errs
-/// less on the real pushes (docs/forecast.md): the trajectory bends nonlinearly with the parameters.
-enum class CentralForecast { EnsembleMean, MedianParameters };
-CentralForecast central_forecast_named(const std::string& name);  ///< "ensemble_mean", "median"; InputError otherwise
+/// What a forecast's central trajectory is, at each output time, from the learned pushes' own forecasts (the
+/// ensemble, weighted by similarity):
+/// - EnsembleMean ("ensemble_mean"): their weighted mean, the best point under squared error;
+/// - EnsembleMedian ("ensemble_median"): their positions' weighted geometric median (weighted_geometric_median) and
+///   their yaws' weighted median (weighted_median), the best point under the absolute error the study scores; where
+///   the ensemble splits across the contact's stick/slide switch it lies on the heavier mode, not between them;
+/// - MedianParameters ("median"): the forecast of their parameters' (weighted) median.
+/// The regions are centred on the central forecast, with the ensemble's spread about it. The mean of the ensemble
+/// errs less than the median parameters on the real pushes (docs/forecast.md): the trajectory bends nonlinearly with
+/// the parameters.
+enum class CentralForecast { EnsembleMean, MedianParameters, EnsembleMedian };
+/// "ensemble_mean", "median", "ensemble_median"; InputError otherwise.
+CentralForecast central_forecast_named(const std::string& name);
 const char* central_forecast_name(CentralForecast central);
+/// The names central_forecast_named takes, in that order.
+inline const std::vector<std::string> kCentralForecastNames = {"ensemble_mean", "median", "ensemble_median"};
+/// The central forecast LearnOptions' defaults make (docs/forecast.md: chosen on simulated pushes).
+inline constexpr const char* kCentralForecastDefaultChoice = "ensemble_mean";
+
+/// The weighted median of (value, weight) pairs (weights positive; sorted in place, nothing allocated): the value
+/// where the cumulative weight first reaches half the total, or the midpoint of it and the next value when it reaches
+/// half exactly. NaN when empty.
+double weighted_median(std::vector<std::pair<double, double>>& value_weight);
+
+/// The weighted geometric median of `points` (columns), the point minimising sum_i w_i |x_i - y|: Weiszfeld's
+/// iteration from `*start` (a nearby median, as the previous output time's; nullptr: the weighted mean), with Vardi
+/// and Zhang's step where the iterate meets a point (so that a point that is the median is found and one that is not
+/// is left), until a step is below `tolerance_m` or after `max_iterations`. Weights non-negative (at least one
+/// positive); nothing allocated.
+Eigen::Vector2d weighted_geometric_median(const Eigen::Ref<const Eigen::Matrix2Xd>& points,
+                                          const Eigen::Ref<const Eigen::VectorXd>& weights, double tolerance_m = 1e-9,
+                                          int max_iterations = 200, const Eigen::Vector2d* start = nullptr);
 
 /// How the 90 % regions are sized (see the header's comment).
 struct RegionCalibration {
@@ -234,7 +260,7 @@ struct ObjectModel {
 };
 
 struct LearnOptions {
-  CentralForecast central = CentralForecast::EnsembleMean;
+  CentralForecast central = central_forecast_named(kCentralForecastDefaultChoice);
   std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates
   /// ObjectModel::similarity_averaged (then `bandwidths` is unused). The default: on simulated pushes it forecast
   /// better than one chosen bandwidth, and on the real ones it was not worse (docs/forecast.md).
@@ -334,6 +360,11 @@ struct ForecastDistribution {
 /// allocated.
 struct ForecastWorkspace {
   Eigen::MatrixX3d member;
+  /// The median central forecast's storage: the ensemble's positions (rows 2m, 2m + 1 of member m) and yaws (row m)
+  /// at each output time (columns), the members' weights, and the yaw median's sort buffer.
+  Eigen::MatrixXd ensemble_xy, ensemble_yaw;
+  Eigen::VectorXd weights;
+  std::vector<std::pair<double, double>> value_weight;
 };
 
 /// Forecasts `plan` from `pose0` (object at rest) at `times_s` (plan time) with the model's regions.
