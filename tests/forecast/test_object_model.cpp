@@ -875,6 +875,47 @@ std::array<double, 6> study_means(const std::vector<ForecastStudyPush>& study) {
 }
 
 BOOST_AUTO_TEST_CASE(the_residual_correction_is_named_and_its_file_round_trips) {
+  const SimulatedSet set = simulated_set(4, 270060, 0.47, 0.47, 0.25, 0.25);
+  LearnOptions options;
+  options.residual_correction = ResidualCorrectionChoice::LeaveOneOut;
+  const ObjectModel model =
+      learn_object_model(set.cases[0].forecast_object, "abs", "shape table: rect1", set.cases, set.fits, options);
+  BOOST_TEST(model.residual_correction);
+  for (const auto& f : model.pushes) BOOST_TEST(f.loo_final_error.norm() > 0);
+  const nlohmann::json j = object_model_to_json(model);
+  const ObjectModel back = object_model_from_json(j, "object.json", "");
+  BOOST_TEST(back.residual_correction);
+  BOOST_TEST(back.residual_shrinkage == model.residual_shrinkage);
+  for (std::size_t i = 0; i < model.pushes.size(); ++i)
+    BOOST_TEST(back.pushes[i].loo_final_error.isApprox(model.pushes[i].loo_final_error));
+  const RecordedForecastCase& c = set.cases[1];
+  const ForecastDistribution a = forecast_distribution(model, c.plan, c.start_pose, c.times_s);
+  const ForecastDistribution b = forecast_distribution(back, c.plan, c.start_pose, c.times_s);
+  BOOST_TEST((a.mean - b.mean).cwiseAbs().maxCoeff() < 1e-12);
+  // The shift grows with the tip's progress: none at the start, the whole shift at the end.
+  ObjectModel plain = model;
+  plain.residual_correction = false;
+  const ForecastDistribution p = forecast_distribution(plain, c.plan, c.start_pose, c.times_s);
+  const Eigen::Vector2d ends(0.0, 10.0);
+  const ForecastDistribution a_ends = forecast_distribution(model, c.plan, c.start_pose, ends);
+  const ForecastDistribution p_ends = forecast_distribution(plain, c.plan, c.start_pose, ends);
+  BOOST_TEST((a_ends.mean.row(0) - p_ends.mean.row(0)).cwiseAbs().maxCoeff() < 1e-15);
+  BOOST_TEST((a_ends.mean.row(1) - p_ends.mean.row(1)).cwiseAbs().maxCoeff() > 1e-6);
+  // A version 6 file (no residual_correction, no loo_final_error) reads uncorrected.
+  nlohmann::json old = j;
+  old["version"] = 6;
+  old.erase("residual_correction");
+  for (auto& push : old["pushes"]) push.erase("loo_final_error");
+  const ObjectModel older = object_model_from_json(old, "object.json", "");
+  BOOST_TEST(!older.residual_correction);
+  const ForecastDistribution o = forecast_distribution(older, c.plan, c.start_pose, c.times_s);
+  BOOST_TEST((o.mean - p.mean).cwiseAbs().maxCoeff() < 1e-12);
+  // A malformed error is refused naming the field.
+  nlohmann::json bad = j;
+  bad["pushes"][0]["loo_final_error"] = {0.0, 1.0};
+  BOOST_CHECK_EXCEPTION(object_model_from_json(bad, "object.json", ""), InputError, [](const InputError& e) {
+    return std::string(e.what()).find("loo_final_error") != std::string::npos;
+  });
   BOOST_TEST(residual_correction_name(residual_correction_named("none")) == std::string("none"));
   BOOST_TEST(residual_correction_name(residual_correction_named("loo")) == std::string("loo"));
   BOOST_TEST(residual_correction_name(residual_correction_named("chosen")) == std::string("chosen"));
