@@ -164,6 +164,7 @@ int run_learn(const LearnArgs& a) {
   } else {
     std::printf("parameter trend over the plan: none\n");
   }
+  std::printf("residual correction: %s\n", model.residual_correction_method.c_str());
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }

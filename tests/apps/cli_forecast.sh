@@ -15,11 +15,18 @@ expect_exit 0 "learn hex from six pushes and a frozen rect1" -- "$bin" learn $he
 expect_in "$tmp/out" "learned hex on abs from 6 pushes" "the learned pushes are counted"
 expect_in "$tmp/err" "excluded $(basename "$frozen" .h5): force sensor frozen" "the frozen sensor is named"
 expect_in "$tmp/hex.json" '"format": "pushpred-object-model"' "the object file says its format"
-expect_in "$tmp/hex.json" '"version": 6' "the object file says its version"
+expect_in "$tmp/hex.json" '"version": 7' "the object file says its version"
 expect_in "$tmp/hex.json" '"limit_surface": "ellipsoid"' "the ellipsoidal limit surface by default"
 expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
 expect_in "$tmp/hex.json" '"parameter_trend"' "the object file holds the parameter trend"
 expect_in "$tmp/out" "parameter trend over the plan: none" "no trend by default"
+expect_in "$tmp/out" "residual correction: none" "no residual correction by default"
+expect_in "$tmp/hex.json" '"loo_final_error"' "the object file holds each push's leave-one-out error"
+# shellcheck disable=SC2086
+expect_exit 0 "learn hex with the residual correction" -- "$bin" learn $hex --residual-correction loo \
+  --out "$tmp/hex-residual.json" --jobs 2
+expect_in "$tmp/hex-residual.json" '"applied": true' "the object file says the correction is applied"
+expect_in "$tmp/out" "residual correction: leave-one-out final errors" "learn says how it corrects"
 # shellcheck disable=SC2086
 expect_exit 0 "learn hex with the trend chosen" -- "$bin" learn $hex --trend chosen --out "$tmp/hex-trend.json" --jobs 2
 expect_in "$tmp/out" "parameter trend over the plan" "learn says whether it took a trend"
