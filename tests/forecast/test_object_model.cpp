@@ -1016,8 +1016,8 @@ BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_ob
         BOOST_TEST_MESSAGE(k.shape << " seeds " << first << "-" << first + static_cast<std::uint64_t>(k.count) - 1
                                    << (k.plan_dependent ? " (frictions following the plan)" : " (independent)")
                                    << (k.com_offset_m > 0 ? " (mass centre offset)" : "") << ", correction "
-                                   << correction << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory "
-                                   << e[2] << " mm, " << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
+                                   << correction << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory " << e[2]
+                                   << " mm, " << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
         final_sum[correction] += e[0] + e[1];
         trajectory_sum[correction] += e[2] + e[3];
         coverage_pos[correction] += e[4];

@@ -337,7 +337,8 @@ double plan_progress(const TipPlan& plan, double t_s) {
 
 /// A forecast pose's error (predicted minus recorded) in the plan's frame: along plan_axis [m], across it
 /// (counter-clockwise) [m], yaw [rad].
-Eigen::Vector3d plan_frame_error(const TipPlan& plan, const Eigen::Vector3d& predicted, const Eigen::Vector3d& recorded) {
+Eigen::Vector3d plan_frame_error(const TipPlan& plan, const Eigen::Vector3d& predicted,
+                                 const Eigen::Vector3d& recorded) {
   const Eigen::Vector2d u = plan_axis(plan);
   const Eigen::Vector2d e = predicted.head<2>() - recorded.head<2>();
   return {u.dot(e), u.x() * e.y() - u.y() * e.x(), predicted(2) - recorded(2)};
@@ -1008,7 +1009,8 @@ double held_out_score(const ForecastObject& object, const std::vector<const Push
 
 /// A central forecast's score against the recorded push `c` at its scoring times (indices `idx`): the final and
 /// trajectory-mean errors, 1 mm and 1 degree alike.
-double central_score(const Eigen::MatrixX3d& mean, const RecordedForecastCase& c, const std::vector<Eigen::Index>& idx) {
+double central_score(const Eigen::MatrixX3d& mean, const RecordedForecastCase& c,
+                     const std::vector<Eigen::Index>& idx) {
   double pos = 0, yaw = 0;
   for (std::size_t k = 0; k < idx.size(); ++k) {
     pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
@@ -1298,8 +1300,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
       central_and_spread(learned_object, others, weighting_bandwidth(model), fit_trend(others, model.trend.ridge),
                          c.plan, c.start_pose, times_of[q], settings, mean_of[q], ps_of[q], ys_of[q], work, run,
                          options.central);
-      model.pushes[q].loo_final_error = plan_frame_error(c.plan, mean_of[q].row(m - 1).transpose(),
-                                                         c.truth.row(idxs[q].back()).transpose());
+      model.pushes[q].loo_final_error =
+          plan_frame_error(c.plan, mean_of[q].row(m - 1).transpose(), c.truth.row(idxs[q].back()).transpose());
     }
     // The residual correction: each left-out push's forecast shifted by the others' leave-one-out errors (computed
     // with ensembles that held the left-out push: an approximation of the nested leave-one-out, which would cost n^2
