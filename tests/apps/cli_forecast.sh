@@ -152,6 +152,7 @@ expect_in "$tmp/s1/summary.json" '"rigid_tip"' "the rigid tip-following referenc
 expect_in "$tmp/s1/summary.json" "force sensor frozen" "the excluded push and why"
 expect_in "$tmp/s1/tables.md" "from its start only" "the report says what of each push is used"
 expect_in "$tmp/s1/summary.json" '"rim_weight_learned": false' "each fold says whether it learned the rim weight"
+expect_in "$tmp/s1/summary.json" '"residual_correction": false' "each fold says whether it corrects its central forecast"
 expect_in "$tmp/s1/pushes.csv" "fold_rim_weight,fold_rim_weight_learned" "pushes.csv has each fold's rim weight"
 # shellcheck disable=SC2086
 expect_exit 0 "the same study on two jobs" -- "$bin" forecast-study $hex "$frozen" --out "$tmp/s2" --jobs 2
