@@ -108,6 +108,25 @@ static void BM_forecast_with_regions_and_trend(benchmark::State& state) {
 }
 BENCHMARK(BM_forecast_with_regions_and_trend)->Name("forecast/trajectory_with_regions_16_members_trend");
 
+static void BM_forecast_with_regions_and_residual_correction(benchmark::State& state) {
+  // The same with the residual correction (ObjectModel::residual_correction): the central trajectory shifted by the
+  // members' leave-one-out final errors, scaled by the tip's progress at every output time.
+  pushpred::ObjectModel model = fixture().model;
+  model.residual_correction = true;
+  for (std::size_t k = 0; k < model.pushes.size(); ++k)
+    model.pushes[k].loo_final_error = {1e-3 * static_cast<double>(k % 3), -5e-4, 0.01};
+  const Fixture& f = fixture();
+  pushpred::ForecastDistribution d;
+  pushpred::ForecastWorkspace work;
+  for (auto _ : state) {
+    pushpred::forecast_distribution_into(model, f.c.plan, f.c.start_pose, f.c.times_s, d, work);
+    benchmark::DoNotOptimize(d.mean.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_forecast_with_regions_and_residual_correction)
+    ->Name("forecast/trajectory_with_regions_16_members_residual_correction");
+
 /// The fixture's model with its 16 members' parameters spread (rod friction over a factor 2.7 and c over 1.6 about the
 /// fit), so that their trajectories differ, and the central forecast `central`.
 static pushpred::ObjectModel spread_model(pushpred::CentralForecast central) {

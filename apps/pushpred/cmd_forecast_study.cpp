@@ -20,6 +20,7 @@ struct StudyArgs {
   std::string out, data;
   int jobs = default_jobs();
   std::string central = kCentralForecastDefaultChoice;
+  std::string residual_correction = kResidualCorrectionDefaultChoice;
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
   std::string similarity = kSimilarityDefaultChoice;
@@ -35,6 +36,7 @@ int run_study(const StudyArgs& a) {
   ForecastStudyOptions options;
   options.jobs = a.jobs;
   options.learn.central = central_forecast_named(a.central);
+  options.learn.residual_correction = residual_correction_named(a.residual_correction);
   set_centre_of_friction_choice(options.learn, a.centre_of_friction);
   set_trend_choice(options.learn, a.trend);
   set_similarity_choice(options.learn, a.similarity);
@@ -88,6 +90,13 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       "forecast of their parameters' median); default " +
       std::string(kCentralForecastDefaultChoice);
   sub->add_option("--central", a->central, central_help)->check(CLI::IsMember(kCentralForecastNames));
+  const std::string residual_help =
+      "Shift the central forecast by the learned pushes' leave-one-out final errors (similarity-weighted, shrunk, "
+      "growing with the tip's progress): none, loo (always) or chosen (when it forecasts the learned pushes better "
+      "leaving one out); default " +
+      std::string(kResidualCorrectionDefaultChoice);
+  sub->add_option("--residual-correction", a->residual_correction, residual_help)
+      ->check(CLI::IsMember(kResidualCorrectionNames));
   sub->add_option("--centre-of-friction", a->centre_of_friction,
                   "chosen (default: learned jointly over the pushes when that forecasts them better in "
                   "cross-validation, else the centroid), learned (always) or centroid (never learned)")

@@ -26,6 +26,7 @@ struct LearnArgs {
   double circle_m = 0, mass_kg = 0, inertia_kgm2 = 0;
   int jobs = default_jobs();
   std::string central = kCentralForecastDefaultChoice;
+  std::string residual_correction = kResidualCorrectionDefaultChoice;
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
   std::string similarity = kSimilarityDefaultChoice;
@@ -102,6 +103,7 @@ int run_learn(const LearnArgs& a) {
                                                    : "data folder: butter_outline.csv";
   LearnOptions options;
   options.central = central_forecast_named(a.central);
+  options.residual_correction = residual_correction_named(a.residual_correction);
   set_centre_of_friction_choice(options, a.centre_of_friction);
   set_trend_choice(options, a.trend);
   set_similarity_choice(options, a.similarity);
@@ -162,6 +164,7 @@ int run_learn(const LearnArgs& a) {
   } else {
     std::printf("parameter trend over the plan: none\n");
   }
+  std::printf("residual correction: %s\n", model.residual_correction_method.c_str());
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }
@@ -187,6 +190,13 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       "forecast of their parameters' median); default " +
       std::string(kCentralForecastDefaultChoice);
   sub->add_option("--central", a->central, central_help)->check(CLI::IsMember(kCentralForecastNames));
+  const std::string residual_help =
+      "Shift the central forecast by the learned pushes' leave-one-out final errors (similarity-weighted, shrunk, "
+      "growing with the tip's progress): none, loo (always) or chosen (when it forecasts the learned pushes better "
+      "leaving one out); default " +
+      std::string(kResidualCorrectionDefaultChoice);
+  sub->add_option("--residual-correction", a->residual_correction, residual_help)
+      ->check(CLI::IsMember(kResidualCorrectionNames));
   sub->add_option("--centre-of-friction", a->centre_of_friction,
                   "chosen (default: learned jointly over the pushes when that forecasts them better in "
                   "cross-validation, else the centroid), learned (always) or centroid (never learned)")

@@ -166,13 +166,14 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       "learn_object_model",
       [](const std::vector<std::string>& files, std::optional<std::string> data, int jobs,
          const std::string& limit_surface, const std::string& pressure_shape, const std::string& similarity,
-         const std::string& central) {
+         const std::string& central, const std::string& residual_correction) {
         const std::filesystem::path folder = data_folder_or_empty(data);
         const LimitSurfaceKind kind = limit_surface_named(limit_surface);
         LearnOptions options;
         set_pressure_shape_choice(options, pressure_shape);
         set_similarity_choice(options, similarity);
         options.central = central_forecast_named(central);
+        options.residual_correction = residual_correction_named(residual_correction);
         options.jobs = jobs;
         return without_gil([&] {
           const ForecastInputs in = load_forecast_inputs(files, folder, jobs, nullptr, false, kind);
@@ -192,11 +193,13 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       py::arg("files"), py::arg("data") = py::none(), py::arg("jobs") = 1, py::arg("limit_surface") = "ellipsoid",
       py::arg("pressure_shape") = kPressureShapeDefaultChoice, py::arg("similarity") = kSimilarityDefaultChoice,
       py::arg("central") = kCentralForecastDefaultChoice,
+      py::arg("residual_correction") = kResidualCorrectionDefaultChoice,
       "Learns one object's model from recorded pushes of it on one surface, as `pushpred learn` does (frozen force "
       "sensors left out); limit_surface \"ellipsoid\" (default) or \"outline\" as its --limit-surface, "
       "pressure_shape \"chosen\" (default), \"learned\" or \"uniform\" as its --pressure-shape, similarity "
       "\"chosen\" or \"averaged\" as its --similarity, central \"ensemble_mean\", \"ensemble_median\" or "
-      "\"median\" as its --central.");
+      "\"median\" as its --central, residual_correction \"none\", \"loo\" or \"chosen\" as its "
+      "--residual-correction.");
 }
 
 }  // namespace pushpred::python

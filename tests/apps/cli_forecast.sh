@@ -15,11 +15,18 @@ expect_exit 0 "learn hex from six pushes and a frozen rect1" -- "$bin" learn $he
 expect_in "$tmp/out" "learned hex on abs from 6 pushes" "the learned pushes are counted"
 expect_in "$tmp/err" "excluded $(basename "$frozen" .h5): force sensor frozen" "the frozen sensor is named"
 expect_in "$tmp/hex.json" '"format": "pushpred-object-model"' "the object file says its format"
-expect_in "$tmp/hex.json" '"version": 6' "the object file says its version"
+expect_in "$tmp/hex.json" '"version": 7' "the object file says its version"
 expect_in "$tmp/hex.json" '"limit_surface": "ellipsoid"' "the ellipsoidal limit surface by default"
 expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
 expect_in "$tmp/hex.json" '"parameter_trend"' "the object file holds the parameter trend"
 expect_in "$tmp/out" "parameter trend over the plan: none" "no trend by default"
+expect_in "$tmp/out" "residual correction: none" "no residual correction by default"
+expect_in "$tmp/hex.json" '"loo_final_error"' "the object file holds each push's leave-one-out error"
+# shellcheck disable=SC2086
+expect_exit 0 "learn hex with the residual correction" -- "$bin" learn $hex --residual-correction loo \
+  --out "$tmp/hex-residual.json" --jobs 2
+expect_in "$tmp/hex-residual.json" '"applied": true' "the object file says the correction is applied"
+expect_in "$tmp/out" "residual correction: leave-one-out final errors" "learn says how it corrects"
 # shellcheck disable=SC2086
 expect_exit 0 "learn hex with the trend chosen" -- "$bin" learn $hex --trend chosen --out "$tmp/hex-trend.json" --jobs 2
 expect_in "$tmp/out" "parameter trend over the plan" "learn says whether it took a trend"
@@ -145,6 +152,7 @@ expect_in "$tmp/s1/summary.json" '"rigid_tip"' "the rigid tip-following referenc
 expect_in "$tmp/s1/summary.json" "force sensor frozen" "the excluded push and why"
 expect_in "$tmp/s1/tables.md" "from its start only" "the report says what of each push is used"
 expect_in "$tmp/s1/summary.json" '"rim_weight_learned": false' "each fold says whether it learned the rim weight"
+expect_in "$tmp/s1/summary.json" '"residual_correction": false' "each fold says whether it corrects its central forecast"
 expect_in "$tmp/s1/pushes.csv" "fold_rim_weight,fold_rim_weight_learned" "pushes.csv has each fold's rim weight"
 # shellcheck disable=SC2086
 expect_exit 0 "the same study on two jobs" -- "$bin" forecast-study $hex "$frozen" --out "$tmp/s2" --jobs 2

@@ -143,3 +143,28 @@ def test_the_central_forecast_is_learned_as_the_cli_learns_it(executable, hex_fi
     assert np.abs(mean["pose"] - f["pose"]).max() > 1e-6
     with pytest.raises(pushpred.InputError, match="central"):
         pushpred.learn_object_model(hex_files, central="mode")
+
+
+def test_the_residual_correction_is_learned_as_the_cli_learns_it(executable, hex_files, model, tmp_path):
+    # Off by default; "loo" (the central forecast shifted by the learned pushes' leave-one-out final errors) as
+    # `learn --residual-correction loo`, kept in the file (with each push's error) and used by its forecast.
+    assert model.to_dict()["residual_correction"]["applied"] is False
+    corrected = pushpred.learn_object_model(hex_files, jobs=2, residual_correction="loo")
+    run_cli(executable, "learn", *hex_files, "--residual-correction", "loo", "--out", tmp_path / "hex.json",
+            "--jobs", 1)
+    from_cli = json.loads((tmp_path / "hex.json").read_text())
+    assert from_cli["version"] == 7
+    assert corrected.to_dict()["residual_correction"] == from_cli["residual_correction"]
+    assert from_cli["residual_correction"]["applied"] is True
+    np.testing.assert_allclose([p["loo_final_error"] for p in corrected.to_dict()["pushes"]],
+                               [p["loo_final_error"] for p in from_cli["pushes"]], atol=1e-12)
+    assert corrected.to_dict()["regions"] == from_cli["regions"]
+    d = np.deg2rad(10.0)
+    kwargs = dict(tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]), speed_m_s=0.05)
+    f = corrected.forecast(np.zeros(3), **kwargs)
+    plain = model.forecast(np.zeros(3), times_s=f["t_s"], **kwargs)
+    # The shift is 0 at the start and grows with the tip's progress.
+    np.testing.assert_allclose(f["pose"][0], plain["pose"][0], atol=1e-12)
+    assert np.abs(f["pose"][-1] - plain["pose"][-1]).max() > 1e-6
+    with pytest.raises(pushpred.InputError, match="residual correction"):
+        pushpred.learn_object_model(hex_files, residual_correction="mean")

@@ -322,9 +322,15 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
   // trajectories in the workspace.
   ObjectModel median = averaged;
   median.central = CentralForecast::EnsembleMedian;
+  // The residual correction (ObjectModel::residual_correction): the central forecast shifted by the pushes'
+  // leave-one-out errors.
+  ObjectModel corrected = averaged;
+  corrected.residual_correction = true;
+  for (std::size_t k = 0; k < corrected.pushes.size(); ++k)
+    corrected.pushes[k].loo_final_error = {1e-3 * static_cast<double>(k), -5e-4, 0.01};
   ForecastDistribution d;
   ForecastWorkspace work;
-  for (const ObjectModel* m : {&model, &averaged, &median})
+  for (const ObjectModel* m : {&model, &averaged, &median, &corrected})
     forecast_distribution_into(*m, plan, Eigen::Vector3d::Zero(), times, d, work);
   double sum = 0;
   const long count = allocations_in([&] {
@@ -338,6 +344,8 @@ BOOST_AUTO_TEST_CASE(the_whole_push_forecast_does_not_allocate) {
     sum += d.position_radius_m.sum();
     forecast_distribution_into(median, plan, Eigen::Vector3d::Zero(), times, d, work);
     sum += d.position_radius_m.sum() + d.mean.sum();
+    forecast_distribution_into(corrected, plan, Eigen::Vector3d::Zero(), times, d, work);
+    sum += d.mean.sum();
   });
   BOOST_TEST(std::isfinite(sum));
   BOOST_TEST(count == 0);

@@ -139,6 +139,7 @@ std::vector<ForecastStudyPush> run_forecast_study(const std::vector<RecordedFore
     r.training_pushes = static_cast<int>(train_fits.size());
     r.rim_weight = model.object.pressure_rim_weight;
     r.rim_weight_learned = model.pressure_rim_weight_pushes > 0;
+    r.residual_correction = model.residual_correction;
     r.errors.push_back(forecast_errors(c, d.mean, &d.position_radius_m, &d.yaw_halfwidth_rad));
     const Eigen::MatrixX3d still = c.start_pose.transpose().replicate(n, 1);
     r.errors.push_back(forecast_errors(c, still));

@@ -43,6 +43,9 @@ struct ForecastStudyPush {
   /// pushes, or `chosen` preferring the uniform pressure in its cross-validation).
   double rim_weight = 0;
   bool rim_weight_learned = false;
+  /// Whether the fold's model corrects its central forecast by the training pushes' leave-one-out errors
+  /// (ObjectModel::residual_correction; with `--residual-correction chosen`, where that fold's choice kept it).
+  bool residual_correction = false;
 };
 
 struct ForecastStudyOptions {

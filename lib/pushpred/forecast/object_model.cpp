@@ -317,6 +317,63 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
   yaw_spread = (yaw_spread / total).cwiseSqrt();
 }
 
+/// The plan's unit axis (from its start to its end; for a plan that ends where it starts, its direction).
+Eigen::Vector2d plan_axis(const TipPlan& plan) {
+  const Eigen::Vector2d span = plan.end_m() - plan.start_m();
+  const double length = span.norm();
+  return length > 1e-9 ? Eigen::Vector2d(span / length) : plan.direction().normalized();
+}
+
+/// The tip's progress along the plan at t: its advance along plan_axis over the plan's, 0 at the start, 1 from the
+/// plan's end on (the slide included).
+double plan_progress(const TipPlan& plan, double t_s) {
+  const Eigen::Vector2d span = plan.end_m() - plan.start_m();
+  const double length2 = span.squaredNorm();
+  if (!(length2 > 1e-18)) return t_s >= plan.end_time_s() ? 1.0 : 0.0;
+  Eigen::Vector2d position, velocity;
+  plan.evaluate(std::min(t_s, plan.end_time_s()), position, velocity);
+  return std::clamp((position - plan.start_m()).dot(span) / length2, 0.0, 1.0);
+}
+
+/// A forecast pose's error (predicted minus recorded) in the plan's frame: along plan_axis [m], across it
+/// (counter-clockwise) [m], yaw [rad].
+Eigen::Vector3d plan_frame_error(const TipPlan& plan, const Eigen::Vector3d& predicted,
+                                 const Eigen::Vector3d& recorded) {
+  const Eigen::Vector2d u = plan_axis(plan);
+  const Eigen::Vector2d e = predicted.head<2>() - recorded.head<2>();
+  return {u.dot(e), u.x() * e.y() - u.y() * e.x(), predicted(2) - recorded(2)};
+}
+
+/// The residual correction's shift in the plan's frame: the members' leave-one-out final errors' weighted mean under
+/// weights `w`, shrunk by n_eff / (n_eff + k).
+Eigen::Vector3d residual_shift(const std::vector<const PushFit*>& members, const std::vector<double>& w, double k) {
+  double total = 0, total2 = 0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    if (!(w[m] > 0)) continue;
+    total += w[m];
+    total2 += w[m] * w[m];
+    sum += w[m] * members[m]->loo_final_error;
+  }
+  if (!(total > 0)) return Eigen::Vector3d::Zero();
+  const double n_eff = total * total / total2;
+  return sum / total * (n_eff / (n_eff + std::max(0.0, k)));
+}
+
+/// Subtracts `shift` (plan frame, residual_shift) from the central forecast `mean` at `times`, scaled by the tip's
+/// progress along the plan.
+void apply_residual_shift(const Eigen::Vector3d& shift, const TipPlan& plan, const Eigen::VectorXd& times,
+                          Eigen::Ref<Eigen::MatrixX3d> mean) {
+  const Eigen::Vector2d u = plan_axis(plan);
+  const Eigen::Vector2d world = shift(0) * u + shift(1) * Eigen::Vector2d(-u.y(), u.x());
+  for (Eigen::Index k = 0; k < times.size(); ++k) {
+    const double f = plan_progress(plan, times(k));
+    mean(k, 0) -= f * world.x();
+    mean(k, 1) -= f * world.y();
+    mean(k, 2) -= f * shift(2);
+  }
+}
+
 /// The recorded times of a case used for scoring and calibration: at most 60, evenly spread.
 Eigen::VectorXd scoring_times(const RecordedForecastCase& c, std::vector<Eigen::Index>& idx) {
   idx = spread_indices(c.times_s.size(), 60);
@@ -803,6 +860,24 @@ double rim_weight_jackknife_standard_error(const ForecastObject& object, const s
   return std::sqrt((count - 1) / count * square);
 }
 
+ResidualCorrectionChoice residual_correction_named(const std::string& name) {
+  if (name == "none") return ResidualCorrectionChoice::None;
+  if (name == "loo") return ResidualCorrectionChoice::LeaveOneOut;
+  if (name == "chosen") return ResidualCorrectionChoice::Chosen;
+  throw InputError("residual correction: 'none', 'loo' or 'chosen', not '" + name + "'");
+}
+
+const char* residual_correction_name(ResidualCorrectionChoice choice) {
+  switch (choice) {
+    case ResidualCorrectionChoice::LeaveOneOut:
+      return "loo";
+    case ResidualCorrectionChoice::Chosen:
+      return "chosen";
+    default:
+      return "none";
+  }
+}
+
 CentralForecast central_forecast_named(const std::string& name) {
   if (name == "ensemble_mean") return CentralForecast::EnsembleMean;
   if (name == "median") return CentralForecast::MedianParameters;
@@ -915,6 +990,8 @@ Eigen::Vector2d weighted_geometric_median(const Eigen::Ref<const Eigen::Matrix2X
 
 namespace {
 
+double central_score(const Eigen::MatrixX3d& mean, const RecordedForecastCase& c, const std::vector<Eigen::Index>& idx);
+
 /// How well `members` (weighted by bandwidth h) forecast the recorded push `c` by their central forecast: its final
 /// and trajectory-mean errors, 1 mm and 1 degree alike. What learn chooses its settings by.
 double held_out_score(const ForecastObject& object, const std::vector<const PushFit*>& members, double h,
@@ -927,12 +1004,19 @@ double held_out_score(const ForecastObject& object, const std::vector<const Push
   ForecastRun run;
   central_and_spread(object, members, h, trend, c.plan, c.start_pose, times, settings, mean, ps, ys, work, run, central,
                      false);
+  return central_score(mean, c, idx);
+}
+
+/// A central forecast's score against the recorded push `c` at its scoring times (indices `idx`): the final and
+/// trajectory-mean errors, 1 mm and 1 degree alike.
+double central_score(const Eigen::MatrixX3d& mean, const RecordedForecastCase& c,
+                     const std::vector<Eigen::Index>& idx) {
   double pos = 0, yaw = 0;
   for (std::size_t k = 0; k < idx.size(); ++k) {
     pos += (mean.row(static_cast<Eigen::Index>(k)).head<2>() - c.truth.row(idx[k]).head<2>()).norm();
     yaw += std::abs(mean(static_cast<Eigen::Index>(k), 2) - c.truth(idx[k], 2));
   }
-  const Eigen::Index last = times.size() - 1;
+  const Eigen::Index last = mean.rows() - 1;
   return 1e3 * (pos / static_cast<double>(idx.size()) +
                 (mean.row(last).head<2>() - c.truth.row(idx.back()).head<2>()).norm()) +
          180 / M_PI * (yaw / static_cast<double>(idx.size()) + std::abs(mean(last, 2) - c.truth(idx.back(), 2)));
@@ -1194,18 +1278,69 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   std::vector<const PushFit*> everyone;
   for (const auto& f : learned_fits) everyone.push_back(&f);
   model.trend = fit_trend(everyone, ridge);
+  model.residual_shrinkage = kResidualShrinkage;
+  model.residual_correction = false;
+  model.residual_correction_method = "none";
   if (fits.size() >= 3) {
-    std::vector<std::pair<double, double>> pos_ratio[3], yaw_ratio[3];
-    for (std::size_t q = 0; q < fits.size(); ++q) {
+    // Each learned push forecast by the others (their central forecast and spread at its scoring times), and its
+    // leave-one-out final error in its plan's frame.
+    const std::size_t n = fits.size();
+    std::vector<std::vector<Eigen::Index>> idxs(n);
+    std::vector<Eigen::VectorXd> times_of(n), ps_of(n), ys_of(n);
+    std::vector<Eigen::MatrixX3d> mean_of(n);
+    for (std::size_t q = 0; q < n; ++q) {
       const RecordedForecastCase& c = cases[q];
-      std::vector<Eigen::Index> idx;
-      const Eigen::VectorXd times = scoring_times(c, idx);
-      Eigen::MatrixX3d mean(times.size(), 3);
-      Eigen::VectorXd ps(times.size()), ys(times.size());
+      times_of[q] = scoring_times(c, idxs[q]);
+      const Eigen::Index m = times_of[q].size();
+      mean_of[q].resize(m, 3);
+      ps_of[q].resize(m);
+      ys_of[q].resize(m);
       ForecastRun run;
       const std::vector<const PushFit*> others = others_of(q);
       central_and_spread(learned_object, others, weighting_bandwidth(model), fit_trend(others, model.trend.ridge),
-                         c.plan, c.start_pose, times, settings, mean, ps, ys, work, run, options.central);
+                         c.plan, c.start_pose, times_of[q], settings, mean_of[q], ps_of[q], ys_of[q], work, run,
+                         options.central);
+      model.pushes[q].loo_final_error =
+          plan_frame_error(c.plan, mean_of[q].row(m - 1).transpose(), c.truth.row(idxs[q].back()).transpose());
+    }
+    // The residual correction: each left-out push's forecast shifted by the others' leave-one-out errors (computed
+    // with ensembles that held the left-out push: an approximation of the nested leave-one-out, which would cost n^2
+    // forecasts); the regions are calibrated on the forecasts kept.
+    if (options.residual_correction != ResidualCorrectionChoice::None) {
+      std::vector<Eigen::MatrixX3d> corrected = mean_of;
+      std::vector<double> w;
+      double plain_score = 0, corrected_score = 0;
+      for (std::size_t q = 0; q < n; ++q) {
+        const RecordedForecastCase& c = cases[q];
+        const std::vector<const PushFit*> others = others_of(q);
+        member_weights(others, weighting_bandwidth(model), describe_push(learned_object, c.plan, c.start_pose), w);
+        apply_residual_shift(residual_shift(others, w, model.residual_shrinkage), c.plan, times_of[q], corrected[q]);
+        plain_score += central_score(mean_of[q], c, idxs[q]);
+        corrected_score += central_score(corrected[q], c, idxs[q]);
+      }
+      const bool keep =
+          options.residual_correction == ResidualCorrectionChoice::LeaveOneOut || corrected_score < plain_score;
+      std::ostringstream method;
+      method.precision(4);
+      method << "leave-one-out final errors of the learned pushes, similarity-weighted, shrunk by n_eff / (n_eff + "
+             << model.residual_shrinkage << "); learned pushes' leave-one-out score (final and trajectory mm + deg "
+             << "summed) " << plain_score << " without, " << corrected_score << " with it";
+      if (keep) {
+        mean_of = std::move(corrected);
+        model.residual_correction = true;
+        model.residual_correction_method = method.str();
+      } else {
+        model.residual_correction_method = "none (" + method.str() + ")";
+      }
+    }
+    std::vector<std::pair<double, double>> pos_ratio[3], yaw_ratio[3];
+    for (std::size_t q = 0; q < n; ++q) {
+      const RecordedForecastCase& c = cases[q];
+      const std::vector<Eigen::Index>& idx = idxs[q];
+      const Eigen::VectorXd& times = times_of[q];
+      const Eigen::MatrixX3d& mean = mean_of[q];
+      const Eigen::VectorXd& ps = ps_of[q];
+      const Eigen::VectorXd& ys = ys_of[q];
       const double weight = 1.0 / static_cast<double>(idx.size());
       for (std::size_t k = 0; k < idx.size(); ++k) {
         const Eigen::Index e = static_cast<Eigen::Index>(k);
@@ -1227,6 +1362,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     model.regions.pushes = static_cast<int>(fits.size());
   } else {
     model.regions.method = "not calibrated (fewer than 3 pushes): the normal 90 % quantile on the ensemble's spread";
+    if (options.residual_correction != ResidualCorrectionChoice::None)
+      model.residual_correction_method = "none (fewer than 3 pushes: no leave-one-out errors)";
   }
   return model;
 }
@@ -1339,6 +1476,7 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
                        {"speed_m_s", std::exp(f.descriptor.log_speed)}};
     p["fit_rms_position_m"] = f.rms_position_m;
     p["fit_rms_yaw_rad"] = f.rms_yaw_rad;
+    p["loo_final_error"] = {f.loo_final_error(0), f.loo_final_error(1), f.loo_final_error(2)};
     pushes.push_back(p);
   }
   j["pushes"] = pushes;
@@ -1356,6 +1494,15 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
                           {"features", "angle / 20 deg, contact x / 15 mm, contact y / 15 mm, ln(speed [m/s])"},
                           {"rows", "ln pusher_friction, ln torque_ratio_m, ln support_friction"}};
   j["central"] = central_forecast_name(m.central);
+  j["residual_correction"] = {
+      {"applied", m.residual_correction},
+      {"shrinkage_k", m.residual_shrinkage},
+      {"method", m.residual_correction_method},
+      {"definition",
+       "applied: the central forecast minus the similarity-weighted mean of the pushes' loo_final_error (each push's "
+       "leave-one-out forecast minus its recorded final pose, in its plan's frame: along the push [m], across it "
+       "counter-clockwise [m], yaw [rad]), shrunk by n_eff / (n_eff + shrinkage_k), times the tip's progress along "
+       "the plan (0 at its start, 1 from its end on)"}};
   j["regions"] = {{"level", 0.9},
                   {"position_scale", m.regions.position_scale},
                   {"yaw_scale", m.regions.yaw_scale},
@@ -1508,6 +1655,16 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
           require_positive_finite(speed, "pushes: " + f.name + ": descriptor speed_m_s");
           f.descriptor.log_speed = std::log(speed);
         }
+        if (p.contains("loo_final_error")) {  // version 7 on; optional (absent: 0)
+          const auto& e = p.at("loo_final_error");
+          if (!e.is_array() || e.size() != 3)
+            throw InputError("pushes: " + f.name + ": 'loo_final_error' must be [along_m, across_m, yaw_rad]");
+          for (std::size_t i = 0; i < 3; ++i) {
+            if (!e[i].is_number() || !std::isfinite(e[i].get<double>()))
+              throw InputError("pushes: " + f.name + ": 'loo_final_error' must be finite numbers");
+            f.loo_final_error(static_cast<Eigen::Index>(i)) = e[i].get<double>();
+          }
+        }
         m.pushes.push_back(f);
       }
     }
@@ -1544,6 +1701,16 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       if (!j.at("central").is_string())
         throw InputError("'central' must be \"ensemble_mean\", \"median\" or \"ensemble_median\"");
       m.central = central_forecast_named(j.at("central").get<std::string>());
+    }
+    if (j.contains("residual_correction")) {  // version 7 on; optional (absent: not applied)
+      const auto& rc = j.at("residual_correction");
+      if (!rc.is_object() || !rc.contains("applied") || !rc.at("applied").is_boolean())
+        throw InputError("residual_correction: 'applied' must be true or false");
+      m.residual_correction = rc.at("applied").get<bool>();
+      m.residual_shrinkage = number_at(rc, "shrinkage_k", "residual_correction");
+      if (!std::isfinite(m.residual_shrinkage) || m.residual_shrinkage < 0)
+        throw InputError("residual_correction: 'shrinkage_k' must be finite and not negative");
+      m.residual_correction_method = rc.value("method", m.residual_correction_method);
     }
     if (j.contains("regions")) {
       const auto& r = j.at("regions");
@@ -1611,6 +1778,11 @@ void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, c
     central_and_spread(model.object, members, weighting_bandwidth(model), model.trend, plan, pose0, times,
                        model.settings, out.mean, out.position_spread_m, out.yaw_spread_rad, work, out.run,
                        model.central);
+    if (model.residual_correction) {
+      thread_local std::vector<double> w;
+      member_weights(members, weighting_bandwidth(model), describe_push(model.object, plan, pose0), w);
+      apply_residual_shift(residual_shift(members, w, model.residual_shrinkage), plan, times, out.mean);
+    }
   }
   const RegionCalibration& r = model.regions;
   for (Eigen::Index k = 0; k < n; ++k) {

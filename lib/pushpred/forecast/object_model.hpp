@@ -32,8 +32,9 @@ namespace pushpred {
 /// "centre_of_friction" block: their centre of friction is the one in "object", the outline's centroid; versions 1
 /// and 2 have no "parameter_trend": their parameters do not follow the plan; versions 1 to 3 have no
 /// "limit_surface": theirs is the ellipsoid; versions 1 to 4 have no "pressure_shape": their pressure's rim weight
-/// is 0, uniform; versions 1 to 5 have no "similarity_weighting": theirs is one chosen bandwidth).
-inline constexpr int kObjectModelVersion = 6;
+/// is 0, uniform; versions 1 to 5 have no "similarity_weighting": theirs is one chosen bandwidth; versions 1 to 6
+/// have no "residual_correction" nor the pushes' "loo_final_error": their central forecast is not corrected).
+inline constexpr int kObjectModelVersion = 7;
 
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.
@@ -105,6 +106,11 @@ struct PushFit {
   double rms_position_m = 0, rms_yaw_rad = 0;                ///< of the fitted forecast against the recording
   double final_position_m = 0, final_yaw_rad = 0;
   int evaluations = 0;
+  /// The push's leave-one-out final error inside learn (its forecast by the other learned pushes' ensemble minus its
+  /// recorded final pose) in the frame of its plan: along the push direction [m], across it (counter-clockwise of
+  /// it) [m], and yaw [rad]. What the residual correction (ObjectModel::residual_correction) averages; 0 until learn
+  /// sets it (with three or more pushes).
+  Eigen::Vector3d loo_final_error = Eigen::Vector3d::Zero();
 };
 
 struct FitOptions {
@@ -188,6 +194,25 @@ inline const std::vector<std::string> kCentralForecastNames = {"ensemble_mean", 
 /// The central forecast LearnOptions' defaults make (docs/forecast.md: chosen on simulated pushes).
 inline constexpr const char* kCentralForecastDefaultChoice = "ensemble_mean";
 
+/// The residual correction of the central forecast (ObjectModel::residual_correction, `--residual-correction`):
+/// - "none": the central forecast as it is;
+/// - "loo": shifted by the similarity-weighted mean of the learned pushes' leave-one-out final errors
+///   (PushFit::loo_final_error, in the frame of each push's plan, carried into the plan's frame), shrunk towards
+///   zero by n_eff / (n_eff + kResidualShrinkage) with n_eff = (sum w)^2 / sum w^2 of the same similarity weights w
+///   as the ensemble, and growing with the tip's progress along the plan (0 at its start, the whole shift from its
+///   end on, the slide included);
+/// - "chosen": "loo" when its leave-one-out forecasts of the learned pushes err less than without it (final and
+///   trajectory mean, mm and degrees alike; each left-out push corrected by the others' errors), else "none".
+enum class ResidualCorrectionChoice { None, LeaveOneOut, Chosen };
+ResidualCorrectionChoice residual_correction_named(const std::string& name);
+const char* residual_correction_name(ResidualCorrectionChoice choice);
+inline const std::vector<std::string> kResidualCorrectionNames = {"none", "loo", "chosen"};
+/// The choice LearnOptions' defaults make (docs/forecast.md: decided on simulated pushes).
+inline constexpr const char* kResidualCorrectionDefaultChoice = "none";
+/// k of the residual correction's shrinkage n_eff / (n_eff + k): set before any run (a push's own leave-one-out error
+/// taken to scatter about the systematic part by about as much as that part varies, twice over), not fitted.
+inline constexpr double kResidualShrinkage = 2.0;
+
 /// The weighted median of (value, weight) pairs (weights positive; sorted in place, nothing allocated): the value
 /// where the cumulative weight first reaches half the total, or the midpoint of it and the next value when it reaches
 /// half exactly. NaN when empty.
@@ -244,6 +269,12 @@ struct ObjectModel {
   /// bandwidth without a trend by more than one standard error of their paired per-push differences.
   ParameterTrend trend;
   CentralForecast central = CentralForecast::EnsembleMean;
+  /// Whether the central forecast is shifted by the learned pushes' leave-one-out final errors
+  /// (ResidualCorrectionChoice "loo"), with shrinkage k `residual_shrinkage`; the regions are then calibrated on the
+  /// corrected leave-one-out forecasts.
+  bool residual_correction = false;
+  double residual_shrinkage = kResidualShrinkage;
+  std::string residual_correction_method = "none";
   RegionCalibration regions;
   ForecastSettings settings;
   /// object.centre_of_friction_m's standard error, and how many pushes it was learned from (0: not learned, the
@@ -261,6 +292,7 @@ struct ObjectModel {
 
 struct LearnOptions {
   CentralForecast central = central_forecast_named(kCentralForecastDefaultChoice);
+  ResidualCorrectionChoice residual_correction = residual_correction_named(kResidualCorrectionDefaultChoice);
   std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates
   /// ObjectModel::similarity_averaged (then `bandwidths` is unused). The default: on simulated pushes it forecast
   /// better than one chosen bandwidth, and on the real ones it was not worse (docs/forecast.md).

@@ -222,7 +222,8 @@ nlohmann::json forecast_study_summary(const std::vector<ForecastStudyPush>& push
                      {"surface", p.surface},
                      {"training_pushes", p.training_pushes},
                      {"rim_weight", p.rim_weight},
-                     {"rim_weight_learned", p.rim_weight_learned}});
+                     {"rim_weight_learned", p.rim_weight_learned},
+                     {"residual_correction", p.residual_correction}});
   j["folds"] = folds;
   nlohmann::json ex = nlohmann::json::array();
   for (const auto& e : excluded) ex.push_back({{"push", e.first}, {"reason", e.second}});
