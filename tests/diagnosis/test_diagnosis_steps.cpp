@@ -28,9 +28,8 @@ using namespace pushpred::testing;
 namespace {
 
 /// The base model's parts, in every corrected model: the pushing model predicts, the force-domain structure is its
-/// fallback. Without a finding, the base model is the pushing model itself (the `quasi_static` reference; the corrected path runs the
-/// observer through its exact discretisation, the reference through CVODE, so their starting velocities agree to
-/// the integrator's tolerance, not to the last bit).
+/// fallback, and the friction law fitted on the fit pushes' force stops its slide to rest (where the `quasi_static`
+/// reference, the pushing model alone, stops it with the friction it identifies on each phase).
 void check_base_model(const DiagnosisResult& r) {
   for (const char* kind : {"coulomb_friction", "initial_velocity", "quasi_static", "pusher_stop", "pushing_model"}) {
     BOOST_TEST(report(r, kind).structural, kind);
@@ -40,10 +39,10 @@ void check_base_model(const DiagnosisResult& r) {
   BOOST_TEST(r.correction.initial_velocity);
   BOOST_TEST(r.correction.quasi_static.enabled);
   BOOST_TEST(r.correction.quasi_static.pusher_stop_speed_m_s > 0);
+  BOOST_TEST(std::any_of(r.correction.force_laws.begin(), r.correction.force_laws.end(),
+                         [](const FittedForceLaw& law) { return law.effect->kind() == "coulomb_friction"; }));
   BOOST_TEST(r.error_base.phases == r.error_after.phases);
   BOOST_TEST(r.error_base.phases == r.quasi_static.phases);
-  BOOST_TEST(r.error_base.pos_mm_mean == r.quasi_static.pos_mm_mean, boost::test_tools::tolerance(1e-4));
-  BOOST_TEST(r.error_base.theta_deg_mean == r.quasi_static.theta_deg_mean, boost::test_tools::tolerance(1e-4));
 }
 
 /// Trial `index` of a validation run with amounts fixed at `multiple` floors, simulated and diagnosed.
@@ -152,7 +151,7 @@ BOOST_AUTO_TEST_CASE(a_found_mass_centre_offset_moves_the_pushing_models_centre_
   BOOST_TEST(moved.shape.centroid_m.y() == pushes.front().shape.centroid_m.y() - 0.002, boost::test_tools::tolerance(1e-12));
   // The relation model reads the offset through com_offset's force law, not through the push.
   BOOST_TEST(corrected.corrected_push(pushes.front()).shape.centroid_m == pushes.front().shape.centroid_m);
-  // The found force law makes every force law the friction of the pushing model's slide to rest.
+  // Every force law is the friction of the pushing model's slide to rest.
   BOOST_TEST(corrected.free_slide_terms(pushes.front(), Eigen::Vector3d::Zero()).size() == c.force_laws.size());
   BOOST_TEST(CorrectedPrediction(ModelCorrection{}).free_slide_terms(pushes.front(), Eigen::Vector3d::Zero()).empty());
 }
@@ -526,17 +525,17 @@ BOOST_AUTO_TEST_CASE(a_true_offset_predicts_most_fit_pushes_better) {
 }
 
 BOOST_AUTO_TEST_CASE(an_offset_that_takes_up_a_hidden_bias_and_barely_moves_the_prediction_is_not_found) {
-  // A trial of the tuning seeds 367200 (validation defaults, rect1, a force bias of 3.4 floors outside the catalogue,
-  // 3 fit pushes): a 6.8 mm mass-centre offset takes up part of the bias's torque, passes its test and clears its
-  // floor, and predicts two of the three fit pushes better, but their mean error by about 5 % only. A true offset
+  // A trial of the tuning seeds 367200 (validation defaults, rect2, a force bias of 4.5 floors outside the catalogue,
+  // 4 fit pushes): an 8.1 mm mass-centre offset takes up part of the bias's torque, passes its test and clears its
+  // floor, and predicts three of the four fit pushes better, but their mean error by about 6 % only. A true offset
   // moves the pushing model's centre of friction and with it how every push turns: one that changes the prediction
   // by less than kMotionConfirmationGain is not found.
-  const DiagnosisResult r = hidden_trial(367200, 14, "force_offset");
+  const DiagnosisResult r = hidden_trial(367200, 18, "force_offset");
   const EffectReport& com = report(r, "com_offset");
   BOOST_TEST(com.passed_test, "the offset should pass its test, or this no longer tests the motion: " << com.note);
   BOOST_TEST(com.amount - com.amount_std > com.floor.amount, "it should clear its floor by the margin: " << com.note);
   const std::string decision = motion_decision(r);
-  BOOST_TEST(decision.find("better on 2 of 3 fit pushes") != std::string::npos, decision);
+  BOOST_TEST(decision.find("better on 3 of 4 fit pushes") != std::string::npos, decision);
   BOOST_TEST(com.contradicted_by_motion, com.note);
   BOOST_TEST(!com.selected);
   for (const auto& e : r.effects) BOOST_TEST((e.structural || !e.selected), e.kind << ": " << findings_text(r));
@@ -554,17 +553,19 @@ BOOST_AUTO_TEST_CASE(a_bias_is_read_from_the_held_out_pushes_rests_when_the_fit_
   BOOST_TEST(bias.amount == truth_N, boost::test_tools::tolerance(0.25));
 }
 
-BOOST_AUTO_TEST_CASE(an_offset_that_stands_in_for_a_tilted_support_is_not_found) {
-  // A trial of the tuning seeds 359200 (validation defaults, rect2, a support tilted by 2.7 degrees, 4 fit pushes),
-  // the tilt being outside the catalogue: a 3.8 mm mass-centre offset takes up part of its torque (score 190, nearly
-  // twice its floor, confirmed by the motion), but the residual stays unexplained, and beside that residual's leading
-  // signature (a constant force in the world frame, which is what a tilt is) the offset no longer passes its test.
-  const DiagnosisResult r = hidden_trial(359200, 10, "support_tilt");
-  const EffectReport& com = report(r, "com_offset");
-  BOOST_TEST(com.passed_test, "it should pass its own test, or this no longer tests the stand-in: " << com.note);
-  BOOST_TEST(com.stands_in_for_unexplained, com.note);
-  BOOST_TEST(!com.selected);
-  BOOST_TEST(com.note.find("world_force") != std::string::npos, com.note);
+BOOST_AUTO_TEST_CASE(friction_laws_that_stand_in_for_a_tilted_support_are_not_found) {
+  // A trial of the tuning seeds 359200 (validation defaults, a tilted support outside the catalogue, 4 fit pushes):
+  // Stribeck friction and drag take up part of the tilt's constant force (scores 26 and 19, above their floors), but
+  // the residual stays unexplained, and beside that residual's leading signature (a constant force in the world
+  // frame, which is what a tilt is) neither passes its test any longer.
+  const DiagnosisResult r = hidden_trial(359200, 15, "support_tilt");
+  for (const char* kind : {"stribeck_friction", "viscous_friction"}) {
+    const EffectReport& law = report(r, kind);
+    BOOST_TEST(law.passed_test, kind << " should pass its own test, or this no longer tests the stand-in: " << law.note);
+    BOOST_TEST(law.stands_in_for_unexplained, law.note);
+    BOOST_TEST(!law.selected);
+    BOOST_TEST(law.note.find("world_force") != std::string::npos, law.note);
+  }
   BOOST_TEST(!r.adequacy.explained, findings_text(r));
   for (const auto& e : r.effects) BOOST_TEST((e.structural || !e.selected), e.kind << ": " << findings_text(r));
   BOOST_TEST(findings_text(r).find("standing in for the unexplained residual") != std::string::npos, findings_text(r));

@@ -109,9 +109,9 @@ class CorrectedPrediction final : public PredictionCorrection {
   bool predicts_with_pushing_model() const override { return correction_.pushing_model; }
   /// corrected_push with the shape's mass centre moved by ModelCorrection::mass_centre_offset_m.
   SynchronisedPush pushing_model_push(const SynchronisedPush& push) const override;
-  /// When the correction holds a physical force law (one not of the base model), every force law (the friction law
-  /// they were fitted with, and they) as the pushing model's friction while not pushed; otherwise none (the
-  /// pushing model's own identified Coulomb friction).
+  /// Every force law of the correction (the friction law of the base model and the laws found with it) as the
+  /// pushing model's friction while not pushed; none without force laws (the pushing model's own identified Coulomb
+  /// friction).
   std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms(
       const SynchronisedPush& push, const Eigen::Vector3d& start_pose) const override;
 
