@@ -80,23 +80,8 @@ static void BM_forecast_whole_push_outline_surface(benchmark::State& state) {
 }
 BENCHMARK(BM_forecast_whole_push_outline_surface)->Name("forecast/whole_push_outline_limit_surface");
 
-static void BM_forecast_with_regions(benchmark::State& state) {
-  const Fixture& f = fixture();
-  pushpred::ForecastDistribution d;
-  pushpred::ForecastWorkspace work;
-  for (auto _ : state) {
-    pushpred::forecast_distribution_into(f.model, f.c.plan, f.c.start_pose, f.c.times_s, d, work);
-    benchmark::DoNotOptimize(d.mean.data());
-  }
-  state.SetItemsProcessed(state.iterations());
-}
-BENCHMARK(BM_forecast_with_regions)->Name("forecast/trajectory_with_regions_16_members");
-
-static void BM_forecast_with_regions_and_trend(benchmark::State& state) {
-  // The same with a parameter trend (each member moved along it to the plan before it runs).
-  pushpred::ObjectModel model = fixture().model;
-  model.trend.ridge = 0.1;
-  model.trend.slope.setConstant(0.05);
+/// The fixture's plan forecast with `model`'s 90 % regions, into reused storage, once per iteration.
+static void forecast_distributions(benchmark::State& state, const pushpred::ObjectModel& model) {
   const Fixture& f = fixture();
   pushpred::ForecastDistribution d;
   pushpred::ForecastWorkspace work;
@@ -105,6 +90,17 @@ static void BM_forecast_with_regions_and_trend(benchmark::State& state) {
     benchmark::DoNotOptimize(d.mean.data());
   }
   state.SetItemsProcessed(state.iterations());
+}
+
+static void BM_forecast_with_regions(benchmark::State& state) { forecast_distributions(state, fixture().model); }
+BENCHMARK(BM_forecast_with_regions)->Name("forecast/trajectory_with_regions_16_members");
+
+static void BM_forecast_with_regions_and_trend(benchmark::State& state) {
+  // The same with a parameter trend (each member moved along it to the plan before it runs).
+  pushpred::ObjectModel model = fixture().model;
+  model.trend.ridge = 0.1;
+  model.trend.slope.setConstant(0.05);
+  forecast_distributions(state, model);
 }
 BENCHMARK(BM_forecast_with_regions_and_trend)->Name("forecast/trajectory_with_regions_16_members_trend");
 
@@ -115,14 +111,7 @@ static void BM_forecast_with_regions_and_residual_correction(benchmark::State& s
   model.residual_correction = true;
   for (std::size_t k = 0; k < model.pushes.size(); ++k)
     model.pushes[k].loo_final_error = {1e-3 * static_cast<double>(k % 3), -5e-4, 0.01};
-  const Fixture& f = fixture();
-  pushpred::ForecastDistribution d;
-  pushpred::ForecastWorkspace work;
-  for (auto _ : state) {
-    pushpred::forecast_distribution_into(model, f.c.plan, f.c.start_pose, f.c.times_s, d, work);
-    benchmark::DoNotOptimize(d.mean.data());
-  }
-  state.SetItemsProcessed(state.iterations());
+  forecast_distributions(state, model);
 }
 BENCHMARK(BM_forecast_with_regions_and_residual_correction)
     ->Name("forecast/trajectory_with_regions_16_members_residual_correction");
@@ -144,14 +133,7 @@ static void BM_forecast_with_regions_spread(benchmark::State& state, pushpred::C
   // The ensemble's mean or its median (weighted geometric median in position at every output time) over members
   // whose trajectories differ.
   const pushpred::ObjectModel model = spread_model(central);
-  const Fixture& f = fixture();
-  pushpred::ForecastDistribution d;
-  pushpred::ForecastWorkspace work;
-  for (auto _ : state) {
-    pushpred::forecast_distribution_into(model, f.c.plan, f.c.start_pose, f.c.times_s, d, work);
-    benchmark::DoNotOptimize(d.mean.data());
-  }
-  state.SetItemsProcessed(state.iterations());
+  forecast_distributions(state, model);
 }
 BENCHMARK_CAPTURE(BM_forecast_with_regions_spread, mean, pushpred::CentralForecast::EnsembleMean)
     ->Name("forecast/trajectory_with_regions_16_spread_members");

@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
+#include "learn_arguments.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/reports/forecast_report.hpp"
 #include "pushpred/reports/plotting.hpp"
@@ -19,28 +20,17 @@ struct StudyArgs {
   std::vector<std::string> files;
   std::string out, data;
   int jobs = default_jobs();
-  std::string central = kCentralForecastDefaultChoice;
-  std::string residual_correction = kResidualCorrectionDefaultChoice;
-  std::string centre_of_friction = "chosen";
-  std::string trend = kTrendDefaultChoice;
-  std::string similarity = kSimilarityDefaultChoice;
-  std::string limit_surface = "ellipsoid";
-  std::string pressure_shape = kPressureShapeDefaultChoice;
+  LearnArguments learning;
 };
 
 int run_study(const StudyArgs& a) {
   StagedOutput out(a.out);
   const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
   const ForecastInputs in =
-      load_forecast_inputs(a.files, data, a.jobs, nullptr, true, limit_surface_named(a.limit_surface));
+      load_forecast_inputs(a.files, data, a.jobs, nullptr, true, limit_surface_named(a.learning.limit_surface));
   ForecastStudyOptions options;
   options.jobs = a.jobs;
-  options.learn.central = central_forecast_named(a.central);
-  options.learn.residual_correction = residual_correction_named(a.residual_correction);
-  set_centre_of_friction_choice(options.learn, a.centre_of_friction);
-  set_trend_choice(options.learn, a.trend);
-  set_similarity_choice(options.learn, a.similarity);
-  set_pressure_shape_choice(options.learn, a.pressure_shape);
+  a.learning.apply_to(options.learn);
   std::vector<std::pair<std::string, std::string>> excluded = in.excluded;
   const std::vector<ForecastStudyPush> pushes = run_forecast_study(in.cases, in.fits, options, &excluded);
   if (pushes.empty()) {
@@ -84,41 +74,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_out_folder(*sub, a->out);
   sub->add_option("--data", a->data, "Data folder (butter's outline); default: PUSHPRED_DATA or ../shared/data/mcube");
   add_shapes(*sub);
-  const std::string central_help =
-      "The central forecast at each time from the learned pushes' own forecasts: ensemble_mean (their weighted mean), "
-      "ensemble_median (their positions' weighted geometric median and their yaws' weighted median) or median (the "
-      "forecast of their parameters' median); default " +
-      std::string(kCentralForecastDefaultChoice);
-  sub->add_option("--central", a->central, central_help)->check(CLI::IsMember(kCentralForecastNames));
-  const std::string residual_help =
-      "Shift the central forecast by the learned pushes' leave-one-out final errors (similarity-weighted, shrunk, "
-      "growing with the tip's progress): none, loo (always) or chosen (when it forecasts the learned pushes better "
-      "leaving one out); default " +
-      std::string(kResidualCorrectionDefaultChoice);
-  sub->add_option("--residual-correction", a->residual_correction, residual_help)
-      ->check(CLI::IsMember(kResidualCorrectionNames));
-  sub->add_option("--centre-of-friction", a->centre_of_friction,
-                  "chosen (default: learned jointly over the pushes when that forecasts them better in "
-                  "cross-validation, else the centroid), learned (always) or centroid (never learned)")
-      ->check(CLI::IsMember({"chosen", "learned", "centroid"}));
-  sub->add_option("--trend", a->trend,
-                  "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
-                  "learned pushes when that forecasts them better leaving each out)")
-      ->check(CLI::IsMember({"chosen", "none"}));
-  sub->add_option("--similarity", a->similarity,
-                  "How the learned pushes are weighted by how alike they push to the plan: chosen (one bandwidth, "
-                  "chosen by their own leave-one-out error) or averaged (the weights under the bandwidths 0, 2, 1 and "
-                  "0.5 averaged; none chosen)")
-      ->check(CLI::IsMember({"chosen", "averaged"}));
-  sub->add_option("--limit-surface", a->limit_surface,
-                  "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
-                  "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")
-      ->check(CLI::IsMember({"ellipsoid", "outline"}));
-  sub->add_option("--pressure-shape", a->pressure_shape,
-                  "with --limit-surface outline: chosen (default: the pressure's rim weight learned jointly with the "
-                  "centre of friction when that forecasts the pushes better in cross-validation, else uniform), "
-                  "learned (always) or uniform (never learned)")
-      ->check(CLI::IsMember({"chosen", "learned", "uniform"}));
+  a->learning.add_to(*sub);
   add_jobs(*sub, a->jobs,
            "Pushes fitted and forecast in parallel (default: all cores); the output does not depend on it");
   sub->callback([a, &run] { run = [a] { return run_study(*a); }; });

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
+#include "learn_arguments.hpp"
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/forecast/forecast_study.hpp"
 #include "pushpred/runtime/output_files.hpp"
@@ -25,13 +26,7 @@ struct LearnArgs {
   std::string out, data, outline_file, ellipse, name;
   double circle_m = 0, mass_kg = 0, inertia_kgm2 = 0;
   int jobs = default_jobs();
-  std::string central = kCentralForecastDefaultChoice;
-  std::string residual_correction = kResidualCorrectionDefaultChoice;
-  std::string centre_of_friction = "chosen";
-  std::string trend = kTrendDefaultChoice;
-  std::string similarity = kSimilarityDefaultChoice;
-  std::string limit_surface = "ellipsoid";
-  std::string pressure_shape = kPressureShapeDefaultChoice;
+  LearnArguments learning;
 };
 
 /// The user's own object, or null for the dataset's.
@@ -63,7 +58,7 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
     o->outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(ax, by));
   }
   o->centre_of_friction_m = o->outline->area_centroid_m();
-  use_limit_surface(*o, limit_surface_named(a.limit_surface));
+  use_limit_surface(*o, limit_surface_named(a.learning.limit_surface));
   o->validate();
   return o;
 }
@@ -78,7 +73,7 @@ int run_learn(const LearnArgs& a) {
   const std::unique_ptr<ForecastObject> own = own_object(a);
   const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
   ForecastInputs in =
-      load_forecast_inputs(a.files, data, a.jobs, own.get(), true, limit_surface_named(a.limit_surface));
+      load_forecast_inputs(a.files, data, a.jobs, own.get(), true, limit_surface_named(a.learning.limit_surface));
   for (const auto& e : in.excluded) std::cerr << "excluded " << e.first << ": " << e.second << "\n";
   std::set<std::pair<std::string, std::string>> groups;
   for (const auto& c : in.cases) groups.insert({c.object, c.surface});
@@ -102,12 +97,7 @@ int run_learn(const LearnArgs& a) {
                              : shape.has_outline() ? "shape table: " + first.object
                                                    : "data folder: butter_outline.csv";
   LearnOptions options;
-  options.central = central_forecast_named(a.central);
-  options.residual_correction = residual_correction_named(a.residual_correction);
-  set_centre_of_friction_choice(options, a.centre_of_friction);
-  set_trend_choice(options, a.trend);
-  set_similarity_choice(options, a.similarity);
-  set_pressure_shape_choice(options, a.pressure_shape);
+  a.learning.apply_to(options);
   options.jobs = a.jobs;
   const ObjectModel model =
       learn_object_model(first.forecast_object, first.surface, source, in.cases, in.fits, options);
@@ -184,41 +174,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--inertia", a->inertia_kgm2, "Moment of inertia of one's own object about its mass centre [kg m^2]")
       ->check(kPositiveNumber);
   sub->add_option("--name", a->name, "Name of one's own object");
-  const std::string central_help =
-      "The central forecast at each time from the learned pushes' own forecasts: ensemble_mean (their weighted mean), "
-      "ensemble_median (their positions' weighted geometric median and their yaws' weighted median) or median (the "
-      "forecast of their parameters' median); default " +
-      std::string(kCentralForecastDefaultChoice);
-  sub->add_option("--central", a->central, central_help)->check(CLI::IsMember(kCentralForecastNames));
-  const std::string residual_help =
-      "Shift the central forecast by the learned pushes' leave-one-out final errors (similarity-weighted, shrunk, "
-      "growing with the tip's progress): none, loo (always) or chosen (when it forecasts the learned pushes better "
-      "leaving one out); default " +
-      std::string(kResidualCorrectionDefaultChoice);
-  sub->add_option("--residual-correction", a->residual_correction, residual_help)
-      ->check(CLI::IsMember(kResidualCorrectionNames));
-  sub->add_option("--centre-of-friction", a->centre_of_friction,
-                  "chosen (default: learned jointly over the pushes when that forecasts them better in "
-                  "cross-validation, else the centroid), learned (always) or centroid (never learned)")
-      ->check(CLI::IsMember({"chosen", "learned", "centroid"}));
-  sub->add_option("--trend", a->trend,
-                  "none (default) or chosen (the parameters follow the plan along a ridge-regression trend over the "
-                  "learned pushes when that forecasts them better leaving each out)")
-      ->check(CLI::IsMember({"chosen", "none"}));
-  sub->add_option("--similarity", a->similarity,
-                  "How the learned pushes are weighted by how alike they push to the plan: chosen (one bandwidth, "
-                  "chosen by their own leave-one-out error) or averaged (the weights under the bandwidths 0, 2, 1 and "
-                  "0.5 averaged; none chosen)")
-      ->check(CLI::IsMember({"chosen", "averaged"}));
-  sub->add_option("--limit-surface", a->limit_surface,
-                  "ellipsoid (default: the ellipsoidal limit surface of a ratio c fitted per push) or outline (the "
-                  "limit surface of a planar pressure over the outline centred at the centre of friction; no c)")
-      ->check(CLI::IsMember({"ellipsoid", "outline"}));
-  sub->add_option("--pressure-shape", a->pressure_shape,
-                  "with --limit-surface outline: chosen (default: the pressure's rim weight learned jointly with the "
-                  "centre of friction when that forecasts the pushes better in cross-validation, else uniform), "
-                  "learned (always) or uniform (never learned)")
-      ->check(CLI::IsMember({"chosen", "learned", "uniform"}));
+  a->learning.add_to(*sub);
   add_jobs(
       *sub, a->jobs,
       "Pushes fitted (and the rim weight's jackknife refits run) in parallel (default: all cores); the output does "

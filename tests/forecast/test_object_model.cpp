@@ -87,6 +87,28 @@ SimulatedSet simulated_set(int count, std::uint64_t first_seed, double mu_s_lo, 
   return set;
 }
 
+/// rect1 pushed 35 degrees off the normal, off-centre, from rest at the origin: a plan on the contact's stick/slide
+/// switch for a rod friction of 1.0 (its cone holds the push) against 0.1 (it does not).
+TipPlan plan_on_the_stick_slide_switch() {
+  const double a = 0.045;
+  return TipPlan::straight(Eigen::Vector2d(-a + 2 * a * 0.3, -a - 4.745e-3 - 1e-3),
+                           Eigen::Rotation2Dd(35 * M_PI / 180) * Eigen::Vector2d::UnitY(), 0.05, 0.05);
+}
+
+/// rect1's model whose learned pushes all pushed as `plan` does (from rest at the origin), one per rod friction in
+/// `mu_p`, each with c 30 mm and mu_s 0.4.
+ObjectModel model_on_the_stick_slide_switch(const TipPlan& plan, const std::vector<double>& mu_p) {
+  ObjectModel model;
+  model.object = dataset_forecast_object(ShapeTable::published().find("rect1"), "");
+  for (const double mu : mu_p) {
+    PushFit f;
+    f.descriptor = describe_push(model.object, plan, Eigen::Vector3d::Zero());
+    f.parameters = {mu, 0.03, 0.4};
+    model.pushes.push_back(f);
+  }
+  return model;
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(a_forecast_of_simulated_pushes_recovers_their_final_pose_within_its_own_regions) {
@@ -268,19 +290,9 @@ BOOST_AUTO_TEST_CASE(a_plan_on_the_stick_slide_switch_gets_a_region_that_holds_b
   // 5.7 degrees: it slides from the start), so the plan falls on the switch and the ensemble splits in two outcomes.
   // The central forecast lies between them; with two equally weighted outcomes each lies exactly one RMS spread from
   // their mean, so any region scale of at least 1 (the uncalibrated 1.645 here) holds both, in position and in yaw.
-  const ShapeInfo& shape = ShapeTable::published().find("rect1");
-  ObjectModel model;
-  model.object = dataset_forecast_object(shape, "");
-  const double a = 0.045;
-  const TipPlan plan = TipPlan::straight(Eigen::Vector2d(-a + 2 * a * 0.3, -a - 4.745e-3 - 1e-3),
-                                         Eigen::Rotation2Dd(35 * M_PI / 180) * Eigen::Vector2d::UnitY(), 0.05, 0.05);
+  const TipPlan plan = plan_on_the_stick_slide_switch();
   const Eigen::Vector3d pose0 = Eigen::Vector3d::Zero();
-  for (int k = 0; k < 8; ++k) {
-    PushFit f;
-    f.descriptor = describe_push(model.object, plan, pose0);
-    f.parameters = {k % 2 ? 0.1 : 1.0, 0.03, 0.4};
-    model.pushes.push_back(f);
-  }
+  const ObjectModel model = model_on_the_stick_slide_switch(plan, {1.0, 0.1, 1.0, 0.1, 1.0, 0.1, 1.0, 0.1});
   const Eigen::VectorXd final_time = Eigen::VectorXd::Constant(1, 10.0);
   ForecastRun stick_run, slide_run;
   const Eigen::MatrixX3d stick =
@@ -738,19 +750,9 @@ BOOST_AUTO_TEST_CASE(on_the_stick_slide_switch_the_ensemble_median_lies_on_the_h
   // sticking one in position and yaw.
   // The regions are centred on the central forecast, with the ensemble's spread about it: 1.645 sqrt(3/8) of the gap
   // uncalibrated, so they still hold the sliding outcome.
-  const ShapeInfo& shape = ShapeTable::published().find("rect1");
-  ObjectModel model;
-  model.object = dataset_forecast_object(shape, "");
-  const double a = 0.045;
-  const TipPlan plan = TipPlan::straight(Eigen::Vector2d(-a + 2 * a * 0.3, -a - 4.745e-3 - 1e-3),
-                                         Eigen::Rotation2Dd(35 * M_PI / 180) * Eigen::Vector2d::UnitY(), 0.05, 0.05);
+  const TipPlan plan = plan_on_the_stick_slide_switch();
   const Eigen::Vector3d pose0 = Eigen::Vector3d::Zero();
-  for (int k = 0; k < 8; ++k) {
-    PushFit f;
-    f.descriptor = describe_push(model.object, plan, pose0);
-    f.parameters = {k < 5 ? 1.0 : 0.1, 0.03, 0.4};
-    model.pushes.push_back(f);
-  }
+  ObjectModel model = model_on_the_stick_slide_switch(plan, {1.0, 1.0, 1.0, 1.0, 1.0, 0.1, 0.1, 0.1});
   const Eigen::VectorXd final_time = Eigen::VectorXd::Constant(1, 10.0);
   const Eigen::MatrixX3d stick = forecast_poses(model.object, {1.0, 0.03, 0.4}, plan, pose0, final_time);
   const Eigen::MatrixX3d slide = forecast_poses(model.object, {0.1, 0.03, 0.4}, plan, pose0, final_time);

@@ -8,6 +8,20 @@ import pushpred
 from conftest import run_cli
 
 
+# One plan, as the CLI takes it and as the Python forecast takes it: the tip at (-66, 10) mm pushing 10 degrees off
+# the x axis at 50 mm/s, the object at rest at the origin.
+_PLAN_DIRECTION_RAD = np.deg2rad(10.0)
+PLAN = dict(tip=np.array([-0.066, 0.010]),
+            direction=np.array([np.cos(_PLAN_DIRECTION_RAD), np.sin(_PLAN_DIRECTION_RAD)]), speed_m_s=0.05)
+
+
+def cli_forecast(executable, model_file, out):
+    """`pushpred forecast` of PLAN with the object file `model_file`: its forecast.csv."""
+    run_cli(executable, "forecast", "--model", model_file, "--object-pose", "0,0,0", "--tip", "-66,10",
+            "--direction", "10", "--speed", "50", "--out", out)
+    return np.genfromtxt(out / "forecast.csv", delimiter=",", names=True)
+
+
 @pytest.fixture(scope="module")
 def hex_files(data_dir):
     return [str(p) for p in sorted((data_dir / "abs").glob("*shape=hex_*.h5"))[:6]]
@@ -34,12 +48,8 @@ def test_learned_model_matches_the_cli(executable, hex_files, model, tmp_path):
 
 def test_forecast_matches_the_cli_and_its_regions_grow(executable, model, tmp_path):
     (tmp_path / "hex.json").write_text(json.dumps(model.to_dict()))
-    run_cli(executable, "forecast", "--model", tmp_path / "hex.json", "--object-pose", "0,0,0", "--tip", "-66,10",
-            "--direction", "10", "--speed", "50", "--out", tmp_path / "f")
-    cli = np.genfromtxt(tmp_path / "f" / "forecast.csv", delimiter=",", names=True)
-    d = np.deg2rad(10.0)
-    f = model.forecast(np.zeros(3), tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]),
-                       speed_m_s=0.05)
+    cli = cli_forecast(executable, tmp_path / "hex.json", tmp_path / "f")
+    f = model.forecast(np.zeros(3), **PLAN)
     np.testing.assert_allclose(f["t_s"], cli["t_s"], atol=1e-9)
     np.testing.assert_allclose(1e3 * f["pose"][:, 0], cli["x_mm"], atol=1e-6)
     np.testing.assert_allclose(1e3 * f["radius90_m"], cli["radius90_mm"], atol=1e-6)
@@ -129,17 +139,12 @@ def test_the_central_forecast_is_learned_as_the_cli_learns_it(executable, hex_fi
     from_cli = json.loads((tmp_path / "hex.json").read_text())
     assert median.to_dict()["central"] == from_cli["central"] == "ensemble_median"
     assert median.to_dict()["regions"] == from_cli["regions"]
-    run_cli(executable, "forecast", "--model", tmp_path / "hex.json", "--object-pose", "0,0,0", "--tip", "-66,10",
-            "--direction", "10", "--speed", "50", "--out", tmp_path / "f")
-    cli = np.genfromtxt(tmp_path / "f" / "forecast.csv", delimiter=",", names=True)
-    d = np.deg2rad(10.0)
-    f = median.forecast(np.zeros(3), tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]),
-                        speed_m_s=0.05)
+    cli = cli_forecast(executable, tmp_path / "hex.json", tmp_path / "f")
+    f = median.forecast(np.zeros(3), **PLAN)
     np.testing.assert_allclose(1e3 * f["pose"][:, 0], cli["x_mm"], atol=1e-6)
     np.testing.assert_allclose(np.rad2deg(f["pose"][:, 2]), cli["yaw_deg"], atol=1e-6)
     # The median is not the mean of the same ensemble.
-    mean = model.forecast(np.zeros(3), tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]),
-                          speed_m_s=0.05, times_s=f["t_s"])
+    mean = model.forecast(np.zeros(3), times_s=f["t_s"], **PLAN)
     assert np.abs(mean["pose"] - f["pose"]).max() > 1e-6
     with pytest.raises(pushpred.InputError, match="central"):
         pushpred.learn_object_model(hex_files, central="mode")
@@ -159,10 +164,8 @@ def test_the_residual_correction_is_learned_as_the_cli_learns_it(executable, hex
     np.testing.assert_allclose([p["loo_final_error"] for p in corrected.to_dict()["pushes"]],
                                [p["loo_final_error"] for p in from_cli["pushes"]], atol=1e-12)
     assert corrected.to_dict()["regions"] == from_cli["regions"]
-    d = np.deg2rad(10.0)
-    kwargs = dict(tip=np.array([-0.066, 0.010]), direction=np.array([np.cos(d), np.sin(d)]), speed_m_s=0.05)
-    f = corrected.forecast(np.zeros(3), **kwargs)
-    plain = model.forecast(np.zeros(3), times_s=f["t_s"], **kwargs)
+    f = corrected.forecast(np.zeros(3), **PLAN)
+    plain = model.forecast(np.zeros(3), times_s=f["t_s"], **PLAN)
     # The shift is 0 at the start and grows with the tip's progress.
     np.testing.assert_allclose(f["pose"][0], plain["pose"][0], atol=1e-12)
     assert np.abs(f["pose"][-1] - plain["pose"][-1]).max() > 1e-6

@@ -254,6 +254,7 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
       return;
     }
     const auto weights = work.weights.head(count);
+    work.value_weight.resize(static_cast<std::size_t>(count));  // within its capacity: no allocation
     // Each time's position median from the previous one moved as the ensemble's mean moved (the trajectories are
     // smooth, so Weiszfeld's iteration starts next to it).
     Eigen::Vector2d previous_median, previous_mean;
@@ -265,7 +266,6 @@ void central_and_spread(const ForecastObject& object, const std::vector<const Pu
       previous_median = weighted_geometric_median(xy, weights, kMedianTolerance_m, 200, &start);
       previous_mean = ensemble_mean;
       mean.row(k).head<2>() = previous_median.transpose();
-      work.value_weight.resize(static_cast<std::size_t>(count));
       for (Eigen::Index a = 0; a < count; ++a)
         work.value_weight[static_cast<std::size_t>(a)] = {work.ensemble_yaw(a, k), weights(a)};
       mean(k, 2) = weighted_median(work.value_weight);
