@@ -49,8 +49,9 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       "--no-sensor-offsets", [a](std::int64_t) { a->options.draw_sensor_offsets = false; },
       "No per-push force-sensor offsets: the sensor zeroed on every push");
   sub->add_option("--sensor-offset-spread", a->options.sensor_offset_spread_N,
-                  "Push-to-push spread of the force sensor's zero, sd per axis in N (default 0.1, the real rig's; "
-                  "0.6 is a pessimistic bound)")
+                  "Push-to-push spread of the force sensor's zero, sd per axis in N (default 0.06: with the "
+                  "simulated sensor's noise the rests spread as the real rig's do, 0.10 N; 0.6 is a pessimistic "
+                  "bound)")
       ->check(kNonNegativeNumber);
   sub->add_option("--min-pushes", a->options.min_pushes, "Fewest pushes per trial (default 4)");
   sub->add_option("--max-pushes", a->options.max_pushes, "Most pushes per trial (default 8)");

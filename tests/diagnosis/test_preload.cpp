@@ -14,6 +14,8 @@
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/diagnosis/validation.hpp"
+#include "pushpred/jobs/inspection_job.hpp"
+#include "pushpred/core/data_folder.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "simulated_pushes.hpp"
 
@@ -299,6 +301,52 @@ BOOST_AUTO_TEST_CASE(with_the_rigs_zero_spread_known_chance_zeros_do_not_make_a_
   }
   BOOST_TEST_REQUIRE(tested_biased >= 15);
   BOOST_TEST(found == tested_biased);
+}
+
+// The simulated rig's clear rests, as `pushpred inspect` reads them (the mean force before the tip moves on pushes that
+// do not start pressed), spread as the real rig's do: the zero drawn per push (kSimulatedSensorZeroSpread_N) is what
+// the real rests spread beyond the sensor noise the simulator adds itself. A zero drawn at the real rests' own 0.10 N
+// counts that noise twice.
+BOOST_AUTO_TEST_CASE(the_simulated_rigs_clear_rests_spread_as_the_real_rigs_do) {
+  auto rest_rms_N = [](const std::vector<Inspection>& pushes, int& zeros) {
+    double sum2 = 0;
+    zeros = 0;
+    for (const auto& s : pushes) {
+      if (!s.rest_force_tells_zero || s.rest_preload || !std::isfinite(s.rest_force_x_N)) continue;
+      ++zeros;
+      sum2 += s.rest_force_x_N * s.rest_force_x_N + s.rest_force_y_N * s.rest_force_y_N;
+    }
+    return std::sqrt(sum2 / (2.0 * zeros));
+  };
+  int real_zeros = 0;
+  const double real = rest_rms_N(inspect_files({(resolve_data_folder() / "abs").string()}).results, real_zeros);
+  auto simulated = [&](double spread_N, int& zeros) {
+    ValidationOptions o;
+    o.seed = 1;
+    o.sensor_offset_spread_N = spread_N;
+    std::vector<Inspection> pushes;
+    for (int trial = 0; trial < 80; ++trial) {
+      ValidationTrial t;
+      const std::vector<PushScenario> scenarios = draw_validation_trial(o, trial, "none", t);
+      const std::vector<SynchronisedPush> simulated = simulate_trial(scenarios);
+      // The pushes drawn with a gap: the real rests inspect reads as zeros are clear ones (every real rest force
+      // above 0.5 N points into the contact), and a light simulated preload can point elsewhere.
+      for (std::size_t p = 0; p < simulated.size(); ++p)
+        if (scenarios[p].approach_gap_m > 0) pushes.push_back(inspect(simulated[p]));
+    }
+    return rest_rms_N(pushes, zeros);
+  };
+  int zeros = 0, zeros_doubled = 0;
+  const double drawn = simulated(ValidationOptions{}.sensor_offset_spread_N, zeros);
+  const double doubled = simulated(kSensorZeroSpread_N, zeros_doubled);
+  BOOST_TEST_MESSAGE("clear rests, RMS per axis: real " << real << " N over " << real_zeros << " pushes; simulated "
+                                                        << drawn << " N over " << zeros << " (zeros drawn at "
+                                                        << ValidationOptions{}.sensor_offset_spread_N << " N), "
+                                                        << doubled << " N with zeros drawn at the real rests' spread");
+  BOOST_TEST_REQUIRE(real_zeros >= 10);
+  BOOST_TEST_REQUIRE(zeros >= 100);
+  BOOST_TEST(std::abs(drawn / real - 1) < 0.15);
+  BOOST_TEST(doubled / real > 1.15);  // outside the band the calibrated draw must fall in
 }
 
 BOOST_AUTO_TEST_SUITE_END()
