@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -176,6 +177,7 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
   noise_variance /= static_cast<double>(m);
   // One measured push is the friction law's anchor as recorded: alone it cannot tell its zero from a shared force.
   const double spread = m >= 2 ? zero_spread_N(measured) : 0.0;
+  const double measured_spread = spread;
   const double shrink = spread > 0 ? std::max(0.0, 1 - kZeroNoiseFactor * noise_variance / (spread * spread)) : 0.0;
   for (std::size_t p = 0; p < pushes.size(); ++p) {
     Block& b = blocks_[p];
@@ -193,6 +195,27 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
     Eigen::MatrixXd stacked(3 * n, 2);
     for (int j = 0; j < 2; ++j)
       for (int c = 0; c < 3; ++c) stacked.col(j).segment(c * n, n) = zero[j].col(c) / scale_(c);
+    // The rig's known spread s bounds the zero: a random effect of prior N(0, s^2) per axis, not a free constant. Its
+    // ridge lambda = sigma^2 / (r s^2) (the weighted residual's variance per sample, at most 1 as the weights are the
+    // Linear residual's RMS, over the share r = N_eff / N its autocorrelation leaves) turns the projection off the
+    // zero's direction i (singular value d_i of the weighted columns) into a partial one, 1 - sqrt(lambda / (d_i^2 +
+    // lambda)) of it: where the data pin the zero down (d_i^2 >> lambda) it goes as before, where a zero of about s
+    // would hardly show (the torque l x z beside an offset's, a constant beside a drag at one speed) it stays.
+    // Where the measured zeros spread more than the rig's known spread says (a sensor worse than the rig's), theirs.
+    if (const double prior = pushes[p].sensor_zero_spread_N; prior > 0) {
+      const double spread = m >= 2 && std::isfinite(measured_spread) ? std::max(prior, measured_spread) : prior;
+      const Eigen::JacobiSVD<Eigen::MatrixXd> svd(stacked, Eigen::ComputeThinU);
+      const Eigen::VectorXd& d = svd.singularValues();
+      const double lambda =
+          kZeroPriorResidualVariance * static_cast<double>(samples_) / (effective_samples_ * spread * spread);
+      Eigen::Index kept = 0;
+      while (kept < d.size() && d(kept) > 1e-9 * std::max(1.0, d(0))) ++kept;
+      if (kept == 0) continue;  // stuck or outside the law's samples throughout: nothing to take out
+      b.zero_basis = svd.matrixU().leftCols(kept);
+      b.zero_share = (1 - (lambda / (d.head(kept).array().square() + lambda)).sqrt()).matrix();
+      ++zeros_projected_;
+      continue;
+    }
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(stacked);
     if (qr.rank() == 0) continue;  // stuck or outside the law's samples throughout: nothing to project
     b.zero_basis = qr.householderQ() * Eigen::MatrixXd::Identity(3 * n, qr.rank());
@@ -203,6 +226,10 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
 void ResidualRegression::project_zero(std::size_t p, Eigen::Ref<Eigen::MatrixXd> rows) const {
   const Eigen::MatrixXd& q = blocks_[p].zero_basis;
   if (q.cols() == 0) return;
+  if (blocks_[p].zero_share.size() > 0) {
+    rows -= q * (blocks_[p].zero_share.asDiagonal() * (q.transpose() * rows));
+    return;
+  }
   rows -= q * (q.transpose() * rows);
 }
 

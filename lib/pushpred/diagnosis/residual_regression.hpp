@@ -36,9 +36,16 @@
 // zero less their mean is taken out of its residual (the mean, a force the pushes share, stays for the effects that
 // describe it), shrunk by max(0, 1 - K sigma^2 / s^2) (the best linear predictor of a random zero seen through
 // noise), s the zeros' spread (zero_spread_N), sigma^2 the rest samples' variance and K = kZeroNoiseFactor; on every
-// other push (the rod starts pressed) the push's two zero columns are projected out of the
-// residual and of every column (fixed effects, 2 nuisance parameters a push). One measured push stays as recorded;
-// with none the zeros stay in the data: the friction law's constant part rests on the measured pushes.
+// other push (the rod starts pressed) the zero is a random effect about zero with the rig's known push-to-push spread s
+// (DiagnosisPush::sensor_zero_spread_N, DiagnosisOptions::sensor_zero_spread_N; the measured zeros' own spread where
+// two or more are measured and spread more): the push's two zero columns are
+// taken out of the residual and of every column as far as a zero of about s can reach them (a ridge on the zero,
+// eliminated: a partial projection, 2 nuisance parameters a push), or projected out wholly as fixed effects when s is
+// 0. A free constant on a pressed push would take up, within a straight push, the Coulomb friction's constant and
+// what an offset's torque or a drag at one speed puts there, and leave the rest to stand in for effects that are not
+// there (a drag and Stribeck friction on clean simulated pushes); bounded by the spread it cannot. One measured push
+// stays as recorded; with none the zeros stay in the data: the friction law's constant part rests on the measured
+// pushes.
 #include <Eigen/Core>
 #include <array>
 #include <optional>
@@ -69,6 +76,11 @@ enum class Relation { Linear, Friction };
 /// where their spread exceeds twice the rest's standard deviation. Chosen between 1 and 4 on tuning seeds
 /// 348000-348599 (docs/diagnosis.md) and the sensor-zeroed pushes of tests/diagnosis.
 inline constexpr double kZeroNoiseFactor = 4.0;
+
+/// The weighted residual's variance per sample in the pressed pushes' zero prior (above): the weights are the
+/// Linear base's residual RMS per channel, so noise alone is at most 1 there; the upper bound makes the prior the
+/// stronger one beside the data, so a zero never takes up more than a zero of the rig's spread could.
+inline constexpr double kZeroPriorResidualVariance = 1.0;
 
 /// How the regression treats each push's own sensor zero (see above).
 enum class SensorZeros { AsRecorded, PerPush };
@@ -152,6 +164,9 @@ class ResidualRegression {
     /// SensorZeros::PerPush, a push whose zero is not measured: an orthonormal basis of its weighted zero columns in
     /// the base, over the push's stacked rows (3 n); empty otherwise.
     Eigen::MatrixXd zero_basis;
+    /// How much of each zero_basis direction is taken out (the zero's prior, above; 1: all, a fixed effect); empty:
+    /// all. zero_basis is then the left singular vectors of the weighted zero columns.
+    Eigen::VectorXd zero_share;
   };
   /// SensorZeros::PerPush (see above), after the channel weights are set.
   void take_out_sensor_zeros(const std::vector<DiagnosisPush>& pushes);
