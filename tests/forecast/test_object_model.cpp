@@ -1085,7 +1085,9 @@ BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_ob
                                                  << "; mean coverage " << coverage_pos[correction] / sets << ", "
                                                  << coverage_yaw[correction] / sets);
   BOOST_TEST_MESSAGE("the rule chooses " << chosen);
-  BOOST_TEST(chosen == kResidualCorrectionDefaultChoice);
+  // This first decision kept none; the second, on the dataset's design
+  // (the_residual_corrections_default_is_decided_on_simulated_objects_of_the_datasets_design), made loo the default.
+  BOOST_TEST(chosen == std::string("none"));
 }
 
 BOOST_AUTO_TEST_CASE(corrected_regions_on_pushes_of_known_parameter_spread_hold_the_truth_about_90_percent) {

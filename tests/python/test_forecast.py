@@ -151,10 +151,14 @@ def test_the_central_forecast_is_learned_as_the_cli_learns_it(executable, hex_fi
 
 
 def test_the_residual_correction_is_learned_as_the_cli_learns_it(executable, hex_files, model, tmp_path):
-    # Off by default; "loo" (the central forecast shifted by the learned pushes' leave-one-out final errors) as
-    # `learn --residual-correction loo`, kept in the file (with each push's error) and used by its forecast.
-    assert model.to_dict()["residual_correction"]["applied"] is False
+    # On by default; "loo" (the central forecast shifted by the learned pushes' leave-one-out final errors) as
+    # `learn --residual-correction loo`, kept in the file (with each push's error) and used by its forecast; "none"
+    # leaves the central forecast as it is.
+    assert model.to_dict()["residual_correction"]["applied"] is True
     corrected = pushpred.learn_object_model(hex_files, jobs=2, residual_correction="loo")
+    plain_model = pushpred.learn_object_model(hex_files, jobs=2, residual_correction="none")
+    assert plain_model.to_dict()["residual_correction"]["applied"] is False
+    assert corrected.to_dict()["residual_correction"] == model.to_dict()["residual_correction"]
     run_cli(executable, "learn", *hex_files, "--residual-correction", "loo", "--out", tmp_path / "hex.json",
             "--jobs", 1)
     from_cli = json.loads((tmp_path / "hex.json").read_text())
@@ -165,7 +169,7 @@ def test_the_residual_correction_is_learned_as_the_cli_learns_it(executable, hex
                                [p["loo_final_error"] for p in from_cli["pushes"]], atol=1e-12)
     assert corrected.to_dict()["regions"] == from_cli["regions"]
     f = corrected.forecast(np.zeros(3), **PLAN)
-    plain = model.forecast(np.zeros(3), times_s=f["t_s"], **PLAN)
+    plain = plain_model.forecast(np.zeros(3), times_s=f["t_s"], **PLAN)
     # The shift is 0 at the start and grows with the tip's progress.
     np.testing.assert_allclose(f["pose"][0], plain["pose"][0], atol=1e-12)
     assert np.abs(f["pose"][-1] - plain["pose"][-1]).max() > 1e-6
