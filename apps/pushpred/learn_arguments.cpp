@@ -11,8 +11,8 @@ void LearnArguments::add_to(CLI::App& sub) {
   sub.add_option("--central", central, central_help)->check(CLI::IsMember(kCentralForecastNames));
   const std::string residual_help =
       "Shift the central forecast by the learned pushes' leave-one-out final errors (similarity-weighted, shrunk, "
-      "growing with the tip's progress): none, loo (always), chosen (when it forecasts the learned pushes better "
-      "leaving one out) or fitted (loo with a gain in 0-1 per component fitted over the learned pushes); default " +
+      "growing with the tip's progress): none, loo (always) or chosen (when it forecasts the learned pushes better "
+      "leaving one out); default " +
       std::string(kResidualCorrectionDefaultChoice);
   sub.add_option("--residual-correction", residual_correction, residual_help)
       ->check(CLI::IsMember(kResidualCorrectionNames));

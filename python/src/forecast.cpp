@@ -198,7 +198,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       "sensors left out); limit_surface \"ellipsoid\" (default) or \"outline\" as its --limit-surface, "
       "pressure_shape \"chosen\" (default), \"learned\" or \"uniform\" as its --pressure-shape, similarity "
       "\"chosen\" or \"averaged\" as its --similarity, central \"ensemble_mean\", \"ensemble_median\" or "
-      "\"median\" as its --central, residual_correction \"none\", \"loo\", \"chosen\" or \"fitted\" as its "
+      "\"median\" as its --central, residual_correction \"none\", \"loo\" or \"chosen\" as its "
       "--residual-correction.");
 }
 

@@ -864,8 +864,7 @@ ResidualCorrectionChoice residual_correction_named(const std::string& name) {
   if (name == "none") return ResidualCorrectionChoice::None;
   if (name == "loo") return ResidualCorrectionChoice::LeaveOneOut;
   if (name == "chosen") return ResidualCorrectionChoice::Chosen;
-  if (name == "fitted") return ResidualCorrectionChoice::Fitted;
-  throw InputError("residual correction: 'none', 'loo', 'chosen' or 'fitted', not '" + name + "'");
+  throw InputError("residual correction: 'none', 'loo' or 'chosen', not '" + name + "'");
 }
 
 const char* residual_correction_name(ResidualCorrectionChoice choice) {
@@ -874,8 +873,6 @@ const char* residual_correction_name(ResidualCorrectionChoice choice) {
       return "loo";
     case ResidualCorrectionChoice::Chosen:
       return "chosen";
-    case ResidualCorrectionChoice::Fitted:
-      return "fitted";
     default:
       return "none";
   }
@@ -1312,42 +1309,21 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     if (options.residual_correction != ResidualCorrectionChoice::None) {
       std::vector<Eigen::MatrixX3d> corrected = mean_of;
       std::vector<double> w;
-      std::vector<Eigen::Vector3d> shifts(n);
+      double plain_score = 0, corrected_score = 0;
       for (std::size_t q = 0; q < n; ++q) {
         const RecordedForecastCase& c = cases[q];
         const std::vector<const PushFit*> others = others_of(q);
         member_weights(others, weighting_bandwidth(model), describe_push(learned_object, c.plan, c.start_pose), w);
-        shifts[q] = residual_shift(others, w, model.residual_shrinkage);
-      }
-      model.residual_gain.setOnes();
-      if (options.residual_correction == ResidualCorrectionChoice::Fitted) {
-        // Per component, the slope through the origin of the pushes' own errors on their shifts, within [0, 1].
-        Eigen::Vector3d cross = Eigen::Vector3d::Zero(), square = Eigen::Vector3d::Zero();
-        for (std::size_t q = 0; q < n; ++q) {
-          cross += model.pushes[q].loo_final_error.cwiseProduct(shifts[q]);
-          square += shifts[q].cwiseProduct(shifts[q]);
-        }
-        for (int j = 0; j < 3; ++j)
-          model.residual_gain(j) = square(j) > 0 ? std::clamp(cross(j) / square(j), 0.0, 1.0) : 0.0;
-      }
-      double plain_score = 0, corrected_score = 0;
-      for (std::size_t q = 0; q < n; ++q) {
-        const RecordedForecastCase& c = cases[q];
-        apply_residual_shift(shifts[q].cwiseProduct(model.residual_gain), c.plan, times_of[q], corrected[q]);
+        apply_residual_shift(residual_shift(others, w, model.residual_shrinkage), c.plan, times_of[q], corrected[q]);
         plain_score += central_score(mean_of[q], c, idxs[q]);
         corrected_score += central_score(corrected[q], c, idxs[q]);
       }
       const bool keep =
-          options.residual_correction == ResidualCorrectionChoice::LeaveOneOut ||
-          options.residual_correction == ResidualCorrectionChoice::Fitted || corrected_score < plain_score;
+          options.residual_correction == ResidualCorrectionChoice::LeaveOneOut || corrected_score < plain_score;
       std::ostringstream method;
       method.precision(4);
       method << "leave-one-out final errors of the learned pushes, similarity-weighted, shrunk by n_eff / (n_eff + "
-             << model.residual_shrinkage << ")";
-      if (options.residual_correction == ResidualCorrectionChoice::Fitted)
-        method << ", times the gains " << model.residual_gain(0) << ", " << model.residual_gain(1) << ", "
-               << model.residual_gain(2) << " (along, across, yaw) fitted over the learned pushes";
-      method << "; learned pushes' leave-one-out score (final and trajectory mm + deg "
+             << model.residual_shrinkage << "); learned pushes' leave-one-out score (final and trajectory mm + deg "
              << "summed) " << plain_score << " without, " << corrected_score << " with it";
       if (keep) {
         mean_of = std::move(corrected);
@@ -1521,13 +1497,11 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
   j["residual_correction"] = {
       {"applied", m.residual_correction},
       {"shrinkage_k", m.residual_shrinkage},
-      {"gain", {m.residual_gain(0), m.residual_gain(1), m.residual_gain(2)}},
       {"method", m.residual_correction_method},
       {"definition",
        "applied: the central forecast minus the similarity-weighted mean of the pushes' loo_final_error (each push's "
        "leave-one-out forecast minus its recorded final pose, in its plan's frame: along the push [m], across it "
-       "counter-clockwise [m], yaw [rad]), shrunk by n_eff / (n_eff + shrinkage_k), each component times its gain (along, across, yaw; 1 but with "
-       "--residual-correction fitted), times the tip's progress along "
+       "counter-clockwise [m], yaw [rad]), shrunk by n_eff / (n_eff + shrinkage_k), times the tip's progress along "
        "the plan (0 at its start, 1 from its end on)"}};
   j["regions"] = {{"level", 0.9},
                   {"position_scale", m.regions.position_scale},
@@ -1737,14 +1711,6 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
       if (!std::isfinite(m.residual_shrinkage) || m.residual_shrinkage < 0)
         throw InputError("residual_correction: 'shrinkage_k' must be finite and not negative");
       m.residual_correction_method = rc.value("method", m.residual_correction_method);
-      if (rc.contains("gain")) {  // optional (absent: 1, as before the fitted gains)
-        const auto& g = rc.at("gain");
-        if (!g.is_array() || g.size() != 3 || !g[0].is_number() || !g[1].is_number() || !g[2].is_number())
-          throw InputError("residual_correction: 'gain' must be three numbers (along, across, yaw)");
-        for (int k = 0; k < 3; ++k) m.residual_gain(k) = g[static_cast<std::size_t>(k)].get<double>();
-        if (!m.residual_gain.allFinite() || (m.residual_gain.array() < 0).any() || (m.residual_gain.array() > 1).any())
-          throw InputError("residual_correction: 'gain' must lie within 0-1");
-      }
     }
     if (j.contains("regions")) {
       const auto& r = j.at("regions");
@@ -1815,8 +1781,7 @@ void forecast_distribution_into(const ObjectModel& model, const TipPlan& plan, c
     if (model.residual_correction) {
       thread_local std::vector<double> w;
       member_weights(members, weighting_bandwidth(model), describe_push(model.object, plan, pose0), w);
-      apply_residual_shift(residual_shift(members, w, model.residual_shrinkage).cwiseProduct(model.residual_gain), plan,
-                           times, out.mean);
+      apply_residual_shift(residual_shift(members, w, model.residual_shrinkage), plan, times, out.mean);
     }
   }
   const RegionCalibration& r = model.regions;

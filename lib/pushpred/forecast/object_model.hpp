@@ -202,14 +202,11 @@ inline constexpr const char* kCentralForecastDefaultChoice = "ensemble_mean";
 ///   as the ensemble, and growing with the tip's progress along the plan (0 at its start, the whole shift from its
 ///   end on, the slide included);
 /// - "chosen": "loo" when its leave-one-out forecasts of the learned pushes err less than without it (final and
-///   trajectory mean, mm and degrees alike; each left-out push corrected by the others' errors), else "none";
-/// - "fitted": "loo" with each component's shift (along, across, yaw) times a gain in [0, 1], the least-squares
-///   slope through the origin of the learned pushes' own leave-one-out errors on the shifts the others' errors give
-///   them (how much of what its neighbours erred a push errs too), clamped to [0, 1].
-enum class ResidualCorrectionChoice { None, LeaveOneOut, Chosen, Fitted };
+///   trajectory mean, mm and degrees alike; each left-out push corrected by the others' errors), else "none".
+enum class ResidualCorrectionChoice { None, LeaveOneOut, Chosen };
 ResidualCorrectionChoice residual_correction_named(const std::string& name);
 const char* residual_correction_name(ResidualCorrectionChoice choice);
-inline const std::vector<std::string> kResidualCorrectionNames = {"none", "loo", "chosen", "fitted"};
+inline const std::vector<std::string> kResidualCorrectionNames = {"none", "loo", "chosen"};
 /// The choice LearnOptions' defaults make (docs/forecast.md: decided on simulated pushes).
 inline constexpr const char* kResidualCorrectionDefaultChoice = "loo";
 /// k of the residual correction's shrinkage n_eff / (n_eff + k): set before any run (a push's own leave-one-out error
@@ -277,8 +274,6 @@ struct ObjectModel {
   /// corrected leave-one-out forecasts.
   bool residual_correction = false;
   double residual_shrinkage = kResidualShrinkage;
-  /// Each component's gain on the shift (along, across, yaw; ResidualCorrectionChoice "fitted"; 1 otherwise).
-  Eigen::Vector3d residual_gain = Eigen::Vector3d::Ones();
   std::string residual_correction_method = "none";
   RegionCalibration regions;
   ForecastSettings settings;
