@@ -650,11 +650,10 @@ void plan_dependence_set(const char* name, int count, std::uint64_t first, bool 
 /// consecutive angles of the dataset's grid (-1.396 to 1.396 rad in steps of 0.349), as the real files' groups do. The
 /// frictions vary by group (a session's rod and support: mu_p = 0.25 e^(0.35 z), mu_s = 0.4 e^(0.25 z), z standard
 /// normal) and a little from push to push within it (e^(0.1 z) each), and the whole set shares one pressure loaded
-/// in the middle (rim weight -0.4: the real objects' learned pressure lies at its lower bound), which the ellipsoid
-/// does not represent. Each with its own fit; `groups` gets each push's group.
+/// in the middle (rim weight -0.4: three of the four real objects' learned pressure lies at its lower bound), which
+/// the ellipsoid does not represent. Each with its own fit.
 void dataset_design_set(const char* name, int clusters, int per_cluster, std::uint64_t first,
-                        std::vector<RecordedForecastCase>& cases, std::vector<PushFit>& fits,
-                        std::vector<int>* groups = nullptr) {
+                        std::vector<RecordedForecastCase>& cases, std::vector<PushFit>& fits) {
   const ShapeInfo& shape = ShapeTable::published().find(name);
   const Outline outline(shape);
   std::mt19937_64 rng(first);
@@ -684,7 +683,6 @@ void dataset_design_set(const char* name, int clusters, int per_cluster, std::ui
           recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
       cases.back().name = std::string(name) + " seed " + std::to_string(s.seed);
       fits.push_back(fit_push_parameters(cases.back()));
-      if (groups) groups->push_back(g);
     }
   }
 }
