@@ -2,8 +2,7 @@
 // support friction and a compliant rod, not the forecast's own equations) with known parameters, the object file's
 // round trip, and its refusal of bad files by name. Simulated seeds 270000-270099; the centre of friction's
 // 310000-310199; the central forecasts' 380000-382623; the residual correction's 385000-388203 and 390000-395115
-// (and 399000-399315, a pilot of the dataset's design run with --residual-correction none only); the censored rod
-// friction's 398000-398898.
+// (and 399000-399315, a pilot of the dataset's design run with --residual-correction none only).
 #include <Eigen/Geometry>
 #include <array>
 #include <boost/test/unit_test.hpp>
@@ -1191,83 +1190,4 @@ BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_ob
                                                  << coverage_yaw[correction] / sets);
   BOOST_TEST_MESSAGE("the rule chooses " << chosen);
   BOOST_TEST(chosen == kResidualCorrectionDefaultChoice);
-}
-
-// Labelled slow (leave-one-out studies over 628 simulated pushes, two learnings each; about a minute).
-BOOST_AUTO_TEST_CASE(the_censored_rod_friction_is_decided_on_simulated_objects, *boost::unit_test::label("slow")) {
-  // Whether a sticking learned push takes the sliding pushes' median rod friction above its least
-  // (LearnOptions::censored_rod_friction) by default (docs/forecast.md). The twelve kinds of set of
-  // the_residual_corrections_default_is_decided_on_simulated_objects_of_the_datasets_design on fresh seeds, three
-  // replicates: kind k (0-11) of replicate r (0-2) from seed 398000 + 300 r + 25 k (seeds 398000-398898). The rule,
-  // set before running it: it becomes the default when its sum of the final mm and degrees (means over each set's
-  // pushes) is below the default's (with the residual correction) over the 12 sets of the dataset's design and over
-  // all 36 sets, its sum of the trajectory's mm and degrees over all sets at most 2 % above the default's, and its
-  // coverage averaged over the sets within 0.85-0.95 in position and in yaw. `--log_level=message` prints each set's
-  // errors.
-  struct Kind {
-    const char* shape;
-    int count;
-    bool plan_dependent;
-    double com_offset_m;
-    bool dataset_design;
-  };
-  const std::array<Kind, 12> kinds{{{"rect1", 24, true, 0, false},
-                                    {"rect1", 24, false, 0, false},
-                                    {"ellip3", 16, false, 0, false},
-                                    {"hex", 16, false, 0, false},
-                                    {"ellip1", 16, false, 0, false},
-                                    {"ellip3", 16, true, 0, false},
-                                    {"hex", 24, true, 0, false},
-                                    {"rect1", 16, false, 0.005, false},
-                                    {"rect1", 16, false, 0, true},
-                                    {"ellip3", 16, false, 0, true},
-                                    {"hex", 16, false, 0, true},
-                                    {"ellip1", 16, false, 0, true}}};
-  const std::array<bool, 2> choices{{false, true}};
-  std::map<bool, double> final_sum, design_final_sum, trajectory_sum, coverage_pos, coverage_yaw;
-  double sets = 0;
-  for (std::uint64_t replicate = 0; replicate < 3; ++replicate)
-    for (std::size_t kind = 0; kind < kinds.size(); ++kind) {
-      const Kind& k = kinds[kind];
-      const std::uint64_t first = 398000 + 300 * replicate + 25 * kind;
-      std::vector<RecordedForecastCase> cases;
-      std::vector<PushFit> fits;
-      if (k.dataset_design)
-        dataset_design_set(k.shape, 4, k.count / 4, first, cases, fits);
-      else
-        plan_dependence_set(k.shape, k.count, first, k.plan_dependent, cases, fits, k.com_offset_m);
-      sets += 1;
-      for (const bool censored : choices) {
-        ForecastStudyOptions options;
-        set_centre_of_friction_choice(options.learn, "centroid");
-        options.learn.censored_rod_friction = censored;
-        const std::array<double, 6> e = study_means(run_forecast_study(cases, fits, options));
-        BOOST_TEST_MESSAGE(k.shape << " seeds " << first << "-" << first + static_cast<std::uint64_t>(k.count) - 1
-                                   << (k.dataset_design   ? " (the dataset's design)"
-                                       : k.plan_dependent ? " (frictions following the plan)"
-                                                          : " (independent)")
-                                   << (k.com_offset_m > 0 ? " (mass centre offset)" : "")
-                                   << (censored ? ", censored rod friction" : ", own fits") << ": final " << e[0]
-                                   << " mm, " << e[1] << " deg; trajectory " << e[2] << " mm, " << e[3]
-                                   << " deg; coverage " << e[4] << ", " << e[5]);
-        final_sum[censored] += e[0] + e[1];
-        if (k.dataset_design) design_final_sum[censored] += e[0] + e[1];
-        trajectory_sum[censored] += e[2] + e[3];
-        coverage_pos[censored] += e[4];
-        coverage_yaw[censored] += e[5];
-      }
-    }
-  const double cp = coverage_pos[true] / sets, cy = coverage_yaw[true] / sets;
-  const bool chosen = final_sum[true] < final_sum[false] && design_final_sum[true] < design_final_sum[false] &&
-                      trajectory_sum[true] <= 1.02 * trajectory_sum[false] && cp >= 0.85 && cp <= 0.95 &&
-                      cy >= 0.85 && cy <= 0.95;
-  for (const bool censored : choices)
-    BOOST_TEST_MESSAGE("sums over the 36 sets, " << (censored ? "censored rod friction" : "own fits")
-                                                 << ": final mm + deg " << final_sum[censored]
-                                                 << " (the 12 of the dataset's design " << design_final_sum[censored]
-                                                 << "), trajectory mm + deg " << trajectory_sum[censored]
-                                                 << "; mean coverage " << coverage_pos[censored] / sets << ", "
-                                                 << coverage_yaw[censored] / sets);
-  BOOST_TEST_MESSAGE("the rule chooses " << (chosen ? "the censored rod friction" : "the own fits"));
-  BOOST_TEST(chosen == LearnOptions{}.censored_rod_friction);
 }

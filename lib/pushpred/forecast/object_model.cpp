@@ -1202,51 +1202,6 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
     }
     model.pushes = std::move(learned.fits);
   }
-  if (options.censored_rod_friction) {
-    // A sticking push's rod friction is censored: at least the least that keeps its own plan sticking (below 10 % of
-    // the push sliding). It takes the median of the sliding pushes' rod frictions above that least.
-    const double stuck = 0.1;
-    Eigen::MatrixX3d poses;
-    std::vector<bool> censored(model.pushes.size(), false);
-    std::vector<double> least(model.pushes.size(), 0.0);
-    auto sliding = [&](std::size_t i, double mu_p) {
-      ForecastParameters p = model.pushes[i].parameters;
-      p.pusher_friction = mu_p;
-      Eigen::VectorXd t(1);
-      t(0) = cases[i].plan.end_time_s();
-      poses.resize(1, 3);
-      return forecast_into(model.object, p, cases[i].plan, cases[i].start_pose, t, poses, settings).sliding_fraction;
-    };
-    for (std::size_t i = 0; i < model.pushes.size(); ++i) {
-      const double mu = model.pushes[i].parameters.pusher_friction;
-      if (!(sliding(i, mu) < stuck)) continue;
-      censored[i] = true;
-      double lo = 1e-3, hi = mu;  // sliding at lo (or the least is below it), sticking at hi
-      if (sliding(i, lo) < stuck) {
-        least[i] = lo;
-        continue;
-      }
-      for (int k = 0; k < 30 && hi - lo > 1e-3; ++k) {
-        const double mid = 0.5 * (lo + hi);
-        (sliding(i, mid) < stuck ? hi : lo) = mid;
-      }
-      least[i] = hi;
-    }
-    std::vector<double> replaced(model.pushes.size());
-    for (std::size_t i = 0; i < model.pushes.size(); ++i) {
-      replaced[i] = model.pushes[i].parameters.pusher_friction;
-      if (!censored[i]) continue;
-      std::vector<double> above;
-      for (std::size_t j = 0; j < model.pushes.size(); ++j)
-        if (!censored[j] && model.pushes[j].parameters.pusher_friction >= least[i])
-          above.push_back(model.pushes[j].parameters.pusher_friction);
-      if (above.empty()) continue;
-      std::sort(above.begin(), above.end());
-      const std::size_t m = above.size();
-      replaced[i] = m % 2 ? above[m / 2] : 0.5 * (above[m / 2 - 1] + above[m / 2]);
-    }
-    for (std::size_t i = 0; i < model.pushes.size(); ++i) model.pushes[i].parameters.pusher_friction = replaced[i];
-  }
   const std::vector<PushFit>& learned_fits = model.pushes;
   const ForecastObject& learned_object = model.object;
   std::vector<ForecastParameters> all;

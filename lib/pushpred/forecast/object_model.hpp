@@ -301,11 +301,6 @@ struct LearnOptions {
   /// the others for every left-out push. The default offers none (set_trend_choice "chosen" offers
   /// kTrendCandidateRidges): on simulated pushes the in-fold choice did not forecast better (docs/forecast.md).
   std::vector<double> trend_ridges = {0.0};
-  /// A learned push whose own fit's contact slid less than 10 % of the push (it stuck: its rod friction is only known
-  /// to be at least the least that keeps it sticking, and its fit sits where the prior puts it) takes, as an ensemble
-  /// member, the median rod friction of the learned pushes that slid and whose rod friction is at least that least
-  /// (its own fit's when there is none).
-  bool censored_rod_friction = false;
   ForecastSettings settings;
   /// Learn the centre of friction (fit_centre_of_friction) from this many pushes on (0: never; the object's own
   /// centre is kept, and so are the per-push fits).
