@@ -20,13 +20,13 @@ expect_in "$tmp/hex.json" '"limit_surface": "ellipsoid"' "the ellipsoidal limit 
 expect_in "$tmp/hex.json" '"push_to_push_sd"' "the object file holds the push-to-push spread"
 expect_in "$tmp/hex.json" '"parameter_trend"' "the object file holds the parameter trend"
 expect_in "$tmp/out" "parameter trend over the plan: none" "no trend by default"
-expect_in "$tmp/out" "residual correction: none" "no residual correction by default"
+expect_in "$tmp/out" "residual correction: leave-one-out final errors" "the residual correction by default"
 expect_in "$tmp/hex.json" '"loo_final_error"' "the object file holds each push's leave-one-out error"
 # shellcheck disable=SC2086
-expect_exit 0 "learn hex with the residual correction" -- "$bin" learn $hex --residual-correction loo \
-  --out "$tmp/hex-residual.json" --jobs 2
-expect_in "$tmp/hex-residual.json" '"applied": true' "the object file says the correction is applied"
-expect_in "$tmp/out" "residual correction: leave-one-out final errors" "learn says how it corrects"
+expect_exit 0 "learn hex without the residual correction" -- "$bin" learn $hex --residual-correction none \
+  --out "$tmp/hex-plain.json" --jobs 2
+expect_in "$tmp/hex-plain.json" '"applied": false' "the object file says the correction is not applied"
+expect_in "$tmp/out" "residual correction: none" "learn says it does not correct"
 # shellcheck disable=SC2086
 expect_exit 0 "learn hex with the trend chosen" -- "$bin" learn $hex --trend chosen --out "$tmp/hex-trend.json" --jobs 2
 expect_in "$tmp/out" "parameter trend over the plan" "learn says whether it took a trend"
@@ -152,7 +152,7 @@ expect_in "$tmp/s1/summary.json" '"rigid_tip"' "the rigid tip-following referenc
 expect_in "$tmp/s1/summary.json" "force sensor frozen" "the excluded push and why"
 expect_in "$tmp/s1/tables.md" "from its start only" "the report says what of each push is used"
 expect_in "$tmp/s1/summary.json" '"rim_weight_learned": false' "each fold says whether it learned the rim weight"
-expect_in "$tmp/s1/summary.json" '"residual_correction": false' "each fold says whether it corrects its central forecast"
+expect_in "$tmp/s1/summary.json" '"residual_correction": true' "each fold says whether it corrects its central forecast"
 expect_in "$tmp/s1/pushes.csv" "fold_rim_weight,fold_rim_weight_learned" "pushes.csv has each fold's rim weight"
 # shellcheck disable=SC2086
 expect_exit 0 "the same study on two jobs" -- "$bin" forecast-study $hex "$frozen" --out "$tmp/s2" --jobs 2

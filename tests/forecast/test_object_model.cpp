@@ -1,7 +1,8 @@
 // Learning an object and forecasting with its 90 % regions: against the project's simulator (distributed Coulomb
 // support friction and a compliant rod, not the forecast's own equations) with known parameters, the object file's
 // round trip, and its refusal of bad files by name. Simulated seeds 270000-270099; the centre of friction's
-// 310000-310199; the central forecasts' 380000-382623; the residual correction's 385000-388203.
+// 310000-310199; the central forecasts' 380000-382623; the residual correction's 385000-388203 and 390000-395115
+// (and 399000-399315, a pilot of the dataset's design run with --residual-correction none only).
 #include <Eigen/Geometry>
 #include <array>
 #include <boost/test/unit_test.hpp>
@@ -644,6 +645,48 @@ void plan_dependence_set(const char* name, int count, std::uint64_t first, bool 
   }
 }
 
+/// The dataset's design, simulated: `clusters` groups of `per_cluster` pushes of `shape` from seed `first` on. A group
+/// pushes at one contact (any side, position 0.1-0.9) and one speed (20-150 mm/s, uniform in its logarithm) at
+/// consecutive angles of the dataset's grid (-1.396 to 1.396 rad in steps of 0.349), as the real files' groups do. The
+/// frictions vary by group (a session's rod and support: mu_p = 0.25 e^(0.35 z), mu_s = 0.4 e^(0.25 z), z standard
+/// normal) and a little from push to push within it (e^(0.1 z) each), and the whole set shares one pressure loaded
+/// in the middle (rim weight -0.4: three of the four real objects' learned pressure lies at its lower bound), which
+/// the ellipsoid does not represent. Each with its own fit.
+void dataset_design_set(const char* name, int clusters, int per_cluster, std::uint64_t first,
+                        std::vector<RecordedForecastCase>& cases, std::vector<PushFit>& fits) {
+  const ShapeInfo& shape = ShapeTable::published().find(name);
+  const Outline outline(shape);
+  std::mt19937_64 rng(first);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uint64_t seed = first;
+  for (int g = 0; g < clusters; ++g) {
+    const int side = static_cast<int>(std::floor(unit(rng) * outline.side_count() - 1e-9));
+    const double position = 0.1 + 0.8 * unit(rng);
+    const double speed_m_s = 0.02 * std::exp(std::log(7.5) * unit(rng));
+    const int first_angle = static_cast<int>(std::floor(unit(rng) * (9 - per_cluster + 1) - 1e-9));
+    const double mu_p = 0.25 * std::exp(0.35 * normal(rng)), mu_s = 0.4 * std::exp(0.25 * normal(rng));
+    for (int k = 0; k < per_cluster; ++k) {
+      PushScenario s;
+      s.shape = name;
+      s.contact_side = side;
+      s.contact_position = position;
+      s.push_angle_rad = 0.349 * (first_angle + k - 4);
+      s.motion.speed_m_s = speed_m_s;
+      s.motion.length_m = 0.05;
+      s.contact_friction = mu_p * std::exp(0.1 * normal(rng));
+      s.surface_friction = mu_s * std::exp(0.1 * normal(rng));
+      s.pressure_rim_weight = -0.4;
+      s.seed = seed++;
+      const SimulatedPush sim = simulate_push(s);
+      cases.push_back(
+          recorded_forecast_case(synchronise(as_read(sim.recording), shape), dataset_forecast_object(shape, "")));
+      cases.back().name = std::string(name) + " seed " + std::to_string(s.seed);
+      fits.push_back(fit_push_parameters(cases.back()));
+    }
+  }
+}
+
 // Labelled slow (leave-one-out studies over 388 simulated pushes, about 40 s; minutes under the sanitizers).
 BOOST_AUTO_TEST_CASE(the_averaged_similarity_forecasts_simulated_objects_better, *boost::unit_test::label("slow")) {
   // The simulated evidence on which the similarity weighting's default was decided (docs/forecast.md): seven sets of
@@ -1040,7 +1083,9 @@ BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_ob
                                                  << "; mean coverage " << coverage_pos[correction] / sets << ", "
                                                  << coverage_yaw[correction] / sets);
   BOOST_TEST_MESSAGE("the rule chooses " << chosen);
-  BOOST_TEST(chosen == kResidualCorrectionDefaultChoice);
+  // This first decision kept none; the second, on the dataset's design
+  // (the_residual_corrections_default_is_decided_on_simulated_objects_of_the_datasets_design), made loo the default.
+  BOOST_TEST(chosen == std::string("none"));
 }
 
 BOOST_AUTO_TEST_CASE(corrected_regions_on_pushes_of_known_parameter_spread_hold_the_truth_about_90_percent) {
@@ -1059,4 +1104,90 @@ BOOST_AUTO_TEST_CASE(corrected_regions_on_pushes_of_known_parameter_spread_hold_
     BOOST_TEST(e[4] < 0.98);
     BOOST_TEST(e[5] < 0.98);
   }
+}
+
+// Labelled slow (leave-one-out studies over 628 simulated pushes, three corrections each; about two minutes).
+BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_objects_of_the_datasets_design,
+                     *boost::unit_test::label("slow")) {
+  // The second decision on the residual correction's default (docs/forecast.md), on fresh seeds, with sets that
+  // follow the real dataset's design. Twelve kinds of set in three replicates, kind k (0-11) of replicate r (0-2) from
+  // seed 390000 + 2000 r + 100 k (seeds 390000-395115): kinds 0-7 are the eight kinds of
+  // the_residual_corrections_default_is_decided_on_simulated_objects, kinds 8-11 the dataset's design
+  // (dataset_design_set: rect1, ellip3, hex and ellip1, four groups of four pushes at one contact and speed and
+  // consecutive angles, their frictions varying by group, one pressure loaded in the middle). Leaving one push out
+  // with the default weighting and the centroid's centre of friction, with --residual-correction none, loo and chosen.
+  // The rule, set before running it: a correction (loo or chosen) becomes the default when its sum of the final mm
+  // and degrees (means over each set's pushes) is below none's over the 12 sets of the dataset's design and over all
+  // 36 sets, its sum of the trajectory's mm and degrees over all 36 sets at most 2 % above none's, and its coverage
+  // averaged over the 36 sets within 0.85-0.95 in position and in yaw; of two such, the one of the smaller final sum
+  // over all 36 sets. `--log_level=message` prints each set's errors.
+  struct Kind {
+    const char* shape;
+    int count;
+    bool plan_dependent;
+    double com_offset_m;
+    bool dataset_design;
+  };
+  const std::array<Kind, 12> kinds{{{"rect1", 24, true, 0, false},
+                                    {"rect1", 24, false, 0, false},
+                                    {"ellip3", 16, false, 0, false},
+                                    {"hex", 16, false, 0, false},
+                                    {"ellip1", 16, false, 0, false},
+                                    {"ellip3", 16, true, 0, false},
+                                    {"hex", 24, true, 0, false},
+                                    {"rect1", 16, false, 0.005, false},
+                                    {"rect1", 16, false, 0, true},
+                                    {"ellip3", 16, false, 0, true},
+                                    {"hex", 16, false, 0, true},
+                                    {"ellip1", 16, false, 0, true}}};
+  const std::array<const char*, 3> corrections{{"none", "loo", "chosen"}};
+  std::map<std::string, double> final_sum, design_final_sum, trajectory_sum, coverage_pos, coverage_yaw;
+  double sets = 0;
+  for (std::uint64_t replicate = 0; replicate < 3; ++replicate)
+    for (std::size_t kind = 0; kind < kinds.size(); ++kind) {
+      const Kind& k = kinds[kind];
+      const std::uint64_t first = 390000 + 2000 * replicate + 100 * kind;
+      std::vector<RecordedForecastCase> cases;
+      std::vector<PushFit> fits;
+      if (k.dataset_design)
+        dataset_design_set(k.shape, 4, k.count / 4, first, cases, fits);
+      else
+        plan_dependence_set(k.shape, k.count, first, k.plan_dependent, cases, fits, k.com_offset_m);
+      sets += 1;
+      for (const char* correction : corrections) {
+        ForecastStudyOptions options;
+        set_centre_of_friction_choice(options.learn, "centroid");
+        options.learn.residual_correction = residual_correction_named(correction);
+        const std::array<double, 6> e = study_means(run_forecast_study(cases, fits, options));
+        BOOST_TEST_MESSAGE(k.shape << " seeds " << first << "-" << first + static_cast<std::uint64_t>(k.count) - 1
+                                   << (k.dataset_design   ? " (the dataset's design)"
+                                       : k.plan_dependent ? " (frictions following the plan)"
+                                                          : " (independent)")
+                                   << (k.com_offset_m > 0 ? " (mass centre offset)" : "") << ", correction "
+                                   << correction << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory " << e[2]
+                                   << " mm, " << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
+        final_sum[correction] += e[0] + e[1];
+        if (k.dataset_design) design_final_sum[correction] += e[0] + e[1];
+        trajectory_sum[correction] += e[2] + e[3];
+        coverage_pos[correction] += e[4];
+        coverage_yaw[correction] += e[5];
+      }
+    }
+  std::string chosen = "none";
+  for (const char* correction : {"loo", "chosen"}) {
+    const double cp = coverage_pos[correction] / sets, cy = coverage_yaw[correction] / sets;
+    if (final_sum[correction] < final_sum["none"] && design_final_sum[correction] < design_final_sum["none"] &&
+        (chosen == "none" || final_sum[correction] < final_sum[chosen]) &&
+        trajectory_sum[correction] <= 1.02 * trajectory_sum["none"] && cp >= 0.85 && cp <= 0.95 && cy >= 0.85 &&
+        cy <= 0.95)
+      chosen = correction;
+  }
+  for (const char* correction : corrections)
+    BOOST_TEST_MESSAGE("sums over the 36 sets, " << correction << ": final mm + deg " << final_sum[correction]
+                                                 << " (the 12 of the dataset's design " << design_final_sum[correction]
+                                                 << "), trajectory mm + deg " << trajectory_sum[correction]
+                                                 << "; mean coverage " << coverage_pos[correction] / sets << ", "
+                                                 << coverage_yaw[correction] / sets);
+  BOOST_TEST_MESSAGE("the rule chooses " << chosen);
+  BOOST_TEST(chosen == kResidualCorrectionDefaultChoice);
 }

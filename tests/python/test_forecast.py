@@ -69,12 +69,15 @@ def test_batch_forecasts_many_plans_as_single_forecasts_do(model):
         single = model.forecast(np.zeros(3), tip=tips[i], direction=directions[i], speed_m_s=0.05,
                                 times_s=np.array([1e6]))
         np.testing.assert_allclose(batch["final_pose"][i], single["pose"][0], atol=1e-12)
-    # Pushing +x through the hexagon's vertex and its centroid turns it the way its learned centre of friction
-    # says (counter-clockwise when the centre lies above the line of pushing); with the centre at the centroid, not
-    # at all, and the angled pushes turn opposite ways.
-    cof_y = model.centre_of_friction_m[1]
-    assert model.centre_of_friction_pushes == 0 or np.sign(batch["final_pose"][1, 2]) == np.sign(cof_y)
+    # The mechanics, without the residual correction (which shifts the forecast by what the learned pushes erred,
+    # symmetric or not): pushing +x through the hexagon's vertex and its centroid turns it the way its learned centre
+    # of friction says (counter-clockwise when the centre lies above the line of pushing); with the centre at the
+    # centroid, not at all, and the angled pushes turn opposite ways.
     d = model.to_dict()
+    d["residual_correction"]["applied"] = False
+    plain = pushpred.object_model_from_dict(d).forecast_batch(np.zeros(3), tips, directions, np.full(3, 0.05))
+    cof_y = model.centre_of_friction_m[1]
+    assert model.centre_of_friction_pushes == 0 or np.sign(plain["final_pose"][1, 2]) == np.sign(cof_y)
     d["object"]["centre_of_friction_m"] = [0.0, 0.0]
     centred = pushpred.object_model_from_dict(d).forecast_batch(np.zeros(3), tips, directions, np.full(3, 0.05))
     assert abs(centred["final_pose"][1, 2]) < 1e-9
@@ -151,10 +154,14 @@ def test_the_central_forecast_is_learned_as_the_cli_learns_it(executable, hex_fi
 
 
 def test_the_residual_correction_is_learned_as_the_cli_learns_it(executable, hex_files, model, tmp_path):
-    # Off by default; "loo" (the central forecast shifted by the learned pushes' leave-one-out final errors) as
-    # `learn --residual-correction loo`, kept in the file (with each push's error) and used by its forecast.
-    assert model.to_dict()["residual_correction"]["applied"] is False
+    # On by default; "loo" (the central forecast shifted by the learned pushes' leave-one-out final errors) as
+    # `learn --residual-correction loo`, kept in the file (with each push's error) and used by its forecast; "none"
+    # leaves the central forecast as it is.
+    assert model.to_dict()["residual_correction"]["applied"] is True
     corrected = pushpred.learn_object_model(hex_files, jobs=2, residual_correction="loo")
+    plain_model = pushpred.learn_object_model(hex_files, jobs=2, residual_correction="none")
+    assert plain_model.to_dict()["residual_correction"]["applied"] is False
+    assert corrected.to_dict()["residual_correction"] == model.to_dict()["residual_correction"]
     run_cli(executable, "learn", *hex_files, "--residual-correction", "loo", "--out", tmp_path / "hex.json",
             "--jobs", 1)
     from_cli = json.loads((tmp_path / "hex.json").read_text())
@@ -165,7 +172,7 @@ def test_the_residual_correction_is_learned_as_the_cli_learns_it(executable, hex
                                [p["loo_final_error"] for p in from_cli["pushes"]], atol=1e-12)
     assert corrected.to_dict()["regions"] == from_cli["regions"]
     f = corrected.forecast(np.zeros(3), **PLAN)
-    plain = model.forecast(np.zeros(3), times_s=f["t_s"], **PLAN)
+    plain = plain_model.forecast(np.zeros(3), times_s=f["t_s"], **PLAN)
     # The shift is 0 at the start and grows with the tip's progress.
     np.testing.assert_allclose(f["pose"][0], plain["pose"][0], atol=1e-12)
     assert np.abs(f["pose"][-1] - plain["pose"][-1]).max() > 1e-6

@@ -208,7 +208,7 @@ ResidualCorrectionChoice residual_correction_named(const std::string& name);
 const char* residual_correction_name(ResidualCorrectionChoice choice);
 inline const std::vector<std::string> kResidualCorrectionNames = {"none", "loo", "chosen"};
 /// The choice LearnOptions' defaults make (docs/forecast.md: decided on simulated pushes).
-inline constexpr const char* kResidualCorrectionDefaultChoice = "none";
+inline constexpr const char* kResidualCorrectionDefaultChoice = "loo";
 /// k of the residual correction's shrinkage n_eff / (n_eff + k): set before any run (a push's own leave-one-out error
 /// taken to scatter about the systematic part by about as much as that part varies, twice over), not fitted.
 inline constexpr double kResidualShrinkage = 2.0;
