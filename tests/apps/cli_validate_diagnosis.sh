@@ -23,7 +23,7 @@ expect_exit 0 "a tiny honesty validation" -- "$bin" validate-diagnosis --trials 
   --min-pushes 4 --max-pushes 4 --quick-base --seed 9100 --jobs 2 --out "$tmp/h"
 for key in '"hide"' '"true_kind": "compliant_pusher"' '"hidden": true' '"adequacy"' '"hidden_none_named"' \
   '"clean_explained"' '"preloaded_pushes"' '"draw_preloads": true' '"draw_sensor_offsets": true' \
-  '"sensor_offset_spread_N": 0.1'; do
+  '"sensor_offset_spread_N": 0.06'; do
   expect_in "$tmp/h/validation.json" "$key" "the honesty run's validation.json holds $key"
 done
 expect_in "$tmp/h/validation.md" "Hidden from the diagnosis's catalogue (simulated, not a candidate): compliant_pusher" \
@@ -45,7 +45,7 @@ for margin in -1 nan; do
   expect_in "$tmp/err" "--floor-margin: must be a finite number >= 0, got '$margin'" "the error names flag and value ($margin)"
   expect_absent "$tmp/bad3" "output written for a floor margin of $margin"
 done
-expect_in "$tmp/h/validation.md" "force-sensor offset (sd 0.10 N per axis)" "validation.md states the sensor zeros' spread"
+expect_in "$tmp/h/validation.md" "force-sensor offset (sd 0.06 N per axis)" "validation.md states the sensor zeros' spread"
 for spread in -0.1 nan; do
   expect_exit 2 "a sensor-offset spread of $spread" -- "$bin" validate-diagnosis --trials 1 \
     --sensor-offset-spread "$spread" --out "$tmp/bad5"

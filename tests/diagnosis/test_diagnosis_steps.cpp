@@ -75,9 +75,11 @@ Trial run_trial(const std::string& kind, int index, double multiple, std::uint64
 /// simulated, diagnosed and scored.
 /// `zeros`: drawn with the validation's default preloads and sensor zeros; otherwise without either (as the trials
 /// of seeds below 250000 were).
-Trial blind_trial(std::uint64_t seed, int index, const std::string& kind, bool zeros = false) {
+Trial blind_trial(std::uint64_t seed, int index, const std::string& kind, bool zeros = false,
+                  double zero_spread_N = kSimulatedSensorZeroSpread_N) {
   ValidationOptions o;
   o.seed = seed;
+  o.sensor_offset_spread_N = zero_spread_N;
   o.draw_preloads = o.draw_sensor_offsets = zeros;
   Trial t;
   t.result = diagnose(simulate_trial(draw_validation_trial(o, index, kind, t.trial)), EffectLibrary::standard(),
@@ -88,9 +90,11 @@ Trial blind_trial(std::uint64_t seed, int index, const std::string& kind, bool z
 
 /// Trial `index` of `validate-diagnosis --kinds KIND --hide KIND --seed SEED` (the validation's defaults, preloads and
 /// sensor zeros drawn): `kind` simulated and diagnosed with a catalogue that lacks it.
-DiagnosisResult hidden_trial(std::uint64_t seed, int index, const std::string& kind) {
+DiagnosisResult hidden_trial(std::uint64_t seed, int index, const std::string& kind,
+                             double zero_spread_N = kSimulatedSensorZeroSpread_N) {
   ValidationOptions o;
   o.seed = seed;
+  o.sensor_offset_spread_N = zero_spread_N;
   o.hide = {kind};
   ValidationTrial v;
   return diagnose(simulate_trial(draw_validation_trial(o, index, kind, v)), validation_library(o), o.diagnosis);
@@ -502,11 +506,12 @@ std::string motion_decision(const DiagnosisResult& r) {
 }
 
 BOOST_AUTO_TEST_CASE(an_offset_that_helps_the_mean_through_a_few_pushes_only_is_not_found) {
-  // A clean trial of the tuning seeds 359000 (validation defaults, ellip2, 4 fit pushes): a 5.4 mm offset passes
+  // A clean trial of the tuning seeds 359000 (validation defaults but sensor zeros of 0.10 N per axis,
+  // `--sensor-offset-spread 0.1`; ellip2, 4 fit pushes): a 5.4 mm offset passes
   // its test and clears its floor, and lowers the fit phases' mean error by 40 %, all of it on one push whose torque
   // it takes up, while it predicts two of the four fit pushes worse. A mass centre belongs to the body and moves
   // every push's prediction alike: not found.
-  const auto [v, r] = blind_trial(359000, 44, "none", true);
+  const auto [v, r] = blind_trial(359000, 44, "none", true, 0.1);
   const EffectReport& com = report(r, "com_offset");
   BOOST_TEST(com.passed_test, "the offset should pass its test, or this no longer tests the motion: " << com.note);
   BOOST_TEST(com.contradicted_by_motion, com.note);
@@ -525,17 +530,17 @@ BOOST_AUTO_TEST_CASE(a_true_offset_predicts_most_fit_pushes_better) {
 }
 
 BOOST_AUTO_TEST_CASE(an_offset_that_takes_up_a_hidden_bias_and_barely_moves_the_prediction_is_not_found) {
-  // A trial of the tuning seeds 367200 (validation defaults, rect2, a force bias of 4.5 floors outside the catalogue,
-  // 4 fit pushes): an 8.1 mm mass-centre offset takes up part of the bias's torque, passes its test and clears its
-  // floor, and predicts three of the four fit pushes better, but their mean error by about 6 % only. A true offset
+  // A trial of the tuning seeds 373200 (validation defaults, rect2, a force bias of 4.6 floors outside the catalogue,
+  // 3 fit pushes): a 4.2 mm mass-centre offset takes up part of the bias's torque, passes its test and clears its
+  // floor, and predicts two of the three fit pushes better, but their mean error by about 3 % only. A true offset
   // moves the pushing model's centre of friction and with it how every push turns: one that changes the prediction
   // by less than kMotionConfirmationGain is not found.
-  const DiagnosisResult r = hidden_trial(367200, 18, "force_offset");
+  const DiagnosisResult r = hidden_trial(373200, 18, "force_offset");
   const EffectReport& com = report(r, "com_offset");
   BOOST_TEST(com.passed_test, "the offset should pass its test, or this no longer tests the motion: " << com.note);
   BOOST_TEST(com.amount - com.amount_std > com.floor.amount, "it should clear its floor by the margin: " << com.note);
   const std::string decision = motion_decision(r);
-  BOOST_TEST(decision.find("better on 3 of 4 fit pushes") != std::string::npos, decision);
+  BOOST_TEST(decision.find("better on 2 of 3 fit pushes") != std::string::npos, decision);
   BOOST_TEST(com.contradicted_by_motion, com.note);
   BOOST_TEST(!com.selected);
   for (const auto& e : r.effects) BOOST_TEST((e.structural || !e.selected), e.kind << ": " << findings_text(r));
@@ -554,11 +559,12 @@ BOOST_AUTO_TEST_CASE(a_bias_is_read_from_the_held_out_pushes_rests_when_the_fit_
 }
 
 BOOST_AUTO_TEST_CASE(friction_laws_that_stand_in_for_a_tilted_support_are_not_found) {
-  // A trial of the tuning seeds 359200 (validation defaults, a tilted support outside the catalogue, 4 fit pushes):
+  // A trial of the tuning seeds 359200 (validation defaults but sensor zeros of 0.10 N per axis, a tilted support
+  // outside the catalogue, 4 fit pushes):
   // Stribeck friction and drag take up part of the tilt's constant force (scores 26 and 19, above their floors), but
   // the residual stays unexplained, and beside that residual's leading signature (a constant force in the world
   // frame, which is what a tilt is) neither passes its test any longer.
-  const DiagnosisResult r = hidden_trial(359200, 15, "support_tilt");
+  const DiagnosisResult r = hidden_trial(359200, 15, "support_tilt", 0.1);
   for (const char* kind : {"stribeck_friction", "viscous_friction"}) {
     const EffectReport& law = report(r, kind);
     BOOST_TEST(law.passed_test, kind << " should pass its own test, or this no longer tests the stand-in: " << law.note);
