@@ -2,7 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -204,15 +204,19 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
     // Where the measured zeros spread more than the rig's known spread says (a sensor worse than the rig's), theirs.
     if (const double prior = pushes[p].sensor_zero_spread_N; prior > 0) {
       const double spread = m >= 2 && std::isfinite(measured_spread) ? std::max(prior, measured_spread) : prior;
-      const Eigen::JacobiSVD<Eigen::MatrixXd> svd(stacked, Eigen::ComputeThinU);
-      const Eigen::VectorXd& d = svd.singularValues();
+      // The weighted columns' singular directions from their 2 x 2 Gram matrix (a fixed-size eigenproblem: a dynamic
+      // Eigen SVD here would share its template instantiation with the one Ceres's covariance uses, which Ceres's own
+      // build lays out differently).
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> gram(stacked.transpose() * stacked);
+      const Eigen::Vector2d d2 = gram.eigenvalues().reverse();  // squared singular values, largest first
+      const Eigen::Matrix2d v = gram.eigenvectors().rowwise().reverse();
       const double lambda =
           kZeroPriorResidualVariance * static_cast<double>(samples_) / (effective_samples_ * spread * spread);
       Eigen::Index kept = 0;
-      while (kept < d.size() && d(kept) > 1e-9 * std::max(1.0, d(0))) ++kept;
+      while (kept < 2 && d2(kept) > 1e-12 * std::max(1.0, d2(0))) ++kept;
       if (kept == 0) continue;  // stuck or outside the law's samples throughout: nothing to take out
-      b.zero_basis = svd.matrixU().leftCols(kept);
-      b.zero_share = (1 - (lambda / (d.head(kept).array().square() + lambda)).sqrt()).matrix();
+      b.zero_basis = stacked * v.leftCols(kept) * d2.head(kept).cwiseSqrt().cwiseInverse().asDiagonal();
+      b.zero_share = (1 - (lambda / (d2.head(kept).array() + lambda)).sqrt()).matrix();
       ++zeros_projected_;
       continue;
     }
