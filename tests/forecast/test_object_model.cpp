@@ -1014,6 +1014,61 @@ BOOST_AUTO_TEST_CASE(the_residual_correction_removes_most_of_a_systematic_turn_t
   BOOST_TEST(e["loo"][5] >= 0.8);
 }
 
+/// A kind of simulated set in the residual correction's decisions: plan_dependence_set's, or dataset_design_set's
+/// (four groups of count / 4 pushes).
+struct CorrectionSetKind {
+  const char* shape;
+  int count;
+  bool plan_dependent;
+  double com_offset_m;
+  bool dataset_design = false;
+};
+
+/// Per --residual-correction (none, loo, chosen), the sums over the sets of the study's final and trajectory mm +
+/// deg (the final one also over the dataset's design alone) and of its coverage.
+struct CorrectionSums {
+  std::map<std::string, double> final_sum, design_final_sum, trajectory_sum, coverage_pos, coverage_yaw;
+  double sets = 0;
+};
+
+/// Leaving one push out with the default weighting and the centroid's centre of friction, kind k of replicate r
+/// (0-2) from seed first_seed + replicate_step r + 100 k; `--log_level=message` prints each set's errors.
+CorrectionSums residual_correction_sums(const std::vector<CorrectionSetKind>& kinds, std::uint64_t first_seed,
+                                        std::uint64_t replicate_step) {
+  CorrectionSums out;
+  for (std::uint64_t replicate = 0; replicate < 3; ++replicate)
+    for (std::size_t kind = 0; kind < kinds.size(); ++kind) {
+      const CorrectionSetKind& k = kinds[kind];
+      const std::uint64_t first = first_seed + replicate_step * replicate + 100 * kind;
+      std::vector<RecordedForecastCase> cases;
+      std::vector<PushFit> fits;
+      if (k.dataset_design)
+        dataset_design_set(k.shape, 4, k.count / 4, first, cases, fits);
+      else
+        plan_dependence_set(k.shape, k.count, first, k.plan_dependent, cases, fits, k.com_offset_m);
+      out.sets += 1;
+      for (const char* correction : {"none", "loo", "chosen"}) {
+        ForecastStudyOptions options;
+        set_centre_of_friction_choice(options.learn, "centroid");
+        options.learn.residual_correction = residual_correction_named(correction);
+        const std::array<double, 6> e = study_means(run_forecast_study(cases, fits, options));
+        BOOST_TEST_MESSAGE(k.shape << " seeds " << first << "-" << first + static_cast<std::uint64_t>(k.count) - 1
+                                   << (k.dataset_design   ? " (the dataset's design)"
+                                       : k.plan_dependent ? " (frictions following the plan)"
+                                                          : " (independent)")
+                                   << (k.com_offset_m > 0 ? " (mass centre offset)" : "") << ", correction "
+                                   << correction << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory " << e[2]
+                                   << " mm, " << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
+        out.final_sum[correction] += e[0] + e[1];
+        if (k.dataset_design) out.design_final_sum[correction] += e[0] + e[1];
+        out.trajectory_sum[correction] += e[2] + e[3];
+        out.coverage_pos[correction] += e[4];
+        out.coverage_yaw[correction] += e[5];
+      }
+    }
+  return out;
+}
+
 // Labelled slow (leave-one-out studies over 436 simulated pushes, three corrections each; about a minute).
 BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_objects,
                      *boost::unit_test::label("slow")) {
@@ -1028,47 +1083,12 @@ BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_ob
   // pushes) is below none's, its sum of the trajectory's mm and degrees at most 2 % above none's, and its coverage
   // averaged over the sets within 0.85-0.95 in position and in yaw; of two such, the one of the smaller final sum.
   // `--log_level=message` prints each set's errors.
-  struct Kind {
-    const char* shape;
-    int count;
-    bool plan_dependent;
-    double com_offset_m;
-  };
-  const std::array<Kind, 8> kinds{{{"rect1", 24, true, 0},
-                                   {"rect1", 24, false, 0},
-                                   {"ellip3", 16, false, 0},
-                                   {"hex", 16, false, 0},
-                                   {"ellip1", 16, false, 0},
-                                   {"ellip3", 16, true, 0},
-                                   {"hex", 24, true, 0},
-                                   {"rect1", 16, false, 0.005}}};
+  const std::vector<CorrectionSetKind> kinds{
+      {"rect1", 24, true, 0},   {"rect1", 24, false, 0}, {"ellip3", 16, false, 0}, {"hex", 16, false, 0},
+      {"ellip1", 16, false, 0}, {"ellip3", 16, true, 0}, {"hex", 24, true, 0},     {"rect1", 16, false, 0.005}};
+  CorrectionSums sums = residual_correction_sums(kinds, 385000, 1000);
+  auto& [final_sum, design_final_sum, trajectory_sum, coverage_pos, coverage_yaw, sets] = sums;
   const std::array<const char*, 3> corrections{{"none", "loo", "chosen"}};
-  std::map<std::string, double> final_sum, trajectory_sum, coverage_pos, coverage_yaw;
-  double sets = 0;
-  for (std::uint64_t replicate = 0; replicate < 3; ++replicate)
-    for (std::size_t kind = 0; kind < kinds.size(); ++kind) {
-      const Kind& k = kinds[kind];
-      const std::uint64_t first = 385000 + 1000 * replicate + 100 * kind;
-      std::vector<RecordedForecastCase> cases;
-      std::vector<PushFit> fits;
-      plan_dependence_set(k.shape, k.count, first, k.plan_dependent, cases, fits, k.com_offset_m);
-      sets += 1;
-      for (const char* correction : corrections) {
-        ForecastStudyOptions options;
-        set_centre_of_friction_choice(options.learn, "centroid");
-        options.learn.residual_correction = residual_correction_named(correction);
-        const std::array<double, 6> e = study_means(run_forecast_study(cases, fits, options));
-        BOOST_TEST_MESSAGE(k.shape << " seeds " << first << "-" << first + static_cast<std::uint64_t>(k.count) - 1
-                                   << (k.plan_dependent ? " (frictions following the plan)" : " (independent)")
-                                   << (k.com_offset_m > 0 ? " (mass centre offset)" : "") << ", correction "
-                                   << correction << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory " << e[2]
-                                   << " mm, " << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
-        final_sum[correction] += e[0] + e[1];
-        trajectory_sum[correction] += e[2] + e[3];
-        coverage_pos[correction] += e[4];
-        coverage_yaw[correction] += e[5];
-      }
-    }
   std::string chosen = "none";
   for (const char* correction : {"loo", "chosen"}) {
     const double cp = coverage_pos[correction] / sets, cy = coverage_yaw[correction] / sets;
@@ -1121,58 +1141,14 @@ BOOST_AUTO_TEST_CASE(the_residual_corrections_default_is_decided_on_simulated_ob
   // 36 sets, its sum of the trajectory's mm and degrees over all 36 sets at most 2 % above none's, and its coverage
   // averaged over the 36 sets within 0.85-0.95 in position and in yaw; of two such, the one of the smaller final sum
   // over all 36 sets. `--log_level=message` prints each set's errors.
-  struct Kind {
-    const char* shape;
-    int count;
-    bool plan_dependent;
-    double com_offset_m;
-    bool dataset_design;
-  };
-  const std::array<Kind, 12> kinds{{{"rect1", 24, true, 0, false},
-                                    {"rect1", 24, false, 0, false},
-                                    {"ellip3", 16, false, 0, false},
-                                    {"hex", 16, false, 0, false},
-                                    {"ellip1", 16, false, 0, false},
-                                    {"ellip3", 16, true, 0, false},
-                                    {"hex", 24, true, 0, false},
-                                    {"rect1", 16, false, 0.005, false},
-                                    {"rect1", 16, false, 0, true},
-                                    {"ellip3", 16, false, 0, true},
-                                    {"hex", 16, false, 0, true},
-                                    {"ellip1", 16, false, 0, true}}};
+  const std::vector<CorrectionSetKind> kinds{
+      {"rect1", 24, true, 0, false},  {"rect1", 24, false, 0, false},     {"ellip3", 16, false, 0, false},
+      {"hex", 16, false, 0, false},   {"ellip1", 16, false, 0, false},    {"ellip3", 16, true, 0, false},
+      {"hex", 24, true, 0, false},    {"rect1", 16, false, 0.005, false}, {"rect1", 16, false, 0, true},
+      {"ellip3", 16, false, 0, true}, {"hex", 16, false, 0, true},        {"ellip1", 16, false, 0, true}};
+  CorrectionSums sums = residual_correction_sums(kinds, 390000, 2000);
+  auto& [final_sum, design_final_sum, trajectory_sum, coverage_pos, coverage_yaw, sets] = sums;
   const std::array<const char*, 3> corrections{{"none", "loo", "chosen"}};
-  std::map<std::string, double> final_sum, design_final_sum, trajectory_sum, coverage_pos, coverage_yaw;
-  double sets = 0;
-  for (std::uint64_t replicate = 0; replicate < 3; ++replicate)
-    for (std::size_t kind = 0; kind < kinds.size(); ++kind) {
-      const Kind& k = kinds[kind];
-      const std::uint64_t first = 390000 + 2000 * replicate + 100 * kind;
-      std::vector<RecordedForecastCase> cases;
-      std::vector<PushFit> fits;
-      if (k.dataset_design)
-        dataset_design_set(k.shape, 4, k.count / 4, first, cases, fits);
-      else
-        plan_dependence_set(k.shape, k.count, first, k.plan_dependent, cases, fits, k.com_offset_m);
-      sets += 1;
-      for (const char* correction : corrections) {
-        ForecastStudyOptions options;
-        set_centre_of_friction_choice(options.learn, "centroid");
-        options.learn.residual_correction = residual_correction_named(correction);
-        const std::array<double, 6> e = study_means(run_forecast_study(cases, fits, options));
-        BOOST_TEST_MESSAGE(k.shape << " seeds " << first << "-" << first + static_cast<std::uint64_t>(k.count) - 1
-                                   << (k.dataset_design   ? " (the dataset's design)"
-                                       : k.plan_dependent ? " (frictions following the plan)"
-                                                          : " (independent)")
-                                   << (k.com_offset_m > 0 ? " (mass centre offset)" : "") << ", correction "
-                                   << correction << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory " << e[2]
-                                   << " mm, " << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
-        final_sum[correction] += e[0] + e[1];
-        if (k.dataset_design) design_final_sum[correction] += e[0] + e[1];
-        trajectory_sum[correction] += e[2] + e[3];
-        coverage_pos[correction] += e[4];
-        coverage_yaw[correction] += e[5];
-      }
-    }
   std::string chosen = "none";
   for (const char* correction : {"loo", "chosen"}) {
     const double cp = coverage_pos[correction] / sets, cy = coverage_yaw[correction] / sets;
