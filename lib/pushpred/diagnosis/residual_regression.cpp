@@ -1,8 +1,8 @@
 #include "pushpred/diagnosis/residual_regression.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/QR>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -176,9 +176,10 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
     if (z) mean += *z / static_cast<double>(m);
   noise_variance /= static_cast<double>(m);
   // One measured push is the friction law's anchor as recorded: alone it cannot tell its zero from a shared force.
-  const double spread = m >= 2 ? zero_spread_N(measured) : 0.0;
-  const double measured_spread = spread;
-  const double shrink = spread > 0 ? std::max(0.0, 1 - kZeroNoiseFactor * noise_variance / (spread * spread)) : 0.0;
+  const double measured_spread = m >= 2 ? zero_spread_N(measured) : 0.0;
+  const double shrink = measured_spread > 0
+                            ? std::max(0.0, 1 - kZeroNoiseFactor * noise_variance / (measured_spread * measured_spread))
+                            : 0.0;
   for (std::size_t p = 0; p < pushes.size(); ++p) {
     Block& b = blocks_[p];
     const Eigen::Index n = b.residual.rows();
@@ -203,7 +204,7 @@ void ResidualRegression::take_out_sensor_zeros(const std::vector<DiagnosisPush>&
     // would hardly show (the torque l x z beside an offset's, a constant beside a drag at one speed) it stays.
     // Where the measured zeros spread more than the rig's known spread says (a sensor worse than the rig's), theirs.
     if (const double prior = pushes[p].sensor_zero_spread_N; prior > 0) {
-      const double spread = m >= 2 && std::isfinite(measured_spread) ? std::max(prior, measured_spread) : prior;
+      const double spread = std::max(prior, measured_spread);
       // The weighted columns' singular directions from their 2 x 2 Gram matrix (a fixed-size eigenproblem: a dynamic
       // Eigen SVD here would share its template instantiation with the one Ceres's covariance uses, which Ceres's own
       // build lays out differently).
