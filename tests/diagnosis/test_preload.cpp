@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "diagnosis_checks.hpp"
+#include "pushpred/core/data_folder.hpp"
 #include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis.hpp"
 #include "pushpred/diagnosis/diagnosis_data.hpp"
 #include "pushpred/diagnosis/validation.hpp"
 #include "pushpred/jobs/inspection_job.hpp"
-#include "pushpred/core/data_folder.hpp"
 #include "pushpred/reports/diagnosis_report.hpp"
 #include "simulated_pushes.hpp"
 
@@ -330,19 +330,10 @@ BOOST_AUTO_TEST_CASE(a_pressed_pushs_zero_within_the_rigs_spread_leaves_no_drag_
 // the real rests spread beyond the sensor noise the simulator adds itself. A zero drawn at the real rests' own 0.10 N
 // counts that noise twice.
 BOOST_AUTO_TEST_CASE(the_simulated_rigs_clear_rests_spread_as_the_real_rigs_do) {
-  auto rest_rms_N = [](const std::vector<Inspection>& pushes, int& zeros) {
-    double sum2 = 0;
-    zeros = 0;
-    for (const auto& s : pushes) {
-      if (!s.rest_force_tells_zero || s.rest_preload || !std::isfinite(s.rest_force_x_N)) continue;
-      ++zeros;
-      sum2 += s.rest_force_x_N * s.rest_force_x_N + s.rest_force_y_N * s.rest_force_y_N;
-    }
-    return std::sqrt(sum2 / (2.0 * zeros));
-  };
-  int real_zeros = 0;
-  const double real = rest_rms_N(inspect_files({(resolve_data_folder() / "abs").string()}).results, real_zeros);
-  auto simulated = [&](double spread_N, int& zeros) {
+  const RestZeroSpread real_rests = rest_zero_spread(inspect_files({(resolve_data_folder() / "abs").string()}).results);
+  const double real = real_rests.rms_per_axis_N;
+  const int real_zeros = real_rests.zeros;
+  auto simulated = [&](double spread_N) {
     ValidationOptions o;
     o.seed = 1;
     o.sensor_offset_spread_N = spread_N;
@@ -356,15 +347,15 @@ BOOST_AUTO_TEST_CASE(the_simulated_rigs_clear_rests_spread_as_the_real_rigs_do) 
       for (std::size_t p = 0; p < simulated.size(); ++p)
         if (scenarios[p].approach_gap_m > 0) pushes.push_back(inspect(simulated[p]));
     }
-    return rest_rms_N(pushes, zeros);
+    return rest_zero_spread(pushes);
   };
-  int zeros = 0, zeros_doubled = 0;
-  const double drawn = simulated(ValidationOptions{}.sensor_offset_spread_N, zeros);
-  const double doubled = simulated(kSensorZeroSpread_N, zeros_doubled);
-  BOOST_TEST_MESSAGE("clear rests, RMS per axis: real " << real << " N over " << real_zeros << " pushes; simulated "
-                                                        << drawn << " N over " << zeros << " (zeros drawn at "
-                                                        << ValidationOptions{}.sensor_offset_spread_N << " N), "
-                                                        << doubled << " N with zeros drawn at the real rests' spread");
+  const RestZeroSpread drawn_rests = simulated(ValidationOptions{}.sensor_offset_spread_N);
+  const double drawn = drawn_rests.rms_per_axis_N, doubled = simulated(kSensorZeroSpread_N).rms_per_axis_N;
+  const int zeros = drawn_rests.zeros;
+  BOOST_TEST_MESSAGE("clear rests, RMS per axis: real "
+                     << real << " N over " << real_zeros << " pushes; simulated " << drawn << " N over " << zeros
+                     << " (zeros drawn at " << ValidationOptions{}.sensor_offset_spread_N << " N), " << doubled
+                     << " N with zeros drawn at the real rests' spread");
   BOOST_TEST_REQUIRE(real_zeros >= 10);
   BOOST_TEST_REQUIRE(zeros >= 100);
   BOOST_TEST(std::abs(drawn / real - 1) < 0.15);

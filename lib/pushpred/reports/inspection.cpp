@@ -48,27 +48,31 @@ std::string inspection_table(const InspectionBatch& batch) {
   std::snprintf(line, sizeof line, "files with repairs: %d; with glitches removed: %d; flags:%s\n", repaired, glitched,
                 flags.empty() ? " none" : flags.c_str());
   out += line;
-  // The sensor's zero error push to push: the rest forces that are not preloads, where a preload can be told.
-  int zeros = 0, preloads = 0;
-  double sum2 = 0;
-  for (const auto& s : batch.results) {
-    if (!s.rest_force_tells_zero || !std::isfinite(s.rest_force_x_N)) continue;
-    if (s.rest_preload) {
-      ++preloads;
-      continue;
-    }
-    ++zeros;
-    sum2 += s.rest_force_x_N * s.rest_force_x_N + s.rest_force_y_N * s.rest_force_y_N;
-  }
-  if (zeros > 0) {
+  if (const RestZeroSpread zeros = rest_zero_spread(batch.results); zeros.zeros > 0) {
     std::snprintf(line, sizeof line,
                   "rest force before the tip moves (p: a preload, pointing into the contact): %d preloads; the other "
                   "%d read the sensor's zero, %.3f N RMS per axis\n",
-                  preloads, zeros, std::sqrt(sum2 / (2.0 * zeros)));
+                  zeros.preloads, zeros.zeros, zeros.rms_per_axis_N);
     out += line;
   }
   std::snprintf(line, sizeof line, "%zu files read, %zu failed\n", batch.results.size(), batch.failures.size());
   out += line;
+  return out;
+}
+
+RestZeroSpread rest_zero_spread(const std::vector<Inspection>& inspections) {
+  RestZeroSpread out;
+  double sum2 = 0;
+  for (const auto& s : inspections) {
+    if (!s.rest_force_tells_zero || !std::isfinite(s.rest_force_x_N)) continue;
+    if (s.rest_preload) {
+      ++out.preloads;
+      continue;
+    }
+    ++out.zeros;
+    sum2 += s.rest_force_x_N * s.rest_force_x_N + s.rest_force_y_N * s.rest_force_y_N;
+  }
+  if (out.zeros > 0) out.rms_per_axis_N = std::sqrt(sum2 / (2.0 * out.zeros));
   return out;
 }
 

@@ -33,6 +33,15 @@ struct Inspection {
 
 using InspectionBatch = Batch<Inspection>;
 
+/// The sensor's zero error push to push, as `inspect` reads it: of the recordings whose rest force can tell a zero
+/// (rest_force_tells_zero, and finite), the preloads counted apart, and the others' rest force's RMS per axis [N]
+/// (0 without any).
+struct RestZeroSpread {
+  int zeros = 0, preloads = 0;
+  double rms_per_axis_N = 0;
+};
+RestZeroSpread rest_zero_spread(const std::vector<Inspection>& inspections);
+
 std::string inspection_table(const InspectionBatch& batch);
 nlohmann::json inspection_json(const InspectionBatch& batch);
 
