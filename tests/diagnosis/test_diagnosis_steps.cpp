@@ -505,28 +505,36 @@ std::string motion_decision(const DiagnosisResult& r) {
   return it == r.log.end() ? std::string() : *it;
 }
 
-BOOST_AUTO_TEST_CASE(an_offset_that_helps_the_mean_through_a_few_pushes_only_is_not_found) {
-  // A clean trial of the tuning seeds 359000 (validation defaults but sensor zeros of 0.10 N per axis,
-  // `--sensor-offset-spread 0.1`; ellip2, 4 fit pushes): a 5.4 mm offset passes
-  // its test and clears its floor, and lowers the fit phases' mean error by 40 %, all of it on one push whose torque
-  // it takes up, while it predicts two of the four fit pushes worse. A mass centre belongs to the body and moves
-  // every push's prediction alike: not found.
-  const auto [v, r] = blind_trial(359000, 44, "none", true, 0.1);
-  const EffectReport& com = report(r, "com_offset");
-  BOOST_TEST(com.passed_test, "the offset should pass its test, or this no longer tests the motion: " << com.note);
-  BOOST_TEST(com.contradicted_by_motion, com.note);
-  const std::string decision = motion_decision(r);
-  BOOST_TEST(decision.find("better on 2 of 4 fit pushes") != std::string::npos, decision);
-  BOOST_TEST(v.true_named, "nothing should be named: " << findings_text(r));
-}
-
-BOOST_AUTO_TEST_CASE(a_true_offset_predicts_most_fit_pushes_better) {
+BOOST_AUTO_TEST_CASE(a_true_offset_is_confirmed_by_the_fit_pushes_motion) {
   // A blind trial of the tuning seeds 359400 (validation defaults, ellip2, a 7.1 mm offset, 4 fit pushes).
   const auto [v, r] = blind_trial(359400, 30, "com_offset", true);
   BOOST_TEST(v.true_named, "the offset should be found: " << findings_text(r));
   const std::string decision = motion_decision(r);
   BOOST_TEST(decision.find("confirmed") != std::string::npos, decision);
   BOOST_TEST(decision.find("better on 3 of 4 fit pushes") != std::string::npos, decision);
+}
+
+BOOST_AUTO_TEST_CASE(a_true_offset_that_predicts_some_fit_pushes_worse_is_found) {
+  // A trial of the tuning seeds 378000 (`validate-diagnosis --kinds com_offset --seed 378000`: validation defaults,
+  // ellip1, a mass centre 7.4 mm off along body x, 4 fit pushes): the fitted offset lowers the fit phases' mean
+  // error by more than a third, while it predicts two of the four fit pushes worse (the pushing model's
+  // stick/slide switch and its identification on each push's early phases; the true offset put in does the same to
+  // one of them). The mean decides: found.
+  ValidationOptions o;
+  o.seed = 378000;
+  o.kinds = {"com_offset"};
+  ValidationTrial v;
+  const DiagnosisResult r = diagnose(simulate_trial(draw_validation_trial(o, 11, "com_offset", v)),
+                                     EffectLibrary::standard(), o.diagnosis);
+  score_trial(r, v);
+  BOOST_TEST(v.floor_multiple >= 2);
+  const std::string decision = motion_decision(r);
+  BOOST_TEST(decision.find("better on 2 of 4 fit pushes") != std::string::npos, decision);
+  BOOST_TEST(decision.find("confirmed") != std::string::npos, decision);
+  BOOST_TEST(v.true_named, "the offset should be found: " << findings_text(r));
+  const EffectReport& com = report(r, "com_offset");
+  BOOST_TEST(std::abs(com.theta(0) - v.amount) < 0.25 * std::abs(v.amount),
+             "delta_x " << com.theta(0) << " m against the simulated " << v.amount << " m");
 }
 
 BOOST_AUTO_TEST_CASE(an_offset_that_takes_up_a_hidden_bias_and_barely_moves_the_prediction_is_not_found) {

@@ -339,10 +339,8 @@ class ForceLawEffect : public CandidateEffect {
   /// True when the law also changes how the pushing model moves the object (the mass-centre offset moves its centre
   /// of friction). Such an effect is a claim about the motion, so the fit pushes' own motion must confirm it: it is
   /// found only if the corrected model predicts the fit pushes' phases better with it than without it, on the mean
-  /// by kMotionConfirmationGain (10 %) or more and on more than half of the fit pushes (a property of the body moves
-  /// every push's prediction alike; a torque misfit of one or two pushes that it takes up lowers the mean through
-  /// those alone, and part of the torque of physics the catalogue lacks lowers it a little). A residual the motion
-  /// contradicts is some other term of the same shape.
+  /// by kMotionConfirmationGain (10 %) or more (part of the torque of physics the catalogue lacks, taken up, lowers it
+  /// a little). A residual the motion contradicts is some other term of the same shape.
   virtual bool confirmed_by_motion() const { return false; }
 
   /// unit_force() at push.state(row) for every row, as the observer sees it.

@@ -23,8 +23,8 @@
 //    Evidence decides: an effect is FOUND when its test passes and its amount exceeds its floor by
 //    `floor_margin_std` standard errors of the amount. One that passes short of that is reported as
 //    "significant, negligible" and not found. The fit pushes' predictions drop a found effect only where it claims
-//    to change the motion (CandidateEffect::confirmed_by_motion, the mass-centre offset) and does not predict it
-//    better, on the mean and on most fit pushes.
+//    to change the motion (CandidateEffect::confirmed_by_motion, the mass-centre offset) and does not predict their
+//    mean error better by kMotionConfirmationGain.
 // 5. The base model's structure is fixed, whatever the data: predictions start from the observer's velocity,
 //    the quasi-static push law replaces the relation and ends when the pusher stops, and the friction law stops the
 //    object. Only its stop fraction is fitted, on the fit pushes' prediction phases.

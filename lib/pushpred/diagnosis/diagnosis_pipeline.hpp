@@ -189,8 +189,8 @@ struct BaseStructure {
 BaseStructure base_structure(const DiagnosisContext& context, const ModelState& model);
 
 // 5b. A found effect that changes how the pushing model moves the object (confirmed_by_motion) stays found only if
-// the fit pushes' motion is predicted better with it, on the mean by kMotionConfirmationGain or more and on more
-// than half of the fit pushes; without the ones ruled out the friction laws are searched again and the base structure
+// the fit pushes' motion is predicted better with it, on the mean by kMotionConfirmationGain or more; without the ones
+// ruled out the friction laws are searched again and the base structure
 // chosen anew.
 /// The share of the fit pushes' mean normalised prediction error an effect of the motion must remove to be
 /// confirmed: like a floor, what it must change in the prediction to matter.

@@ -3,15 +3,18 @@
 // confirm it. The corrected model (the found effects and the base model with its fitted settings) predicts the fit
 // pushes' phases with the effect and without it; the effect stays found only if its mean normalised error (position
 // over `hold`'s plus yaw over `hold`'s, as the base settings are scored) is lower with it by kMotionConfirmationGain
-// or more, and so is the error of more than half of the fit pushes, each over its own phases.
-// - An offset fitted on the fit pushes lowers their mean error whether or not it is there, by taking up a torque
-//   misfit: on clean tuning trials (seeds 359000-359099) through one or two pushes while it predicted the others
-//   worse, where a true offset improves most pushes.
+// or more. How many fit pushes it predicts better is reported, not required.
 // - Where the catalogue lacks the physics (a bias, a tilted support, friction depending on the direction, a compliant
 //   pusher), an offset takes up part of its torque and predicts the fit pushes a few per cent better: by less than
 //   10 % in 13 of 21 such names on the tuning seeds 367000-368999, where a true offset at twice its floor or more
 //   that predicts most fit pushes better predicts their mean better by 10 % or more in 19 of 20 (seeds
 //   367600-367639).
+// - A true offset does not predict every push better: with the true offset put in instead of the fitted one, the
+//   corrected model predicts one or more fit pushes worse in 13 of the 25 trials at twice the floor or more that reach
+//   this step on the tuning seeds 377000-377039, and half of them or more in 7. Requiring more than half of the fit
+//   pushes to be predicted better ruled out 7 of the 69 true offsets at twice the floor or more on the tuning seeds
+//   377000-377039 and 378000-378059; on the clean and hidden trials of the tuning seeds 375000-375654 it ruled out no
+//   false offset that the 10 % gain kept, and on 372000-373654 the names were the same without it.
 // Only fit pushes are read.
 // Where one is ruled out, the friction laws are searched again without it: the other candidates were tested against
 // a model that held it, and one it took the residual from (seeds 190000, trial 140: a Stribeck friction tested beside
@@ -50,7 +53,7 @@ void confirm(const DiagnosisContext& context, const FloorContext& floors, Motion
     d.pushes = static_cast<int>(errors_with.per_push.size());
     for (std::size_t p = 0; p < errors_with.per_push.size(); ++p)
       d.pushes_better += errors_with.per_push[p] < errors_without.per_push[p];
-    if (d.error_with < (1 - kMotionConfirmationGain) * d.error_without && 2 * d.pushes_better > d.pushes) {
+    if (d.error_with < (1 - kMotionConfirmationGain) * d.error_without) {
       out.trace.decide(d);
       ++k;
       continue;
