@@ -8,6 +8,8 @@
 // is reported as an oracle: no forecast can use it.
 // Units: SI inside; the reports turn them into mm and degrees.
 #include <Eigen/Core>
+#include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,7 +28,14 @@ struct ForecastErrors {
   bool final_inside_position = false, final_inside_yaw = false;
   double median_radius_m = 0, median_yaw_halfwidth_rad = 0;  ///< over the push's recorded times
   double final_radius_m = 0, final_yaw_halfwidth_rad = 0;
+  /// Where the yaw error builds up: the signed yaw error (predicted minus recorded) [rad] at the recorded pose nearest
+  /// a quarter, a half and three quarters of the plan's time and at its end (the tip stops; kYawErrorStages), and at
+  /// the recording's end (the final pose): what changes between the last two is the slide to rest.
+  std::array<double, 4> yaw_error_at_stage_rad{{0, 0, 0, 0}};
+  double final_yaw_error_signed_rad = 0;
 };
+/// The fractions of the plan's time at which ForecastErrors::yaw_error_at_stage_rad is taken.
+inline constexpr std::array<double, 4> kYawErrorStages{{0.25, 0.5, 0.75, 1.0}};
 
 /// The methods a study reports, in this order.
 const std::vector<std::string>& forecast_study_methods();  ///< "forecast", "not_moving", "rigid_tip", "oracle_own_fit"
@@ -34,6 +43,11 @@ const std::vector<std::string>& forecast_study_methods();  ///< "forecast", "not
 struct ForecastStudyPush {
   std::string name, object, surface;
   double recorded_travel_m = 0, recorded_turn_rad = 0;  ///< the recording's own final displacement and turn
+  /// How far the recording turns after the plan's end (the tip stopped): its final yaw minus its yaw there [rad].
+  double recorded_turn_after_tip_stop_rad = 0;
+  /// The rod's friction the push's force sensor measured (RecordedForecastCase::measured_pusher_friction; NaN: not
+  /// measured). No forecast uses it.
+  double measured_pusher_friction = std::numeric_limits<double>::quiet_NaN();
   std::vector<ForecastErrors> errors;                   ///< per method, forecast_study_methods() order
   ForecastParameters learned;                           ///< the model's central parameters (without this push)
   PushFit own_fit;
@@ -81,6 +95,15 @@ struct ForecastInputs {
 ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, const std::filesystem::path& data_folder,
                                     int jobs, const ForecastObject* object = nullptr, bool show_progress = true,
                                     LimitSurfaceKind limit_surface = LimitSurfaceKind::Ellipsoid);
+
+/// The rod's friction as a recorded push's force sensor measured it: the median over the recorded samples where the
+/// contact slides of |tangential| / normal contact force, in the frame of the outline's normal at the contact point
+/// nearest the tip. A sample counts from 20 % to 90 % of the plan's length of tip travel (away from the speed ramps),
+/// where the rod is within 1.5 mm of touching (a rod of ForecastSettings::rod_radius_m), pushes with at least 0.5 N
+/// and slides: the tip's velocity relative to the object's material point at the contact, along the outline,
+/// exceeds 15 % of the plan's speed. NaN with fewer than 10 such samples. `c` is the push's case (its plan and
+/// object). The thresholds are set from the rig (0.5 N is a few times the sensor's noise), not fitted.
+double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c);
 
 /// What the study takes from the predicted push besides its file name, for the reports.
 std::string forecast_study_inputs_note();

@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -48,6 +49,9 @@ struct RecordedForecastCase {
   Eigen::VectorXd times_s;       ///< plan time of each recorded pose, from 0 to the recording's end
   Eigen::MatrixX3d truth;        ///< the recorded poses there
   std::string direction_source;  ///< how the push direction was found
+  /// The rod's friction as the push's force sensor measured it (measured_pusher_friction): NaN when not measured
+  /// (recorded_forecast_case leaves it so; load_forecast_inputs sets it) or where the recorded contact hardly slid.
+  double measured_pusher_friction = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The forecast object of a dataset shape: the shape table's mass, inertia, centroid and outline, or for `butter` the
