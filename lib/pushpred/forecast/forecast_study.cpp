@@ -1,7 +1,6 @@
 #include "pushpred/forecast/forecast_study.hpp"
 
 #include <algorithm>
-#include <Eigen/Geometry>
 #include <cmath>
 #include <map>
 
@@ -24,46 +23,6 @@ std::string forecast_study_inputs_note() {
          "model (parameters, centre of friction and region calibration) is learned from the same object's other "
          "pushes only. "
          "oracle_own_fit uses the push's own recording (its best-fitting parameters) and is no forecast.";
-}
-
-double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c) {
-  constexpr double kFrom = 0.2, kTo = 0.9;  // of the plan's length of tip travel
-  constexpr double kTouch_m = 1.5e-3, kMinNormal_N = 0.5, kSlipShare = 0.15;
-  constexpr std::size_t kMinSamples = 10;
-  const ForecastSettings settings;
-  const Eigen::Index n = c.times_s.size(), i0 = push.size() - n;
-  if (n < 3 || i0 < 0 || !c.forecast_object.outline) return std::numeric_limits<double>::quiet_NaN();
-  const ForecastOutline& outline = *c.forecast_object.outline;
-  const Eigen::Vector2d direction = c.plan.direction(), tip0 = push.tip_m.row(i0).transpose();
-  const double length = c.plan.length_m(), slip_min = kSlipShare * c.plan.speed_m_s();
-  std::vector<double> ratios;
-  int hint = -1;
-  for (Eigen::Index k = 1; k + 1 < n; ++k) {
-    const Eigen::Index j = i0 + k;
-    const double progress = (push.tip_m.row(j).transpose() - tip0).dot(direction) / length;
-    if (progress < kFrom || progress > kTo) continue;
-    const Eigen::Vector3d pose = push.pose.row(j).transpose();
-    const Eigen::Matrix2d R = Eigen::Rotation2Dd(pose(2)).toRotationMatrix();
-    const Eigen::Vector2d tip = push.tip_m.row(j).transpose();
-    const Outline::Closest cl = outline.closest(R.transpose() * (tip - pose.head<2>()), hint);
-    if (cl.signed_distance_m > settings.rod_radius_m + kTouch_m) continue;
-    const Eigen::Vector2d normal = -(R * cl.normal);  // into the object
-    const Eigen::Vector2d tangent(-normal.y(), normal.x());
-    const Eigen::Vector2d force = push.force_N.row(j).transpose();  // on the object
-    const double fn = force.dot(normal);
-    if (!(fn >= kMinNormal_N)) continue;
-    const double dt = push.t_s(j + 1) - push.t_s(j - 1);
-    if (!(dt > 0)) continue;
-    const Eigen::Vector2d tip_velocity = (push.tip_m.row(j + 1) - push.tip_m.row(j - 1)).transpose() / dt;
-    const Eigen::Vector2d velocity = (push.pose.row(j + 1).head<2>() - push.pose.row(j - 1).head<2>()).transpose() / dt;
-    const double omega = (push.pose(j + 1, 2) - push.pose(j - 1, 2)) / dt;
-    const Eigen::Vector2d arm = R * cl.point_m;
-    const Eigen::Vector2d point_velocity = velocity + omega * Eigen::Vector2d(-arm.y(), arm.x());
-    if (std::abs((tip_velocity - point_velocity).dot(tangent)) <= slip_min) continue;
-    ratios.push_back(std::abs(force.dot(tangent)) / fn);
-  }
-  if (ratios.size() < kMinSamples) return std::numeric_limits<double>::quiet_NaN();
-  return median(ratios);
 }
 
 ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, const std::filesystem::path& data_folder,
@@ -92,7 +51,6 @@ ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, cons
     ForecastObject o = object ? *object : dataset_forecast_object(push.shape, data_folder);
     if (!object) use_limit_surface(o, limit_surface);
     l.c = recorded_forecast_case(push, o);
-    l.c.measured_pusher_friction = measured_pusher_friction(push, l.c);
     l.fit = fit_push_parameters(l.c);
     return l;
   };

@@ -96,15 +96,6 @@ ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, cons
                                     int jobs, const ForecastObject* object = nullptr, bool show_progress = true,
                                     LimitSurfaceKind limit_surface = LimitSurfaceKind::Ellipsoid);
 
-/// The rod's friction as a recorded push's force sensor measured it: the median over the recorded samples where the
-/// contact slides of |tangential| / normal contact force, in the frame of the outline's normal at the contact point
-/// nearest the tip. A sample counts from 20 % to 90 % of the plan's length of tip travel (away from the speed ramps),
-/// where the rod is within 1.5 mm of touching (a rod of ForecastSettings::rod_radius_m), pushes with at least 0.5 N
-/// and slides: the tip's velocity relative to the object's material point at the contact, along the outline,
-/// exceeds 15 % of the plan's speed. NaN with fewer than 10 such samples. `c` is the push's case (its plan and
-/// object). The thresholds are set from the rig (0.5 N is a few times the sensor's noise), not fitted.
-double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c);
-
 /// What the study takes from the predicted push besides its file name, for the reports.
 std::string forecast_study_inputs_note();
 
