@@ -132,6 +132,7 @@ result forecast-study "The whole-push forecast, leaving one push out" "" tables.
     "$bin" forecast-study "$abs" --jobs "$jobs" --out "$work/forecast-study"
 show_as="./build/pushpred forecast-study ../shared/data/mcube/abs --jobs $jobs --out results/forecast-study && python3 scripts/forecast-yaw-error.py results/forecast-study/pushes.csv"
 strict=1
+# shellcheck disable=SC2016  # the study's folder and the script's arguments expand in the inner shell
 result forecast-yaw-error "Where the forecast's yaw error comes from" "The study's pushes.csv summarised." - -- \
     bash -c '[ -f "$4/pushes.csv" ] || "$1" forecast-study "$2" --jobs "$3" --out "$4" >/dev/null
         python3 scripts/forecast-yaw-error.py "$4/pushes.csv" | sed "s|$4/pushes.csv|results/forecast-study/pushes.csv|"' \
