@@ -1063,9 +1063,9 @@ CorrectionSums learn_choice_sums(const std::vector<CorrectionSetKind>& kinds, st
                                    << (k.dataset_design   ? " (the dataset's design)"
                                        : k.plan_dependent ? " (frictions following the plan)"
                                                           : " (independent)")
-                                   << (k.com_offset_m > 0 ? " (mass centre offset)" : "") << ", "
-                                   << correction << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory " << e[2]
-                                   << " mm, " << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
+                                   << (k.com_offset_m > 0 ? " (mass centre offset)" : "") << ", " << correction
+                                   << ": final " << e[0] << " mm, " << e[1] << " deg; trajectory " << e[2] << " mm, "
+                                   << e[3] << " deg; coverage " << e[4] << ", " << e[5]);
         out.final_sum[correction] += e[0] + e[1];
         if (k.dataset_design) out.design_final_sum[correction] += e[0] + e[1];
         out.trajectory_sum[correction] += e[2] + e[3];
@@ -1081,9 +1081,8 @@ CorrectionSums residual_correction_sums(const std::vector<CorrectionSetKind>& ki
                                         std::uint64_t replicate_step) {
   std::vector<LearnChoice> choices;
   for (const char* correction : {"none", "loo", "chosen"})
-    choices.emplace_back(correction, [correction](LearnOptions& o) {
-      o.residual_correction = residual_correction_named(correction);
-    });
+    choices.emplace_back(
+        correction, [correction](LearnOptions& o) { o.residual_correction = residual_correction_named(correction); });
   return learn_choice_sums(kinds, first_seed, replicate_step, choices);
 }
 
@@ -1209,7 +1208,8 @@ BOOST_AUTO_TEST_CASE(a_measured_rod_friction_is_what_the_simulated_contact_slide
   LearnOptions options;
   set_centre_of_friction_choice(options, "centroid");
   options.pusher_friction = pusher_friction_named("measured");
-  const ObjectModel model = learn_object_model(cases[0].forecast_object, "abs", "shape table: rect1", cases, fits, options);
+  const ObjectModel model =
+      learn_object_model(cases[0].forecast_object, "abs", "shape table: rect1", cases, fits, options);
   const double held = median(measured);
   for (const PushFit& f : model.pushes) {
     BOOST_TEST(f.parameters.pusher_friction == held, boost::test_tools::tolerance(1e-12));
@@ -1257,11 +1257,10 @@ BOOST_AUTO_TEST_CASE(the_pusher_frictions_default_is_decided_on_simulated_object
                         trajectory_sum["measured"] <= 1.02 * trajectory_sum["fitted"] && cp >= 0.85 && cp <= 0.95 &&
                         cy >= 0.85 && cy <= 0.95;
   for (const char* source : {"fitted", "measured"})
-    BOOST_TEST_MESSAGE("sums over the 36 sets, " << source << ": final mm + deg " << final_sum[source]
-                                                 << " (the 12 of the dataset's design " << design_final_sum[source]
-                                                 << "), trajectory mm + deg " << trajectory_sum[source]
-                                                 << "; mean coverage " << coverage_pos[source] / sets << ", "
-                                                 << coverage_yaw[source] / sets);
+    BOOST_TEST_MESSAGE("sums over the 36 sets, "
+                       << source << ": final mm + deg " << final_sum[source] << " (the 12 of the dataset's design "
+                       << design_final_sum[source] << "), trajectory mm + deg " << trajectory_sum[source]
+                       << "; mean coverage " << coverage_pos[source] / sets << ", " << coverage_yaw[source] / sets);
   BOOST_TEST_MESSAGE("the rule chooses " << (measured ? "measured" : "fitted"));
   BOOST_TEST((measured ? "measured" : "fitted") == std::string(kPusherFrictionDefaultChoice));
 }

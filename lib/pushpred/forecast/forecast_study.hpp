@@ -48,8 +48,8 @@ struct ForecastStudyPush {
   /// The rod's friction the push's force sensor measured (RecordedForecastCase::measured_pusher_friction; NaN: not
   /// measured). No forecast uses it.
   double measured_pusher_friction = std::numeric_limits<double>::quiet_NaN();
-  std::vector<ForecastErrors> errors;                   ///< per method, forecast_study_methods() order
-  ForecastParameters learned;                           ///< the model's central parameters (without this push)
+  std::vector<ForecastErrors> errors;  ///< per method, forecast_study_methods() order
+  ForecastParameters learned;          ///< the model's central parameters (without this push)
   PushFit own_fit;
   int training_pushes = 0;
   /// The fold's pressure rim weight (ObjectModel: w of the outline's limit surface, learned from the training pushes)

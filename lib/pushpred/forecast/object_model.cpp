@@ -82,10 +82,6 @@ ceres::Covariance::Options fit_covariance_options() {
   return options;
 }
 
-/// The covariance of a push's log-parameters theta = (ln mu_p, ln c, ln mu_s), row-major 3 x 3, into `out`. With c
-/// held (the outline's limit surface: SubsetManifold(3, {1})) it is read in the tangent space (ln mu_p, ln mu_s) and
-/// c's row and column stay zero: Ceres' lift to the ambient space multiplies by the manifold's Jacobian for nothing
-/// here, and under AddressSanitizer that lift's temporary matrices were freed as not allocated (Debian's Ceres 2.1).
 /// The log-parameters (ln mu_p, ln c, ln mu_s) a fit holds constant: mu_p (0) when FitOptions::held_pusher_friction
 /// is set, c (1) on the outline's limit surface, which has none.
 std::vector<int> held_indices(bool fixed_ratio, const FitOptions& options) {
@@ -97,7 +93,11 @@ std::vector<int> held_indices(bool fixed_ratio, const FitOptions& options) {
 
 bool is_held(const std::vector<int>& held, int k) { return std::find(held.begin(), held.end(), k) != held.end(); }
 
-/// The covariance of the three log-parameters (0 for the held ones).
+/// The covariance of a push's log-parameters theta = (ln mu_p, ln c, ln mu_s), row-major 3 x 3, into `out`. With
+/// some held (`held`, a SubsetManifold of them: c on the outline's limit surface, mu_p when held) it is read in the
+/// tangent space of the others and the held ones' rows and columns stay zero: Ceres' lift to the ambient space
+/// multiplies by the manifold's Jacobian for nothing here, and under AddressSanitizer that lift's temporary matrices
+/// were freed as not allocated (Debian's Ceres 2.1).
 bool theta_covariance(const ceres::Covariance& covariance, const double* theta, const std::vector<int>& held,
                       double* out) {
   std::fill(out, out + 9, 0.0);
@@ -520,7 +520,6 @@ double measured_pusher_friction(const SynchronisedPush& push, const RecordedFore
   if (ratios.size() < kMinSamples) return std::numeric_limits<double>::quiet_NaN();
   return median(ratios);
 }
-
 
 namespace {
 

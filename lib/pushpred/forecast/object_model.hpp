@@ -77,7 +77,8 @@ RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const 
 /// where the rod is within 1.5 mm of touching (a rod of ForecastSettings::rod_radius_m), pushes with at least 0.5 N
 /// and slides: the tip's velocity relative to the object's material point at the contact, along the outline,
 /// exceeds 15 % of the plan's speed. NaN with fewer than 10 such samples. `c` is the push's case (its plan and
-/// object); recorded_forecast_case sets its measured_pusher_friction so. The thresholds are set from the rig (0.5 N is a few times the sensor's noise), not fitted.
+/// object); recorded_forecast_case sets its measured_pusher_friction so. The thresholds are set from the rig (0.5 N
+/// is a few times the sensor's noise), not fitted.
 double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c);
 
 /// Where and how a plan pushes, in the object's frame at its start: what the push-to-push variation of the parameters
