@@ -5,7 +5,8 @@
 #   scripts/docs-results.sh [--full] [--jobs N] [--only NAME] [BUILD_DIR=build] [OUT_DIR=docs/results]
 #
 # The default part reruns what takes minutes on two cores: reproduce, inspect, predict, diagnose and forecast-study
-# on the real pushes, fit-pid, the observer's conventions and the small blind validations of the diagnosis.
+# on the real pushes (with where its yaw error comes from), fit-pid, the observer's conventions and the small blind
+# validations of the diagnosis.
 # --full adds what takes longer or needs the test, benchmark and Python targets built: the model-adequacy trials,
 # the simulated-effect tests' printed fits, the effects injected into real pushes and the benchmarks (speeds are
 # the machine's: those files say so). --only NAME reruns one result (its file's name without .md).
@@ -21,7 +22,7 @@ while [ $# -gt 0 ]; do
     --full) full=1 ;;
     --jobs) jobs="$2"; shift ;;
     --only) only="$2"; shift ;;
-    -h | --help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "docs-results.sh: unknown option $1" >&2; exit 2 ;;
     *) positional+=("$1") ;;
     esac
@@ -129,6 +130,13 @@ result diagnosis "The diagnosis on the real ABS pushes" "One diagnosis per objec
     overview.md -- "$bin" diagnose "$abs" --per-object --no-plots --jobs "$jobs" --out "$work/diagnosis"
 result forecast-study "The whole-push forecast, leaving one push out" "" tables.md -- \
     "$bin" forecast-study "$abs" --jobs "$jobs" --out "$work/forecast-study"
+show_as="./build/pushpred forecast-study ../shared/data/mcube/abs --jobs $jobs --out results/forecast-study && python3 scripts/forecast-yaw-error.py results/forecast-study/pushes.csv"
+strict=1
+# shellcheck disable=SC2016  # the study's folder and the script's arguments expand in the inner shell
+result forecast-yaw-error "Where the forecast's yaw error comes from" "The study's pushes.csv summarised." - -- \
+    bash -c '[ -f "$4/pushes.csv" ] || "$1" forecast-study "$2" --jobs "$3" --out "$4" >/dev/null
+        python3 scripts/forecast-yaw-error.py "$4/pushes.csv" | sed "s|$4/pushes.csv|results/forecast-study/pushes.csv|"' \
+    _ "$bin" "$abs" "$jobs" "$work/forecast-study"
 show_as="./build/pushpred fit-pid ../shared/data/mcube/abs/motion_surface=abs_shape=hex_* ../shared/data/mcube/abs/motion_surface=abs_shape=ellip* --per-push --jobs $jobs --out results/fit-pid"
 result fit-pid "PID gains fitted on hex, ellip1 and ellip3" "" pid_fit.md -- \
     "$bin" fit-pid "$abs"/motion_surface=abs_shape=hex_* "$abs"/motion_surface=abs_shape=ellip* --per-push \

@@ -155,6 +155,7 @@ int run_learn(const LearnArgs& a) {
     std::printf("parameter trend over the plan: none\n");
   }
   std::printf("residual correction: %s\n", model.residual_correction_method.c_str());
+  std::printf("pusher friction: %s\n", model.pusher_friction_method.c_str());
   std::cout << "wrote " << a.out << "\n";
   return report_failures(in.failures, in.cases.size());
 }

@@ -16,6 +16,12 @@ void LearnArguments::add_to(CLI::App& sub) {
       std::string(kResidualCorrectionDefaultChoice);
   sub.add_option("--residual-correction", residual_correction, residual_help)
       ->check(CLI::IsMember(kResidualCorrectionNames));
+  const std::string friction_help =
+      "Where the learned pushes' rod friction comes from: fitted (each push's own fit) or measured (the median of "
+      "what their force sensors measured where the contact slid, held while c and the support's friction are "
+      "fitted); default " +
+      std::string(kPusherFrictionDefaultChoice);
+  sub.add_option("--pusher-friction", pusher_friction, friction_help)->check(CLI::IsMember(kPusherFrictionNames));
   sub.add_option("--centre-of-friction", centre_of_friction,
                  "chosen (default: learned jointly over the pushes when that forecasts them better in "
                  "cross-validation, else the centroid), learned (always) or centroid (never learned)")
@@ -43,6 +49,7 @@ void LearnArguments::add_to(CLI::App& sub) {
 void LearnArguments::apply_to(LearnOptions& options) const {
   options.central = central_forecast_named(central);
   options.residual_correction = residual_correction_named(residual_correction);
+  options.pusher_friction = pusher_friction_named(pusher_friction);
   set_centre_of_friction_choice(options, centre_of_friction);
   set_trend_choice(options, trend);
   set_similarity_choice(options, similarity);

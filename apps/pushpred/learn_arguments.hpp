@@ -11,6 +11,7 @@ namespace pushpred::app {
 struct LearnArguments {
   std::string central = kCentralForecastDefaultChoice;
   std::string residual_correction = kResidualCorrectionDefaultChoice;
+  std::string pusher_friction = kPusherFrictionDefaultChoice;
   std::string centre_of_friction = "chosen";
   std::string trend = kTrendDefaultChoice;
   std::string similarity = kSimilarityDefaultChoice;

@@ -166,7 +166,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       "learn_object_model",
       [](const std::vector<std::string>& files, std::optional<std::string> data, int jobs,
          const std::string& limit_surface, const std::string& pressure_shape, const std::string& similarity,
-         const std::string& central, const std::string& residual_correction) {
+         const std::string& central, const std::string& residual_correction, const std::string& pusher_friction) {
         const std::filesystem::path folder = data_folder_or_empty(data);
         const LimitSurfaceKind kind = limit_surface_named(limit_surface);
         LearnOptions options;
@@ -174,6 +174,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
         set_similarity_choice(options, similarity);
         options.central = central_forecast_named(central);
         options.residual_correction = residual_correction_named(residual_correction);
+        options.pusher_friction = pusher_friction_named(pusher_friction);
         options.jobs = jobs;
         return without_gil([&] {
           const ForecastInputs in = load_forecast_inputs(files, folder, jobs, nullptr, false, kind);
@@ -194,12 +195,13 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       py::arg("pressure_shape") = kPressureShapeDefaultChoice, py::arg("similarity") = kSimilarityDefaultChoice,
       py::arg("central") = kCentralForecastDefaultChoice,
       py::arg("residual_correction") = kResidualCorrectionDefaultChoice,
+      py::arg("pusher_friction") = kPusherFrictionDefaultChoice,
       "Learns one object's model from recorded pushes of it on one surface, as `pushpred learn` does (frozen force "
       "sensors left out); limit_surface \"ellipsoid\" (default) or \"outline\" as its --limit-surface, "
       "pressure_shape \"chosen\" (default), \"learned\" or \"uniform\" as its --pressure-shape, similarity "
       "\"chosen\" or \"averaged\" as its --similarity, central \"ensemble_mean\", \"ensemble_median\" or "
       "\"median\" as its --central, residual_correction \"none\", \"loo\" or \"chosen\" as its "
-      "--residual-correction.");
+      "--residual-correction, pusher_friction \"fitted\" or \"measured\" as its --pusher-friction.");
 }
 
 }  // namespace pushpred::python

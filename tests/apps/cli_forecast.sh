@@ -27,6 +27,12 @@ expect_exit 0 "learn hex without the residual correction" -- "$bin" learn $hex -
   --out "$tmp/hex-plain.json" --jobs 2
 expect_in "$tmp/hex-plain.json" '"applied": false' "the object file says the correction is not applied"
 expect_in "$tmp/out" "residual correction: none" "learn says it does not correct"
+expect_in "$tmp/out" "pusher friction: fitted per push" "the rod friction fitted per push by default"
+# shellcheck disable=SC2086
+expect_exit 0 "learn hex with the measured rod friction" -- "$bin" learn $hex --pusher-friction measured \
+  --out "$tmp/hex-measured.json" --jobs 2
+expect_in "$tmp/out" "pusher friction: measured: " "learn says the rod friction is the measured one"
+expect_in "$tmp/hex-measured.json" '"method": "measured: ' "the object file says where the rod friction comes from"
 # shellcheck disable=SC2086
 expect_exit 0 "learn hex with the trend chosen" -- "$bin" learn $hex --trend chosen --out "$tmp/hex-trend.json" --jobs 2
 expect_in "$tmp/out" "parameter trend over the plan" "learn says whether it took a trend"
@@ -154,6 +160,9 @@ expect_in "$tmp/s1/tables.md" "from its start only" "the report says what of eac
 expect_in "$tmp/s1/summary.json" '"rim_weight_learned": false' "each fold says whether it learned the rim weight"
 expect_in "$tmp/s1/summary.json" '"residual_correction": true' "each fold says whether it corrects its central forecast"
 expect_in "$tmp/s1/pushes.csv" "fold_rim_weight,fold_rim_weight_learned" "pushes.csv has each fold's rim weight"
+expect_in "$tmp/s1/pushes.csv" "yaw_error_tip_stop_deg,yaw_error_final_deg,recorded_turn_after_tip_stop_deg" \
+  "pushes.csv says where the yaw error builds up"
+expect_in "$tmp/s1/pushes.csv" "measured_pusher_friction" "pushes.csv has the measured rod friction"
 # shellcheck disable=SC2086
 expect_exit 0 "the same study on two jobs" -- "$bin" forecast-study $hex "$frozen" --out "$tmp/s2" --jobs 2
 expect_same_tree "$tmp/s1" "$tmp/s2" "--jobs 1 and 2 write the same study"

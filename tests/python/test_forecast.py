@@ -178,3 +178,18 @@ def test_the_residual_correction_is_learned_as_the_cli_learns_it(executable, hex
     assert np.abs(f["pose"][-1] - plain["pose"][-1]).max() > 1e-6
     with pytest.raises(pushpred.InputError, match="residual correction"):
         pushpred.learn_object_model(hex_files, residual_correction="mean")
+
+
+def test_the_measured_rod_friction_is_learned_as_the_cli_learns_it(executable, hex_files, tmp_path):
+    # `learn --pusher-friction measured`: every learned push holds the median of what the force sensors measured, and
+    # the file says so; the same from Python and the program.
+    measured = pushpred.learn_object_model(hex_files, jobs=2, pusher_friction="measured")
+    d = measured.to_dict()
+    assert d["pusher_friction"]["method"].startswith("measured: ")
+    assert len({p["pusher_friction"] for p in d["pushes"]}) == 1
+    run_cli(executable, "learn", *hex_files, "--pusher-friction", "measured", "--out", tmp_path / "hex.json",
+            "--jobs", "2")
+    from_cli = json.loads((tmp_path / "hex.json").read_text())
+    assert from_cli["pusher_friction"] == d["pusher_friction"]
+    with pytest.raises(pushpred.InputError, match="pusher friction"):
+        pushpred.learn_object_model(hex_files, pusher_friction="guessed")

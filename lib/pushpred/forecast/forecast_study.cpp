@@ -68,6 +68,20 @@ ForecastInputs load_forecast_inputs(const std::vector<std::string>& inputs, cons
   return in;
 }
 
+namespace {
+
+/// The recorded pose nearest plan time `t_s` (the last one after the recording's end).
+Eigen::Index recorded_index_at(const RecordedForecastCase& c, double t_s) {
+  const Eigen::Index n = c.times_s.size();
+  const Eigen::Index k =
+      static_cast<Eigen::Index>(std::lower_bound(c.times_s.data(), c.times_s.data() + n, t_s) - c.times_s.data());
+  if (k >= n) return n - 1;
+  if (k > 0 && t_s - c.times_s(k - 1) < c.times_s(k) - t_s) return k - 1;
+  return k;
+}
+
+}  // namespace
+
 ForecastErrors forecast_errors(const RecordedForecastCase& c, const Eigen::MatrixX3d& p, const Eigen::VectorXd* radius,
                                const Eigen::VectorXd* half) {
   ForecastErrors e;
@@ -78,6 +92,11 @@ ForecastErrors forecast_errors(const RecordedForecastCase& c, const Eigen::Matri
   e.final_yaw_rad = yaw(n - 1);
   e.trajectory_position_m = pos.mean();
   e.trajectory_yaw_rad = yaw.mean();
+  e.final_yaw_error_signed_rad = p(n - 1, 2) - c.truth(n - 1, 2);
+  for (std::size_t s = 0; s < kYawErrorStages.size(); ++s) {
+    const Eigen::Index k = recorded_index_at(c, kYawErrorStages[s] * c.plan.end_time_s());
+    e.yaw_error_at_stage_rad[s] = p(k, 2) - c.truth(k, 2);
+  }
   if (radius && half) {
     e.has_regions = true;
     e.coverage_position = (pos.array() <= radius->array()).cast<double>().mean();
@@ -134,6 +153,8 @@ std::vector<ForecastStudyPush> run_forecast_study(const std::vector<RecordedFore
     const Eigen::Index n = c.times_s.size();
     r.recorded_travel_m = (c.truth.row(n - 1).head<2>() - c.truth.row(0).head<2>()).norm();
     r.recorded_turn_rad = std::abs(c.truth(n - 1, 2) - c.truth(0, 2));
+    r.recorded_turn_after_tip_stop_rad = c.truth(n - 1, 2) - c.truth(recorded_index_at(c, c.plan.end_time_s()), 2);
+    r.measured_pusher_friction = c.measured_pusher_friction;
     r.learned = model.parameters;
     r.own_fit = fits[i];
     r.training_pushes = static_cast<int>(train_fits.size());

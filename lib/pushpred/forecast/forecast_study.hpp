@@ -8,6 +8,8 @@
 // is reported as an oracle: no forecast can use it.
 // Units: SI inside; the reports turn them into mm and degrees.
 #include <Eigen/Core>
+#include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,7 +28,14 @@ struct ForecastErrors {
   bool final_inside_position = false, final_inside_yaw = false;
   double median_radius_m = 0, median_yaw_halfwidth_rad = 0;  ///< over the push's recorded times
   double final_radius_m = 0, final_yaw_halfwidth_rad = 0;
+  /// Where the yaw error builds up: the signed yaw error (predicted minus recorded) [rad] at the recorded pose nearest
+  /// a quarter, a half and three quarters of the plan's time and at its end (the tip stops; kYawErrorStages), and at
+  /// the recording's end (the final pose): what changes between the last two is the slide to rest.
+  std::array<double, 4> yaw_error_at_stage_rad{{0, 0, 0, 0}};
+  double final_yaw_error_signed_rad = 0;
 };
+/// The fractions of the plan's time at which ForecastErrors::yaw_error_at_stage_rad is taken.
+inline constexpr std::array<double, 4> kYawErrorStages{{0.25, 0.5, 0.75, 1.0}};
 
 /// The methods a study reports, in this order.
 const std::vector<std::string>& forecast_study_methods();  ///< "forecast", "not_moving", "rigid_tip", "oracle_own_fit"
@@ -34,8 +43,13 @@ const std::vector<std::string>& forecast_study_methods();  ///< "forecast", "not
 struct ForecastStudyPush {
   std::string name, object, surface;
   double recorded_travel_m = 0, recorded_turn_rad = 0;  ///< the recording's own final displacement and turn
-  std::vector<ForecastErrors> errors;                   ///< per method, forecast_study_methods() order
-  ForecastParameters learned;                           ///< the model's central parameters (without this push)
+  /// How far the recording turns after the plan's end (the tip stopped): its final yaw minus its yaw there [rad].
+  double recorded_turn_after_tip_stop_rad = 0;
+  /// The rod's friction the push's force sensor measured (RecordedForecastCase::measured_pusher_friction; NaN: not
+  /// measured). No forecast uses it.
+  double measured_pusher_friction = std::numeric_limits<double>::quiet_NaN();
+  std::vector<ForecastErrors> errors;  ///< per method, forecast_study_methods() order
+  ForecastParameters learned;          ///< the model's central parameters (without this push)
   PushFit own_fit;
   int training_pushes = 0;
   /// The fold's pressure rim weight (ObjectModel: w of the outline's limit surface, learned from the training pushes)

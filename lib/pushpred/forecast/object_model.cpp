@@ -82,18 +82,34 @@ ceres::Covariance::Options fit_covariance_options() {
   return options;
 }
 
-/// The covariance of a push's log-parameters theta = (ln mu_p, ln c, ln mu_s), row-major 3 x 3, into `out`. With c
-/// held (the outline's limit surface: SubsetManifold(3, {1})) it is read in the tangent space (ln mu_p, ln mu_s) and
-/// c's row and column stay zero: Ceres' lift to the ambient space multiplies by the manifold's Jacobian for nothing
-/// here, and under AddressSanitizer that lift's temporary matrices were freed as not allocated (Debian's Ceres 2.1).
-bool theta_covariance(const ceres::Covariance& covariance, const double* theta, bool fixed_ratio, double* out) {
+/// The log-parameters (ln mu_p, ln c, ln mu_s) a fit holds constant: mu_p (0) when FitOptions::held_pusher_friction
+/// is set, c (1) on the outline's limit surface, which has none.
+std::vector<int> held_indices(bool fixed_ratio, const FitOptions& options) {
+  std::vector<int> held;
+  if (options.held_pusher_friction > 0) held.push_back(0);
+  if (fixed_ratio) held.push_back(1);
+  return held;
+}
+
+bool is_held(const std::vector<int>& held, int k) { return std::find(held.begin(), held.end(), k) != held.end(); }
+
+/// The covariance of a push's log-parameters theta = (ln mu_p, ln c, ln mu_s), row-major 3 x 3, into `out`. With
+/// some held (`held`, a SubsetManifold of them: c on the outline's limit surface, mu_p when held) it is read in the
+/// tangent space of the others and the held ones' rows and columns stay zero: Ceres' lift to the ambient space
+/// multiplies by the manifold's Jacobian for nothing here, and under AddressSanitizer that lift's temporary matrices
+/// were freed as not allocated (Debian's Ceres 2.1).
+bool theta_covariance(const ceres::Covariance& covariance, const double* theta, const std::vector<int>& held,
+                      double* out) {
   std::fill(out, out + 9, 0.0);
-  if (!fixed_ratio) return covariance.GetCovarianceBlock(theta, theta, out);
-  double tangent[4] = {0};
+  if (held.empty()) return covariance.GetCovarianceBlock(theta, theta, out);
+  std::vector<int> free;
+  for (int k = 0; k < 3; ++k)
+    if (!is_held(held, k)) free.push_back(k);
+  const int m = static_cast<int>(free.size());
+  double tangent[9] = {0};
   if (!covariance.GetCovarianceBlockInTangentSpace(theta, theta, tangent)) return false;
-  const int index[2] = {0, 2};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) out[3 * index[i] + index[j]] = tangent[2 * i + j];
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) out[3 * free[i] + free[j]] = tangent[m * i + j];
   return true;
 }
 
@@ -461,7 +477,48 @@ RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const 
   const Eigen::Index n = push.size() - i0;
   c.times_s = push.t_s.tail(n).array() - c.start_time_s;
   c.truth = push.pose.bottomRows(n);
+  c.measured_pusher_friction = measured_pusher_friction(push, c);
   return c;
+}
+
+double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c) {
+  constexpr double kFrom = 0.2, kTo = 0.9;  // of the plan's length of tip travel
+  constexpr double kTouch_m = 1.5e-3, kMinNormal_N = 0.5, kSlipShare = 0.15;
+  constexpr std::size_t kMinSamples = 10;
+  const ForecastSettings settings;
+  const Eigen::Index n = c.times_s.size(), i0 = push.size() - n;
+  if (n < 3 || i0 < 0 || !c.forecast_object.outline) return std::numeric_limits<double>::quiet_NaN();
+  const ForecastOutline& outline = *c.forecast_object.outline;
+  const Eigen::Vector2d direction = c.plan.direction(), tip0 = push.tip_m.row(i0).transpose();
+  const double length = c.plan.length_m(), slip_min = kSlipShare * c.plan.speed_m_s();
+  std::vector<double> ratios;
+  int hint = -1;
+  for (Eigen::Index k = 1; k + 1 < n; ++k) {
+    const Eigen::Index j = i0 + k;
+    const double progress = (push.tip_m.row(j).transpose() - tip0).dot(direction) / length;
+    if (progress < kFrom || progress > kTo) continue;
+    const Eigen::Vector3d pose = push.pose.row(j).transpose();
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(pose(2)).toRotationMatrix();
+    const Eigen::Vector2d tip = push.tip_m.row(j).transpose();
+    const Outline::Closest cl = outline.closest(R.transpose() * (tip - pose.head<2>()), hint);
+    if (cl.signed_distance_m > settings.rod_radius_m + kTouch_m) continue;
+    const Eigen::Vector2d normal = -(R * cl.normal);  // into the object
+    const Eigen::Vector2d tangent(-normal.y(), normal.x());
+    const Eigen::Vector2d force = push.force_N.row(j).transpose();  // on the object
+    const double fn = force.dot(normal);
+    if (!(fn >= kMinNormal_N)) continue;
+    const double dt = push.t_s(j + 1) - push.t_s(j - 1);
+    if (!(dt > 0)) continue;
+    const Eigen::Vector2d tip_velocity = (push.tip_m.row(j + 1) - push.tip_m.row(j - 1)).transpose() / dt;
+    const Eigen::Vector2d velocity = (push.pose.row(j + 1).head<2>() - push.pose.row(j - 1).head<2>()).transpose() / dt;
+    const double omega = (push.pose(j + 1, 2) - push.pose(j - 1, 2)) / dt;
+    const Eigen::Vector2d arm = R * cl.point_m;
+    const Eigen::Vector2d point_velocity = velocity + omega * Eigen::Vector2d(-arm.y(), arm.x());
+    if (std::abs((tip_velocity - point_velocity).dot(tangent)) <= slip_min) continue;
+    ratios.push_back(std::abs(force.dot(tangent)) / fn);
+  }
+  if (ratios.size() < kMinSamples) return std::numeric_limits<double>::quiet_NaN();
+  return median(ratios);
 }
 
 namespace {
@@ -499,11 +556,16 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
                   : c.forecast_object.outline->uniform_pressure_torque_ratio_m(c.forecast_object.centre_of_friction_m);
   // A coarse grid first: the trajectory error has several valleys (stick against slide).
   std::vector<double> r(static_cast<std::size_t>(m));
+  const std::vector<int> held = held_indices(fixed_ratio, options);
+  const double held_mu_p = std::clamp(options.held_pusher_friction, 0.02, 2.0);
   double theta[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
   double best = std::numeric_limits<double>::infinity();
   const std::vector<double> ratios =
       fixed_ratio ? std::vector<double>{1.0} : std::vector<double>{0.35, 0.5, 0.65, 0.8, 0.95, 1.15, 1.4, 1.8};
-  for (double mu_p : {0.05, 0.1, 0.18, 0.28, 0.4, 0.55, 0.75, 1.0, 1.4})
+  const std::vector<double> frictions = is_held(held, 0)
+                                            ? std::vector<double>{held_mu_p}
+                                            : std::vector<double>{0.05, 0.1, 0.18, 0.28, 0.4, 0.55, 0.75, 1.0, 1.4};
+  for (double mu_p : frictions)
     for (double ratio : ratios)
       for (double mu_s : {0.25, 0.5}) {
         const double t[3] = {std::log(mu_p), std::log(ratio * c_uniform), std::log(mu_s)};
@@ -524,7 +586,7 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   if (options.prior_width_log > 0) {
     const double centre[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
     for (int i = 0; i < 3; ++i)
-      if (!(fixed_ratio && i == 1))
+      if (!is_held(held, i))
         problem.AddResidualBlock(
             new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(new LogPrior{i, centre[i], options.prior_width_log}),
             nullptr, theta);
@@ -533,12 +595,13 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
   for (int i = 0; i < 3; ++i) {
     theta[i] = std::clamp(theta[i], lower[i], upper[i]);
-    if (fixed_ratio && i == 1) continue;
+    if (is_held(held, i)) continue;
     problem.SetParameterLowerBound(theta, i, lower[i]);
     problem.SetParameterUpperBound(theta, i, upper[i]);
   }
-  // The pressure's limit surface has no ratio c: it is held at the surface's own (unused by the forecast).
-  if (fixed_ratio) problem.SetManifold(theta, new ceres::SubsetManifold(3, {1}));
+  // The pressure's limit surface has no ratio c: it is held at the surface's own (unused by the forecast); a held
+  // rod friction stays where it was put.
+  if (!held.empty()) problem.SetManifold(theta, new ceres::SubsetManifold(3, held));
   ceres::Solver::Options solver;
   solver.max_num_iterations = 40;
   solver.linear_solver_type = ceres::DENSE_QR;
@@ -554,7 +617,7 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   ceres::Covariance covariance(fit_covariance_options());
   std::vector<std::pair<const double*, const double*>> blocks{{theta, theta}};
   double cov[9] = {0};
-  if (covariance.Compute(blocks, &problem) && theta_covariance(covariance, theta, fixed_ratio, cov)) {
+  if (covariance.Compute(blocks, &problem) && theta_covariance(covariance, theta, held, cov)) {
     const double dof = std::max(1, m - 3);
     const double variance = 2 * summary.final_cost / dof;
     for (int i = 0; i < 3; ++i)
@@ -736,6 +799,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   double centre[2] = {start.x(), start.y()};
   double rim[1] = {object.pressure_rim_weight};
   const bool fit_rim = options.fit_rim_weight && fixed_ratio;
+  const std::vector<int> held = held_indices(fixed_ratio, fit_options);
   ceres::Problem problem;
   PressureSurfaceCache surfaces;
   int residual_count = 0;
@@ -745,19 +809,19 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
     auto* cost = new SharedCentreResidual(cases[i], object, fit_options, surfaces);
     residual_count += cost->num_residuals();
     problem.AddResidualBlock(cost, new ceres::HuberLoss(3.0), theta[i].data(), centre, rim);
-    if (fixed_ratio) {
-      // The pressure's limit surface has no ratio c: each push keeps its own fit's (unused by the forecast).
-      theta[i][1] = std::log(fits[i].parameters.torque_ratio_m);
-      problem.SetManifold(theta[i].data(), new ceres::SubsetManifold(3, {1}));
-    }
+    // The pressure's limit surface has no ratio c: each push keeps its own fit's (unused by the forecast); a held rod
+    // friction stays at its value.
+    if (fixed_ratio) theta[i][1] = std::log(fits[i].parameters.torque_ratio_m);
+    if (is_held(held, 0)) theta[i][0] = std::log(std::clamp(fit_options.held_pusher_friction, 0.02, 2.0));
+    if (!held.empty()) problem.SetManifold(theta[i].data(), new ceres::SubsetManifold(3, held));
     if (fit_options.prior_width_log > 0)
       for (int k = 0; k < 3; ++k)
-        if (!(fixed_ratio && k == 1))
+        if (!is_held(held, k))
           problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(
                                        new LogPrior{k, prior_centre[k], fit_options.prior_width_log}),
                                    nullptr, theta[i].data());
     for (int k = 0; k < 3; ++k) {
-      if (fixed_ratio && k == 1) continue;
+      if (is_held(held, k)) continue;
       problem.SetParameterLowerBound(theta[i].data(), k, lower[k]);
       problem.SetParameterUpperBound(theta[i].data(), k, upper[k]);
     }
@@ -822,7 +886,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
     PushFit f = fits[i];
     f.parameters = ForecastParameters{std::exp(theta[i][0]), std::exp(theta[i][1]), std::exp(theta[i][2])};
     double cov[9] = {0};
-    if (have_covariance && theta_covariance(covariance, theta[i].data(), fixed_ratio, cov))
+    if (have_covariance && theta_covariance(covariance, theta[i].data(), held, cov))
       for (int k = 0; k < 3; ++k)
         f.standard_error(k) = f.parameters.vector()(k) * std::sqrt(std::max(0.0, cov[4 * k] * variance));
     record_fit_errors(cases[i], learned, fit_options.settings, f);
@@ -1117,9 +1181,56 @@ void set_similarity_choice(LearnOptions& options, const std::string& choice) {
   }
 }
 
+PusherFrictionSource pusher_friction_named(const std::string& name) {
+  if (name == "fitted") return PusherFrictionSource::Fitted;
+  if (name == "measured") return PusherFrictionSource::Measured;
+  throw InputError("pusher friction '" + name + "' is not known: give fitted or measured");
+}
+
+const char* pusher_friction_name(PusherFrictionSource source) {
+  return source == PusherFrictionSource::Measured ? "measured" : "fitted";
+}
+
+namespace {
+ObjectModel learn_object_model_from(const ForecastObject& object, const std::string& surface,
+                                    const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
+                                    const std::vector<PushFit>& fits, const LearnOptions& options);
+}  // namespace
+
 ObjectModel learn_object_model(const ForecastObject& object, const std::string& surface,
                                const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
                                const std::vector<PushFit>& fits, const LearnOptions& options) {
+  if (options.pusher_friction != PusherFrictionSource::Measured || cases.size() != fits.size())
+    return learn_object_model_from(object, surface, outline_source, cases, fits, options);
+  std::vector<double> measured;
+  for (const RecordedForecastCase& c : cases)
+    if (std::isfinite(c.measured_pusher_friction)) measured.push_back(c.measured_pusher_friction);
+  if (measured.empty()) {
+    ObjectModel model = learn_object_model_from(object, surface, outline_source, cases, fits, options);
+    model.pusher_friction_method = "fitted per push (no learned push's force sensor measured a sliding contact)";
+    return model;
+  }
+  const double mu_p = median(measured);
+  LearnOptions held = options;
+  held.centre_of_friction.fit.held_pusher_friction = mu_p;
+  FitOptions fit_options = held.centre_of_friction.fit;
+  fit_options.settings = options.settings;
+  std::vector<PushFit> refitted(fits.size());
+  parallel_for_index(fits.size(), options.jobs,
+                     [&](std::size_t i) { refitted[i] = fit_push_parameters(cases[i], fit_options); });
+  ObjectModel model = learn_object_model_from(object, surface, outline_source, cases, refitted, held);
+  std::ostringstream method;
+  method << "measured: " << mu_p << ", the median of what " << measured.size() << " of the " << cases.size()
+         << " learned pushes' force sensors measured where the contact slid; c and mu_s fitted under it";
+  model.pusher_friction_method = method.str();
+  return model;
+}
+
+namespace {
+
+ObjectModel learn_object_model_from(const ForecastObject& object, const std::string& surface,
+                                    const std::string& outline_source, const std::vector<RecordedForecastCase>& cases,
+                                    const std::vector<PushFit>& fits, const LearnOptions& options) {
   const ForecastSettings& settings = options.settings;
   std::vector<double> bandwidths = options.bandwidths;
   if (fits.empty()) throw InputError("learn: no push to learn '" + object.name + "' from");
@@ -1368,6 +1479,8 @@ ObjectModel learn_object_model(const ForecastObject& object, const std::string& 
   return model;
 }
 
+}  // namespace
+
 ForecastParameters central_parameters(const ObjectModel& model, const PushDescriptor& descriptor) {
   std::vector<const PushFit*> members;
   std::vector<ForecastParameters> parameters;
@@ -1494,6 +1607,11 @@ nlohmann::json object_model_to_json(const ObjectModel& m) {
                           {"features", "angle / 20 deg, contact x / 15 mm, contact y / 15 mm, ln(speed [m/s])"},
                           {"rows", "ln pusher_friction, ln torque_ratio_m, ln support_friction"}};
   j["central"] = central_forecast_name(m.central);
+  j["pusher_friction"] = {
+      {"method", m.pusher_friction_method},
+      {"definition",
+       "where the pushes' rod friction (pusher_friction) comes from: each push's own fit, or the median of what the "
+       "learned pushes' force sensors measured where the contact slid, held in every push's fit"}};
   j["residual_correction"] = {
       {"applied", m.residual_correction},
       {"shrinkage_k", m.residual_shrinkage},
@@ -1702,6 +1820,8 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
         throw InputError("'central' must be \"ensemble_mean\", \"median\" or \"ensemble_median\"");
       m.central = central_forecast_named(j.at("central").get<std::string>());
     }
+    if (j.contains("pusher_friction") && j.at("pusher_friction").is_object())  // optional (absent: fitted)
+      m.pusher_friction_method = j.at("pusher_friction").value("method", m.pusher_friction_method);
     if (j.contains("residual_correction")) {  // version 7 on; optional (absent: not applied)
       const auto& rc = j.at("residual_correction");
       if (!rc.is_object() || !rc.contains("applied") || !rc.at("applied").is_boolean())

@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -48,6 +49,9 @@ struct RecordedForecastCase {
   Eigen::VectorXd times_s;       ///< plan time of each recorded pose, from 0 to the recording's end
   Eigen::MatrixX3d truth;        ///< the recorded poses there
   std::string direction_source;  ///< how the push direction was found
+  /// The rod's friction as the push's force sensor measured it (measured_pusher_friction, set by
+  /// recorded_forecast_case): NaN where the recorded contact hardly slid.
+  double measured_pusher_friction = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The forecast object of a dataset shape: the shape table's mass, inertia, centroid and outline, or for `butter` the
@@ -66,6 +70,16 @@ ForecastOutline read_outline_csv(const std::filesystem::path& path, const std::s
 /// file-name parameters, an acceleration push, or a tip that never moves.
 RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const ForecastObject& object,
                                             double push_length_m = 0.05);
+
+/// The rod's friction as a recorded push's force sensor measured it: the median over the recorded samples where the
+/// contact slides of |tangential| / normal contact force, in the frame of the outline's normal at the contact point
+/// nearest the tip. A sample counts from 20 % to 90 % of the plan's length of tip travel (away from the speed ramps),
+/// where the rod is within 1.5 mm of touching (a rod of ForecastSettings::rod_radius_m), pushes with at least 0.5 N
+/// and slides: the tip's velocity relative to the object's material point at the contact, along the outline,
+/// exceeds 15 % of the plan's speed. NaN with fewer than 10 such samples. `c` is the push's case (its plan and
+/// object); recorded_forecast_case sets its measured_pusher_friction so. The thresholds are set from the rig (0.5 N
+/// is a few times the sensor's noise), not fitted.
+double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c);
 
 /// Where and how a plan pushes, in the object's frame at its start: what the push-to-push variation of the parameters
 /// is modelled on (learned pushes that push alike weigh more in a forecast, see ObjectModel::similarity_bandwidth).
@@ -121,6 +135,9 @@ struct FitOptions {
   /// per standard deviation (0: none), so that a parameter a push barely informs stays near physics rather than at
   /// a bound. The width 1 was chosen on simulated pushes (seeds 271000-271015, docs/forecast.md), not on real ones.
   double prior_width_log = 1.0;
+  /// > 0: the rod's friction mu_p is held at this value (LearnOptions::pusher_friction "measured") and only c and
+  /// mu_s are fitted; 0: mu_p is fitted too.
+  double held_pusher_friction = 0;
   ForecastSettings settings;
 };
 
@@ -275,6 +292,9 @@ struct ObjectModel {
   bool residual_correction = false;
   double residual_shrinkage = kResidualShrinkage;
   std::string residual_correction_method = "none";
+  /// Where the ensemble's rod friction comes from (PusherFrictionSource): "fitted per push", or the measured value
+  /// every learned push holds.
+  std::string pusher_friction_method = "fitted per push";
   RegionCalibration regions;
   ForecastSettings settings;
   /// object.centre_of_friction_m's standard error, and how many pushes it was learned from (0: not learned, the
@@ -290,7 +310,20 @@ struct ObjectModel {
   std::string pressure_shape_method = "uniform (not learned)";
 };
 
+/// Where the learned pushes' rod friction mu_p comes from (LearnOptions::pusher_friction, `--pusher-friction`):
+/// - "fitted": each push's own fit (fit_push_parameters), with c and mu_s;
+/// - "measured": held at the median over the learned pushes of the friction their force sensors measured where the
+///   contact slid (RecordedForecastCase::measured_pusher_friction), each push's c and mu_s refitted under it (and the
+///   centre of friction's joint fit holds it too); "fitted" where no learned push measured it.
+enum class PusherFrictionSource { Fitted, Measured };
+PusherFrictionSource pusher_friction_named(const std::string& name);
+const char* pusher_friction_name(PusherFrictionSource source);
+inline const std::vector<std::string> kPusherFrictionNames = {"fitted", "measured"};
+/// The choice LearnOptions' defaults make (docs/forecast.md: decided on simulated pushes).
+inline constexpr const char* kPusherFrictionDefaultChoice = "fitted";
+
 struct LearnOptions {
+  PusherFrictionSource pusher_friction = pusher_friction_named(kPusherFrictionDefaultChoice);
   CentralForecast central = central_forecast_named(kCentralForecastDefaultChoice);
   ResidualCorrectionChoice residual_correction = residual_correction_named(kResidualCorrectionDefaultChoice);
   std::vector<double> bandwidths = {0.0, 2.0, 1.0, 0.5};  ///< similarity_bandwidth's candidates

@@ -240,7 +240,9 @@ std::string forecast_study_csv(const std::vector<ForecastStudyPush>& pushes) {
   out << "push,object,surface,method,final_pos_mm,final_yaw_deg,trajectory_pos_mm,trajectory_yaw_deg,coverage90_pos,"
          "coverage90_yaw,final_radius90_mm,final_yaw_halfwidth90_deg,recorded_travel_mm,recorded_turn_deg,"
          "learned_pusher_friction,learned_torque_ratio_mm,learned_support_friction,own_pusher_friction,"
-         "own_torque_ratio_mm,own_support_friction,fold_rim_weight,fold_rim_weight_learned\n";
+         "own_torque_ratio_mm,own_support_friction,fold_rim_weight,fold_rim_weight_learned,yaw_error_quarter_deg,"
+         "yaw_error_half_deg,yaw_error_three_quarters_deg,yaw_error_tip_stop_deg,yaw_error_final_deg,"
+         "recorded_turn_after_tip_stop_deg,measured_pusher_friction\n";
   const auto& methods = forecast_study_methods();
   for (const auto& p : pushes)
     for (std::size_t m = 0; m < methods.size(); ++m) {
@@ -256,8 +258,11 @@ std::string forecast_study_csv(const std::vector<ForecastStudyPush>& pushes) {
       out << "," << kMm * p.recorded_travel_m << "," << kDeg * p.recorded_turn_rad << "," << p.learned.pusher_friction
           << "," << kMm * p.learned.torque_ratio_m << "," << p.learned.support_friction << ","
           << p.own_fit.parameters.pusher_friction << "," << kMm * p.own_fit.parameters.torque_ratio_m << ","
-          << p.own_fit.parameters.support_friction << "," << p.rim_weight << "," << (p.rim_weight_learned ? 1 : 0)
-          << "\n";
+          << p.own_fit.parameters.support_friction << "," << p.rim_weight << "," << (p.rim_weight_learned ? 1 : 0);
+      for (double stage : e.yaw_error_at_stage_rad) out << "," << kDeg * stage;
+      out << "," << kDeg * e.final_yaw_error_signed_rad << "," << kDeg * p.recorded_turn_after_tip_stop_rad << ",";
+      if (std::isfinite(p.measured_pusher_friction)) out << p.measured_pusher_friction;
+      out << "\n";
     }
   return out.str();
 }
