@@ -537,6 +537,41 @@ BOOST_AUTO_TEST_CASE(a_true_offset_that_predicts_some_fit_pushes_worse_is_found)
              "delta_x " << com.theta(0) << " m against the simulated " << v.amount << " m");
 }
 
+BOOST_AUTO_TEST_CASE(even_the_true_offset_need_not_predict_every_fit_push_better) {
+  // Why the motion confirmation asks only for the fit pushes' mean error: a trial of the tuning seeds 377000
+  // (`validate-diagnosis --kinds com_offset --seed 377000`: validation defaults, rect2, the mass centre 5.5 mm along
+  // body x, 4 fit pushes). With the true offset itself in the base model (no fitted one), the pushing model predicts
+  // three of the four fit pushes worse than without it, and their mean too: its stick/slide switch and its
+  // identification on each push's early phases make single pushes' predictions jump with the centre of friction.
+  ValidationOptions o;
+  o.seed = 377000;
+  o.kinds = {"com_offset"};
+  ValidationTrial v;
+  const std::vector<PushScenario> scenarios = draw_validation_trial(o, 22, "com_offset", v);
+  BOOST_TEST_REQUIRE(v.floor_multiple >= 2);
+  const Steps s(simulate_trial(scenarios), o.diagnosis);
+  const FrictionBase base = friction_base(s.context(), s.paper.model);
+  const std::size_t com = index_of(s.context(), "com_offset");
+  ModelState truth = base.model;
+  truth.terms.push_back({com, 0.0, 0, Eigen::Vector2d(v.amount, 0.0), Eigen::Vector2d(1e-4, 1e-4), 100.0, {}});
+  const BaseStructure structure = base_structure(s.context(), truth);
+  std::vector<Selection> with = truth.terms;
+  with.insert(with.end(), structure.parts.begin(), structure.parts.end());
+  std::vector<Selection> without = base.model.terms;
+  without.insert(without.end(), structure.parts.begin(), structure.parts.end());
+  const auto errors_with = s.context().fit_phase_errors(s.context().correction_of(with, true));
+  const auto errors_without = s.context().fit_phase_errors(s.context().correction_of(without, true));
+  BOOST_TEST_REQUIRE(errors_with.per_push.size() == errors_without.per_push.size());
+  int worse = 0;
+  for (std::size_t p = 0; p < errors_with.per_push.size(); ++p) {
+    BOOST_TEST_MESSAGE("fit push " << p << ": normalised error " << errors_with.per_push[p] << " with the true offset, "
+                                   << errors_without.per_push[p] << " without");
+    worse += errors_with.per_push[p] > errors_without.per_push[p];
+  }
+  BOOST_TEST_MESSAGE("mean " << errors_with.mean << " with, " << errors_without.mean << " without");
+  BOOST_TEST(worse >= 1, "the true offset predicts every fit push better here");
+}
+
 BOOST_AUTO_TEST_CASE(an_offset_that_takes_up_a_hidden_bias_and_barely_moves_the_prediction_is_not_found) {
   // A trial of the tuning seeds 373200 (validation defaults, rect2, a force bias of 4.6 floors outside the catalogue,
   // 3 fit pushes): a 4.2 mm mass-centre offset takes up part of the bias's torque, passes its test and clears its
