@@ -520,13 +520,7 @@ BOOST_AUTO_TEST_CASE(a_true_offset_that_predicts_some_fit_pushes_worse_is_found)
   // error by more than a third, while it predicts two of the four fit pushes worse (the pushing model's
   // stick/slide switch and its identification on each push's early phases; the true offset put in does the same to
   // one of them). The mean decides: found.
-  ValidationOptions o;
-  o.seed = 378000;
-  o.kinds = {"com_offset"};
-  ValidationTrial v;
-  const DiagnosisResult r = diagnose(simulate_trial(draw_validation_trial(o, 11, "com_offset", v)),
-                                     EffectLibrary::standard(), o.diagnosis);
-  score_trial(r, v);
+  const auto [v, r] = blind_trial(378000, 11, "com_offset", true);
   BOOST_TEST(v.floor_multiple >= 2);
   const std::string decision = motion_decision(r);
   BOOST_TEST(decision.find("better on 2 of 4 fit pushes") != std::string::npos, decision);

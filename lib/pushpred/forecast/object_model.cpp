@@ -93,6 +93,14 @@ std::vector<int> held_indices(bool fixed_ratio, const FitOptions& options) {
 
 bool is_held(const std::vector<int>& held, int k) { return std::find(held.begin(), held.end(), k) != held.end(); }
 
+/// The rod friction mu_p's bounds in every push fit.
+constexpr double kMinPusherFriction = 0.02, kMaxPusherFriction = 2.0;
+
+/// A held rod friction (FitOptions::held_pusher_friction) inside the fits' bounds.
+double held_pusher_friction(const FitOptions& options) {
+  return std::clamp(options.held_pusher_friction, kMinPusherFriction, kMaxPusherFriction);
+}
+
 /// The covariance of a push's log-parameters theta = (ln mu_p, ln c, ln mu_s), row-major 3 x 3, into `out`. With
 /// some held (`held`, a SubsetManifold of them: c on the outline's limit surface, mu_p when held) it is read in the
 /// tangent space of the others and the held ones' rows and columns stay zero: Ceres' lift to the ambient space
@@ -557,7 +565,7 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
   // A coarse grid first: the trajectory error has several valleys (stick against slide).
   std::vector<double> r(static_cast<std::size_t>(m));
   const std::vector<int> held = held_indices(fixed_ratio, options);
-  const double held_mu_p = std::clamp(options.held_pusher_friction, 0.02, 2.0);
+  const double held_mu_p = held_pusher_friction(options);
   double theta[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
   double best = std::numeric_limits<double>::infinity();
   const std::vector<double> ratios =
@@ -591,8 +599,8 @@ PushFit fit_push_parameters(const RecordedForecastCase& c, const FitOptions& opt
             new ceres::AutoDiffCostFunction<LogPrior, 1, 3>(new LogPrior{i, centre[i], options.prior_width_log}),
             nullptr, theta);
   }
-  const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
-  const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
+  const double lower[3] = {std::log(kMinPusherFriction), std::log(0.15 * c_uniform), std::log(0.05)};
+  const double upper[3] = {std::log(kMaxPusherFriction), std::log(2.5 * c_uniform), std::log(1.5)};
   for (int i = 0; i < 3; ++i) {
     theta[i] = std::clamp(theta[i], lower[i], upper[i]);
     if (is_held(held, i)) continue;
@@ -791,8 +799,8 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
   const Eigen::Vector2d start = object.centre_of_friction_m;
   const bool fixed_ratio = outline_limit_surface(object);
   const double c_uniform = object.outline->uniform_pressure_torque_ratio_m(start);
-  const double lower[3] = {std::log(0.02), std::log(0.15 * c_uniform), std::log(0.05)};
-  const double upper[3] = {std::log(2.0), std::log(2.5 * c_uniform), std::log(1.5)};
+  const double lower[3] = {std::log(kMinPusherFriction), std::log(0.15 * c_uniform), std::log(0.05)};
+  const double upper[3] = {std::log(kMaxPusherFriction), std::log(2.5 * c_uniform), std::log(1.5)};
   const double prior_centre[3] = {std::log(0.25), std::log(c_uniform), std::log(0.4)};
   const std::size_t n = cases.size();
   std::vector<std::array<double, 3>> theta(n);
@@ -812,7 +820,7 @@ CentreOfFrictionFit fit_centre_of_friction(const ForecastObject& object, const s
     // The pressure's limit surface has no ratio c: each push keeps its own fit's (unused by the forecast); a held rod
     // friction stays at its value.
     if (fixed_ratio) theta[i][1] = std::log(fits[i].parameters.torque_ratio_m);
-    if (is_held(held, 0)) theta[i][0] = std::log(std::clamp(fit_options.held_pusher_friction, 0.02, 2.0));
+    if (is_held(held, 0)) theta[i][0] = std::log(held_pusher_friction(fit_options));
     if (!held.empty()) problem.SetManifold(theta[i].data(), new ceres::SubsetManifold(3, held));
     if (fit_options.prior_width_log > 0)
       for (int k = 0; k < 3; ++k)
