@@ -4,7 +4,8 @@
 // the uniform pressure's c, and learned leaving one push out it forecasts their yaw at least as well as the ellipsoid
 // whose c is fitted per push. Simulated seeds 345000-345999. The pressure's rim weight learned jointly over simulated
 // pushes of a known one recovers it (seeds 346000-346299), and the standard error the object file keeps for it is the
-// size of its spread over redrawn pushes (seeds 357500-357739). `--log_level=message` prints the numbers.
+// size of its spread over redrawn pushes (seeds 357500-357739). A push's c identified from its force and motion alone
+// (identify_torque_ratio) reads the simulated pressure's (seeds 406000-406025). `--log_level=message` prints the numbers.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <boost/test/unit_test.hpp>
@@ -14,6 +15,7 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/forecast/forecast_study.hpp"
 #include "pushpred/reports/forecast_report.hpp"
 #include "pushpred/simulation/simulator.hpp"
@@ -562,3 +564,42 @@ BOOST_AUTO_TEST_CASE(the_study_records_each_folds_rim_weight_as_learn_gives_it) 
 }
 
 BOOST_AUTO_TEST_SUITE_END()
+
+BOOST_AUTO_TEST_CASE(a_pushs_identified_torque_ratio_reads_the_simulated_supports_pressure) {
+  // identify_torque_ratio on simulated rect1 pushes (seeds 406000-406025) off its centre line, six at each of three
+  // pressure rim weights: the uniform pressure (w = 0), the rim loaded (w = +0.6) and the middle (w = -0.4). From the
+  // simulated force sensor and motion alone, the c identified is within 20 % of the c the push's own trajectory fit
+  // finds with the rod's true friction held (fit_push_parameters, FitOptions::held_pusher_friction: both are the c
+  // under which the ellipsoid turns the push as it turned), and the medians follow w. It is not the pressure's own
+  // ratio rho (largest torque over largest force, printed): the simulator's limit surface is not an ellipsoid, and
+  // the c that matches a push's turn depends on the direction of its wrench, lower on the pushes that turn less.
+  const ShapeInfo& shape = ShapeTable::published().find("rect1");
+  std::map<double, std::vector<double>> identified;
+  const std::vector<double> rims{0.0, 0.6, -0.4};
+  const double mu_p = 0.3;
+  FitOptions held;
+  held.held_pusher_friction = mu_p;
+  for (std::size_t r = 0; r < rims.size(); ++r) {
+    ForecastObject o = dataset_forecast_object(shape, "");
+    set_pressure_shape(o, o.centre_of_friction_m, rims[r]);
+    use_limit_surface(o, LimitSurfaceKind::Outline);
+    const double rho = o.pressure_surface->torque_ratio_m();
+    for (int k = 0; k < 6; ++k) {
+      const std::uint64_t seed = 406000 + 10 * r + static_cast<std::uint64_t>(k);
+      const SimulatedPushOf p = simulated(shape, k % 4, k % 2 == 0 ? 0.25 : 0.75, k % 3 == 0 ? 0.3 : -0.3, 0.45, mu_p,
+                                          rims[r], 0.05, seed);
+      const TorqueRatioIdentification& id = p.c.identified_torque_ratio;
+      const double fitted = fit_push_parameters(p.c, held).parameters.torque_ratio_m;
+      BOOST_TEST_MESSAGE("w " << rims[r] << " seed " << seed << ": identified c " << 1e3 * id.torque_ratio_m
+                              << " mm over " << id.samples << " samples turning " << id.turn_rad * 180 / M_PI
+                              << " deg; fitted with the true rod friction " << 1e3 * fitted << " mm; the pressure's rho "
+                              << 1e3 * rho << " mm");
+      if (!std::isfinite(id.torque_ratio_m)) continue;
+      identified[rims[r]].push_back(id.torque_ratio_m);
+      BOOST_TEST(std::abs(id.torque_ratio_m / fitted - 1) < 0.2);
+    }
+    BOOST_TEST(identified[rims[r]].size() >= 5u);
+  }
+  BOOST_TEST(median(identified[-0.4]) < median(identified[0.0]));
+  BOOST_TEST(median(identified[0.0]) < median(identified[0.6]));
+}

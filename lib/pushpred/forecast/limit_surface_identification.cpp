@@ -199,6 +199,31 @@ std::vector<LimitSurfaceStudyPush> run_limit_surface_study(const std::vector<Rec
       for (const double lc : p.predicted_log_c) p.errors.push_back(forecast_with(std::isfinite(lc) ? lc : fallback));
       const double own = p.identified.torque_ratio_m;
       p.errors.push_back(forecast_with(std::isfinite(own) ? std::log(own) : fallback));
+      // The ensembles: the others' trajectories averaged under the averaged similarity weighting, each with its own
+      // fitted (mu_p, c, mu_s) ("ensemble_fitted"), or with the held mu_p, its identified c and its fitted mu_s
+      // ("ensemble_identified"; only the others whose c is identified).
+      for (const bool identified_c : {false, true}) {
+        std::vector<PushDescriptor> dm;
+        std::vector<ForecastParameters> pm;
+        for (std::size_t b = 0; b < members.size(); ++b) {
+          if (b == a) continue;
+          const PushFit& f = fits[members[b]];
+          ForecastParameters q = f.parameters;
+          if (identified_c) {
+            if (!std::isfinite(rows[b].identified.torque_ratio_m)) continue;
+            q.pusher_friction = p.held_pusher_friction;
+            q.torque_ratio_m =
+                std::clamp(rows[b].identified.torque_ratio_m, 0.15 * c_uniform, 2.5 * c_uniform);
+          }
+          dm.push_back(rows[b].descriptor);
+          pm.push_back(q);
+        }
+        Eigen::MatrixX3d mean = Eigen::MatrixX3d::Zero(c.times_s.size(), 3);
+        const std::vector<double> w = averaged_weights(dm, p.descriptor);
+        for (std::size_t k = 0; k < pm.size(); ++k)
+          mean += w[k] * forecast_poses(c.forecast_object, pm[k], c.plan, c.start_pose, c.times_s, settings);
+        p.errors.push_back(pm.empty() ? p.errors[0] : forecast_errors(c, mean));
+      }
     }
     for (auto& r : rows) out.push_back(std::move(r));
   }
@@ -211,9 +236,9 @@ std::string limit_surface_study_csv(const std::vector<LimitSurfaceStudyPush>& pu
        "identified_c_mm,identified_turn_deg,identified_samples,own_fit_c_mm,held_pusher_friction,support_friction";
   for (const auto& m : kPlanModelNames) o << ",predicted_c_mm_" << m;
   for (const auto& m : kPlanModelNames) o << ",final_yaw_error_deg_" << m;
-  o << ",final_yaw_error_deg_own_identified";
+  o << ",final_yaw_error_deg_own_identified,final_yaw_error_deg_ensemble_fitted,final_yaw_error_deg_ensemble_identified";
   for (const auto& m : kPlanModelNames) o << ",trajectory_yaw_deg_" << m;
-  o << ",trajectory_yaw_deg_own_identified\n";
+  o << ",trajectory_yaw_deg_own_identified,trajectory_yaw_deg_ensemble_fitted,trajectory_yaw_deg_ensemble_identified\n";
   auto num = [&](double x) {
     if (std::isfinite(x)) o << x;
   };
@@ -282,14 +307,16 @@ std::string limit_surface_study_tables(const std::vector<LimitSurfaceStudyPush>&
   }
   o << "\nThe final and trajectory-mean yaw error [deg] of a single forecast of each push with the rod's friction "
        "held at the other pushes' measured median, the support's friction their fitted median, and c predicted by "
-       "each model (own_identified: the push's own identified c, where identified)\n\n";
+       "each model (own_identified: the push's own identified c, where identified); and the mean trajectory of the other "
+       "pushes' forecasts under the averaged similarity weighting with their own fitted (mu_p, c, mu_s) "
+       "(ensemble_fitted) or with the held rod friction, their identified c and fitted mu_s (ensemble_identified)\n\n";
   o << "| object | pushes |";
   for (const auto& m : kPlanModelNames) o << ' ' << m << " |";
-  o << " own_identified |\n| --- | --- |";
-  for (std::size_t m = 0; m <= kPlanModelNames.size(); ++m) o << " --- |";
+  o << " own_identified | ensemble_fitted | ensemble_identified |\n| --- | --- |";
+  for (std::size_t m = 0; m < kPlanModelNames.size() + 3; ++m) o << " --- |";
   o << '\n';
   for (const auto& [object, ps] : by_object) {
-    const std::size_t k = kPlanModelNames.size() + 1;
+    const std::size_t k = kPlanModelNames.size() + 3;
     std::vector<double> fin(k, 0.0), traj(k, 0.0);
     for (const auto* p : ps)
       for (std::size_t m = 0; m < k; ++m) {
