@@ -27,6 +27,8 @@ TorqueRatioIdentification identify_torque_ratio(const SynchronisedPush& push, co
   const Eigen::Index h = std::max<Eigen::Index>(1, std::lround(kHalfWindow_s / std::max(dt_grid, 1e-6)));
   const Eigen::Vector2d cof_body = c.forecast_object.centre_of_friction_m;
   double sum_km = 0, sum_omega = 0;
+  double half_km[2] = {0, 0}, half_omega[2] = {0, 0};
+  int half_samples[2] = {0, 0};
   int hint = -1;
   for (Eigen::Index k = h; k + h < n; ++k) {
     const Eigen::Index j = i0 + k;
@@ -52,14 +54,22 @@ TorqueRatioIdentification identify_torque_ratio(const SynchronisedPush& push, co
     sum_km += k_gain * moment * step;
     sum_omega += omega * step;
     ++out.samples;
+    const int half = progress < 0.5 * (kFrom + kTo) ? 0 : 1;
+    half_km[half] += k_gain * moment * step;
+    half_omega[half] += omega * step;
+    ++half_samples[half];
   }
+  auto ratio = [](double km, double om, int samples) {
+    if (samples < TorqueRatioIdentification::kMinSamples || std::abs(om) < TorqueRatioIdentification::kMinTurn_rad ||
+        !(km / om > 0))
+      return std::numeric_limits<double>::quiet_NaN();
+    return std::sqrt(km / om);
+  };
+  out.first_half_torque_ratio_m = ratio(half_km[0], half_omega[0], half_samples[0]);
+  out.second_half_torque_ratio_m = ratio(half_km[1], half_omega[1], half_samples[1]);
   out.turn_rad = sum_omega;
   out.moment_term = sum_km;
-  if (out.samples < TorqueRatioIdentification::kMinSamples) return out;
-  if (std::abs(sum_omega) < TorqueRatioIdentification::kMinTurn_rad) return out;
-  const double c2 = sum_km / sum_omega;
-  if (!(c2 > 0)) return out;
-  out.torque_ratio_m = std::sqrt(c2);
+  out.torque_ratio_m = ratio(sum_km, sum_omega, out.samples);
   return out;
 }
 
@@ -233,7 +243,7 @@ std::vector<LimitSurfaceStudyPush> run_limit_surface_study(const std::vector<Rec
 std::string limit_surface_study_csv(const std::vector<LimitSurfaceStudyPush>& pushes) {
   std::ostringstream o;
   o << "push,object,surface,contact_x_mm,contact_y_mm,angle_deg,speed_mm_s,lever_mm,measured_pusher_friction,"
-       "identified_c_mm,identified_turn_deg,identified_samples,own_fit_c_mm,held_pusher_friction,support_friction";
+       "identified_c_mm,identified_turn_deg,identified_samples,identified_c_first_half_mm,identified_c_second_half_mm,own_fit_c_mm,held_pusher_friction,support_friction";
   for (const auto& m : kPlanModelNames) o << ",predicted_c_mm_" << m;
   for (const auto& m : kPlanModelNames) o << ",final_yaw_error_deg_" << m;
   o << ",final_yaw_error_deg_own_identified,final_yaw_error_deg_ensemble_fitted,final_yaw_error_deg_ensemble_identified";
@@ -249,8 +259,11 @@ std::string limit_surface_study_csv(const std::vector<LimitSurfaceStudyPush>& pu
     num(p.measured_pusher_friction);
     o << ',';
     num(1e3 * p.identified.torque_ratio_m);
-    o << ',' << p.identified.turn_rad * 180 / M_PI << ',' << p.identified.samples << ','
-      << 1e3 * p.own_fit_torque_ratio_m << ',' << p.held_pusher_friction << ',' << p.support_friction;
+    o << ',' << p.identified.turn_rad * 180 / M_PI << ',' << p.identified.samples << ',';
+    num(1e3 * p.identified.first_half_torque_ratio_m);
+    o << ',';
+    num(1e3 * p.identified.second_half_torque_ratio_m);
+    o << ',' << 1e3 * p.own_fit_torque_ratio_m << ',' << p.held_pusher_friction << ',' << p.support_friction;
     for (const double lc : p.predicted_log_c) {
       o << ',';
       num(1e3 * std::exp(lc));
@@ -274,7 +287,9 @@ std::string limit_surface_study_tables(const std::vector<LimitSurfaceStudyPush>&
        "and predicted): the spread of ln c (sd), and the root mean square of each model's leave-one-out error "
        "(R^2 = 1 - its mean square over others_median's)\n\n";
   o << "| object | pushes | identified | sd ln c | others_median rms | linear_trend rms (R^2) | similarity rms (R^2) | "
-       "lever rms (R^2) | corr(ln c identified, ln c own fit) |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+       "lever rms (R^2) | corr(ln c identified, ln c own fit) | halves identified | corr(ln c first half, second "
+       "half) | rms (ln c second half - first) / 2 |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | "
+       "--- |\n";
   for (const auto& [object, ps] : by_object) {
     std::vector<double> se(kPlanModelNames.size(), 0.0), lc, lf;
     int used = 0;
@@ -298,11 +313,30 @@ std::string limit_surface_study_tables(const std::vector<LimitSurfaceStudyPush>&
       varf += std::pow(lf[k] - meanf, 2) / (used - 1);
       cov += (lc[k] - mean) * (lf[k] - meanf) / (used - 1);
     }
+    std::vector<double> h1, h2;
+    for (const auto* p : ps)
+      if (std::isfinite(p->identified.first_half_torque_ratio_m) &&
+          std::isfinite(p->identified.second_half_torque_ratio_m)) {
+        h1.push_back(std::log(p->identified.first_half_torque_ratio_m));
+        h2.push_back(std::log(p->identified.second_half_torque_ratio_m));
+      }
+    double m1 = 0, m2 = 0, v1 = 0, v2 = 0, c12 = 0, dd = 0;
+    for (std::size_t k = 0; k < h1.size(); ++k) {
+      m1 += h1[k] / h1.size();
+      m2 += h2[k] / h1.size();
+    }
+    for (std::size_t k = 0; k < h1.size(); ++k) {
+      v1 += std::pow(h1[k] - m1, 2);
+      v2 += std::pow(h2[k] - m2, 2);
+      c12 += (h1[k] - m1) * (h2[k] - m2);
+      dd += std::pow(0.5 * (h2[k] - h1[k]), 2) / h1.size();
+    }
     auto rms = [&](std::size_t m) { return std::sqrt(se[m] / used); };
     auto r2 = [&](std::size_t m) { return 1 - se[m] / se[0]; };
-    std::snprintf(buf, sizeof buf, "| %s | %zu | %d | %.2f | %.2f | %.2f (%+.2f) | %.2f (%+.2f) | %.2f (%+.2f) | %.2f |\n",
+    std::snprintf(buf, sizeof buf,
+                  "| %s | %zu | %d | %.2f | %.2f | %.2f (%+.2f) | %.2f (%+.2f) | %.2f (%+.2f) | %.2f | %zu | %.2f | %.2f |\n",
                   object.c_str(), ps.size(), used, std::sqrt(var), rms(0), rms(1), r2(1), rms(2), r2(2), rms(3), r2(3),
-                  cov / std::sqrt(var * varf));
+                  cov / std::sqrt(var * varf), h1.size(), c12 / std::sqrt(v1 * v2), std::sqrt(dd));
     o << buf;
   }
   o << "\nThe final and trajectory-mean yaw error [deg] of a single forecast of each push with the rod's friction "
