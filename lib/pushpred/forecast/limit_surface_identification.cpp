@@ -240,6 +240,24 @@ std::vector<LimitSurfaceStudyPush> run_limit_surface_study(const std::vector<Rec
   return out;
 }
 
+std::vector<double> plan_model_r2(const std::vector<LimitSurfaceStudyPush>& pushes, int* used) {
+  std::vector<double> se(kPlanModelNames.size(), 0.0);
+  int n = 0;
+  for (const auto& p : pushes) {
+    if (!std::isfinite(p.identified.torque_ratio_m) || p.predicted_log_c.empty() ||
+        !std::isfinite(p.predicted_log_c[0]))
+      continue;
+    const double y = std::log(p.identified.torque_ratio_m);
+    for (std::size_t m = 0; m < se.size(); ++m) se[m] += std::pow(p.predicted_log_c[m] - y, 2);
+    ++n;
+  }
+  if (used) *used = n;
+  std::vector<double> r2(se.size(), std::numeric_limits<double>::quiet_NaN());
+  if (n < 2 || !(se[0] > 0)) return r2;
+  for (std::size_t m = 0; m < se.size(); ++m) r2[m] = 1 - se[m] / se[0];
+  return r2;
+}
+
 std::string limit_surface_study_csv(const std::vector<LimitSurfaceStudyPush>& pushes) {
   std::ostringstream o;
   o << "push,object,surface,contact_x_mm,contact_y_mm,angle_deg,speed_mm_s,lever_mm,measured_pusher_friction,"

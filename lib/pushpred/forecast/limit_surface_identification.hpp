@@ -57,6 +57,11 @@ std::vector<LimitSurfaceStudyPush> run_limit_surface_study(const std::vector<Rec
                                                            const std::vector<PushFit>& fits,
                                                            const std::vector<TorqueRatioIdentification>& identified);
 
+/// Over `pushes` whose c is identified and predicted: per kPlanModelNames, 1 less the model's mean squared
+/// leave-one-out error in ln c over others_median's (its share of the variance the plan explains; 0 for
+/// others_median, NaN with fewer than two such pushes). `used` (optional) gets their number.
+std::vector<double> plan_model_r2(const std::vector<LimitSurfaceStudyPush>& pushes, int* used = nullptr);
+
 /// The per-push CSV and the per-object summary (markdown) of a study.
 std::string limit_surface_study_csv(const std::vector<LimitSurfaceStudyPush>& pushes);
 std::string limit_surface_study_tables(const std::vector<LimitSurfaceStudyPush>& pushes);
