@@ -588,14 +588,14 @@ BOOST_AUTO_TEST_CASE(a_pushs_identified_torque_ratio_reads_the_simulated_support
     const double rho = o.pressure_surface->torque_ratio_m();
     for (int k = 0; k < 6; ++k) {
       const std::uint64_t seed = 406000 + 10 * r + static_cast<std::uint64_t>(k);
-      const SimulatedPushOf p = simulated(shape, k % 4, k % 2 == 0 ? 0.25 : 0.75, k % 3 == 0 ? 0.3 : -0.3, 0.45, mu_p,
-                                          rims[r], 0.05, seed);
+      const SimulatedPushOf p =
+          simulated(shape, k % 4, k % 2 == 0 ? 0.25 : 0.75, k % 3 == 0 ? 0.3 : -0.3, 0.45, mu_p, rims[r], 0.05, seed);
       const TorqueRatioIdentification& id = p.c.identified_torque_ratio;
       const double fitted = fit_push_parameters(p.c, held).parameters.torque_ratio_m;
       BOOST_TEST_MESSAGE("w " << rims[r] << " seed " << seed << ": identified c " << 1e3 * id.torque_ratio_m
                               << " mm over " << id.samples << " samples turning " << id.turn_rad * 180 / M_PI
-                              << " deg; fitted with the true rod friction " << 1e3 * fitted << " mm; the pressure's rho "
-                              << 1e3 * rho << " mm");
+                              << " deg; fitted with the true rod friction " << 1e3 * fitted
+                              << " mm; the pressure's rho " << 1e3 * rho << " mm");
       if (!std::isfinite(id.torque_ratio_m)) continue;
       identified[rims[r]].push_back(id.torque_ratio_m);
       BOOST_TEST(std::abs(id.torque_ratio_m / fitted - 1) < 0.2);

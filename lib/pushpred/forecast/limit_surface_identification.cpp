@@ -201,8 +201,7 @@ std::vector<LimitSurfaceStudyPush> run_limit_surface_study(const std::vector<Rec
         q.support_friction = p.support_friction;
         // The fits' bounds on c (fit_push_parameters): 0.15-2.5 times the uniform pressure's.
         q.torque_ratio_m = std::clamp(std::exp(log_c), 0.15 * c_uniform, 2.5 * c_uniform);
-        const Eigen::MatrixX3d poses =
-            forecast_poses(c.forecast_object, q, c.plan, c.start_pose, c.times_s, settings);
+        const Eigen::MatrixX3d poses = forecast_poses(c.forecast_object, q, c.plan, c.start_pose, c.times_s, settings);
         return forecast_errors(c, poses);
       };
       const double fallback = std::isfinite(p.predicted_log_c[0]) ? p.predicted_log_c[0] : std::log(c_uniform);
@@ -222,8 +221,7 @@ std::vector<LimitSurfaceStudyPush> run_limit_surface_study(const std::vector<Rec
           if (identified_c) {
             if (!std::isfinite(rows[b].identified.torque_ratio_m)) continue;
             q.pusher_friction = p.held_pusher_friction;
-            q.torque_ratio_m =
-                std::clamp(rows[b].identified.torque_ratio_m, 0.15 * c_uniform, 2.5 * c_uniform);
+            q.torque_ratio_m = std::clamp(rows[b].identified.torque_ratio_m, 0.15 * c_uniform, 2.5 * c_uniform);
           }
           dm.push_back(rows[b].descriptor);
           pm.push_back(q);
@@ -261,12 +259,15 @@ std::vector<double> plan_model_r2(const std::vector<LimitSurfaceStudyPush>& push
 std::string limit_surface_study_csv(const std::vector<LimitSurfaceStudyPush>& pushes) {
   std::ostringstream o;
   o << "push,object,surface,contact_x_mm,contact_y_mm,angle_deg,speed_mm_s,lever_mm,measured_pusher_friction,"
-       "identified_c_mm,identified_turn_deg,identified_samples,identified_c_first_half_mm,identified_c_second_half_mm,own_fit_c_mm,held_pusher_friction,support_friction";
+       "identified_c_mm,identified_turn_deg,identified_samples,identified_c_first_half_mm,identified_c_second_half_mm,"
+       "own_fit_c_mm,held_pusher_friction,support_friction";
   for (const auto& m : kPlanModelNames) o << ",predicted_c_mm_" << m;
   for (const auto& m : kPlanModelNames) o << ",final_yaw_error_deg_" << m;
-  o << ",final_yaw_error_deg_own_identified,final_yaw_error_deg_ensemble_fitted,final_yaw_error_deg_ensemble_identified";
+  o << ",final_yaw_error_deg_own_identified,final_yaw_error_deg_ensemble_fitted,"
+       "final_yaw_error_deg_ensemble_identified";
   for (const auto& m : kPlanModelNames) o << ",trajectory_yaw_deg_" << m;
-  o << ",trajectory_yaw_deg_own_identified,trajectory_yaw_deg_ensemble_fitted,trajectory_yaw_deg_ensemble_identified\n";
+  o << ",trajectory_yaw_deg_own_identified,trajectory_yaw_deg_ensemble_fitted,"
+       "trajectory_yaw_deg_ensemble_identified\n";
   auto num = [&](double x) {
     if (std::isfinite(x)) o << x;
   };
@@ -306,7 +307,8 @@ std::string limit_surface_study_tables(const std::vector<LimitSurfaceStudyPush>&
        "(R^2 = 1 - its mean square over others_median's)\n\n";
   o << "| object | pushes | identified | sd ln c | others_median rms | linear_trend rms (R^2) | similarity rms (R^2) | "
        "lever rms (R^2) | corr(ln c identified, ln c own fit) | halves identified | corr(ln c first half, second "
-       "half) | rms (ln c second half - first) / 2 |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | "
+       "half) | rms (ln c second half - first) / 2 |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | "
+       "--- | "
        "--- |\n";
   for (const auto& [object, ps] : by_object) {
     std::vector<double> se(kPlanModelNames.size(), 0.0), lc, lf;
@@ -351,15 +353,17 @@ std::string limit_surface_study_tables(const std::vector<LimitSurfaceStudyPush>&
     }
     auto rms = [&](std::size_t m) { return std::sqrt(se[m] / used); };
     auto r2 = [&](std::size_t m) { return 1 - se[m] / se[0]; };
-    std::snprintf(buf, sizeof buf,
-                  "| %s | %zu | %d | %.2f | %.2f | %.2f (%+.2f) | %.2f (%+.2f) | %.2f (%+.2f) | %.2f | %zu | %.2f | %.2f |\n",
-                  object.c_str(), ps.size(), used, std::sqrt(var), rms(0), rms(1), r2(1), rms(2), r2(2), rms(3), r2(3),
-                  cov / std::sqrt(var * varf), h1.size(), c12 / std::sqrt(v1 * v2), std::sqrt(dd));
+    std::snprintf(
+        buf, sizeof buf,
+        "| %s | %zu | %d | %.2f | %.2f | %.2f (%+.2f) | %.2f (%+.2f) | %.2f (%+.2f) | %.2f | %zu | %.2f | %.2f |\n",
+        object.c_str(), ps.size(), used, std::sqrt(var), rms(0), rms(1), r2(1), rms(2), r2(2), rms(3), r2(3),
+        cov / std::sqrt(var * varf), h1.size(), c12 / std::sqrt(v1 * v2), std::sqrt(dd));
     o << buf;
   }
   o << "\nThe final and trajectory-mean yaw error [deg] of a single forecast of each push with the rod's friction "
        "held at the other pushes' measured median, the support's friction their fitted median, and c predicted by "
-       "each model (own_identified: the push's own identified c, where identified); and the mean trajectory of the other "
+       "each model (own_identified: the push's own identified c, where identified); and the mean trajectory of the "
+       "other "
        "pushes' forecasts under the averaged similarity weighting with their own fitted (mu_p, c, mu_s) "
        "(ensemble_fitted) or with the held rod friction, their identified c and fitted mu_s (ensemble_identified)\n\n";
   o << "| object | pushes |";

@@ -10,8 +10,8 @@
 //   c^2 = sum_j k_j m_j / sum_j omega_j
 // over the samples where the rod pushes (the turn-matching estimate: the c under which the recorded force turns the
 // object by the recorded angle over those samples). The rod's friction does not enter: the force's direction is the
-// sensor's, which holds the rod's friction at what the sensor measured (RecordedForecastCase::measured_pusher_friction).
-// Units: SI.
+// sensor's, which holds the rod's friction at what the sensor measured
+// (RecordedForecastCase::measured_pusher_friction). Units: SI.
 #include <Eigen/Core>
 #include <limits>
 #include <string>

@@ -47,9 +47,9 @@ struct TorqueRatioIdentification {
   /// c [m]: NaN where the push does not identify it (fewer than kMinSamples samples, a recorded turn over them under
   /// kMinTurn_rad, or a moment whose turn has the other sign than the recorded one).
   double torque_ratio_m = std::numeric_limits<double>::quiet_NaN();
-  double turn_rad = 0;       ///< the recorded turn over the samples used (sum of omega dt)
-  double moment_term = 0;    ///< sum of k_j m_j dt [m^2 rad]: the turn c = 1 m would give
-  int samples = 0;           ///< samples used
+  double turn_rad = 0;     ///< the recorded turn over the samples used (sum of omega dt)
+  double moment_term = 0;  ///< sum of k_j m_j dt [m^2 rad]: the turn c = 1 m would give
+  int samples = 0;         ///< samples used
   /// c [m] identified in the same way over the first and the second half of the samples' span of tip travel (20-55 %
   /// and 55-90 %): how reproducible the identification is within one push (NaN where a half does not identify it).
   double first_half_torque_ratio_m = std::numeric_limits<double>::quiet_NaN();
@@ -57,7 +57,6 @@ struct TorqueRatioIdentification {
   static constexpr int kMinSamples = 10;
   static constexpr double kMinTurn_rad = 1.0 * 3.14159265358979323846 / 180;
 };
-
 
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.
