@@ -5,8 +5,8 @@
 #   scripts/docs-results.sh [--full] [--jobs N] [--only NAME] [BUILD_DIR=build] [OUT_DIR=docs/results]
 #
 # The default part reruns what takes minutes on two cores: reproduce, inspect, predict, diagnose and forecast-study
-# on the real pushes (with where its yaw error comes from), fit-pid, the observer's conventions and the small blind
-# validations of the diagnosis.
+# on the real pushes (with where its yaw error comes from and how each push turns under its contact force), fit-pid,
+# the observer's conventions and the small blind validations of the diagnosis.
 # --full adds what takes longer or needs the test, benchmark and Python targets built: the model-adequacy trials,
 # the simulated-effect tests' printed fits, the effects injected into real pushes and the benchmarks (speeds are
 # the machine's: those files say so). --only NAME reruns one result (its file's name without .md).
@@ -137,6 +137,9 @@ result forecast-yaw-error "Where the forecast's yaw error comes from" "The study
     bash -c '[ -f "$4/pushes.csv" ] || "$1" forecast-study "$2" --jobs "$3" --out "$4" >/dev/null
         python3 scripts/forecast-yaw-error.py "$4/pushes.csv" | sed "s|$4/pushes.csv|results/forecast-study/pushes.csv|"' \
     _ "$bin" "$abs" "$jobs" "$work/forecast-study"
+result limit-surface-study "How each push's object turns under its contact force" \
+    "Each push's limit surface ratio c from its force sensor and motion, and how well the plan predicts it." \
+    tables.md -- "$bin" limit-surface-study "$abs" --jobs "$jobs" --out "$work/limit-surface-study"
 show_as="./build/pushpred fit-pid ../shared/data/mcube/abs/motion_surface=abs_shape=hex_* ../shared/data/mcube/abs/motion_surface=abs_shape=ellip* --per-push --jobs $jobs --out results/fit-pid"
 result fit-pid "PID gains fitted on hex, ellip1 and ellip3" "" pid_fit.md -- \
     "$bin" fit-pid "$abs"/motion_surface=abs_shape=hex_* "$abs"/motion_surface=abs_shape=ellip* --per-push \

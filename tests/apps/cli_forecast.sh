@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# pushpred learn, forecast and forecast-study: outputs, the excluded frozen sensors, --jobs, bad flags and bad files
-# (a clear error naming the file, exit 2, nothing written).
+# pushpred learn, forecast, forecast-study and limit-surface-study: outputs, the excluded frozen sensors, --jobs, bad
+# flags and bad files (a clear error naming the file, exit 2, nothing written).
 set -u
 bin=$1
 data=$2
@@ -168,4 +168,15 @@ expect_exit 0 "the same study on two jobs" -- "$bin" forecast-study $hex "$froze
 expect_same_tree "$tmp/s1" "$tmp/s2" "--jobs 1 and 2 write the same study"
 expect_exit 2 "a study of one push" -- "$bin" forecast-study "$(echo "$hex" | head -1)" --out "$tmp/s3"
 expect_absent "$tmp/s3" "no study of one push"
+
+# limit-surface-study: each push's c from its force and motion, and its relation to the plan.
+# shellcheck disable=SC2086
+expect_exit 0 "the limit surface study of six hex pushes" -- "$bin" limit-surface-study $hex "$frozen" \
+  --out "$tmp/l1" --jobs 1
+expect_in "$tmp/l1/pushes.csv" "identified_c_mm,identified_turn_deg,identified_samples" "pushes.csv has each push's c"
+expect_in "$tmp/l1/tables.md" "ensemble_identified" "tables.md compares the forecasts"
+# shellcheck disable=SC2086
+expect_exit 0 "the same limit surface study on two jobs" -- "$bin" limit-surface-study $hex "$frozen" \
+  --out "$tmp/l2" --jobs 2
+expect_same_tree "$tmp/l1" "$tmp/l2" "--jobs 1 and 2 write the same limit surface study"
 finish

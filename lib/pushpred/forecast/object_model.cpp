@@ -486,6 +486,7 @@ RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const 
   c.times_s = push.t_s.tail(n).array() - c.start_time_s;
   c.truth = push.pose.bottomRows(n);
   c.measured_pusher_friction = measured_pusher_friction(push, c);
+  c.identified_torque_ratio = identify_torque_ratio(push, c);
   return c;
 }
 

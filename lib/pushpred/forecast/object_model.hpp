@@ -37,6 +37,27 @@ namespace pushpred {
 /// have no "residual_correction" nor the pushes' "loo_final_error": their central forecast is not corrected).
 inline constexpr int kObjectModelVersion = 7;
 
+/// How a recorded push's object turns under its contact force, identified from its force sensor and motion alone
+/// (identify_torque_ratio, limit_surface_identification.hpp). On the ellipsoidal limit surface the twist about the
+/// centre of friction is v = k f, omega = k m / c^2 for the support's friction wrench (f, m); with the recorded contact
+/// force as that wrench (quasi-static), k = v . f / |f|^2 per sample, and the recorded turn fixes
+/// c^2 = sum_j k_j m_j / sum_j omega_j over the samples where the rod pushes: the c under which the recorded force
+/// turns the object as it turned. The rod's friction does not enter: the force's direction is the sensor's.
+struct TorqueRatioIdentification {
+  /// c [m]: NaN where the push does not identify it (fewer than kMinSamples samples, a recorded turn over them under
+  /// kMinTurn_rad, or a moment whose turn has the other sign than the recorded one).
+  double torque_ratio_m = std::numeric_limits<double>::quiet_NaN();
+  double turn_rad = 0;     ///< the recorded turn over the samples used (sum of omega dt)
+  double moment_term = 0;  ///< sum of k_j m_j dt [m^2 rad]: the turn c = 1 m would give
+  int samples = 0;         ///< samples used
+  /// c [m] identified in the same way over the first and the second half of the samples' span of tip travel (20-55 %
+  /// and 55-90 %): how reproducible the identification is within one push (NaN where a half does not identify it).
+  double first_half_torque_ratio_m = std::numeric_limits<double>::quiet_NaN();
+  double second_half_torque_ratio_m = std::numeric_limits<double>::quiet_NaN();
+  static constexpr int kMinSamples = 10;
+  static constexpr double kMinTurn_rad = 1.0 * 3.14159265358979323846 / 180;
+};
+
 /// A recorded push as the forecast sees it: the start (object and tip at rest, when the tip starts moving), the plan
 /// made from the file name and the start alone, and the recorded trajectory after it.
 struct RecordedForecastCase {
@@ -52,6 +73,9 @@ struct RecordedForecastCase {
   /// The rod's friction as the push's force sensor measured it (measured_pusher_friction, set by
   /// recorded_forecast_case): NaN where the recorded contact hardly slid.
   double measured_pusher_friction = std::numeric_limits<double>::quiet_NaN();
+  /// How the push's object turned under its recorded contact force (identify_torque_ratio, set by
+  /// recorded_forecast_case). No forecast uses it.
+  TorqueRatioIdentification identified_torque_ratio;
 };
 
 /// The forecast object of a dataset shape: the shape table's mass, inertia, centroid and outline, or for `butter` the
@@ -80,6 +104,13 @@ RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const 
 /// object); recorded_forecast_case sets its measured_pusher_friction so. The thresholds are set from the rig (0.5 N
 /// is a few times the sensor's noise), not fitted.
 double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c);
+
+/// Identifies c (TorqueRatioIdentification) from `push`'s recorded force and motion about `c`'s object's centre of
+/// friction, over the samples from
+/// 20 % to 90 % of the plan's tip travel (away from the speed ramps) where the rod is within 1.5 mm of touching and
+/// pushes with at least 0.5 N (measured_pusher_friction's thresholds, set from the rig). Velocities are central
+/// differences over +-10 ms.
+TorqueRatioIdentification identify_torque_ratio(const SynchronisedPush& push, const RecordedForecastCase& c);
 
 /// Where and how a plan pushes, in the object's frame at its start: what the push-to-push variation of the parameters
 /// is modelled on (learned pushes that push alike weigh more in a forecast, see ObjectModel::similarity_bandwidth).
