@@ -28,8 +28,9 @@ int run_it(const Args& a) {
   for (const auto& c : in.cases) identified.push_back(c.identified_torque_ratio);
   const std::vector<LimitSurfaceStudyPush> pushes = run_limit_surface_study(in.cases, in.fits, identified);
   if (pushes.empty()) {
+    const int code = report_failures(in.failures, 0);
     std::cerr << "pushpred: error: no push could be studied; nothing written\n";
-    return report_failures(in.failures, 0) == 0 ? kExitNothingDone : report_failures(in.failures, 0);
+    return code == 0 ? kExitNothingDone : code;
   }
   const std::string tables = limit_surface_study_tables(pushes);
   write_text_atomically(out.path("pushes.csv"), limit_surface_study_csv(pushes));

@@ -179,4 +179,9 @@ expect_in "$tmp/l1/tables.md" "ensemble_identified" "tables.md compares the fore
 expect_exit 0 "the same limit surface study on two jobs" -- "$bin" limit-surface-study $hex "$frozen" \
   --out "$tmp/l2" --jobs 2
 expect_same_tree "$tmp/l1" "$tmp/l2" "--jobs 1 and 2 write the same limit surface study"
+expect_exit 2 "a limit surface study of a missing file" -- "$bin" limit-surface-study "$tmp/missing.h5" --out "$tmp/l3"
+expect_absent "$tmp/l3" "no limit surface study of a missing file"
+if [ "$(grep -c "missing.h5" "$tmp/err")" -eq 1 ]; then passed=$((passed + 1)); else
+  failed=$((failed + 1)); echo "FAIL: the missing file is named once"; sed 's/^/  err: /' "$tmp/err"
+fi
 finish
