@@ -585,23 +585,9 @@ BOOST_AUTO_TEST_CASE(an_offset_that_takes_up_a_hidden_bias_and_barely_moves_the_
 
 BOOST_AUTO_TEST_CASE(a_bias_is_read_from_the_held_out_pushes_rests_when_the_fit_pushes_start_pressed) {
   // A blind trial of the tuning seeds 359400 (validation defaults, rect3, a bias of -0.66 N on each axis, 4 fit and 4
-  // held-out pushes): of the fit pushes only one rests clear of the object; the held-out pushes' rests, part of no
-  // prediction phase, add a second.
+  // held-out pushes): of the fit pushes only one rests clear of the object, which cannot tell a shared bias from its
+  // own zero; the held-out pushes' rests, part of no prediction phase, add the second.
   const auto [v, r] = blind_trial(359400, 18, "force_offset", true);
-  const EffectReport& bias = report(r, "force_offset");
-  BOOST_TEST(bias.selected, bias.note);
-  BOOST_TEST(v.true_named, findings_text(r));
-  const double truth_N = std::abs(v.amount) * std::sqrt(2.0);  // the drawn amount is each axis's
-  BOOST_TEST(bias.amount == truth_N, boost::test_tools::tolerance(0.25));
-}
-
-BOOST_AUTO_TEST_CASE(a_bias_that_one_clear_rest_shows_against_the_rigs_zero_spread_is_found) {
-  // A blind trial of the tuning seeds 375400 (validation defaults, a bias of 0.68 N on each axis, 2.5 times its
-  // floor): five of the six pushes start pressed, so one rest alone is clear of the object. Read against the rig's
-  // zero spread (0.10 N per axis), that rest's 1 N cannot be the push's own zero.
-  const auto [v, r] = blind_trial(375400, 10, "force_offset", true);
-  BOOST_TEST_REQUIRE(v.floor_multiple >= 2);
-  BOOST_TEST_REQUIRE(v.preloaded_pushes + 1 == v.pushes, "one push only may rest clear, or this tests something else");
   const EffectReport& bias = report(r, "force_offset");
   BOOST_TEST(bias.selected, bias.note);
   BOOST_TEST(v.true_named, findings_text(r));

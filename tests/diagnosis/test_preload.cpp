@@ -303,53 +303,6 @@ BOOST_AUTO_TEST_CASE(with_the_rigs_zero_spread_known_chance_zeros_do_not_make_a_
   BOOST_TEST(found == tested_biased);
 }
 
-// One push resting clear, the others pressed: against the rig's known zero spread its rest tells a bias from its own
-// zero (a chance zero passes seldom, a bias of five times the spread in each axis always); with no spread given one
-// push cannot tell them apart, and the rest fit says so instead of scoring it.
-BOOST_AUTO_TEST_CASE(one_clear_rest_is_read_against_the_rigs_zero_spread_and_not_without_it) {
-  std::mt19937_64 rng(359710);
-  auto scenarios = draw_scenarios(rng, 1, {});
-  scenarios[0].approach_gap_m = 0.001;
-  const SynchronisedPush clean = simulate_all(scenarios).front();
-  const auto draw = [&](const Eigen::Vector2d& bias_N) {
-    std::normal_distribution<double> zero(0.0, kSensorZeroSpread_N);
-    SynchronisedPush push = clean;
-    push.force_N.rowwise() += Eigen::RowVector2d(zero(rng), zero(rng)) - bias_N.transpose();  // reads -f_C + b
-    return push;
-  };
-  const auto fit = [](const SynchronisedPush& push, double spread_N) {
-    return rest_force_fit({&push}, Eigen::Vector2d::Zero(), spread_N);
-  };
-  // A draw whose rest force points into the contact reads as pressed (no clear rest): not tested.
-  const double threshold = DiagnosisOptions{}.bic_threshold;
-  const int draws = 200;
-  int chance = 0, tested = 0;
-  for (int k = 0; k < draws; ++k) {
-    const DirectFit known = fit(draw(Eigen::Vector2d::Zero()), kSensorZeroSpread_N);
-    if (known.pushes == 0) continue;
-    ++tested;
-    BOOST_TEST_REQUIRE(std::isfinite(known.score));
-    chance += known.score > threshold;
-  }
-  BOOST_TEST_MESSAGE("one clear rest's chance zero passed in " << chance << " of " << tested << " draws");
-  BOOST_TEST_REQUIRE(tested >= draws / 4);
-  BOOST_TEST(chance <= tested / 50);
-  const Eigen::Vector2d bias(5 * kSensorZeroSpread_N, -5 * kSensorZeroSpread_N);
-  int found = 0, tested_biased = 0, refused = 0;
-  for (int k = 0; k < 20; ++k) {
-    const SynchronisedPush push = draw(bias);
-    const DirectFit known = fit(push, kSensorZeroSpread_N);
-    if (known.pushes == 0) continue;
-    ++tested_biased;
-    found += known.score > threshold;
-    const DirectFit unknown = fit(push, 0.0);
-    refused += !std::isfinite(unknown.score) && unknown.note.find("zero spread is not given") != std::string::npos;
-  }
-  BOOST_TEST_REQUIRE(tested_biased >= 5);
-  BOOST_TEST(found == tested_biased);
-  BOOST_TEST(refused == tested_biased);
-}
-
 // A pressed push's zero bounded by the rig's known spread (residual_regression.hpp: a random effect, not a free
 // constant): on a clean validation trial (372086: rect1, three of six pushes pressed, each push with its own zero) the
 // free constants take up the Coulomb friction's constant within those pushes and leave a drag and Stribeck friction
