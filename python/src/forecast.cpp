@@ -159,7 +159,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
   m.def(
       "object_model_from_dict",
       [](const py::dict& d, std::optional<std::string> data) {
-        return object_model_from_json(to_json(d), "object model", data_folder_or_empty(data));
+        return object_model_from_json(to_json(d, "object model"), "object model", data_folder_or_empty(data));
       },
       py::arg("model"), py::arg("data") = py::none(), "An object model from a dict in the object file's format.");
   m.def(
