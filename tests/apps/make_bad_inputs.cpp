@@ -125,6 +125,8 @@ int main(int argc, char** argv) {
   write_bytes(file("garbage", ".json"), garbage);
   // JSON with a number a double cannot hold.
   write_bytes(file("overflow", ".json"), "{\"tip_pose\": [[1e400, 0, 0, 0]]}\n");
+  // NaN as Python's json.dump writes it (not JSON).
+  write_bytes(file("nan_literal", ".json"), "{\"tip_pose\": [[1.5e9, NaN, 0, 0]]}\n");
   // A top-level JSON array.
   write_bytes(file("array", ".json"), "[[1.5e9, 0.1, 0.2, 0.3], [1.5e9, 0.1, 0.2, 0.3]]\n");
   // Time stamps in milliseconds.
