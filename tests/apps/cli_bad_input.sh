@@ -42,7 +42,8 @@ check_class() {  # check_class CLASS EXT EXPECTED_TEXT
 }
 check_class garbage .json "malformed JSON: parse error"
 check_class overflow .json "malformed JSON: number overflow parsing '1e400'"
-check_class nan_literal .json "malformed JSON: parse error at line 1, column 23: syntax error while parsing value - invalid literal; last read: '1.5e9, N' (NaN and Infinity are not JSON numbers"
+check_class nan_literal .json \
+  "malformed JSON: parse error at line 1, column 23: syntax error while parsing value - invalid literal; last read: '1.5e9, N' (NaN and Infinity are not JSON numbers"
 check_class array .json "JSON recording must be an object of three arrays (tip_pose, object_pose, ft_wrench), not an array"
 check_class milliseconds .h5 "stream 'tip_pose' has time stamps near 1.46e+12, which are not Unix seconds (milliseconds?)"
 check_class relative_milliseconds .h5 "stream 'tip_pose' runs at 0.227 Hz (median step 4.4 s), outside 25 to 2.5e+03 Hz"
