@@ -53,9 +53,9 @@ struct PathDifference {
 };
 
 /// One pass over every input; stage times summed over the pushes.
-std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesystem::path>& inputs,
-                            const StudyOptions& o, std::size_t& used, std::vector<BatchFailure>& failures,
-                            double& worst_cvode_difference, std::map<std::string, PathDifference>& path_differences) {
+std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesystem::path>& inputs, const StudyOptions& o,
+                            std::size_t& used, std::vector<BatchFailure>& failures, double& worst_cvode_difference,
+                            std::map<std::string, PathDifference>& path_differences) {
   PreprocessOptions pre;
   pre.rate_hz = a.rate_hz;
   std::map<std::string, Stage> by_name;
@@ -186,7 +186,8 @@ int run_bench(const BenchArgs& a) {
     const std::filesystem::path folder = json.has_parent_path() ? json.parent_path() : ".";
     std::error_code ec;
     if (std::filesystem::is_directory(json, ec)) throw InputError(about(a.json, "--json: is a folder, not a file"));
-    if (!std::filesystem::is_directory(folder, ec)) throw InputError(about(a.json, "--json: its folder does not exist"));
+    if (!std::filesystem::is_directory(folder, ec))
+      throw InputError(about(a.json, "--json: its folder does not exist"));
   }
   const StudyOptions o = a.study.options();
   const auto inputs = expand_inputs(a.files);

@@ -101,10 +101,10 @@ int run_forecast(const ForecastArgs& a) {
   const ObjectModel model = read_object_model(a.model, data);
   const auto straight_plan = [&] {
     try {
-      return TipPlan::straight(1e-3 * Eigen::Vector2d(tip[0], tip[1]),
-                               Eigen::Vector2d(std::cos(a.direction_deg * M_PI / 180),
-                                               std::sin(a.direction_deg * M_PI / 180)),
-                               1e-3 * a.speed_mm_s, 1e-3 * a.length_mm);
+      return TipPlan::straight(
+          1e-3 * Eigen::Vector2d(tip[0], tip[1]),
+          Eigen::Vector2d(std::cos(a.direction_deg * M_PI / 180), std::sin(a.direction_deg * M_PI / 180)),
+          1e-3 * a.speed_mm_s, 1e-3 * a.length_mm);
     } catch (const InputError& e) {
       throw InputError(std::string("--tip, --direction, --speed, --length: ") + e.what());
     }

@@ -36,8 +36,9 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
     if (a.mass_kg > 0 || a.inertia_kgm2 > 0)
       throw InputError("--mass and --inertia go with an outline of one's own (--outline, --circle or --ellipse)");
     if (!a.name.empty())
-      throw InputError("--name goes with an outline of one's own (--outline, --circle or --ellipse); the dataset's "
-                       "objects keep their names");
+      throw InputError(
+          "--name goes with an outline of one's own (--outline, --circle or --ellipse); the dataset's "
+          "objects keep their names");
     return nullptr;
   }
   if (given > 1) throw InputError("give one outline: --outline, --circle or --ellipse");

@@ -35,7 +35,8 @@ inline CLI::Validator rate_up_to(double highest) {
         const bool ok = CLI::detail::lexical_cast(text, value) && std::isfinite(value) && value > 0 && value <= highest;
         char limit[32];
         std::snprintf(limit, sizeof limit, "%g", highest);
-        return ok ? std::string() : "must be a positive finite number up to " + std::string(limit) + ", got '" + text + "'";
+        return ok ? std::string()
+                  : "must be a positive finite number up to " + std::string(limit) + ", got '" + text + "'";
       },
       "POSITIVE");
 }

@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/preprocessing/plausibility.hpp"
 #include "pushpred/prediction/quasi_static_pushing.hpp"
+#include "pushpred/preprocessing/plausibility.hpp"
 
 namespace pushpred {
 namespace {

@@ -1877,7 +1877,8 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
 
 ObjectModel read_object_model(const std::filesystem::path& path, const std::filesystem::path& data_folder) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(about(path.string(), "is a folder, not an object model"));
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(about(path.string(), "is a folder, not an object model"));
   std::ifstream in(path);
   if (!in) throw InputError(about(path.string(), "cannot read the object model (missing or unreadable)"));
   nlohmann::json j;

@@ -174,7 +174,7 @@ StoredArrays read_arrays(const std::string& source, long long max_rows, double m
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) {
     const std::string reason = hdf5_failure_reason();
-    throw InputError(about(source, "cannot open HDF5 file" + (reason.empty() ? "" : ": " + reason)));
+    throw InputError(about(source, "cannot open HDF5 file" + (reason.empty() ? "" : ": " + plain_text(reason))));
   }
   StoredArrays arrays;
   for (std::size_t k = 0; k < kArrayNames.size(); ++k)
