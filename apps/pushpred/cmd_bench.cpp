@@ -21,6 +21,7 @@
 #include "pushpred/prediction/prediction_system.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
 #include "pushpred/reading/recording.hpp"
+#include "pushpred/runtime/output_files.hpp"
 #include "study_arguments.hpp"
 
 namespace pushpred::app {
@@ -52,9 +53,9 @@ struct PathDifference {
 };
 
 /// One pass over every input; stage times summed over the pushes.
-std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesystem::path>& inputs,
-                            const StudyOptions& o, std::size_t& used, std::size_t& skipped,
-                            double& worst_cvode_difference, std::map<std::string, PathDifference>& path_differences) {
+std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesystem::path>& inputs, const StudyOptions& o,
+                            std::size_t& used, std::vector<BatchFailure>& failures, double& worst_cvode_difference,
+                            std::map<std::string, PathDifference>& path_differences) {
   PreprocessOptions pre;
   pre.rate_hz = a.rate_hz;
   std::map<std::string, Stage> by_name;
@@ -66,23 +67,35 @@ std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesyste
   };
   const QFilterObserver exact_observer;
   std::vector<SynchronisedPush> studied;
-  used = skipped = 0;
+  used = 0;
+  failures.clear();
   for (const auto& path : inputs) {
+    // A file that cannot be read or synchronised is a failure of that file, as in predict: the others are timed.
+    const auto fail = [&](const std::exception& e) {
+      std::string reason = e.what();
+      if (reason.rfind(path.string() + ": ", 0) == 0) reason = reason.substr(path.string().size() + 2);
+      failures.push_back({path.string(), plain_text(reason)});
+    };
     auto start = Clock::now();
     Recording recording;
     try {
       recording = read_recording(path);
-    } catch (const std::exception& e) {
-      std::cerr << "skipped " << plain_text(path.string()) << ": " << plain_text(e.what()) << "\n";
-      ++skipped;
+    } catch (const InputError& e) {
+      fail(e);
       continue;
     }
     const double read_s = since(start);
     start = Clock::now();
-    const SynchronisedPush push = synchronise(recording, shape_for(recording, a.shape), pre);
+    SynchronisedPush push;
+    try {
+      push = synchronise(recording, shape_for(recording, a.shape), pre);
+    } catch (const InputError& e) {
+      fail(e);
+      continue;
+    }
     const double preprocess_s = since(start);
-    if (push.flags.frozen_force_sensor) {  // predict refuses these too: not part of the pipeline's work
-      ++skipped;
+    if (push.flags.frozen_force_sensor) {  // predict skips these too: not part of the pipeline's work
+      failures.push_back({path.string(), "force sensor frozen: its force cannot be trusted for prediction", true});
       continue;
     }
     const auto n = static_cast<double>(push.size());
@@ -168,17 +181,26 @@ std::vector<Stage> one_pass(const BenchArgs& a, const std::vector<std::filesyste
 }
 
 int run_bench(const BenchArgs& a) {
+  if (!a.json.empty()) {  // the destination checked before any work, as an output folder is
+    const std::filesystem::path json(a.json);
+    const std::filesystem::path folder = json.has_parent_path() ? json.parent_path() : ".";
+    std::error_code ec;
+    if (std::filesystem::is_directory(json, ec)) throw InputError(about(a.json, "--json: is a folder, not a file"));
+    if (!std::filesystem::is_directory(folder, ec))
+      throw InputError(about(a.json, "--json: its folder does not exist"));
+  }
   const StudyOptions o = a.study.options();
   const auto inputs = expand_inputs(a.files);
   std::vector<Stage> best;
-  std::size_t used = 0, skipped = 0;
+  std::size_t used = 0;
+  std::vector<BatchFailure> failures;
   double worst_cvode_difference = 0;
   std::map<std::string, PathDifference> path_differences;
   // The reference's own time in every pass: it moves with the machine's other work as every stage does, and each
   // ratio moves with it.
   std::vector<double> reference_passes_s;
   for (int r = 0; r < a.repeat; ++r) {
-    std::vector<Stage> pass = one_pass(a, inputs, o, used, skipped, worst_cvode_difference, path_differences);
+    std::vector<Stage> pass = one_pass(a, inputs, o, used, failures, worst_cvode_difference, path_differences);
     for (const auto& s : pass)
       if (s.name == "reference") reference_passes_s.push_back(s.seconds);
     if (best.empty()) {
@@ -189,7 +211,12 @@ int run_bench(const BenchArgs& a) {
     for (std::size_t k = 0; k < best.size() && k < pass.size(); ++k)
       best[k].seconds = std::min(best[k].seconds, pass[k].seconds);
   }
-  if (used == 0) throw InputError("bench: no push could be studied");
+  std::size_t skipped = 0;
+  for (const auto& f : failures) skipped += f.skipped;
+  if (used == 0) {
+    report_failures(failures, used);
+    throw InputError("bench: no push could be studied");
+  }
   // Report order: the pipeline's, then the methods, then the totals.
   const auto rank = [](const std::string& name) {
     static const std::vector<std::string> order{"read", "preprocess", "observer", "estimator"};
@@ -242,12 +269,9 @@ int run_bench(const BenchArgs& a) {
                 d.position_mm, d.yaw_deg);
     doc["cvode_prediction_largest_difference"][name] = {{"position_mm", d.position_mm}, {"yaw_deg", d.yaw_deg}};
   }
-  if (!a.json.empty()) {
-    std::ofstream f(a.json);
-    f << json_text(doc);
-    if (!f) throw InputError("bench: cannot write " + a.json);
-  }
-  return 0;
+  doc["failed"] = failures.size() - skipped;
+  if (!a.json.empty()) write_text_atomically(a.json, json_text(doc));
+  return report_failures(failures, used);
 }
 
 const CommandRegistration reg([](CLI::App& app, Runner& run) {

@@ -99,16 +99,25 @@ int run_forecast(const ForecastArgs& a) {
   const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
   StagedOutput out(a.out);  // checks the destination before any work
   const ObjectModel model = read_object_model(a.model, data);
-  TipPlan plan = straight ? TipPlan::straight(1e-3 * Eigen::Vector2d(tip[0], tip[1]),
-                                              Eigen::Vector2d(std::cos(a.direction_deg * M_PI / 180),
-                                                              std::sin(a.direction_deg * M_PI / 180)),
-                                              1e-3 * a.speed_mm_s, 1e-3 * a.length_mm)
-                          : read_path_file(a.path);
+  const auto straight_plan = [&] {
+    try {
+      return TipPlan::straight(
+          1e-3 * Eigen::Vector2d(tip[0], tip[1]),
+          Eigen::Vector2d(std::cos(a.direction_deg * M_PI / 180), std::sin(a.direction_deg * M_PI / 180)),
+          1e-3 * a.speed_mm_s, 1e-3 * a.length_mm);
+    } catch (const InputError& e) {
+      throw InputError(std::string("--tip, --direction, --speed, --length: ") + e.what());
+    }
+  };
+  TipPlan plan = straight ? straight_plan() : read_path_file(a.path);
   if (!straight && !tip.empty() && (plan.start_m() - 1e-3 * Eigen::Vector2d(tip[0], tip[1])).norm() > 1e-6)
     throw InputError(about(a.path, "the path does not start at --tip (leave --tip out with --path)"));
   const Eigen::Vector3d pose0(1e-3 * pose[0], 1e-3 * pose[1], pose[2] * M_PI / 180);
   const Eigen::VectorXd times = forecast_output_times(model, plan, pose0, a.step_s);
   const ForecastDistribution d = forecast_distribution(model, plan, pose0, times, a.samples);
+  // An object model whose numbers are far out of range (a region scale of 1e300) gives an infinite forecast.
+  if (!d.mean.allFinite() || !d.position_radius_m.allFinite() || !d.yaw_halfwidth_rad.allFinite())
+    throw InputError(about(a.model, "the forecast from this object model is not finite: its numbers are out of range"));
   write_text_atomically(out.path("forecast.csv"), forecast_csv(d, plan));
   write_text_atomically(out.path("forecast.json"), json_text(forecast_json(model, plan, pose0, d)));
   if (a.samples) {

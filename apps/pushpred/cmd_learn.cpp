@@ -35,6 +35,10 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
   if (given == 0) {
     if (a.mass_kg > 0 || a.inertia_kgm2 > 0)
       throw InputError("--mass and --inertia go with an outline of one's own (--outline, --circle or --ellipse)");
+    if (!a.name.empty())
+      throw InputError(
+          "--name goes with an outline of one's own (--outline, --circle or --ellipse); the dataset's "
+          "objects keep their names");
     return nullptr;
   }
   if (given > 1) throw InputError("give one outline: --outline, --circle or --ellipse");
@@ -53,7 +57,9 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
     double ax = 0, by = 0;
     char comma = 0;
     std::istringstream s(a.ellipse);
-    if (!(s >> ax >> comma >> by) || comma != ',' || !(ax > 0) || !(by > 0))
+    // Nothing may follow B ("0.05,0.03,0.01" is not an ellipse), and both are finite.
+    if (!(s >> ax >> comma >> by) || comma != ',' || !(s >> std::ws).eof() || !(ax > 0) || !(by > 0) ||
+        !std::isfinite(ax) || !std::isfinite(by))
       throw InputError("--ellipse: expected A,B (semi-axes in metres, positive), got '" + a.ellipse + "'");
     o->outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(ax, by));
   }
@@ -64,6 +70,7 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
 }
 
 int run_learn(const LearnArgs& a) {
+  if (a.out.empty()) throw InputError("--out: empty path; it names the object file to write");
   const std::filesystem::path out(a.out);
   std::error_code ec;
   if (std::filesystem::is_directory(out, ec))

@@ -12,6 +12,7 @@
 #include "pushpred/core/data_folder.hpp"
 #include "pushpred/core/error.hpp"
 #include "pushpred/jobs/real_comparison_job.hpp"
+#include "pushpred/preprocessing/plausibility.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred::app {
@@ -111,6 +112,15 @@ int run_simulate(const SimulateArgs& a) {
   }
   const std::filesystem::path path = simulated_output_path(s, a.out);
   const SimulatedPush sim = simulate_push(s);
+  // A scenario far outside the physics (a force offset of 1e300 N, a start a million km away) gives a recording every
+  // command would refuse: it is refused here, before it is written.
+  try {
+    check_plausible(sim.recording);
+  } catch (const InputError& e) {
+    std::string reason = e.what();
+    if (reason.rfind(sim.recording.source + ": ", 0) == 0) reason = reason.substr(sim.recording.source.size() + 2);
+    throw InputError("the simulated push is not one pushpred reads (" + reason + "); nothing written");
+  }
   write_recording_hdf5(sim.recording, path);
   const Eigen::Index n = sim.t_s.size();
   const Eigen::Vector3d moved = sim.tracked_pose.row(n - 1) - sim.tracked_pose.row(0);

@@ -4,10 +4,13 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "pushpred/preprocessing/plausibility.hpp"
 
 namespace pushpred::app {
 
@@ -24,6 +27,22 @@ inline CLI::Validator finite_number_above(double lowest, bool inclusive, const s
       inclusive ? "NONNEGATIVE" : "POSITIVE");
 }
 inline const CLI::Validator kPositiveNumber = finite_number_above(0, false, "a positive finite number");
+/// A rate [Hz] above 0 and at most `highest` ("--rate: must be a positive finite number up to 2500, got '1e9'").
+inline CLI::Validator rate_up_to(double highest) {
+  return CLI::Validator(
+      [highest](std::string& text) -> std::string {
+        double value = 0;
+        const bool ok = CLI::detail::lexical_cast(text, value) && std::isfinite(value) && value > 0 && value <= highest;
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g", highest);
+        return ok ? std::string()
+                  : "must be a positive finite number up to " + std::string(limit) + ", got '" + text + "'";
+      },
+      "POSITIVE");
+}
+/// The highest grid rate [Hz]: the fastest a recording's stream may run (PlausibilityLimits::max_rate_hz); a finer
+/// grid only interpolates, and `--rate 1e9` would ask for billions of samples.
+inline const double kMaxGridRate_Hz = PlausibilityLimits{}.max_rate_hz;
 inline const CLI::Validator kNonNegativeNumber = finite_number_above(0, true, "a finite number >= 0");
 
 /// The recordings a batch subcommand reads (required): files, or folders of them.
@@ -57,7 +76,7 @@ inline CLI::Option* add_shape(CLI::App& sub, std::string& shape) {
 
 /// `--rate HZ` (positive): the rate the streams are resampled to.
 inline CLI::Option* add_rate(CLI::App& sub, double& rate_hz) {
-  return sub.add_option("--rate", rate_hz, "Resampling rate [Hz]")->check(kPositiveNumber);
+  return sub.add_option("--rate", rate_hz, "Resampling rate [Hz], at most 2500")->check(rate_up_to(kMaxGridRate_Hz));
 }
 
 /// `--jobs N` (positive); `help` says what runs in parallel. More jobs than cores only add threads that wait for

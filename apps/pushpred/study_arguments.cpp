@@ -12,7 +12,8 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
       ->check(CLI::Range(flags.min_intervals, 100));
   sub.add_option("--span", span, "Split the whole recording or only the contact span")
       ->check(CLI::IsMember({"whole", "contact"}));
-  sub.add_option("--plan-rate", plan_rate_hz, "Planned-force sampling rate [Hz]")->check(kPositiveNumber);
+  sub.add_option("--plan-rate", plan_rate_hz, "Planned-force sampling rate [Hz], at most the grid's (--rate)")
+      ->check(rate_up_to(kMaxGridRate_Hz));
   if (flags.observer) {
     sub.add_option("--observer", observer, "Disturbance estimator: dob or pid")->capture_default_str();
     sub.add_option("--observer-run", observer_run,

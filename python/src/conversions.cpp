@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "pushpred/core/error.hpp"
 #include "pushpred/reports/prediction_summary.hpp"
 
 namespace pushpred::python {
@@ -18,9 +19,20 @@ py::object from_json(const nlohmann::json& json) {
   return py::module_::import("json").attr("loads")(json.dump());
 }
 
-nlohmann::json to_json(const py::handle& object) {
-  const std::string text = py::str(py::module_::import("json").attr("dumps")(object));
-  return nlohmann::json::parse(text);
+std::string json_text_of(const py::handle& object, const std::string& argument) {
+  try {
+    return py::str(py::module_::import("json").attr("dumps")(object, py::arg("allow_nan") = false));
+  } catch (const py::error_already_set& e) {
+    // ValueError: a NaN or infinity (json would write the non-JSON NaN, which the parser then refused with a
+    // "parse error at column 7313"); TypeError: a value json does not convert.
+    if (e.matches(PyExc_ValueError))
+      throw InputError(argument + ": holds NaN or an infinity, which a number here cannot be");
+    throw InputError(argument + ": does not convert to JSON (" + std::string(py::str(e.value())) + ")");
+  }
+}
+
+nlohmann::json to_json(const py::handle& object, const std::string& argument) {
+  return nlohmann::json::parse(json_text_of(object, argument));
 }
 
 py::dict estimate_dict(const DisturbanceEstimate& e) {

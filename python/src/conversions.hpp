@@ -37,8 +37,11 @@ std::string repr_vector(const Eigen::Vector3d& v);
 
 /// A JSON value as plain Python (dict, list, float, str, bool, None).
 py::object from_json(const nlohmann::json& json);
-/// Plain Python (dict, list, numbers, str, bool, None) as JSON; raises TypeError for anything else.
-nlohmann::json to_json(const py::handle& object);
+/// The JSON text of a Python value (a dict of the file's form) through Python's json module; a NaN or infinity, which
+/// JSON cannot hold, or a value json cannot convert is an InputError naming `argument`.
+std::string json_text_of(const py::handle& object, const std::string& argument);
+/// Plain Python (dict, list, numbers, str, bool, None) as JSON, by json_text_of.
+nlohmann::json to_json(const py::handle& object, const std::string& argument);
 
 py::dict estimate_dict(const DisturbanceEstimate& e);
 py::dict relation_dict(const RelationParameters& p);

@@ -159,7 +159,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
   m.def(
       "object_model_from_dict",
       [](const py::dict& d, std::optional<std::string> data) {
-        return object_model_from_json(to_json(d), "object model", data_folder_or_empty(data));
+        return object_model_from_json(to_json(d, "object model"), "object model", data_folder_or_empty(data));
       },
       py::arg("model"), py::arg("data") = py::none(), "An object model from a dict in the object file's format.");
   m.def(
@@ -167,6 +167,7 @@ final_yaw_halfwidth90_rad and rest_time_s, one row per plan.)doc");
       [](const std::vector<std::string>& files, std::optional<std::string> data, int jobs,
          const std::string& limit_surface, const std::string& pressure_shape, const std::string& similarity,
          const std::string& central, const std::string& residual_correction, const std::string& pusher_friction) {
+        if (jobs < 1) throw InputError("learn_object_model: jobs must be at least 1, got " + std::to_string(jobs));
         const std::filesystem::path folder = data_folder_or_empty(data);
         const LimitSurfaceKind kind = limit_surface_named(limit_surface);
         LearnOptions options;

@@ -57,13 +57,7 @@ using ShapeArgument = std::variant<std::string, py::dict>;
 /// The own shape a dict describes, checked; InputError naming the Python argument `argument` otherwise.
 std::optional<ShapeInfo> own_shape(const ShapeArgument& shape, const std::string& argument) {
   if (const auto* d = std::get_if<py::dict>(&shape)) {
-    std::string text;
-    try {
-      text = py::str(py::module_::import("json").attr("dumps")(*d));
-    } catch (const py::error_already_set& e) {
-      throw InputError(argument + ": the dict does not convert to JSON (" + std::string(e.what()) + ")");
-    }
-    return shape_from_json_text(text, argument);
+    return shape_from_json_text(json_text_of(*d, argument), argument);
   }
   return std::nullopt;
 }
@@ -222,7 +216,7 @@ load_push's); it may be left empty when source is a dataset file name. The strea
         } else {
           const py::object value = std::holds_alternative<py::dict>(shapes) ? py::object(std::get<py::dict>(shapes))
                                                                             : py::object(std::get<py::list>(shapes));
-          own = ShapeTable::from_json_text(py::str(py::module_::import("json").attr("dumps")(value)), "shapes");
+          own = ShapeTable::from_json_text(json_text_of(value, "shapes"), "shapes");
         }
         ShapeTable::use_own_shapes(own);
       },

@@ -15,7 +15,7 @@ PushScenario scenario_from(std::optional<int> paper_case, const py::object& scen
   if (paper_case && !scenario.is_none()) throw InputError("give either paper_case or scenario, not both");
   PushScenario s;
   if (paper_case) s = paper_case_scenario(*paper_case);
-  if (!scenario.is_none()) s = scenario_from_json(to_json(scenario), "scenario");
+  if (!scenario.is_none()) s = scenario_from_json(to_json(scenario, "scenario"), "scenario");
   for (const auto& [name, amount] : effects) s.effects.set(py::str(name), amount.cast<double>());
   if (seed) s.seed = *seed;
   s.validate();

@@ -42,6 +42,8 @@ check_class() {  # check_class CLASS EXT EXPECTED_TEXT
 }
 check_class garbage .json "malformed JSON: parse error"
 check_class overflow .json "malformed JSON: number overflow parsing '1e400'"
+check_class nan_literal .json \
+  "malformed JSON: parse error at line 1, column 23: syntax error while parsing value - invalid literal; last read: '1.5e9, N' (NaN and Infinity are not JSON numbers"
 check_class array .json "JSON recording must be an object of three arrays (tip_pose, object_pose, ft_wrench), not an array"
 check_class milliseconds .h5 "stream 'tip_pose' has time stamps near 1.46e+12, which are not Unix seconds (milliseconds?)"
 check_class relative_milliseconds .h5 "stream 'tip_pose' runs at 0.227 Hz (median step 4.4 s), outside 25 to 2.5e+03 Hz"
@@ -55,6 +57,13 @@ check_class object_step .h5 "object_pose moves at"
 check_class yaw_turns .h5 "object_pose turns at"
 check_class object_at_tip .h5 "the rod's surface lies 57.1 mm inside hex's outline"
 check_class float32_unix .h5 "array 'tip_pose' stores its time stamps as 32-bit floats"
+check_class nan_force .h5 "array 'ft_wrench' holds NaN at row 7, column 2"
+check_class inf_pose .h5 "array 'object_pose' holds Inf at row 5, column 1"
+check_class empty_stream .h5 "array 'tip_pose' is empty"
+check_class single_row .h5 "array 'object_pose' has one sample; need at least two"
+check_class missing_array .h5 "array 'ft_wrench' is missing"
+check_class shuffled .h5 "array 'ft_wrench': time goes backwards by"
+check_class truncated .h5 "cannot open HDF5 file: the file is truncated: it holds"
 
 # Files other tools write that hold a usable push: HDF5 behind a user block, and 32-bit floats with time stamps from
 # the push's start (converted, and said so).
@@ -167,7 +176,9 @@ expect_no_staging "$tmp/sig" "the stale staging folder of a dead run"
 
 # A bad flag value is a bad argument: exit 2, a message naming the flag and the value, nothing written. nan and inf
 # included (CLI11's own positive-number check let nan through: --mu nan meant "from the surface").
-for flag in "--mu nan" "--mu inf" "--mu -1" "--plan-rate nan" "--plan-rate 0" "--rate inf" "--jobs 0"; do
+# --rate and --plan-rate 1e9 asked for billions of samples (std::bad_alloc, or the process killed for its memory).
+for flag in "--mu nan" "--mu inf" "--mu -1" "--plan-rate nan" "--plan-rate 0" "--rate inf" "--jobs 0" "--rate 1e9" \
+  "--plan-rate 1e9"; do
   set -- $flag
   expect_exit 2 "predict $flag" -- limit "$bin" predict "$good1" --out "$tmp/flag" "$1" "$2"
   expect_in "$tmp/err" "$1: must be a" "predict $flag names the flag"
@@ -180,6 +191,33 @@ expect_absent "$tmp/flag" "an unknown flag wrote an output"
 expect_exit 2 "a subcommand that does not exist" -- limit "$bin" predcit "$good1"
 expect_exit 0 "--help" -- limit "$bin" predict --help
 expect_in "$tmp/out" "--mu FLOAT:NONNEGATIVE" "--help shows the check's name"
+
+expect_exit 2 "a plan rate above the grid's" -- limit "$bin" predict "$good1" --out "$tmp/flag" --rate 100 --plan-rate 200
+expect_in "$tmp/err" "planned-force rate of 200 Hz is above the push's grid rate of 100 Hz" "the two rates are named"
+expect_absent "$tmp/flag" "a plan rate above the grid's wrote an output"
+
+# bench goes on past a bad file as every batch command does: the file listed, exit 1, the others timed; all bad is
+# exit 2. A --json destination that cannot be written is refused before any work, nothing written.
+expect_exit 1 "bench on a good and two bad files" -- limit "$bin" bench "$bad/huge_force/$stem.h5" "$good1" \
+  "$bad/truncated/$stem.h5" --methods dob --json "$tmp/bench.json"
+expect_in "$tmp/err" "FAILED $bad/huge_force/$stem.h5: stream 'ft_wrench' has fx 1e+300 N" "bench names the implausible file"
+expect_in "$tmp/err" "FAILED $bad/truncated/$stem.h5: cannot open HDF5 file: the file is truncated" "bench names the cut file"
+expect_in "$tmp/err" "2 of 3 inputs failed" "bench counts the failures"
+expect_in "$tmp/bench.json" '"failed": 2' "bench.json counts them"
+expect_exit 2 "bench on a bad file alone" -- limit "$bin" bench "$bad/truncated/$stem.h5"
+expect_in "$tmp/err" "bench: no push could be studied" "bench says nothing was studied"
+expect_exit 2 "bench --json into a missing folder" -- limit "$bin" bench "$good1" --json "$tmp/nowhere/bench.json"
+expect_in "$tmp/err" "$tmp/nowhere/bench.json: --json: its folder does not exist" "the --json destination is named"
+[ ! -s "$tmp/out" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: bench timed before refusing --json"; }
+
+# simulate refuses a scenario that gives a push no command would read, and a folder as --config; nothing written.
+expect_exit 2 "simulate a force offset of 1e300 N" -- limit "$bin" simulate --case 1 --effect force_offset=1e300 \
+  --out "$tmp/sim.h5"
+expect_in "$tmp/err" "the simulated push is not one pushpred reads (stream 'ft_wrench' has fx 1e+300 N" "the reason is named"
+expect_absent "$tmp/sim.h5" "no implausible recording written"
+expect_exit 2 "simulate with a folder as --config" -- limit "$bin" simulate --config "$bad" --out "$tmp/sim.h5"
+expect_in "$tmp/err" "$bad: is a folder, not a scenario file" "the folder is named"
+expect_absent "$tmp/sim.h5" "nothing simulated from a folder"
 
 # simulate --compare-real and --measure-real follow the same exit codes: 2 and no table when no input is usable,
 # 1 when some failed.

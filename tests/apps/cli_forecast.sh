@@ -72,6 +72,18 @@ expect_exit 2 "an own outline without mass" -- "$bin" learn $hex --circle 0.05 -
 expect_in "$tmp/err" "--mass" "the missing mass is named"
 expect_absent "$tmp/disc.json" "no object file without a mass"
 
+# shellcheck disable=SC2086
+expect_exit 2 "an ellipse of three semi-axes" -- "$bin" learn $hex --ellipse 0.05,0.03,0.01 --mass 1 --inertia 0.001 \
+  --out "$tmp/e3.json"
+expect_in "$tmp/err" "--ellipse: expected A,B" "the ellipse is named"
+# shellcheck disable=SC2086
+expect_exit 2 "--name without an own outline" -- "$bin" learn $hex --name foo --out "$tmp/foo.json"
+expect_in "$tmp/err" "--name goes with an outline of one's own" "the lone --name is named"
+# shellcheck disable=SC2086
+expect_exit 2 "an empty --out" -- "$bin" learn $hex --out ""
+expect_in "$tmp/err" "--out: empty path" "the empty --out is named"
+for f in e3 foo; do expect_absent "$tmp/$f.json" "no object file ($f)"; done
+
 # One's own outline: the hexagon given as a polygon file with its mass and inertia learns what the shape table's does.
 python3 -c "
 import math
@@ -144,7 +156,41 @@ expect_in "$tmp/err" "$tmp/shortpath.csv:3: expected three numbers t_s,x_mm,y_mm
 expect_exit 2 "a path file that is missing" -- "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --path "$tmp/nopath.csv" --out "$tmp/f13"
 expect_in "$tmp/err" "$tmp/nopath.csv: cannot open a tip path file" "the missing path file is named"
-for d in f6 f7 f8 f9 f10 f11 f12 f13; do expect_absent "$tmp/$d" "no output for bad input ($d)"; done
+# A plan no push could follow, or an output step of a nanosecond, is refused at once (they ran for ever, or ended in
+# std::bad_alloc); a folder as --model is named; a model whose numbers are out of range gives no infinite forecast.
+expect_exit 2 "a plan at 1e-6 mm/s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --tip -66,10 --direction 10 --speed 1e-6 --out "$tmp/f14"
+expect_in "$tmp/err" "--speed, --length: tip plan lasts 5e+07 s, longer than the 600 s a push may last" "the slow plan"
+expect_exit 2 "a plan of 1e9 mm" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --tip -66,10 --direction 10 --speed 50 --length 1e9 --out "$tmp/f15"
+expect_in "$tmp/err" "tip plan lasts 2e+07 s" "the long plan"
+printf 't_s,x_mm,y_mm\n0,-66,10\n1e6,-41,10\n' >"$tmp/longpath.csv"
+expect_exit 2 "a path of 1e6 s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/longpath.csv" --out "$tmp/f16"
+expect_in "$tmp/err" "$tmp/longpath.csv: tip path lasts 1e+06 s" "the long path file is named"
+printf 't_s,x_mm,y_mm\n0,-66,10\n0.001,1e6,10\n' >"$tmp/fastpath.csv"
+expect_exit 2 "a path at 1e6 m/s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --path "$tmp/fastpath.csv" --out "$tmp/f17"
+expect_in "$tmp/err" "$tmp/fastpath.csv: tip path moves the tip at 1e+06 m/s, faster than the 2 m/s" "the fast path"
+expect_exit 2 "an output step of 1e-9 s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --tip -66,10 --direction 10 --speed 50 --step 1e-9 --out "$tmp/f18"
+expect_in "$tmp/err" "forecast: an output step of 1e-09 s over" "the step is named"
+expect_exit 2 "a folder as the object file" -- "$bin" forecast --model "$tmp" --object-pose 0,0,0 --tip -66,10 \
+  --direction 10 --speed 50 --out "$tmp/f19"
+expect_in "$tmp/err" "$tmp: is a folder, not an object model" "the folder is named"
+python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+big = lambda x: {k: big(v) for k, v in x.items()} if isinstance(x, dict) else [big(v) for v in x] \\
+    if isinstance(x, list) else 1e300 if isinstance(x, float) else x
+d['regions'] = big(d['regions'])
+json.dump(d, open(sys.argv[2], 'w'))" "$tmp/hex.json" "$tmp/huge_regions.json"
+expect_exit 2 "a model whose region numbers are all 1e300" -- "$bin" forecast --model "$tmp/huge_regions.json" \
+  --object-pose 0,0,0 --tip -66,10 --direction 10 --speed 50 --out "$tmp/f20"
+expect_in "$tmp/err" "$tmp/huge_regions.json: the forecast from this object model is not finite" "the model is named"
+for d in f6 f7 f8 f9 f10 f11 f12 f13 f14 f15 f16 f17 f18 f19 f20; do
+  expect_absent "$tmp/$d" "no output for bad input ($d)"
+done
 
 # forecast-study: summary.json with every method's keys, the same output whatever --jobs.
 # shellcheck disable=SC2086

@@ -6,12 +6,14 @@
 #include <hdf5.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <map>
+#include <numeric>
 #include <random>
 #include <string>
 
@@ -123,6 +125,8 @@ int main(int argc, char** argv) {
   write_bytes(file("garbage", ".json"), garbage);
   // JSON with a number a double cannot hold.
   write_bytes(file("overflow", ".json"), "{\"tip_pose\": [[1e400, 0, 0, 0]]}\n");
+  // NaN as Python's json.dump writes it (not JSON).
+  write_bytes(file("nan_literal", ".json"), "{\"tip_pose\": [[1.5e9, NaN, 0, 0]]}\n");
   // A top-level JSON array.
   write_bytes(file("array", ".json"), "[[1.5e9, 0.1, 0.2, 0.3], [1.5e9, 0.1, 0.2, 0.3]]\n");
   // Time stamps in milliseconds.
@@ -191,6 +195,36 @@ int main(int argc, char** argv) {
     // The object's pose replaced by the tip's at the tip's time stamps (its own stream's length and clock).
     a["object_pose"] = a["tip_pose"];
     write_h5(file("object_at_tip", ".h5"), a);
+  }
+  // NaN and Inf in the values, a stream of zero rows or one row, a stream missing, a stream shuffled, and the file cut
+  // short (a copy interrupted): each refused by name.
+  {
+    auto a = good;
+    a["ft_wrench"](7, 2) = std::nan("");
+    write_h5(file("nan_force", ".h5"), a);
+    a = good;
+    a["object_pose"](5, 1) = INFINITY;
+    write_h5(file("inf_pose", ".h5"), a);
+    a = good;
+    a["tip_pose"].resize(0, 4);
+    write_h5(file("empty_stream", ".h5"), a);
+    a = good;
+    a["object_pose"].conservativeResize(1, 4);
+    write_h5(file("single_row", ".h5"), a);
+    a = good;
+    a.erase("ft_wrench");
+    write_h5(file("missing_array", ".h5"), a);
+    a = good;
+    Rows& force = a["ft_wrench"];
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(force.rows()));
+    std::iota(order.begin(), order.end(), Eigen::Index{0});
+    std::shuffle(order.begin(), order.end(), rng);
+    const Rows unshuffled = force;
+    for (Eigen::Index i = 0; i < force.rows(); ++i) force.row(i) = unshuffled.row(order[static_cast<std::size_t>(i)]);
+    write_h5(file("shuffled", ".h5"), a);
+    write_h5(file("truncated", ".h5"), good);
+    const fs::path cut = file("truncated", ".h5");
+    fs::resize_file(cut, fs::file_size(cut) / 2);
   }
   // Files a user has, written by other tools: HDF5 behind a user block; arrays as 32-bit floats with time stamps
   // from the push's start (read, converted, said) or as Unix time (refused: 32-bit floats keep 128 s of it).

@@ -93,6 +93,19 @@ def test_bad_input_is_a_value_error_naming_it(model):
         d = model.to_dict()
         d["object"]["outline"]["shape"] = "teapot"
         pushpred.object_model_from_dict(d)
+    # A model dict holding NaN names the argument (it was a RuntimeError quoting a JSON parse error); a plan slower or
+    # longer than any push, or an output step of a nanosecond, is refused instead of running for ever.
+    d = model.to_dict()
+    d["similarity_bandwidth"] = float("nan")
+    with pytest.raises(pushpred.InputError, match="object model: holds NaN or an infinity"):
+        pushpred.object_model_from_dict(d)
+    with pytest.raises(pushpred.InputError, match="tip plan lasts 5e\\+07 s, longer than the 600 s"):
+        model.forecast(np.zeros(3), tip=PLAN["tip"], direction=PLAN["direction"], speed_m_s=1e-9)
+    with pytest.raises(pushpred.InputError, match="jobs must be at least 1, got 0"):
+        pushpred.learn_object_model(["unused.h5"], jobs=0)
+    with pytest.raises(pushpred.InputError, match="tip path lasts 1e\\+06 s, longer than the 600 s"):
+        model.forecast(np.zeros(3), path_times_s=np.array([0.0, 1e6]),
+                       path_points_m=np.array([[-0.066, 0.010], [-0.016, 0.010]]))
 
 
 def test_the_pressures_rim_weight_is_learned_as_the_cli_learns_it(executable, hex_files, tmp_path):

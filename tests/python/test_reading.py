@@ -72,6 +72,24 @@ def test_errors_are_python_exceptions_with_the_library_message(tmp_path):
         pushpred.least_squares_relation(np.zeros((5, 2)), np.zeros((5, 2)))
 
 
+def test_hostile_inputs_are_input_errors_naming_the_problem(hex_file, tmp_path):
+    """A truncated HDF5 file says so, a resampling or plan rate of 1e9 Hz is refused before it asks for billions of
+    samples (it was a MemoryError or worse), and a shape dict holding NaN names the argument."""
+    cut = tmp_path / "motion_surface=abs_shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.000.h5"
+    whole = open(hex_file, "rb").read()
+    cut.write_bytes(whole[: len(whole) // 2])
+    with pytest.raises(pushpred.InputError, match=f"{cut.name}: cannot open HDF5 file: the file is truncated"):
+        pushpred.load_push(str(cut))
+    with pytest.raises(pushpred.InputError, match="resampling rate of 1e\\+09 Hz is above the 2500 Hz"):
+        pushpred.load_push(hex_file, rate_hz=1e9)
+    push = pushpred.load_push(hex_file)
+    with pytest.raises(pushpred.InputError, match="planned-force rate of 1e\\+09 Hz is above the push's grid rate"):
+        pushpred.run_prediction_study(push, plan_rate_hz=1e9)
+    with pytest.raises(pushpred.InputError, match="shape: holds NaN or an infinity"):
+        pushpred.shape_from_dict({"name": "x", "mass_kg": float("nan"), "inertia_kgm2": 0.001,
+                                  "outline": {"kind": "circle", "radius_m": 0.05}})
+
+
 def _streams_of_a_real_push():
     import os
     raw = pushpred.read_recording(os.path.join(pushpred.data_folder(), "abs",

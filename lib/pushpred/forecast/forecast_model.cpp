@@ -3,11 +3,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/prediction/quasi_static_pushing.hpp"
+#include "pushpred/preprocessing/plausibility.hpp"
 
 namespace pushpred {
 namespace {
@@ -270,6 +272,28 @@ void ForecastParameters::validate() const {
   require_positive_finite(support_friction, "forecast parameters: support_friction");
 }
 
+namespace {
+
+/// A plan no push of a recording could follow is refused before any work: longer than a recording's stream may last
+/// (a 50 mm push at 1e-6 mm/s would be forecast for 1.6 years) or faster than an object can be pushed
+/// (PlausibilityLimits: 600 s, 2 m/s).
+void check_plan_bounds(double end_s, double peak_speed_m_s, const char* what) {
+  const PlausibilityLimits limits;
+  char text[160];
+  if (!(end_s <= limits.max_span_s)) {
+    std::snprintf(text, sizeof text, "%s lasts %.3g s, longer than the %.3g s a push may last", what, end_s,
+                  limits.max_span_s);
+    throw InputError(text);
+  }
+  if (!(peak_speed_m_s <= limits.max_speed_m_s)) {
+    std::snprintf(text, sizeof text, "%s moves the tip at %.3g m/s, faster than the %.3g m/s a pushed object can move",
+                  what, peak_speed_m_s, limits.max_speed_m_s);
+    throw InputError(text);
+  }
+}
+
+}  // namespace
+
 TipPlan TipPlan::straight(const Eigen::Vector2d& start, const Eigen::Vector2d& direction, double speed, double length,
                           double ramp) {
   if (!start.allFinite()) throw InputError("tip plan: start must be finite");
@@ -290,6 +314,7 @@ TipPlan TipPlan::straight(const Eigen::Vector2d& start, const Eigen::Vector2d& d
   p.hold_end_ = p.ramp_ + (length - speed * p.ramp_) / speed;
   p.end_s_ = p.hold_end_ + p.ramp_;
   p.peak_speed_ = speed;
+  check_plan_bounds(p.end_s_, p.peak_speed_, "tip plan");
   return p;
 }
 
@@ -315,6 +340,7 @@ TipPlan TipPlan::waypoints(const Eigen::VectorXd& times, const Eigen::MatrixX2d&
   p.length_ = 0;
   for (Eigen::Index k = 1; k < times.size(); ++k) p.length_ += (positions.row(k) - positions.row(k - 1)).norm();
   p.speed_ = p.length_ / p.end_s_;
+  check_plan_bounds(p.end_s_, p.peak_speed_, "tip path");
   return p;
 }
 

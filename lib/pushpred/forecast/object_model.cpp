@@ -1,6 +1,7 @@
 #include "pushpred/forecast/object_model.hpp"
 
 #include <ceres/ceres.h>
+#include <cstdio>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -1875,6 +1876,9 @@ ObjectModel object_model_from_json(const nlohmann::json& j, const std::string& s
 }
 
 ObjectModel read_object_model(const std::filesystem::path& path, const std::filesystem::path& data_folder) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(about(path.string(), "is a folder, not an object model"));
   std::ifstream in(path);
   if (!in) throw InputError(about(path.string(), "cannot read the object model (missing or unreadable)"));
   nlohmann::json j;
@@ -1968,6 +1972,14 @@ Eigen::VectorXd forecast_output_times(const ObjectModel& model, const TipPlan& p
                                       double step_s, double after_s) {
   require_positive_finite(step_s, "forecast: output step");
   const double end = forecast_rest_time_s(model.object, model.parameters, plan, pose0, model.settings) + after_s;
+  // At most a 600 s push at 2500 Hz (PlausibilityLimits): an output step of 1e-9 s would ask for billions of rows.
+  constexpr double kMaxRows = 1.5e6;
+  if (!(end / step_s < kMaxRows)) {
+    char text[160];
+    std::snprintf(text, sizeof text, "forecast: an output step of %.3g s over %.3g s gives more than %.3g rows", step_s,
+                  end, kMaxRows);
+    throw InputError(text);
+  }
   const Eigen::Index n = static_cast<Eigen::Index>(std::floor(end / step_s)) + 1;
   Eigen::VectorXd t(n);
   for (Eigen::Index k = 0; k < n; ++k) t(k) = static_cast<double>(k) * step_s;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "pushpred/core/error.hpp"
@@ -10,6 +11,13 @@ namespace pushpred {
 
 PlannedForce plan_from_measurement(const SynchronisedPush& push, double t0, double t1, double rate_hz) {
   if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw InputError("planned-force rate must be positive");
+  // A plan sampled faster than the push's grid repeats grid samples; 1e9 Hz would ask for billions of them.
+  if (rate_hz > push.rate_hz) {
+    char text[128];
+    std::snprintf(text, sizeof text, "planned-force rate of %g Hz is above the push's grid rate of %g Hz", rate_hz,
+                  push.rate_hz);
+    throw InputError(about(push.source, text));
+  }
   if (!(t1 > t0)) throw InputError(about(push.source, "planned force needs t1 > t0"));
   if (t0 < -1e-9 || t1 > push.duration_s() + 1e-9)
     throw InputError(about(push.source, "planned-force span lies outside the push"));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <tuple>
 
@@ -109,6 +110,14 @@ const ShapeInfo& shape_for(const Recording& r, const std::string& shape_override
 
 SynchronisedPush synchronise(const Recording& r, const ShapeInfo& shape, const PreprocessOptions& o) {
   require_positive_finite(o.rate_hz, "resampling rate");
+  // A grid finer than the fastest stream a recording may hold only interpolates, and a rate of 1e9 Hz would ask for
+  // billions of samples.
+  if (o.rate_hz > o.limits.max_rate_hz) {
+    char text[128];
+    std::snprintf(text, sizeof text, "resampling rate of %g Hz is above the %g Hz a recording's streams may run at",
+                  o.rate_hz, o.limits.max_rate_hz);
+    throw InputError(text);
+  }
   check_plausible(r, o.limits);
   SynchronisedPush p;
   p.source = r.source;

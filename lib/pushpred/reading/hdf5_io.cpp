@@ -49,6 +49,26 @@ void silence_hdf5_errors() {
   (void)done;
 }
 
+/// Why the last libhdf5 call failed, from its error stack: the innermost message, which names the cause ("truncated
+/// file: eof = 20000, sblock->base_addr = 0, stored_eof = 38144"), said plainly where it is a truncated file; empty
+/// when the stack holds none.
+std::string hdf5_failure_reason() {
+  std::string innermost;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* error, void* out) -> herr_t {
+        if (n == 0 && error != nullptr && error->desc != nullptr) *static_cast<std::string*>(out) = error->desc;
+        return 0;
+      },
+      &innermost);
+  unsigned long long held = 0, declared = 0, base = 0;
+  if (std::sscanf(innermost.c_str(), "truncated file: eof = %llu, sblock->base_addr = %llu, stored_eof = %llu", &held,
+                  &base, &declared) == 3)
+    return "the file is truncated: it holds " + std::to_string(held) + " bytes of the " + std::to_string(declared) +
+           " its header declares";
+  return innermost;
+}
+
 std::string type_description(hid_t type) {
   const size_t bits = 8 * H5Tget_size(type);
   switch (H5Tget_class(type)) {
@@ -152,7 +172,10 @@ StoredArrays read_arrays(const std::string& source, long long max_rows, double m
   silence_hdf5_errors();
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!file.valid()) throw InputError(about(source, "cannot open HDF5 file"));
+  if (!file.valid()) {
+    const std::string reason = hdf5_failure_reason();
+    throw InputError(about(source, "cannot open HDF5 file" + (reason.empty() ? "" : ": " + plain_text(reason))));
+  }
   StoredArrays arrays;
   for (std::size_t k = 0; k < kArrayNames.size(); ++k)
     arrays.values[k] = read_rows(file.get(), source, kArrayNames[k], max_rows, max_span_s, arrays.stored_bits[k]);

@@ -47,8 +47,13 @@ std::string json_problem(const nlohmann::json::exception& e) {
     const auto end = what.find("] ");
     if (end != std::string::npos) what = what.substr(end + 2);
   }
+  // Python's json.dump writes NaN and Infinity, which JSON does not have: the parser stops at their first letter.
+  const auto last = what.rfind("invalid literal; last read: '");
+  const bool non_finite = last != std::string::npos && what.size() >= 2 && what.back() == '\'' &&
+                          (what[what.size() - 2] == 'N' || what[what.size() - 2] == 'I');
   what = plain_text(what);
   if (what.size() > 200) what = what.substr(0, 200) + "...";
+  if (non_finite) what += " (NaN and Infinity are not JSON numbers; a recording holds finite numbers)";
   return what;
 }
 

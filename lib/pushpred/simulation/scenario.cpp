@@ -317,6 +317,9 @@ PushScenario scenario_from_json(const nlohmann::json& j, const std::string& sour
 }
 
 PushScenario read_scenario_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(about(path.string(), "is a folder, not a scenario file"));
   std::ifstream in(path);
   if (!in) throw InputError(about(path.string(), "cannot open scenario file"));
   nlohmann::json j;
