@@ -52,6 +52,9 @@ void ValidationOptions::validate() const {
   if (trials_per_kind < 1) throw InputError("validation: at least one trial per kind");
   if (min_pushes < 2 || max_pushes < min_pushes)
     throw InputError("validation: pushes per trial must be at least 2, and the maximum not below the minimum");
+  if (max_pushes > kMaxValidationPushes)
+    throw InputError("validation: --max-pushes must be at most " + std::to_string(kMaxValidationPushes) +
+                     " (got " + std::to_string(max_pushes) + ")");
   if (!(min_floor_multiple > 0) || !(max_floor_multiple >= min_floor_multiple))
     throw InputError("validation: floor multiples must be positive, the maximum not below the minimum");
   if (jobs < 1) throw InputError("validation: --jobs must be at least 1");

@@ -49,12 +49,16 @@ inline constexpr double kPessimisticSensorZeroSpread_N = 0.6;
 /// 0.06 N makes them spread as the real ones do (tests/diagnosis/test_preload.cpp compares the two).
 inline constexpr double kSimulatedSensorZeroSpread_N = 0.06;
 
+/// The most pushes a validation trial may draw: the dataset's objects have at most 40 recorded pushes, and a trial of
+/// 100 already takes minutes; a larger --max-pushes is a typing error, not a study.
+inline constexpr int kMaxValidationPushes = 100;
+
 struct ValidationOptions {
   int trials_per_kind = 20;
   std::uint64_t seed = 1;  ///< trial k of the whole run uses seed + k: any trial can be re-run alone
   /// Kinds to draw, "none" for clean trials; empty: "none" and every simulator effect.
   std::vector<std::string> kinds;
-  int min_pushes = 4, max_pushes = 8;
+  int min_pushes = 4, max_pushes = 8;  ///< at most kMaxValidationPushes
   double min_floor_multiple = 1, max_floor_multiple = 5;
   DiagnosisOptions diagnosis;
   int jobs = 1;  ///< trials run in parallel (results do not depend on it)
