@@ -188,7 +188,16 @@ json.dump(d, open(sys.argv[2], 'w'))" "$tmp/hex.json" "$tmp/huge_regions.json"
 expect_exit 2 "a model whose region numbers are all 1e300" -- "$bin" forecast --model "$tmp/huge_regions.json" \
   --object-pose 0,0,0 --tip -66,10 --direction 10 --speed 50 --out "$tmp/f20"
 expect_in "$tmp/err" "$tmp/huge_regions.json: the forecast from this object model is not finite" "the model is named"
-for d in f6 f7 f8 f9 f10 f11 f12 f13 f14 f15 f16 f17 f18 f19 f20; do
+python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+d['parameters']['support_friction']['value'] = 1e300
+json.dump(d, open(sys.argv[2], 'w'))" "$tmp/hex.json" "$tmp/huge_mu.json"
+expect_exit 2 "a model whose support friction is 1e300" -- "$bin" forecast --model "$tmp/huge_mu.json" \
+  --object-pose 0,0,0 --tip -66,10 --direction 10 --speed 50 --out "$tmp/f21"
+expect_in "$tmp/err" "support_friction of 1e+300 is above 10" "the parameter and its bound are named"
+expect_in "$tmp/err" "$tmp/huge_mu.json" "the model is named"
+for d in f6 f7 f8 f9 f10 f11 f12 f13 f14 f15 f16 f17 f18 f19 f20 f21; do
   expect_absent "$tmp/$d" "no output for bad input ($d)"
 done
 

@@ -270,6 +270,16 @@ void ForecastParameters::validate() const {
   require_positive_finite(pusher_friction, "forecast parameters: pusher_friction");
   require_positive_finite(torque_ratio_m, "forecast parameters: torque_ratio_m");
   require_positive_finite(support_friction, "forecast parameters: support_friction");
+  char text[160];
+  const auto at_most = [&](double value, double bound, const char* what) {
+    if (value <= bound) return;
+    std::snprintf(text, sizeof text, "forecast parameters: %s of %.3g is above %.3g, more than a pushed object has",
+                  what, value, bound);
+    throw InputError(text);
+  };
+  at_most(pusher_friction, kMaxFrictionCoefficient, "pusher_friction");
+  at_most(support_friction, kMaxFrictionCoefficient, "support_friction");
+  at_most(torque_ratio_m, kMaxTorqueRatio_m, "torque_ratio_m");
 }
 
 namespace {

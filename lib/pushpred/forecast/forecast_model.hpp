@@ -119,7 +119,12 @@ struct ForecastParameters {
   Eigen::Vector3d vector() const { return {pusher_friction, torque_ratio_m, support_friction}; }
   static ForecastParameters from_vector(const Eigen::Vector3d& v) { return {v(0), v(1), v(2)}; }
   static const char* name(int i);  ///< "pusher_friction", "torque_ratio_m", "support_friction"
-  void validate() const;           ///< InputError for a value not positive and finite
+  /// InputError for a value not positive and finite, or above what a pushed object can have: a friction coefficient
+  /// above kMaxFrictionCoefficient, a torque ratio above kMaxTorqueRatio_m (an object file of absurd numbers would
+  /// otherwise give absurd forecasts).
+  void validate() const;
+  static constexpr double kMaxFrictionCoefficient = 10;  ///< far above any dry friction (rubber on rubber: about 2)
+  static constexpr double kMaxTorqueRatio_m = 10;        ///< c is about a third of an object's size
 };
 
 /// The numerical and rig constants of the forecast (not identified).
