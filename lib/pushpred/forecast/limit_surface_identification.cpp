@@ -14,31 +14,23 @@
 namespace pushpred {
 
 TorqueRatioIdentification identify_torque_ratio(const SynchronisedPush& push, const RecordedForecastCase& c) {
-  constexpr double kFrom = 0.2, kTo = 0.9;  // of the plan's length of tip travel (measured_pusher_friction's)
-  constexpr double kTouch_m = 1.5e-3, kMinForce_N = 0.5, kHalfWindow_s = 0.01;
+  constexpr double kMinForce_N = 0.5, kHalfWindow_s = 0.01;
   TorqueRatioIdentification out;
-  const ForecastSettings settings;
   const Eigen::Index n = c.times_s.size(), i0 = push.size() - n;
   if (n < 3 || i0 < 0 || !c.forecast_object.outline || push.size() < 3) return out;
-  const ForecastOutline& outline = *c.forecast_object.outline;
-  const Eigen::Vector2d direction = c.plan.direction(), tip0 = push.tip_m.row(i0).transpose();
-  const double length = c.plan.length_m();
+  RodContactSamples samples(push, c);
   const double dt_grid = (push.t_s(push.size() - 1) - push.t_s(0)) / static_cast<double>(push.size() - 1);
   const Eigen::Index h = std::max<Eigen::Index>(1, std::lround(kHalfWindow_s / std::max(dt_grid, 1e-6)));
   const Eigen::Vector2d cof_body = c.forecast_object.centre_of_friction_m;
   double sum_km = 0, sum_omega = 0;
   double half_km[2] = {0, 0}, half_omega[2] = {0, 0};
   int half_samples[2] = {0, 0};
-  int hint = -1;
   for (Eigen::Index k = h; k + h < n; ++k) {
     const Eigen::Index j = i0 + k;
-    const double progress = (push.tip_m.row(j).transpose() - tip0).dot(direction) / length;
-    if (progress < kFrom || progress > kTo) continue;
-    const Eigen::Vector3d pose = push.pose.row(j).transpose();
-    const Eigen::Matrix2d R = Eigen::Rotation2Dd(pose(2)).toRotationMatrix();
-    const Eigen::Vector2d tip = push.tip_m.row(j).transpose();
-    const Outline::Closest cl = outline.closest(R.transpose() * (tip - pose.head<2>()), hint);
-    if (cl.signed_distance_m > settings.rod_radius_m + kTouch_m) continue;
+    const std::optional<RodContactSamples::Sample> s = samples.at(j);
+    if (!s) continue;
+    const Eigen::Matrix2d& R = s->R;
+    const Outline::Closest& cl = s->closest;
     const Eigen::Vector2d force = push.force_N.row(j).transpose();  // on the object, world frame
     if (!(force.norm() >= kMinForce_N)) continue;
     const double dt = push.t_s(j + h) - push.t_s(j - h);
@@ -54,7 +46,7 @@ TorqueRatioIdentification identify_torque_ratio(const SynchronisedPush& push, co
     sum_km += k_gain * moment * step;
     sum_omega += omega * step;
     ++out.samples;
-    const int half = progress < 0.5 * (kFrom + kTo) ? 0 : 1;
+    const int half = s->progress < 0.5 * (RodContactSamples::kFrom + RodContactSamples::kTo) ? 0 : 1;
     half_km[half] += k_gain * moment * step;
     half_omega[half] += omega * step;
     ++half_samples[half];

@@ -491,27 +491,40 @@ RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const 
   return c;
 }
 
+RodContactSamples::RodContactSamples(const SynchronisedPush& push, const RecordedForecastCase& c)
+    : push_(push),
+      outline_(*c.forecast_object.outline),
+      direction_(c.plan.direction()),
+      tip0_(push.tip_m.row(push.size() - c.times_s.size()).transpose()),
+      length_m_(c.plan.length_m()),
+      touch_m_(ForecastSettings{}.rod_radius_m + kTouch_m) {}
+
+std::optional<RodContactSamples::Sample> RodContactSamples::at(Eigen::Index j) {
+  Sample s;
+  s.progress = (push_.tip_m.row(j).transpose() - tip0_).dot(direction_) / length_m_;
+  if (s.progress < kFrom || s.progress > kTo) return std::nullopt;
+  const Eigen::Vector3d pose = push_.pose.row(j).transpose();
+  s.R = Eigen::Rotation2Dd(pose(2)).toRotationMatrix();
+  const Eigen::Vector2d tip = push_.tip_m.row(j).transpose();
+  s.closest = outline_.closest(s.R.transpose() * (tip - pose.head<2>()), hint_);
+  if (s.closest.signed_distance_m > touch_m_) return std::nullopt;
+  return s;
+}
+
 double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c) {
-  constexpr double kFrom = 0.2, kTo = 0.9;  // of the plan's length of tip travel
-  constexpr double kTouch_m = 1.5e-3, kMinNormal_N = 0.5, kSlipShare = 0.15;
+  constexpr double kMinNormal_N = 0.5, kSlipShare = 0.15;
   constexpr std::size_t kMinSamples = 10;
-  const ForecastSettings settings;
   const Eigen::Index n = c.times_s.size(), i0 = push.size() - n;
   if (n < 3 || i0 < 0 || !c.forecast_object.outline) return std::numeric_limits<double>::quiet_NaN();
-  const ForecastOutline& outline = *c.forecast_object.outline;
-  const Eigen::Vector2d direction = c.plan.direction(), tip0 = push.tip_m.row(i0).transpose();
-  const double length = c.plan.length_m(), slip_min = kSlipShare * c.plan.speed_m_s();
+  RodContactSamples samples(push, c);
+  const double slip_min = kSlipShare * c.plan.speed_m_s();
   std::vector<double> ratios;
-  int hint = -1;
   for (Eigen::Index k = 1; k + 1 < n; ++k) {
     const Eigen::Index j = i0 + k;
-    const double progress = (push.tip_m.row(j).transpose() - tip0).dot(direction) / length;
-    if (progress < kFrom || progress > kTo) continue;
-    const Eigen::Vector3d pose = push.pose.row(j).transpose();
-    const Eigen::Matrix2d R = Eigen::Rotation2Dd(pose(2)).toRotationMatrix();
-    const Eigen::Vector2d tip = push.tip_m.row(j).transpose();
-    const Outline::Closest cl = outline.closest(R.transpose() * (tip - pose.head<2>()), hint);
-    if (cl.signed_distance_m > settings.rod_radius_m + kTouch_m) continue;
+    const std::optional<RodContactSamples::Sample> s = samples.at(j);
+    if (!s) continue;
+    const Eigen::Matrix2d& R = s->R;
+    const Outline::Closest& cl = s->closest;
     const Eigen::Vector2d normal = -(R * cl.normal);  // into the object
     const Eigen::Vector2d tangent(-normal.y(), normal.x());
     const Eigen::Vector2d force = push.force_N.row(j).transpose();  // on the object

@@ -20,6 +20,7 @@
 #include <array>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -95,20 +96,44 @@ ForecastOutline read_outline_csv(const std::filesystem::path& path, const std::s
 RecordedForecastCase recorded_forecast_case(const SynchronisedPush& push, const ForecastObject& object,
                                             double push_length_m = 0.05);
 
+/// The samples of a recorded push where its rod pushes the object: from 20 % to 90 % of the plan's length of tip
+/// travel (away from the speed ramps), with the rod (ForecastSettings::rod_radius_m) within 1.5 mm of touching the
+/// outline. measured_pusher_friction and identify_torque_ratio read the contact force there. The thresholds are set
+/// from the rig, not fitted.
+class RodContactSamples {
+ public:
+  static constexpr double kFrom = 0.2, kTo = 0.9;  ///< of the plan's length of tip travel
+  static constexpr double kTouch_m = 1.5e-3;       ///< the rod's largest gap to the outline
+  struct Sample {
+    double progress = 0;       ///< of the plan's length of tip travel
+    Eigen::Matrix2d R;         ///< the object's recorded rotation, body to world
+    Outline::Closest closest;  ///< the outline's point nearest the tip, body frame
+  };
+  /// `c` is the push's case; it must have an outline.
+  RodContactSamples(const SynchronisedPush& push, const RecordedForecastCase& c);
+  /// Sample j of `push` when the rod pushes there. Reads the samples in increasing order fastest (the outline search
+  /// starts at the last contact).
+  std::optional<Sample> at(Eigen::Index j);
+
+ private:
+  const SynchronisedPush& push_;
+  const ForecastOutline& outline_;
+  Eigen::Vector2d direction_, tip0_;
+  double length_m_, touch_m_;
+  int hint_ = -1;
+};
+
 /// The rod's friction as a recorded push's force sensor measured it: the median over the recorded samples where the
 /// contact slides of |tangential| / normal contact force, in the frame of the outline's normal at the contact point
-/// nearest the tip. A sample counts from 20 % to 90 % of the plan's length of tip travel (away from the speed ramps),
-/// where the rod is within 1.5 mm of touching (a rod of ForecastSettings::rod_radius_m), pushes with at least 0.5 N
-/// and slides: the tip's velocity relative to the object's material point at the contact, along the outline,
+/// nearest the tip. A sample counts where the rod pushes (RodContactSamples) with at least 0.5 N and slides: the tip's velocity relative to the object's material point at the contact, along the outline,
 /// exceeds 15 % of the plan's speed. NaN with fewer than 10 such samples. `c` is the push's case (its plan and
 /// object); recorded_forecast_case sets its measured_pusher_friction so. The thresholds are set from the rig (0.5 N
 /// is a few times the sensor's noise), not fitted.
 double measured_pusher_friction(const SynchronisedPush& push, const RecordedForecastCase& c);
 
 /// Identifies c (TorqueRatioIdentification) from `push`'s recorded force and motion about `c`'s object's centre of
-/// friction, over the samples from
-/// 20 % to 90 % of the plan's tip travel (away from the speed ramps) where the rod is within 1.5 mm of touching and
-/// pushes with at least 0.5 N (measured_pusher_friction's thresholds, set from the rig). Velocities are central
+/// friction, over the samples where the rod pushes (RodContactSamples) with at least 0.5 N (measured_pusher_friction's
+/// threshold, set from the rig). Velocities are central
 /// differences over +-10 ms.
 TorqueRatioIdentification identify_torque_ratio(const SynchronisedPush& push, const RecordedForecastCase& c);
 
