@@ -54,7 +54,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                   "bound)")
       ->check(kNonNegativeNumber);
   sub->add_option("--min-pushes", a->options.min_pushes, "Fewest pushes per trial (default 4)");
-  sub->add_option("--max-pushes", a->options.max_pushes, "Most pushes per trial (default 8)");
+  sub->add_option("--max-pushes", a->options.max_pushes, "Most pushes per trial (default 8, at most 100)");
   sub->add_option("--relevance", a->options.diagnosis.relevance_fraction,
                   "Share of the support friction below which an effect is negligible (default 0.05)")
       ->check(CLI::Range(1e-6, 0.999999));
