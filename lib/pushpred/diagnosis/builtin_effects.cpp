@@ -1,5 +1,6 @@
 #include "pushpred/diagnosis/builtin_effects.hpp"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -249,14 +250,26 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
     return fit;
   }
 
+  /// The delay `theta`, scored with `nuisance` beside mu; the spanned share is that of the change it makes in the
+  /// residual.
+  std::optional<BesideFit> fit_directly_beside(const std::vector<DiagnosisPush>& pushes, const Eigen::VectorXd& theta,
+                                               const EffectColumns& nuisance) const override {
+    if (pushes.empty() || nuisance.empty() || theta.size() != 1) return std::nullopt;
+    const PooledSearch beside = pooled_fit(pushes, false, true, &nuisance, theta(0));
+    return BesideFit{beside.fit, beside.spanned_share};
+  }
+
  private:
   struct PooledSearch {
     DirectFit fit;
     double rss_at_zero = 0, rss_at_minimum = 0;  ///< weighted residual sums of squares at tau = 0 and at the fit
+    /// With nuisance columns: the share of the change a delay of `own_tau_s` makes in the residual that they span.
+    double spanned_share = 0;
   };
   /// The search above over `pushes` together (one delay shared by all), with a drag beside mu or not; without
   /// `search_delay` only the residual at tau = 0 (rss_at_zero; the fit is empty).
-  PooledSearch pooled_fit(const std::vector<DiagnosisPush>& pushes, bool with_drag, bool search_delay = true) const {
+  PooledSearch pooled_fit(const std::vector<DiagnosisPush>& pushes, bool with_drag, bool search_delay = true,
+                          const EffectColumns* nuisance = nullptr, double own_tau_s = 0) const {
     const ResidualRegression linear(pushes, Relation::Linear);
     const double neff = linear.effective_samples();
     const Eigen::Vector3d scale = linear.channel_scale();
@@ -277,25 +290,60 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
       drag.push_back(with_drag ? d.as_observed(raw_drag) : raw_drag);
       used.push_back(friction_law_samples(d));
     }
+    // The residual the friction law is fitted to, with the force read tau later (rows the law does not use zeroed).
+    const auto observed = [&](std::size_t p, double tau) {
+      const DiagnosisPush& d = pushes[p];
+      ModelCorrection c;
+      c.force_delay_s = tau;
+      const SynchronisedPush shifted = apply_data_correction(d.push, c);
+      const Eigen::MatrixX3d u = shifted.applied_input().middleRows(d.first, d.rows());
+      const Eigen::MatrixX3d qu =
+          q_filter(d.estimate.t_s, u, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
+      Eigen::MatrixX3d stuck_u = Eigen::MatrixX3d::Zero(d.rows(), 3);
+      for (Eigen::Index k = 0; k < d.rows(); ++k)
+        if (d.stuck[k]) stuck_u.row(k) = u.row(k);
+      Eigen::MatrixX3d y =
+          d.estimate.d_hat + d.filtered_input - qu - d.friction_explained +
+          q_filter(d.estimate.t_s, stuck_u, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
+      for (Eigen::Index k = 0; k < d.rows(); ++k)
+        if (!used[p][k]) y.row(k).setZero();
+      return y;
+    };
+    // Beside nuisance columns: the weighted least squares of the force channels on [Coulomb, drag, nuisance...].
+    const auto rss_beside = [&](double tau) {
+      const Eigen::Index width = 1 + (with_drag ? 1 : 0) + static_cast<Eigen::Index>(nuisance->size());
+      Eigen::MatrixXd xx = Eigen::MatrixXd::Zero(width, width);
+      Eigen::VectorXd xy = Eigen::VectorXd::Zero(width);
+      double yy = 0;
+      Eigen::VectorXd x(width);
+      for (std::size_t p = 0; p < pushes.size(); ++p) {
+        const Eigen::MatrixX3d y = observed(p, tau);
+        for (int ch = 0; ch < 2; ++ch) {
+          const double w = 1 / (scale(ch) * scale(ch));
+          for (Eigen::Index k = 0; k < pushes[p].rows(); ++k) {
+            if (!used[p][k]) continue;
+            Eigen::Index j = 0;
+            x(j++) = coulomb[p](k, ch);
+            if (with_drag) x(j++) = drag[p](k, ch);
+            for (const auto& column : *nuisance) x(j++) = column[p](k, ch);
+            xx.noalias() += w * x * x.transpose();
+            xy += w * x * y(k, ch);
+            yy += w * y(k, ch) * y(k, ch);
+          }
+        }
+      }
+      const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xx);
+      const Eigen::VectorXd b = qr.solve(xy);
+      return std::max(yy - b.dot(xy), 0.0);
+    };
     const auto rss = [&](double tau) {
+      if (nuisance) return rss_beside(tau);
       std::vector<Eigen::MatrixX3d> ys;
       Eigen::Matrix2d xx = Eigen::Matrix2d::Zero();
       Eigen::Vector2d xy = Eigen::Vector2d::Zero();
       for (std::size_t p = 0; p < pushes.size(); ++p) {
         const DiagnosisPush& d = pushes[p];
-        ModelCorrection c;
-        c.force_delay_s = tau;
-        const SynchronisedPush shifted = apply_data_correction(d.push, c);
-        const Eigen::MatrixX3d u = shifted.applied_input().middleRows(d.first, d.rows());
-        const Eigen::MatrixX3d qu =
-            q_filter(d.estimate.t_s, u, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
-        Eigen::MatrixX3d stuck_u = Eigen::MatrixX3d::Zero(d.rows(), 3);
-        for (Eigen::Index k = 0; k < d.rows(); ++k)
-          if (d.stuck[k]) stuck_u.row(k) = u.row(k);
-        Eigen::MatrixX3d y = d.estimate.d_hat + d.filtered_input - qu - d.friction_explained +
-                             q_filter(d.estimate.t_s, stuck_u, d.q_zeta, d.q_wn_rad_s, nullptr, FilterOutput::IntervalMean);
-        for (Eigen::Index k = 0; k < d.rows(); ++k)
-          if (!used[p][k]) y.row(k).setZero();
+        Eigen::MatrixX3d y = observed(p, tau);
         for (int ch = 0; ch < 2; ++ch) {
           const double w = 1 / (scale(ch) * scale(ch));
           for (Eigen::Index k = 0; k < d.rows(); ++k)
@@ -337,14 +385,41 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
       const double at_zero = rss(0.0);
       return {DirectFit{}, at_zero, at_zero};
     }
-    double tau = 0;
-    search(-kMaxDelay_s, kMaxDelay_s, 0.004, tau);
+    double spanned_share = 0;
+    if (nuisance && !nuisance->empty()) {
+      const Eigen::Index width = static_cast<Eigen::Index>(nuisance->size());
+      Eigen::MatrixXd xx = Eigen::MatrixXd::Zero(width, width);
+      Eigen::VectorXd xy = Eigen::VectorXd::Zero(width), x(width);
+      double total = 0;
+      for (std::size_t p = 0; p < pushes.size(); ++p) {
+        const Eigen::MatrixX3d change = observed(p, own_tau_s) - observed(p, 0.0);
+        for (int ch = 0; ch < 2; ++ch) {
+          const double w = 1 / (scale(ch) * scale(ch));
+          for (Eigen::Index k = 0; k < pushes[p].rows(); ++k) {
+            if (!used[p][k]) continue;
+            for (Eigen::Index j = 0; j < width; ++j) x(j) = (*nuisance)[static_cast<std::size_t>(j)][p](k, ch);
+            xx.noalias() += w * x * x.transpose();
+            xy += w * x * change(k, ch);
+            total += w * change(k, ch) * change(k, ch);
+          }
+        }
+      }
+      if (total > 0) {
+        const Eigen::VectorXd b = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(xx).solve(xy);
+        spanned_share = std::clamp(b.dot(xy) / total, 0.0, 1.0);
+      }
+    }
+    double tau = own_tau_s;
     const double step = 0.0005;
-    const double at = search(tau - 0.004, tau + 0.004, step, tau);
+    // Beside nuisance columns the delay found without them is scored, not searched again: a delay free to move
+    // beside a generic signature would combine with it (tuning seeds 376400-376419).
+    if (!nuisance) search(-kMaxDelay_s, kMaxDelay_s, 0.004, tau);
+    const double at = nuisance ? rss(tau) : search(tau - 0.004, tau + 0.004, step, tau);
     const double below = rss(tau - step), above = rss(tau + step);
     const double curvature = (below + above - 2 * at) / (step * step);  // d^2 RSS / d tau^2
     double shift = 0;
-    if (curvature > 0) shift = std::clamp(0.5 * (below - above) / (curvature * step * step) * step, -step, step);
+    if (curvature > 0 && !nuisance)
+      shift = std::clamp(0.5 * (below - above) / (curvature * step * step) * step, -step, step);
     DirectFit fit;
     fit.theta = Eigen::VectorXd::Constant(1, tau + shift);
     const double minimum = rss(tau + shift);
@@ -355,7 +430,7 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
     fit.samples = n;
     const double at_zero = rss(0.0);
     fit.score = neff * std::log(at_zero / minimum) - std::log(neff);
-    return {fit, at_zero, minimum};
+    return {fit, at_zero, minimum, spanned_share};
   }
 
   static constexpr double kMaxDelay_s = 0.1;

@@ -360,6 +360,22 @@ class DataCorrectionEffect : public CandidateEffect {
   virtual Eigen::VectorXd compose(const Eigen::VectorXd& applied, const Eigen::VectorXd& residual) const {
     return applied + residual;
   }
+
+  /// The found correction `theta` scored again with `nuisance` fitted beside the support's friction law (columns as
+  /// the observer sees them, [column][push] on `pushes`, which this correction has not been applied to): the
+  /// stand-in check's question to a found data correction where the residual holds structure the catalogue lacks.
+  /// `spanned_share` is how much of the correction's own change of the residual the nuisance spans (where it spans
+  /// most of it, the nuisance is the generic form of this effect and no test beside it could pass).
+  struct BesideFit {
+    DirectFit fit;
+    double spanned_share = 0;
+  };
+  /// Empty where the effect has no such test (the default).
+  virtual std::optional<BesideFit> fit_directly_beside(
+      const std::vector<DiagnosisPush>& /*pushes*/, const Eigen::VectorXd& /*theta*/,
+      const std::vector<std::vector<Eigen::MatrixX3d>>& /*nuisance*/) const {
+    return std::nullopt;
+  }
 };
 
 /// A change of the prediction's structure (the initial velocity, the quasi-static push law, the pushing model),

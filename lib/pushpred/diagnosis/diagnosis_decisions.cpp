@@ -98,6 +98,12 @@ std::optional<std::string> decision_log_line(const SelectionDecision& d, const s
     case Verdict::StandsInForUnexplained:
       return kind + ": stands in for the unexplained residual: beside its leading signature " + d.reason +
              diagnosis_format(" its score is %.1f (%.1f alone): not found", d.score_beside, d.score);
+    case Verdict::StandsInForRestForce:
+      return kind + diagnosis_format(
+                        ": stands in for the force the clear rests share (%.3f N, no found effect "
+                        "takes it out): with it taken out of the data its score is %.1f (%.1f "
+                        "without): not found",
+                        d.amount, d.score_beside, d.score);
     case Verdict::BaseStructureNote:
     case Verdict::BaseStructurePart:
     case Verdict::Fitted:
@@ -253,6 +259,16 @@ void apply_decision(const SelectionDecision& d, double floor_margin_std, EffectR
               ") it no longer passes its test (score %.1f): a stand-in for physics the "
               "catalogue lacks",
               d.score_beside);
+      return;
+    case Verdict::StandsInForRestForce:
+      r.stands_in_for_unexplained = true;
+      r.theta = d.theta;
+      r.theta_std = d.theta_std;
+      r.note = diagnosis_format(
+          "significant and above its floor, but the clear rests show a force of %.3f N that no found effect takes "
+          "out, and with it taken out of the data it no longer passes its test (score %.1f): a stand-in for "
+          "physics the catalogue lacks",
+          d.amount, d.score_beside);
       return;
   }
 }

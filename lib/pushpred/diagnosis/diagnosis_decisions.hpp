@@ -65,6 +65,8 @@ enum class Verdict {
   // The structure left.
   StandsInForUnexplained,  ///< beside the leading signature of an unexplained residual (`reason`) it no longer
                            ///< passes its test (score): not found
+  StandsInForRestForce,    ///< with the force the clear rests share (`amount`, N) taken out of the data it no longer
+                           ///< passes its test (score_beside): not found
 };
 
 /// One decision about one candidate (an index into the library), with what it rests on. Fields a verdict does not
@@ -84,7 +86,7 @@ struct SelectionDecision {
   double torque = 0;                          ///< mu + torque_excess in the joint fit [-]
   double support_friction = 0;                ///< the Coulomb coefficient mu in the joint fit [-]
   double error_with = 0, error_without = 0;   ///< the fit phases' mean normalised error with it and without it
-  double score_beside = 0;                    ///< StandsInForUnexplained: its score beside the signature
+  double score_beside = 0;                    ///< StandsInFor...: its score beside the signature or rest force
   int pushes_better = 0, pushes = 0;          ///< fit pushes whose own phases it predicts better, of all fit pushes
   double samples = 0, effective_samples = 0;  ///< a direct test's samples
 };
