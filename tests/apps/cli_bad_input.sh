@@ -63,7 +63,10 @@ check_class empty_stream .h5 "array 'tip_pose' is empty"
 check_class single_row .h5 "array 'object_pose' has one sample; need at least two"
 check_class missing_array .h5 "array 'ft_wrench' is missing"
 check_class shuffled .h5 "array 'ft_wrench': time goes backwards by"
-check_class truncated .h5 "cannot open HDF5 file: the file is truncated: it holds"
+check_class truncated .h5 "not a complete HDF5 file: it holds"
+expect_in "$tmp/err" "its header declares (cut short, as by an interrupted copy)" "truncated: the bytes declared are said"
+check_class signature_only .h5 "not a complete HDF5 file: it holds 8 bytes and ends inside its header (the superblock at byte 0)"
+check_class cut_in_header .h5 "not a complete HDF5 file: it holds 40 bytes, fewer than the 96 of its header (superblock)"
 
 # Files other tools write that hold a usable push: HDF5 behind a user block, and 32-bit floats with time stamps from
 # the push's start (converted, and said so).
@@ -201,7 +204,7 @@ expect_absent "$tmp/flag" "a plan rate above the grid's wrote an output"
 expect_exit 1 "bench on a good and two bad files" -- limit "$bin" bench "$bad/huge_force/$stem.h5" "$good1" \
   "$bad/truncated/$stem.h5" --methods dob --json "$tmp/bench.json"
 expect_in "$tmp/err" "FAILED $bad/huge_force/$stem.h5: stream 'ft_wrench' has fx 1e+300 N" "bench names the implausible file"
-expect_in "$tmp/err" "FAILED $bad/truncated/$stem.h5: cannot open HDF5 file: the file is truncated" "bench names the cut file"
+expect_in "$tmp/err" "FAILED $bad/truncated/$stem.h5: not a complete HDF5 file: it holds" "bench names the cut file"
 expect_in "$tmp/err" "2 of 3 inputs failed" "bench counts the failures"
 expect_in "$tmp/bench.json" '"failed": 2' "bench.json counts them"
 expect_exit 2 "bench on a bad file alone" -- limit "$bin" bench "$bad/truncated/$stem.h5"

@@ -2,12 +2,14 @@
 // error return leaks a file, dataset or dataspace.
 #include <hdf5.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <random>
 
 #include "pushpred/core/error.hpp"
@@ -64,9 +66,52 @@ std::string hdf5_failure_reason() {
   unsigned long long held = 0, declared = 0, base = 0;
   if (std::sscanf(innermost.c_str(), "truncated file: eof = %llu, sblock->base_addr = %llu, stored_eof = %llu", &held,
                   &base, &declared) == 3)
-    return "the file is truncated: it holds " + std::to_string(held) + " bytes of the " + std::to_string(declared) +
-           " its header declares";
+    return "not a complete HDF5 file: it holds " + std::to_string(held) + " bytes of the " + std::to_string(declared) +
+           " its header declares (cut short, as by an interrupted copy)";
   return innermost;
+}
+
+/// For a file that ends inside its HDF5 superblock (the header after the signature, which declares the file's length;
+/// a file cut after a few bytes), "not a complete HDF5 file: it holds 16 bytes, fewer than the 96 of its header
+/// (superblock)"; empty
+/// otherwise. libhdf5's own reason for such a file names an internal detail ("bad byte number in an address").
+/// Superblock lengths from the HDF5 file format specification: versions 0 and 1 hold 24 (28) bytes of fields, four
+/// addresses and the root group's symbol table entry (two addresses and 24 bytes); versions 2 and 3 hold 4 bytes of
+/// fields, four addresses and a 4-byte checksum. Addresses are "size of offsets" bytes.
+std::string incomplete_superblock(const std::string& source) {
+  std::ifstream in(source, std::ios::binary);
+  if (!in) return {};
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  // Where libhdf5 looks for the signature: 0, 512, 1024, 2048, ...
+  std::streamoff at = 0;
+  for (;; at = at == 0 ? 512 : 2 * at) {
+    if (at + 8 > size) return {};
+    char head[8] = {};
+    in.clear();
+    in.seekg(at);
+    if (!in.read(head, sizeof head)) return {};
+    if (std::equal(head, head + 8, kSignature)) break;
+  }
+  const std::string held = "not a complete HDF5 file: it holds " + std::to_string(size) + " bytes";
+  unsigned char fields[16] = {};
+  in.clear();
+  in.seekg(at + 8);
+  in.read(reinterpret_cast<char*>(fields), sizeof fields);
+  const std::streamoff got = in.gcount();
+  if (got < 1) return held + " and ends inside its header (the superblock at byte " + std::to_string(at) + ")";
+  const int version = fields[0];
+  const std::streamoff offsets_at = version <= 1 ? 5 : 1;  // "size of offsets", counted from the version byte
+  if (version > 3 || got <= offsets_at)
+    return size - at < 8 + 16 ? held + " and ends inside its header (the superblock at byte " + std::to_string(at) + ")"
+                              : std::string();
+  const std::streamoff offset_size = fields[offsets_at];
+  const std::streamoff length = version == 0   ? 8 + 16 + 4 * offset_size + 2 * offset_size + 24
+                                : version == 1 ? 8 + 20 + 4 * offset_size + 2 * offset_size + 24
+                                               : 8 + 4 + 4 * offset_size + 4;
+  if (size - at >= length) return {};
+  return held + ", fewer than the " + std::to_string(at + length) + " of its header (superblock)";
 }
 
 std::string type_description(hid_t type) {
@@ -173,7 +218,10 @@ StoredArrays read_arrays(const std::string& source, long long max_rows, double m
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) {
+    const std::string incomplete = incomplete_superblock(source);
+    if (!incomplete.empty()) throw InputError(about(source, incomplete));
     const std::string reason = hdf5_failure_reason();
+    if (reason.rfind("not a complete HDF5 file", 0) == 0) throw InputError(about(source, reason));
     throw InputError(about(source, "cannot open HDF5 file" + (reason.empty() ? "" : ": " + plain_text(reason))));
   }
   StoredArrays arrays;
