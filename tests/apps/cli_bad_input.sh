@@ -214,10 +214,40 @@ expect_in "$tmp/err" "$tmp/nowhere/bench.json: --json: its folder does not exist
 [ ! -s "$tmp/out" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: bench timed before refusing --json"; }
 
 # simulate refuses a scenario that gives a push no command would read, and a folder as --config; nothing written.
-expect_exit 2 "simulate a force offset of 1e300 N" -- limit "$bin" simulate --case 1 --effect force_offset=1e300 \
-  --out "$tmp/sim.h5"
-expect_in "$tmp/err" "the simulated push is not one pushpred reads (stream 'ft_wrench' has fx 1e+300 N" "the reason is named"
+printf '{"shape": "rect2", "initial_pose": [1e9, 0, 0]}\n' >"$tmp/far.json"
+expect_exit 2 "simulate a start 1e6 km away" -- limit "$bin" simulate --config "$tmp/far.json" --out "$tmp/sim.h5"
+expect_in "$tmp/err" "the simulated push is not one pushpred reads (stream 'tip_pose' has x 1e+09 m" "the reason is named"
 expect_absent "$tmp/sim.h5" "no implausible recording written"
+# Each numeric flag of simulate out of range (nan, inf, negative, 1e300) is refused naming the flag as typed, before
+# anything is simulated: exit 2, nothing written. A negative or overlong seed is refused, not wrapped around.
+while read -r flag value expected; do
+  base=(--case 1)
+  [ "$flag" = --case ] && base=()
+  expect_exit 2 "simulate $flag $value" -- limit "$bin" simulate "${base[@]}" "$flag" "$value" --out "$tmp/sim.h5" </dev/null
+  expect_in "$tmp/err" "$flag: $expected" "simulate $flag $value names the flag and the problem"
+  expect_absent "$tmp/sim.h5" "simulate $flag $value writes nothing"
+done <<'FLAGS'
+--contact-mu inf must be a finite number in [0, 10], got inf
+--contact-mu -1 must be a finite number in [0, 10], got -1
+--mu nan must be a finite number in (0, 10], got nan
+--mu 1e300 must be a finite number in (0, 10], got 1e+300
+--seed -1 must be a whole number from 0 to 18446744073709551615, got '-1'
+--seed 99999999999999999999999 must be a whole number from 0 to 18446744073709551615
+--speed 1e300 must be a push speed in (0, 2] m/s, got 1e+300
+--acceleration -1 must be a push acceleration in (0, 50] m/s^2, got -1
+--side -1 contact side -1 does not exist
+--position nan must be a place along the side in [0, 1], got nan
+--angle inf must be within (-pi/2, pi/2) rad
+--length 1e300 must be a push length in (0, 1] m, got 1e+300
+--gap nan must be a gap in [-0.001, 0.05] m
+--noise-scale 1e300 must be in [0, 100], got 1e+300
+--jitter-scale -1 must be in [0, 10], got -1
+--case 7 paper case 7 does not exist (cases 1 to 6)
+--effect force_offset=1e300 effect force_offset=1e+300: a sensor bias beyond 20 N
+--effect viscous_friction=1e300 effect viscous_friction=1e+300: viscous friction must be in [0, 1e4] 1/s
+--effect stribeck_friction=nan effect 'stribeck_friction=nan': amount must be finite
+--effect inertia_mismatch=1e-300 effect inertia_mismatch=1e-300: the mass and inertia factor must be in [0.1, 10]
+FLAGS
 expect_exit 2 "simulate with a folder as --config" -- limit "$bin" simulate --config "$bad" --out "$tmp/sim.h5"
 expect_in "$tmp/err" "$bad: is a folder, not a scenario file" "the folder is named"
 expect_absent "$tmp/sim.h5" "nothing simulated from a folder"

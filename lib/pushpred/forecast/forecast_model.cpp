@@ -59,6 +59,7 @@ ForecastOutline ForecastOutline::polygon(std::vector<Eigen::Vector2d> vertices, 
     o.normals_[i] = Eigen::Vector2d(edge.y(), -edge.x()).normalized();  // outward for counter-clockwise
   }
   o.description_ = std::move(description);
+  o.size_ = polygon_size(o.vertices_);
   ShapeInfo shape;
   shape.name = "polygon";
   shape.geometry = Geometry::Polygon;
@@ -74,6 +75,7 @@ ForecastOutline ForecastOutline::ellipse(double a, double b) {
   o.ellipse_ = true;
   o.a_ = a;
   o.b_ = b;
+  o.size_ = ellipse_size(a, b);
   ShapeInfo shape;
   shape.name = "ellipse";
   shape.geometry = Geometry::Ellipse;
@@ -255,8 +257,13 @@ void ForecastObject::validate() const {
     throw std::logic_error("forecast object '" + name +
                            "': its outline limit surface is not about its centre of friction or of its rim weight (use "
                            "set_centre_of_friction or set_pressure_shape)");
-  require_positive_finite(mass_kg, "forecast object '" + name + "': mass");
-  require_positive_finite(inertia_kgm2, "forecast object '" + name + "': inertia");
+  if (!is_shape_name(name))
+    throw InputError("forecast object '" + plain_text(name) +
+                     "': a name is letters and digits only, as a shape's name (the dataset's file names carry it as "
+                     "shape=NAME)");
+  check_outline_size(outline->size(), "forecast object '" + name + "'");
+  check_mass_and_inertia(outline->size(), mass_kg, inertia_kgm2, "forecast object '" + name + "': mass",
+                         "forecast object '" + name + "': inertia");
   if (!centre_of_friction_m.allFinite())
     throw InputError("forecast object '" + name + "': centre of friction must be finite");
 }

@@ -117,11 +117,16 @@ std::string incomplete_superblock(const std::string& source) {
 std::string type_description(hid_t type) {
   const size_t bits = 8 * H5Tget_size(type);
   switch (H5Tget_class(type)) {
-    case H5T_INTEGER: return std::to_string(bits) + "-bit integers";
-    case H5T_FLOAT: return std::to_string(bits) + "-bit floats";
-    case H5T_STRING: return "strings";
-    case H5T_COMPOUND: return "compound records";
-    default: return "non-numeric data";
+    case H5T_INTEGER:
+      return std::to_string(bits) + "-bit integers";
+    case H5T_FLOAT:
+      return std::to_string(bits) + "-bit floats";
+    case H5T_STRING:
+      return "strings";
+    case H5T_COMPOUND:
+      return "compound records";
+    default:
+      return "non-numeric data";
   }
 }
 
@@ -149,18 +154,18 @@ Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* nam
   // hold poses and forces well, and time stamps only where they are small (checked after decoding).
   const std::size_t bytes = type.valid() ? H5Tget_size(type.get()) : 0;
   if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT || (bytes != 8 && bytes != 4))
-    throw InputError(about(source, where + " holds " + (type.valid() ? type_description(type.get()) : "unreadable data") +
+    throw InputError(about(source, where + " holds " +
+                                       (type.valid() ? type_description(type.get()) : "unreadable data") +
                                        "; the format stores 64-bit floats"));
   stored_bits = static_cast<std::int64_t>(8 * bytes);
   Handle space(H5Dget_space(dataset.get()), H5Sclose);
   const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
-  if (rank != 2)
-    throw InputError(about(source, where + " has rank " + std::to_string(rank) + ", expected n x 4"));
+  if (rank != 2) throw InputError(about(source, where + " has rank " + std::to_string(rank) + ", expected n x 4"));
   hsize_t dims[2] = {0, 0};
   H5Sget_simple_extent_dims(space.get(), dims, nullptr);
   if (dims[1] != 4)
-    throw InputError(about(source, where + " has shape (" + std::to_string(dims[0]) + ", " +
-                                       std::to_string(dims[1]) + "), expected (n, 4)"));
+    throw InputError(about(source, where + " has shape (" + std::to_string(dims[0]) + ", " + std::to_string(dims[1]) +
+                                       "), expected (n, 4)"));
   // Checked before allocating: a file may declare far more rows than it holds.
   if (dims[0] > static_cast<hsize_t>(max_rows))
     throw InputError(about(source, where + " declares " + std::to_string(dims[0]) + " rows, more than the " +
@@ -196,10 +201,8 @@ void write_rows(hid_t file, const std::string& target, const char* name, const T
   buffer.rightCols<3>() = s.values;
   const hsize_t dims[2] = {static_cast<hsize_t>(s.size()), 4};
   Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
-  Handle dataset(H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 H5Dclose);
-  if (!dataset.valid() ||
-      H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
+  Handle dataset(H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  if (!dataset.valid() || H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
     throw InputError(about(target, std::string("cannot write array '") + name + "'"));
 }
 
