@@ -83,6 +83,31 @@ expect_in "$tmp/err" "--name goes with an outline of one's own" "the lone --name
 expect_exit 2 "an empty --out" -- "$bin" learn $hex --out ""
 expect_in "$tmp/err" "--out: empty path" "the empty --out is named"
 for f in e3 foo; do expect_absent "$tmp/$f.json" "no object file ($f)"; done
+# An own outline, mass and inertia no pushed tabletop object has, and a name that is not letters and digits, are
+# refused naming the flag (reading/physical_bounds.hpp): before any push is read, nothing written.
+printf 'x_m,y_m\n-50,-50\n50,-50\n50,50\n-50,50\n' >"$tmp/huge.csv"
+while IFS='|' read -r what args expected; do
+  # shellcheck disable=SC2086
+  expect_exit 2 "learn with $what" -- "$bin" learn $hex $args --out "$tmp/absurd.json" </dev/null
+  expect_in "$tmp/err" "$expected" "learn with $what: the flag and the problem are named"
+  expect_absent "$tmp/absurd.json" "no object file from $what"
+done <<ABSURD
+a_100_m_polygon|--outline=$tmp/huge.csv --mass=1 --inertia=0.001|--outline $tmp/huge.csv: the outline is 141 m across, more than the 2 m
+a_1e9_m_circle|--circle=1e9 --mass=1 --inertia=0.001|--circle: the outline is 2e+09 m across, more than the 2 m
+a_100_m_ellipse|--ellipse=50,30 --mass=1 --inertia=0.001|--ellipse: the outline is 100 m across
+a_0.2_mm_sliver|--ellipse=0.05,0.0001 --mass=1 --inertia=0.001|--ellipse: the outline is 0.2 mm wide at its narrowest, less than the 1 mm
+a_1e9_kg_disc|--circle=0.05 --mass=1e9 --inertia=0.001|--mass: 1e+09 kg is 1.27e+11 kg per m^2
+a_1e-9_kg_disc|--circle=0.05 --mass=1e-9 --inertia=1e-12|--mass: 1e-09 kg is 1.27e-07 kg per m^2
+an_inertia_beyond_the_outline|--circle=0.05 --mass=1 --inertia=1e6|--inertia: 1e+06 kg m^2 with a mass of 1 kg gives a radius of gyration
+an_inertia_of_a_point|--circle=0.05 --mass=1 --inertia=1e-12|--inertia: 1e-12 kg m^2 with a mass of 1 kg
+ABSURD
+for name in "my box" "a/b" "it's" "hex_2"; do
+  # shellcheck disable=SC2086
+  expect_exit 2 "learn --name '$name'" -- "$bin" learn $hex --circle 0.05 --mass 1 --inertia 0.001 --name "$name" \
+    --out "$tmp/named.json"
+  expect_in "$tmp/err" "--name: '$name' is not a name an object may have: letters and digits only" "'$name' is refused"
+  expect_absent "$tmp/named.json" "no object file named '$name'"
+done
 
 # One's own outline: the hexagon given as a polygon file with its mass and inertia learns what the shape table's does.
 python3 -c "

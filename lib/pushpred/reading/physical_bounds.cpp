@@ -114,7 +114,7 @@ void check_mass_and_inertia(const OutlineSize& size, double mass_kg, double iner
     throw InputError(inertia_label + ": " + number(inertia_kgm2) + " kg m^2 with a mass of " + number(mass_kg) +
                      " kg gives a radius of gyration sqrt(I / m) of " + number(1e3 * gyration) +
                      " mm, less than a hundredth of the outline's extent of " + number(1e3 * size.extent_m) +
-                     " mm (a uniform plate has about a third)");
+                     " mm (uniform plates have a quarter to a third)");
 }
 
 void check_friction_coefficient(double mu, const std::string& label, bool zero_allowed) {

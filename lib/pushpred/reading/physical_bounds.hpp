@@ -2,8 +2,9 @@
 // What a pushed tabletop object can physically be: the bounds every part that takes an object or a friction
 // coefficient from a user checks (learn's own outline, mass and inertia, object files, the forecast's parameters,
 // simulate's flags and scenario files), so that a typo of 1e9 is refused with the reason instead of giving absurd
-// finite results. Each bound lies far outside the dataset's objects (9 to 18 cm across, 0.8 to 1.3 kg, 100 kg/m^2,
-// radii of gyration a third of their extent) and is derived from physics, not fitted to the data.
+// finite results. Each bound lies far outside the dataset's objects (11 to 22 cm across, 0.8 to 1.3 kg, 101 to
+// 103 kg/m^2, radii of gyration 0.24 to 0.35 of their extent; test_reading prints them) and is derived from physics,
+// not fitted to the data.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -26,8 +27,8 @@ inline constexpr double kMaxArealDensity_kg_m2 = 5e4;
 inline constexpr double kMinArealDensity_kg_m2 = 0.01;
 /// The radius of gyration sqrt(I / m) about the mass centre, as a share of the outline's extent: at most 1 (all the
 /// mass lies inside the outline, and the mass centre inside its convex hull, so no mass is farther from it than the
-/// extent), at least a hundredth (a uniform plate has 0.29 to 0.41, the dataset's objects 0.31 to 0.35; a hundredth is
-/// all the mass within a point of the centre).
+/// extent), at least a hundredth (uniform plates of the dataset's shapes have 0.24 to 0.35; a hundredth is nearly all
+/// the mass in a point at the centre).
 inline constexpr double kMinGyrationShareOfExtent = 0.01;
 inline constexpr double kMaxGyrationShareOfExtent = 1.0;
 
