@@ -198,16 +198,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--gap", a->gap, "Rod-to-object gap at the start [m]");
   sub->add_option("--seed", a->seed, "Random seed for clocks and noise, 0 to 2^64 - 1")
       ->type_name("UINT")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            try {
-              parse_seed(text);
-              return {};
-            } catch (const InputError& e) {
-              return e.what();
-            }
-          },
-          "UINT"));
+      ->check(kSeed);
   sub->add_option("--effect", a->effects, "Hidden effect NAME=AMOUNT (repeatable; list below)");
   sub->add_option("--noise-scale", a->noise_scale, "Scale on the measured sensor noise, 0 (none) to 100");
   sub->add_option("--jitter-scale", a->jitter_scale, "Scale on the measured clock jitter, 0 (ideal clocks) to 10");

@@ -257,7 +257,7 @@ void ForecastObject::validate() const {
     throw std::logic_error("forecast object '" + name +
                            "': its outline limit surface is not about its centre of friction or of its rim weight (use "
                            "set_centre_of_friction or set_pressure_shape)");
-  if (!is_shape_name(name))
+  if (!name.empty() && !is_shape_name(name))
     throw InputError("forecast object '" + plain_text(name) +
                      "': a name is letters and digits only, as a shape's name (the dataset's file names carry it as "
                      "shape=NAME)");
@@ -311,9 +311,32 @@ void check_plan_bounds(double end_s, double peak_speed_m_s, const char* what) {
 
 }  // namespace
 
+void check_plausible_position(const Eigen::Vector2d& position_m, const std::string& label) {
+  const PlausibilityLimits limits;
+  char text[200];
+  for (int i = 0; i < 2; ++i)
+    if (!(std::abs(position_m(i)) <= limits.max_position_m)) {
+      std::snprintf(text, sizeof text, "%s: %c of %.3g m is beyond the plausible %.3g m from the robot", label.c_str(),
+                    i == 0 ? 'x' : 'y', position_m(i), limits.max_position_m);
+      throw InputError(text);
+    }
+}
+
+void check_plausible_pose(const Eigen::Vector3d& pose, const std::string& label) {
+  check_plausible_position(pose.head<2>(), label);
+  const PlausibilityLimits limits;
+  if (!(std::abs(pose(2)) <= limits.max_yaw_rad)) {
+    char text[200];
+    std::snprintf(text, sizeof text, "%s: yaw of %.3g deg is beyond a turn (%.3g deg)", label.c_str(),
+                  pose(2) * 180 / M_PI, limits.max_yaw_rad * 180 / M_PI);
+    throw InputError(text);
+  }
+}
+
 TipPlan TipPlan::straight(const Eigen::Vector2d& start, const Eigen::Vector2d& direction, double speed, double length,
                           double ramp) {
   if (!start.allFinite()) throw InputError("tip plan: start must be finite");
+  check_plausible_position(start, "tip plan: start");
   if (!direction.allFinite() || !(direction.norm() > 0))
     throw InputError("tip plan: direction must be a non-zero vector");
   require_positive_finite(speed, "tip plan: speed");
@@ -339,6 +362,8 @@ TipPlan TipPlan::waypoints(const Eigen::VectorXd& times, const Eigen::MatrixX2d&
   if (times.size() < 2 || positions.rows() != times.size())
     throw InputError("tip path: needs at least two time-stamped points, one time per position");
   if (!times.allFinite() || !positions.allFinite()) throw InputError("tip path: times and positions must be finite");
+  for (Eigen::Index k = 0; k < positions.rows(); ++k)
+    check_plausible_position(positions.row(k).transpose(), "tip path: row " + std::to_string(k + 1));
   if (times(0) != 0) throw InputError("tip path: times must start at 0 (the plan's start)");
   TipPlan p;
   p.straight_ = false;
@@ -571,6 +596,7 @@ Eigen::MatrixX3d forecast_poses(const ForecastObject& object, const ForecastPara
   object.validate();
   parameters.validate();
   if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
+  check_plausible_pose(pose0, "forecast: start pose");
   for (Eigen::Index k = 1; k < output_times_s.size(); ++k)
     if (!(output_times_s(k) >= output_times_s(k - 1))) throw InputError("forecast: output times must not decrease");
   Eigen::MatrixX3d poses(output_times_s.size(), 3);

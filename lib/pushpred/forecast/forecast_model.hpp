@@ -100,9 +100,9 @@ struct ForecastObject {
   /// With LimitSurfaceKind::Outline: the pressure's limit surface about centre_of_friction_m with pressure_rim_weight
   /// (set_centre_of_friction, set_pressure_shape and use_limit_surface keep it so).
   std::shared_ptr<const PolynomialLimitSurface> pressure_surface;
-  /// Throws InputError for no outline, a name that is not letters and digits (is_shape_name), an outline, mass or
-  /// inertia no pushed tabletop object has (check_outline_size, check_mass_and_inertia: reading/physical_bounds.hpp);
-  /// std::logic_error for an outline limit surface about another centre or of another rim weight than the object's.
+  /// Throws InputError for no outline, a name (when given) that is not letters and digits (is_shape_name), an
+  /// outline, mass or inertia no pushed tabletop object has (check_outline_size, check_mass_and_inertia:
+  /// reading/physical_bounds.hpp); std::logic_error for an outline limit surface about another centre or of another rim weight than the object's.
   void validate() const;
 };
 
@@ -143,6 +143,12 @@ struct ForecastSettings {
   double max_slide_s = 2.0;       ///< the slide to rest is cut off after this
   double gravity_m_s2 = kGravity_m_s2;
 };
+
+/// InputError "LABEL: x of 1e+03 m is beyond the plausible 10 m from the robot" for a position farther than a
+/// recording's may be (PlausibilityLimits::max_position_m); the pose also for a yaw beyond a turn (max_yaw_rad). A
+/// forecast's start pose, a plan's tip positions.
+void check_plausible_position(const Eigen::Vector2d& position_m, const std::string& label);
+void check_plausible_pose(const Eigen::Vector3d& pose_m_rad, const std::string& label);
 
 /// The planned tip path: a straight push (start, direction, cruise speed, length, with the rig's raised-cosine speed
 /// ramps of `ramp_s` at both ends, as simulation/pusher_path.hpp) or a time-stamped polyline (held between points).
