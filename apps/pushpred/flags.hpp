@@ -59,7 +59,7 @@ inline CLI::Validator finite_number_in(double lowest, double highest) {
             CLI::detail::lexical_cast(text, value) && std::isfinite(value) && value >= lowest && value <= highest;
         return ok ? std::string() : "must be " + what + ", got '" + text + "'";
       },
-      "NUMBER");
+      lowest == 0 ? "NONNEGATIVE" : "NUMBER");
 }
 /// A random seed: a whole number from 0 to 2^64 - 1 (parse_seed); CLI11 alone let "-1" wrap around to 2^64 - 1 and
 /// an overlong one saturate.

@@ -180,14 +180,30 @@ expect_no_staging "$tmp/sig" "the stale staging folder of a dead run"
 # A bad flag value is a bad argument: exit 2, a message naming the flag and the value, nothing written. nan and inf
 # included (CLI11's own positive-number check let nan through: --mu nan meant "from the surface").
 # --rate and --plan-rate 1e9 asked for billions of samples (std::bad_alloc, or the process killed for its memory).
-for flag in "--mu nan" "--mu inf" "--mu -1" "--plan-rate nan" "--plan-rate 0" "--rate inf" "--jobs 0" "--rate 1e9" \
-  "--plan-rate 1e9"; do
+for flag in "--mu nan" "--mu inf" "--mu -1" "--mu 1e300" "--plan-rate nan" "--plan-rate 0" "--rate inf" "--jobs 0" \
+  "--rate 1e9" "--plan-rate 1e9"; do
   set -- $flag
   expect_exit 2 "predict $flag" -- limit "$bin" predict "$good1" --out "$tmp/flag" "$1" "$2"
   expect_in "$tmp/err" "$1: must be a" "predict $flag names the flag"
   expect_in "$tmp/err" "got '$2'" "predict $flag names the value"
   expect_absent "$tmp/flag" "predict $flag wrote an output"
 done
+# observe's and fit-pid's numbers the same way: a span beyond a push's 600 s, a Q-filter faster than the Nyquist
+# frequency of a 2500 Hz stream or damped beyond 10 (1e300 gave "linear system: A or B holds NaN or infinity").
+while read -r command flag value expected; do
+  expect_exit 2 "$command $flag $value" -- limit "$bin" "$command" "$good1" --out "$tmp/flag" "$flag" "$value" </dev/null
+  expect_in "$tmp/err" "$flag: must be $expected, got '$value'" "$command $flag $value names the flag and the bound"
+  expect_absent "$tmp/flag" "$command $flag $value wrote an output"
+done <<'FLAGS'
+observe --start -1 a finite number in [0, 600]
+observe --start nan a finite number in [0, 600]
+observe --end 1e300 a finite number in (0, 600] or -1 (the push's end)
+observe --wn 1e300 a positive finite number up to 7854
+observe --zeta 1e300 a positive finite number up to 10
+observe --zeta inf a positive finite number up to 10
+fit-pid --lambda nan a positive finite number
+fit-pid --lambda -1 a positive finite number
+FLAGS
 expect_exit 2 "an unknown flag" -- limit "$bin" predict "$good1" --out "$tmp/flag" --no-such-flag
 expect_in "$tmp/err" "--no-such-flag" "the unknown flag is named"
 expect_absent "$tmp/flag" "an unknown flag wrote an output"

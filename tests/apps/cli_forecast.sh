@@ -197,6 +197,24 @@ printf 't_s,x_mm,y_mm\n0,-66,10\n0.001,1e6,10\n' >"$tmp/fastpath.csv"
 expect_exit 2 "a path at 1e6 m/s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --path "$tmp/fastpath.csv" --out "$tmp/f17"
 expect_in "$tmp/err" "$tmp/fastpath.csv: tip path moves the tip at 1e+06 m/s, faster than the 2 m/s" "the fast path"
+# A start or a tip beyond the 10 m within which a recording's positions lie, a yaw beyond a turn, a direction
+# beyond a turn (1e300 deg) or not a number: each flag named, nothing written. A yaw of 1e300 deg gave a forecast that
+# was not finite, blamed on the object model.
+printf 't_s,x_mm,y_mm\n0,-66,10\n100,1e5,10\n' >"$tmp/farpath.csv"
+while IFS='|' read -r what args expected; do
+  # shellcheck disable=SC2086
+  expect_exit 2 "forecast with $what" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" $args --out "$tmp/f20" \
+    </dev/null
+  expect_in "$tmp/err" "$expected" "forecast with $what: the flag and the problem are named"
+  expect_absent "$tmp/f20" "no forecast with $what"
+done <<FAR
+a yaw of 1e300 deg|--object-pose=0,0,1e300 --tip=-66,10 --direction=10 --speed=50|--object-pose: yaw of 1e+300 deg is beyond a turn (360 deg)
+an object 20 m away|--object-pose=20000,0,0 --tip=-66,10 --direction=10 --speed=50|--object-pose: x of 20 m is beyond the plausible 10 m from the robot
+a tip 1e297 m away|--object-pose=0,0,0 --tip=-66,1e300 --direction=10 --speed=50|--tip: y of 1e+297 m is beyond the plausible 10 m from the robot
+a direction of 1e300 deg|--object-pose=0,0,0 --tip=-66,10 --direction=1e300 --speed=50|--direction: must be a finite number in [-360, 360], got '1e300'
+a direction of inf|--object-pose=0,0,0 --tip=-66,10 --direction=inf --speed=50|--direction: must be a finite number in [-360, 360], got 'inf'
+a path 100 m long|--object-pose=0,0,0 --path=$tmp/farpath.csv|$tmp/farpath.csv: tip path: row 2: x of 100 m is beyond the plausible 10 m
+FAR
 expect_exit 2 "an output step of 1e-9 s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --tip -66,10 --direction 10 --speed 50 --step 1e-9 --out "$tmp/f18"
 expect_in "$tmp/err" "forecast: an output step of 1e-09 s over" "the step is named"

@@ -362,8 +362,6 @@ TipPlan TipPlan::waypoints(const Eigen::VectorXd& times, const Eigen::MatrixX2d&
   if (times.size() < 2 || positions.rows() != times.size())
     throw InputError("tip path: needs at least two time-stamped points, one time per position");
   if (!times.allFinite() || !positions.allFinite()) throw InputError("tip path: times and positions must be finite");
-  for (Eigen::Index k = 0; k < positions.rows(); ++k)
-    check_plausible_position(positions.row(k).transpose(), "tip path: row " + std::to_string(k + 1));
   if (times(0) != 0) throw InputError("tip path: times must start at 0 (the plan's start)");
   TipPlan p;
   p.straight_ = false;
@@ -383,6 +381,8 @@ TipPlan TipPlan::waypoints(const Eigen::VectorXd& times, const Eigen::MatrixX2d&
   for (Eigen::Index k = 1; k < times.size(); ++k) p.length_ += (positions.row(k) - positions.row(k - 1)).norm();
   p.speed_ = p.length_ / p.end_s_;
   check_plan_bounds(p.end_s_, p.peak_speed_, "tip path");
+  for (Eigen::Index k = 0; k < positions.rows(); ++k)
+    check_plausible_position(positions.row(k).transpose(), "tip path: row " + std::to_string(k + 1));
   return p;
 }
 
