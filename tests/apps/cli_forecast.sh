@@ -203,10 +203,10 @@ expect_in "$tmp/err" "$tmp/fastpath.csv: tip path moves the tip at 1e+06 m/s, fa
 printf 't_s,x_mm,y_mm\n0,-66,10\n100,1e5,10\n' >"$tmp/farpath.csv"
 while IFS='|' read -r what args expected; do
   # shellcheck disable=SC2086
-  expect_exit 2 "forecast with $what" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" $args --out "$tmp/f20" \
+  expect_exit 2 "forecast with $what" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" $args --out "$tmp/f30" \
     </dev/null
   expect_in "$tmp/err" "$expected" "forecast with $what: the flag and the problem are named"
-  expect_absent "$tmp/f20" "no forecast with $what"
+  expect_absent "$tmp/f30" "no forecast with $what"
 done <<FAR
 a yaw of 1e300 deg|--object-pose=0,0,1e300 --tip=-66,10 --direction=10 --speed=50|--object-pose: yaw of 1e+300 deg is beyond a turn (360 deg)
 an object 20 m away|--object-pose=20000,0,0 --tip=-66,10 --direction=10 --speed=50|--object-pose: x of 20 m is beyond the plausible 10 m from the robot
@@ -240,6 +240,21 @@ expect_exit 2 "a model whose support friction is 1e300" -- "$bin" forecast --mod
   --object-pose 0,0,0 --tip -66,10 --direction 10 --speed 50 --out "$tmp/f21"
 expect_in "$tmp/err" "support_friction of 1e+300 is above 10" "the parameter and its bound are named"
 expect_in "$tmp/err" "$tmp/huge_mu.json" "the model is named"
+# An object file's own outline, mass and name get learn's checks (reading/physical_bounds.hpp).
+for change in "o['outline'] = {'kind': 'circle', 'radius_m': 50}|outline: the outline is 100 m across" \
+  "o['mass_kg'] = 1e9|mass: 1e+09 kg is" "o['name'] = 'my box'|forecast object 'my box': a name is letters and digits"; do
+  python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+o = d['object']
+${change%%|*}
+json.dump(d, open(sys.argv[2], 'w'))" "$tmp/hex.json" "$tmp/absurd_object.json"
+  expect_exit 2 "a model with ${change%%|*}" -- "$bin" forecast --model "$tmp/absurd_object.json" --object-pose 0,0,0 \
+    --tip -66,10 --direction 10 --speed 50 --out "$tmp/f31"
+  expect_in "$tmp/err" "$tmp/absurd_object.json: " "the model is named"
+  expect_in "$tmp/err" "${change#*|}" "the problem is named (${change%%|*})"
+  expect_absent "$tmp/f31" "no forecast from ${change%%|*}"
+done
 for d in f6 f7 f8 f9 f10 f11 f12 f13 f14 f15 f16 f17 f18 f19 f20 f21; do
   expect_absent "$tmp/$d" "no output for bad input ($d)"
 done

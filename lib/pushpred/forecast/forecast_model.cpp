@@ -261,9 +261,13 @@ void ForecastObject::validate() const {
     throw InputError("forecast object '" + plain_text(name) +
                      "': a name is letters and digits only, as a shape's name (the dataset's file names carry it as "
                      "shape=NAME)");
-  check_outline_size(outline->size(), "forecast object '" + name + "'");
-  check_mass_and_inertia(outline->size(), mass_kg, inertia_kgm2, "forecast object '" + name + "': mass",
-                         "forecast object '" + name + "': inertia");
+  // Labels short enough for the small-string buffer: validate runs in every forecast, which must not allocate.
+  try {
+    check_outline_size(outline->size(), "outline");
+    check_mass_and_inertia(outline->size(), mass_kg, inertia_kgm2, "mass", "inertia");
+  } catch (const InputError& e) {
+    throw InputError("forecast object '" + name + "': " + e.what());
+  }
   if (!centre_of_friction_m.allFinite())
     throw InputError("forecast object '" + name + "': centre of friction must be finite");
 }

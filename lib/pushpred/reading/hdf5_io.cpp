@@ -107,6 +107,8 @@ std::string incomplete_superblock(const std::string& source) {
     return size - at < 8 + 16 ? held + " and ends inside its header (the superblock at byte " + std::to_string(at) + ")"
                               : std::string();
   const std::streamoff offset_size = fields[offsets_at];
+  if (offset_size != 2 && offset_size != 4 && offset_size != 8 && offset_size != 16 && offset_size != 32)
+    return {};  // not a superblock's field: libhdf5's own reason stands
   const std::streamoff length = version == 0   ? 8 + 16 + 4 * offset_size + 2 * offset_size + 24
                                 : version == 1 ? 8 + 20 + 4 * offset_size + 2 * offset_size + 24
                                                : 8 + 4 + 4 * offset_size + 4;
