@@ -181,7 +181,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<SimulateArgs>();
   auto* sub = app.add_subcommand("simulate", "Simulate a push and write it as an MCube HDF5 recording");
   sub->footer(effects_help());
-  sub->add_option("--case", a->paper_case, "One of the paper's cases, 1 to 6");
+  sub->add_option("--case", a->paper_case, "One of the paper's cases, 1 to 6")->check(whole_number_in(1, 6));
   sub->add_option("--config", a->config, "Scenario file (JSON, see data/paper/case1.json)");
   sub->add_option("--out", a->out, "Output .h5 file, or a folder (then the dataset's file name is used)");
   sub->add_option("--shape", a->shape, "Object: the dataset's (rect1..3, tri1..3, ellip1..3, hex) or one of --shapes");
@@ -191,7 +191,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--contact-mu", a->contact_mu, "Rod-object friction coefficient, in [0, 10]");
   sub->add_option("--speed", a->speed, "Constant push speed [m/s]");
   sub->add_option("--acceleration", a->acceleration, "Constant push acceleration from rest [m/s^2]");
-  sub->add_option("--side", a->side, "Contact side index (the file names' i)");
+  sub->add_option("--side", a->side, "Contact side index (the file names' i), from 0")
+      ->check(whole_number_in(0, 999));
   sub->add_option("--position", a->position, "Contact position along the side, 0..1 (the file names' s)");
   sub->add_option("--angle", a->angle, "Push angle from the inward normal [rad] (the file names' t)");
   sub->add_option("--length", a->length, "Push length [m]");

@@ -61,6 +61,18 @@ inline CLI::Validator finite_number_in(double lowest, double highest) {
       },
       lowest == 0 ? "NONNEGATIVE" : "NUMBER");
 }
+/// A whole number within [lowest, highest] ("--side: must be a whole number from 0 to 1000, got 'nan'"), where CLI11
+/// alone says "Could not convert".
+inline CLI::Validator whole_number_in(long long lowest, long long highest) {
+  const std::string what = "a whole number from " + std::to_string(lowest) + " to " + std::to_string(highest);
+  return CLI::Validator(
+      [lowest, highest, what](std::string& text) -> std::string {
+        long long value = 0;
+        const bool ok = CLI::detail::lexical_cast(text, value) && value >= lowest && value <= highest;
+        return ok ? std::string() : "must be " + what + ", got '" + text + "'";
+      },
+      "INT");
+}
 /// A random seed: a whole number from 0 to 2^64 - 1 (parse_seed); CLI11 alone let "-1" wrap around to 2^64 - 1 and
 /// an overlong one saturate.
 inline const CLI::Validator kSeed(

@@ -251,14 +251,16 @@ done <<'FLAGS'
 --seed 99999999999999999999999 must be a whole number from 0 to 18446744073709551615
 --speed 1e300 must be a push speed in (0, 2] m/s, got 1e+300
 --acceleration -1 must be a push acceleration in (0, 50] m/s^2, got -1
---side -1 contact side -1 does not exist
+--side -1 must be a whole number from 0 to 999, got '-1'
+--side 9 contact side 9 does not exist: this outline has sides 0..3
 --position nan must be a place along the side in [0, 1], got nan
 --angle inf must be within (-pi/2, pi/2) rad
 --length 1e300 must be a push length in (0, 1] m, got 1e+300
 --gap nan must be a gap in [-0.001, 0.05] m
 --noise-scale 1e300 must be in [0, 100], got 1e+300
 --jitter-scale -1 must be in [0, 10], got -1
---case 7 paper case 7 does not exist (cases 1 to 6)
+--case 7 must be a whole number from 1 to 6, got '7'
+--case nan must be a whole number from 1 to 6, got 'nan'
 --effect force_offset=1e300 effect force_offset=1e+300: a sensor bias beyond 20 N
 --effect viscous_friction=1e300 effect viscous_friction=1e+300: viscous friction must be in [0, 1e4] 1/s
 --effect stribeck_friction=nan effect 'stribeck_friction=nan': amount must be finite
