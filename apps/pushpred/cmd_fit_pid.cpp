@@ -106,7 +106,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   add_out_folder(*sub, a->out);
   sub->add_flag("--per-push", a->per_push, "Also fit one gain set per push (the joint fit is always made)");
   add_shape(*sub, a->shape);
-  sub->add_option("--lambda", a->lambda, "Weight of the force-roughness term (> 0)");
+  sub->add_option("--lambda", a->lambda, "Weight of the force-roughness term (> 0)")->check(kPositiveNumber);
   sub->add_option("--max-iterations", a->max_iterations, "Ceres iterations per problem")->check(CLI::Range(1, 1000));
   add_rate(*sub, a->rate_hz);
   add_jobs(*sub, a->jobs, "Files read in parallel (default: all cores); the output does not depend on it");

@@ -96,6 +96,10 @@ int run_forecast(const ForecastArgs& a) {
   const std::vector<double> pose = numbers(a.pose, 3, "--object-pose");
   const std::vector<double> tip = a.tip.empty() ? std::vector<double>() : numbers(a.tip, 2, "--tip");
   if (straight && tip.empty()) throw InputError("a straight push needs --tip X_MM,Y_MM (where the tip starts)");
+  // Within a recording's plausible positions (10 m from the robot) and a turn of yaw: 1e300 mm gave a forecast that
+  // was not finite, blamed on the object model, or one of an object the tip never reached.
+  check_plausible_pose(Eigen::Vector3d(1e-3 * pose[0], 1e-3 * pose[1], pose[2] * M_PI / 180), "--object-pose");
+  if (!tip.empty()) check_plausible_position(1e-3 * Eigen::Vector2d(tip[0], tip[1]), "--tip");
   const std::filesystem::path data = data_folder_if_any(a.data.empty() ? std::nullopt : std::optional(a.data));
   StagedOutput out(a.out);  // checks the destination before any work
   const ObjectModel model = read_object_model(a.model, data);
@@ -154,7 +158,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--model", a->model, "Object model written by `pushpred learn` (object.json)")->required();
   sub->add_option("--object-pose", a->pose, "Object's start pose X_MM,Y_MM,YAW_DEG (at rest)")->required();
   sub->add_option("--tip", a->tip, "Tip's start X_MM,Y_MM (a straight push)");
-  sub->add_option("--direction", a->direction_deg, "Straight push: direction [deg, world frame]");
+  sub->add_option("--direction", a->direction_deg, "Straight push: direction [deg, world frame], -360 to 360")
+      ->check(finite_number_in(-360, 360));
   sub->add_option("--speed", a->speed_mm_s, "Straight push: cruise speed [mm/s]")->check(kPositiveNumber);
   sub->add_option("--length", a->length_mm, "Straight push: length [mm] (default 50)")->check(kPositiveNumber);
   sub->add_option("--path", a->path, "Time-stamped tip path: CSV of t_s,x_mm,y_mm from t = 0");

@@ -44,6 +44,10 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
   if (given > 1) throw InputError("give one outline: --outline, --circle or --ellipse");
   if (!(a.mass_kg > 0) || !(a.inertia_kgm2 > 0))
     throw InputError("an outline of one's own needs --mass KG and --inertia KGM2 (about the mass centre)");
+  if (!a.name.empty() && !is_shape_name(a.name))
+    throw InputError("--name: '" + plain_text(a.name) +
+                     "' is not a name an object may have: letters and digits only, as a shape's name (the dataset's "
+                     "file names carry it as shape=NAME)");
   auto o = std::make_unique<ForecastObject>();
   o->name = a.name.empty() ? "object" : a.name;
   o->mass_kg = a.mass_kg;
@@ -63,6 +67,12 @@ std::unique_ptr<ForecastObject> own_object(const LearnArgs& a) {
       throw InputError("--ellipse: expected A,B (semi-axes in metres, positive), got '" + a.ellipse + "'");
     o->outline = std::make_shared<const ForecastOutline>(ForecastOutline::ellipse(ax, by));
   }
+  // A size, mass and inertia a pushed tabletop object can have (reading/physical_bounds.hpp), named by the flags.
+  const std::string outline_flag = !a.outline_file.empty() ? "--outline " + a.outline_file
+                                   : a.circle_m > 0        ? std::string("--circle")
+                                                           : std::string("--ellipse");
+  check_outline_size(o->outline->size(), outline_flag);
+  check_mass_and_inertia(o->outline->size(), a.mass_kg, a.inertia_kgm2, "--mass", "--inertia");
   o->centre_of_friction_m = o->outline->area_centroid_m();
   use_limit_surface(*o, limit_surface_named(a.learning.limit_surface));
   o->validate();
@@ -175,13 +185,14 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--data", a->data, "Data folder (butter's outline); default: PUSHPRED_DATA or ../shared/data/mcube");
   add_shapes(*sub);
   sub->add_option("--outline", a->outline_file, "The object's own outline: CSV of x_m,y_m, counter-clockwise");
-  sub->add_option("--circle", a->circle_m, "The object's own outline: a circle of this radius [m]")
+  sub->add_option("--circle", a->circle_m,
+                  "The object's own outline: a circle of this radius [m]; an own outline is 1 mm to 2 m across")
       ->check(kPositiveNumber);
   sub->add_option("--ellipse", a->ellipse, "The object's own outline: an ellipse of semi-axes A,B [m]");
   sub->add_option("--mass", a->mass_kg, "Mass of one's own object [kg]")->check(kPositiveNumber);
   sub->add_option("--inertia", a->inertia_kgm2, "Moment of inertia of one's own object about its mass centre [kg m^2]")
       ->check(kPositiveNumber);
-  sub->add_option("--name", a->name, "Name of one's own object");
+  sub->add_option("--name", a->name, "Name of one's own object: letters and digits only, as a shape's");
   a->learning.add_to(*sub);
   add_jobs(
       *sub, a->jobs,

@@ -53,10 +53,24 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("file", args->file, "Recording (.h5 or .json)")->required();
   add_out_folder(*sub, args->out);
   add_shape(*sub, args->shape);
-  sub->add_option("--start", args->start_s, "Start of the span [s from the recording's start]");
-  sub->add_option("--end", args->end_s, "End of the span [s]; default: the end of the push");
-  sub->add_option("--wn", args->wn_rad_s, "Natural frequency of the Q-filter [rad/s]")->check(kPositiveNumber);
-  sub->add_option("--zeta", args->zeta, "Damping of the Q-filter")->check(kPositiveNumber);
+  // A span within the longest push a recording may hold (PlausibilityLimits::max_span_s, 600 s).
+  const double longest_s = PlausibilityLimits{}.max_span_s;
+  sub->add_option("--start", args->start_s, "Start of the span [s from the recording's start], 0 to 600")
+      ->check(finite_number_in(0, longest_s));
+  sub->add_option("--end", args->end_s, "End of the span [s], up to 600; default (-1): the end of the push")
+      ->check(CLI::Validator(
+          [longest_s](std::string& text) -> std::string {
+            double value = 0;
+            const bool ok = CLI::detail::lexical_cast(text, value) &&
+                            (value == -1 || (std::isfinite(value) && value > 0 && value <= longest_s));
+            return ok ? std::string()
+                      : "must be a finite number in (0, 600] or -1 (the push's end), got '" + text + "'";
+          },
+          "NUMBER"));
+  sub->add_option("--wn", args->wn_rad_s, "Natural frequency of the Q-filter [rad/s], at most 7854")
+      ->check(positive_number_up_to(kMaxObserverFrequency_rad_s));
+  sub->add_option("--zeta", args->zeta, "Damping of the Q-filter, at most 10")
+      ->check(positive_number_up_to(kMaxObserverDamping));
   sub->add_option("--hold", args->hold, "How samples are held between grid times")
       ->check(CLI::IsMember({"first", "zero"}));
   sub->add_flag("--no-plots", args->no_plots, "Write the data and scripts only");

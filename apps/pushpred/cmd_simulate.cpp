@@ -13,6 +13,7 @@
 #include "pushpred/core/error.hpp"
 #include "pushpred/jobs/real_comparison_job.hpp"
 #include "pushpred/preprocessing/plausibility.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
 #include "pushpred/simulation/simulator.hpp"
 
 namespace pushpred::app {
@@ -24,7 +25,7 @@ struct SimulateArgs {
   std::optional<std::string> shape, surface;
   std::optional<double> mu, contact_mu, speed, acceleration, position, angle, length, gap, noise_scale, jitter_scale;
   std::optional<int> side;
-  std::optional<std::uint64_t> seed;
+  std::optional<std::string> seed;  ///< checked by parse_seed (a negative seed would wrap around)
   std::vector<std::string> effects;
   bool print_config = false, compare_real = false, measure_real = false;
   std::vector<std::string> files;
@@ -33,10 +34,33 @@ struct SimulateArgs {
 PushScenario scenario_from_args(const SimulateArgs& a) {
   PushScenario s;
   if (a.paper_case && !a.config.empty()) throw InputError("give either --case or --config, not both");
-  if (a.paper_case)
-    s = paper_case_scenario(*a.paper_case);
-  else if (!a.config.empty())
+  if (a.paper_case) {
+    try {
+      s = paper_case_scenario(*a.paper_case);
+    } catch (const InputError& e) {
+      throw InputError(std::string("--case: ") + e.what());
+    }
+  } else if (!a.config.empty()) {
     s = read_scenario_file(a.config);
+  }
+  // A field out of range is named by the flag that set it, else by its key in the scenario file.
+  ScenarioFieldNames names;
+  const auto named = [&](bool given, const char* field, const char* flag) {
+    if (given) names[field] = flag;
+  };
+  named(a.shape.has_value(), "shape", "--shape");
+  named(a.surface.has_value(), "surface", "--surface");
+  named(a.mu.has_value(), "surface_friction", "--mu");
+  named(a.contact_mu.has_value(), "contact_friction", "--contact-mu");
+  named(a.speed.has_value(), "speed_m_s", "--speed");
+  named(a.acceleration.has_value(), "acceleration_m_s2", "--acceleration");
+  named(a.side.has_value(), "contact_side", "--side");
+  named(a.position.has_value(), "contact_position", "--position");
+  named(a.angle.has_value(), "push_angle_rad", "--angle");
+  named(a.length.has_value(), "push_length_m", "--length");
+  named(a.gap.has_value(), "approach_gap_m", "--gap");
+  named(a.noise_scale.has_value(), "sensors.noise_scale", "--noise-scale");
+  named(a.jitter_scale.has_value(), "sensors.jitter_scale", "--jitter-scale");
   if (a.shape) s.shape = *a.shape;
   if (a.surface) s.surface = *a.surface;
   if (a.mu) s.surface_friction = *a.mu;
@@ -55,14 +79,18 @@ PushScenario scenario_from_args(const SimulateArgs& a) {
   if (a.angle) s.push_angle_rad = *a.angle;
   if (a.length) s.motion.length_m = *a.length;
   if (a.gap) s.approach_gap_m = *a.gap;
-  if (a.seed) s.seed = *a.seed;
+  if (a.seed) s.seed = parse_seed(*a.seed);
   if (a.noise_scale) s.sensors.noise_scale = *a.noise_scale;
   if (a.jitter_scale) s.sensors.jitter_scale = *a.jitter_scale;
   for (const auto& text : a.effects) {
-    const auto [name, amount] = parse_effect_assignment(text);
-    s.effects.set(name, amount);
+    try {
+      const auto [name, amount] = parse_effect_assignment(text);
+      s.effects.set(name, amount);
+    } catch (const InputError& e) {
+      throw InputError(std::string("--effect: ") + e.what());
+    }
   }
-  s.validate();
+  s.validate(names);
   return s;
 }
 
@@ -89,6 +117,8 @@ int run_compare(const SimulateArgs& a) {
   if (a.files.empty()) throw InputError("--compare-real needs real recordings (files or folders)");
   const double mu = a.mu ? *a.mu : PushScenario().surface_friction;
   const double contact_mu = a.contact_mu ? *a.contact_mu : PushScenario().contact_friction;
+  check_friction_coefficient(mu, "--mu", false);
+  check_friction_coefficient(contact_mu, "--contact-mu", true);
   const Batch<RealComparison> batch = compare_with_real(a.files, mu, contact_mu);
   if (batch.results.empty()) return report_failures(batch.failures, 0);  // no input usable: no table, exit 2
   std::printf(
@@ -151,25 +181,28 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   auto a = std::make_shared<SimulateArgs>();
   auto* sub = app.add_subcommand("simulate", "Simulate a push and write it as an MCube HDF5 recording");
   sub->footer(effects_help());
-  sub->add_option("--case", a->paper_case, "One of the paper's cases, 1 to 6");
+  sub->add_option("--case", a->paper_case, "One of the paper's cases, 1 to 6")->check(whole_number_in(1, 6));
   sub->add_option("--config", a->config, "Scenario file (JSON, see data/paper/case1.json)");
   sub->add_option("--out", a->out, "Output .h5 file, or a folder (then the dataset's file name is used)");
   sub->add_option("--shape", a->shape, "Object: the dataset's (rect1..3, tri1..3, ellip1..3, hex) or one of --shapes");
   add_shapes(*sub);
   sub->add_option("--surface", a->surface, "Surface name for the file name");
-  sub->add_option("--mu", a->mu, "Surface friction coefficient");
-  sub->add_option("--contact-mu", a->contact_mu, "Rod-object friction coefficient");
+  sub->add_option("--mu", a->mu, "Surface friction coefficient, in (0, 10]");
+  sub->add_option("--contact-mu", a->contact_mu, "Rod-object friction coefficient, in [0, 10]");
   sub->add_option("--speed", a->speed, "Constant push speed [m/s]");
   sub->add_option("--acceleration", a->acceleration, "Constant push acceleration from rest [m/s^2]");
-  sub->add_option("--side", a->side, "Contact side index (the file names' i)");
+  sub->add_option("--side", a->side, "Contact side index (the file names' i), from 0")
+      ->check(whole_number_in(0, 999));
   sub->add_option("--position", a->position, "Contact position along the side, 0..1 (the file names' s)");
   sub->add_option("--angle", a->angle, "Push angle from the inward normal [rad] (the file names' t)");
   sub->add_option("--length", a->length, "Push length [m]");
   sub->add_option("--gap", a->gap, "Rod-to-object gap at the start [m]");
-  sub->add_option("--seed", a->seed, "Random seed for clocks and noise");
+  sub->add_option("--seed", a->seed, "Random seed for clocks and noise, 0 to 2^64 - 1")
+      ->type_name("UINT")
+      ->check(kSeed);
   sub->add_option("--effect", a->effects, "Hidden effect NAME=AMOUNT (repeatable; list below)");
-  sub->add_option("--noise-scale", a->noise_scale, "Scale on the measured sensor noise (0: none)");
-  sub->add_option("--jitter-scale", a->jitter_scale, "Scale on the measured clock jitter (0: ideal clocks)");
+  sub->add_option("--noise-scale", a->noise_scale, "Scale on the measured sensor noise, 0 (none) to 100");
+  sub->add_option("--jitter-scale", a->jitter_scale, "Scale on the measured clock jitter, 0 (ideal clocks) to 10");
   sub->add_flag("--print-config", a->print_config, "Print the resolved scenario as JSON");
   sub->add_flag("--compare-real", a->compare_real,
                 "Simulate a clean copy of each real recording given and compare (with --mu, --contact-mu)");

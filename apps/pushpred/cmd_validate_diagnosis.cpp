@@ -34,7 +34,8 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
                                  "Try the diagnosis blind on randomized simulated pushes, one hidden effect or none "
                                  "per trial: confusion matrix, detection rate, false findings, errors");
   sub->add_option("--trials", a->options.trials_per_kind, "Trials per kind (default 20)")->check(kPositiveNumber);
-  sub->add_option("--seed", a->options.seed, "Seed of the first trial; trial k uses seed + k (default 1)");
+  sub->add_option("--seed", a->options.seed, "Seed of the first trial; trial k uses seed + k (default 1)")
+      ->check(kSeed);
   add_out_folder(*sub, a->out, "Output folder (validation.md, validation.json)");
   sub->add_option("--kinds", a->options.kinds, "Kinds to draw: none and simulator effect names (default: all)")
       ->delimiter(',');
@@ -51,7 +52,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
   sub->add_option("--sensor-offset-spread", a->options.sensor_offset_spread_N,
                   "Push-to-push spread of the force sensor's zero, sd per axis in N (default 0.06: with the "
                   "simulated sensor's noise the rests spread as the real rig's do, 0.10 N; 0.6 is a pessimistic "
-                  "bound)")
+                  "bound; at most 2)")
       ->check(kNonNegativeNumber);
   sub->add_option("--min-pushes", a->options.min_pushes, "Fewest pushes per trial (default 4)");
   sub->add_option("--max-pushes", a->options.max_pushes, "Most pushes per trial (default 8, at most 100)");

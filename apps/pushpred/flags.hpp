@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "pushpred/preprocessing/plausibility.hpp"
+#include "pushpred/simulation/scenario.hpp"
 
 namespace pushpred::app {
 
@@ -40,10 +41,50 @@ inline CLI::Validator rate_up_to(double highest) {
       },
       "POSITIVE");
 }
+/// A number above 0 and at most `highest` ("--zeta: must be a positive finite number up to 10, got '1e300'").
+inline CLI::Validator positive_number_up_to(double highest) { return rate_up_to(highest); }
 /// The highest grid rate [Hz]: the fastest a recording's stream may run (PlausibilityLimits::max_rate_hz); a finer
 /// grid only interpolates, and `--rate 1e9` would ask for billions of samples.
 inline const double kMaxGridRate_Hz = PlausibilityLimits{}.max_rate_hz;
 inline const CLI::Validator kNonNegativeNumber = finite_number_above(0, true, "a finite number >= 0");
+/// A number within [lowest, highest] ("--direction: must be a finite number in [-360, 360], got '1e300'").
+inline CLI::Validator finite_number_in(double lowest, double highest) {
+  char range[80];
+  std::snprintf(range, sizeof range, "a finite number in [%g, %g]", lowest, highest);
+  const std::string what = range;
+  return CLI::Validator(
+      [lowest, highest, what](std::string& text) -> std::string {
+        double value = 0;
+        const bool ok =
+            CLI::detail::lexical_cast(text, value) && std::isfinite(value) && value >= lowest && value <= highest;
+        return ok ? std::string() : "must be " + what + ", got '" + text + "'";
+      },
+      lowest == 0 ? "NONNEGATIVE" : "NUMBER");
+}
+/// A whole number within [lowest, highest] ("--side: must be a whole number from 0 to 1000, got 'nan'"), where CLI11
+/// alone says "Could not convert".
+inline CLI::Validator whole_number_in(long long lowest, long long highest) {
+  const std::string what = "a whole number from " + std::to_string(lowest) + " to " + std::to_string(highest);
+  return CLI::Validator(
+      [lowest, highest, what](std::string& text) -> std::string {
+        long long value = 0;
+        const bool ok = CLI::detail::lexical_cast(text, value) && value >= lowest && value <= highest;
+        return ok ? std::string() : "must be " + what + ", got '" + text + "'";
+      },
+      "INT");
+}
+/// A random seed: a whole number from 0 to 2^64 - 1 (parse_seed); CLI11 alone let "-1" wrap around to 2^64 - 1 and
+/// an overlong one saturate.
+inline const CLI::Validator kSeed(
+    [](std::string& text) -> std::string {
+      try {
+        parse_seed(text);
+        return {};
+      } catch (const std::exception& e) {
+        return e.what();
+      }
+    },
+    "UINT");
 
 /// The recordings a batch subcommand reads (required): files, or folders of them.
 inline CLI::Option* add_recordings(CLI::App& sub, std::vector<std::string>& files,
@@ -112,9 +153,10 @@ inline CLI::Option* add_sensor_zero_spread(CLI::App& sub, double& spread_N) {
   return sub
       .add_option("--sensor-zero-spread", spread_N,
                   "The rig's push-to-push spread of the force sensor's zero, sd per axis in N (default 0.1, the "
-                  "MCube rig's as `pushpred inspect` measures it; 0: the pushes' own spread alone): a bias the "
-                  "pushes' rests share is judged against it")
-      ->check(kNonNegativeNumber);
+                  "MCube rig's as `pushpred inspect` measures it; 0: the pushes' own spread alone; at most 20): a "
+                  "bias the pushes' rests share is judged against it")
+      ->check(kNonNegativeNumber)
+      ->check(finite_number_in(0, kMaxForceOffset_N));
 }
 
 /// `--shard I/N` where a subcommand can split its work; `help` says what is shared out. The spec is parsed when the

@@ -4,6 +4,7 @@
 #include "pushpred/estimators/relation_estimator.hpp"
 #include "pushpred/observers/disturbance_estimator.hpp"
 #include "pushpred/prediction/predictor.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
 
 namespace pushpred::app {
 
@@ -43,8 +44,9 @@ void StudyArguments::add_to(CLI::App& sub, Flags flags) {
                        ")" + methods_note + ": " + names);
   }
   if (flags.mu)
-    sub.add_option("--mu", mu, "Friction coefficient of the paper's simple baseline (default: from the surface)")
-        ->check(kNonNegativeNumber)
+    sub.add_option("--mu", mu,
+                   "Friction coefficient of the paper's simple baseline, 0 to 10 (default: from the surface)")
+        ->check(finite_number_in(0, kMaxFrictionCoefficient))
         ->default_str("");  // its stored default (-1) only means "from the surface"
 }
 

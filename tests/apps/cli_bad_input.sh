@@ -63,7 +63,10 @@ check_class empty_stream .h5 "array 'tip_pose' is empty"
 check_class single_row .h5 "array 'object_pose' has one sample; need at least two"
 check_class missing_array .h5 "array 'ft_wrench' is missing"
 check_class shuffled .h5 "array 'ft_wrench': time goes backwards by"
-check_class truncated .h5 "cannot open HDF5 file: the file is truncated: it holds"
+check_class truncated .h5 "not a complete HDF5 file: it holds"
+expect_in "$tmp/err" "its header declares (cut short, as by an interrupted copy)" "truncated: the bytes declared are said"
+check_class signature_only .h5 "not a complete HDF5 file: it holds 8 bytes and ends inside its header (the superblock at byte 0)"
+check_class cut_in_header .h5 "not a complete HDF5 file: it holds 40 bytes, fewer than the 96 of its header (superblock)"
 
 # Files other tools write that hold a usable push: HDF5 behind a user block, and 32-bit floats with time stamps from
 # the push's start (converted, and said so).
@@ -177,14 +180,30 @@ expect_no_staging "$tmp/sig" "the stale staging folder of a dead run"
 # A bad flag value is a bad argument: exit 2, a message naming the flag and the value, nothing written. nan and inf
 # included (CLI11's own positive-number check let nan through: --mu nan meant "from the surface").
 # --rate and --plan-rate 1e9 asked for billions of samples (std::bad_alloc, or the process killed for its memory).
-for flag in "--mu nan" "--mu inf" "--mu -1" "--plan-rate nan" "--plan-rate 0" "--rate inf" "--jobs 0" "--rate 1e9" \
-  "--plan-rate 1e9"; do
+for flag in "--mu nan" "--mu inf" "--mu -1" "--mu 1e300" "--plan-rate nan" "--plan-rate 0" "--rate inf" "--jobs 0" \
+  "--rate 1e9" "--plan-rate 1e9"; do
   set -- $flag
   expect_exit 2 "predict $flag" -- limit "$bin" predict "$good1" --out "$tmp/flag" "$1" "$2"
   expect_in "$tmp/err" "$1: must be a" "predict $flag names the flag"
   expect_in "$tmp/err" "got '$2'" "predict $flag names the value"
   expect_absent "$tmp/flag" "predict $flag wrote an output"
 done
+# observe's and fit-pid's numbers the same way: a span beyond a push's 600 s, a Q-filter faster than the Nyquist
+# frequency of a 2500 Hz stream or damped beyond 10 (1e300 gave "linear system: A or B holds NaN or infinity").
+while read -r command flag value expected; do
+  expect_exit 2 "$command $flag $value" -- limit "$bin" "$command" "$good1" --out "$tmp/flag" "$flag" "$value" </dev/null
+  expect_in "$tmp/err" "$flag: must be $expected, got '$value'" "$command $flag $value names the flag and the bound"
+  expect_absent "$tmp/flag" "$command $flag $value wrote an output"
+done <<'FLAGS'
+observe --start -1 a finite number in [0, 600]
+observe --start nan a finite number in [0, 600]
+observe --end 1e300 a finite number in (0, 600] or -1 (the push's end)
+observe --wn 1e300 a positive finite number up to 7854
+observe --zeta 1e300 a positive finite number up to 10
+observe --zeta inf a positive finite number up to 10
+fit-pid --lambda nan a positive finite number
+fit-pid --lambda -1 a positive finite number
+FLAGS
 expect_exit 2 "an unknown flag" -- limit "$bin" predict "$good1" --out "$tmp/flag" --no-such-flag
 expect_in "$tmp/err" "--no-such-flag" "the unknown flag is named"
 expect_absent "$tmp/flag" "an unknown flag wrote an output"
@@ -201,7 +220,7 @@ expect_absent "$tmp/flag" "a plan rate above the grid's wrote an output"
 expect_exit 1 "bench on a good and two bad files" -- limit "$bin" bench "$bad/huge_force/$stem.h5" "$good1" \
   "$bad/truncated/$stem.h5" --methods dob --json "$tmp/bench.json"
 expect_in "$tmp/err" "FAILED $bad/huge_force/$stem.h5: stream 'ft_wrench' has fx 1e+300 N" "bench names the implausible file"
-expect_in "$tmp/err" "FAILED $bad/truncated/$stem.h5: cannot open HDF5 file: the file is truncated" "bench names the cut file"
+expect_in "$tmp/err" "FAILED $bad/truncated/$stem.h5: not a complete HDF5 file: it holds" "bench names the cut file"
 expect_in "$tmp/err" "2 of 3 inputs failed" "bench counts the failures"
 expect_in "$tmp/bench.json" '"failed": 2' "bench.json counts them"
 expect_exit 2 "bench on a bad file alone" -- limit "$bin" bench "$bad/truncated/$stem.h5"
@@ -211,10 +230,42 @@ expect_in "$tmp/err" "$tmp/nowhere/bench.json: --json: its folder does not exist
 [ ! -s "$tmp/out" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: bench timed before refusing --json"; }
 
 # simulate refuses a scenario that gives a push no command would read, and a folder as --config; nothing written.
-expect_exit 2 "simulate a force offset of 1e300 N" -- limit "$bin" simulate --case 1 --effect force_offset=1e300 \
-  --out "$tmp/sim.h5"
-expect_in "$tmp/err" "the simulated push is not one pushpred reads (stream 'ft_wrench' has fx 1e+300 N" "the reason is named"
+printf '{"shape": "rect2", "initial_pose": [1e9, 0, 0]}\n' >"$tmp/far.json"
+expect_exit 2 "simulate a start 1e6 km away" -- limit "$bin" simulate --config "$tmp/far.json" --out "$tmp/sim.h5"
+expect_in "$tmp/err" "the simulated push is not one pushpred reads (stream 'tip_pose' has x 1e+09 m" "the reason is named"
 expect_absent "$tmp/sim.h5" "no implausible recording written"
+# Each numeric flag of simulate out of range (nan, inf, negative, 1e300) is refused naming the flag as typed, before
+# anything is simulated: exit 2, nothing written. A negative or overlong seed is refused, not wrapped around.
+while read -r flag value expected; do
+  base=(--case 1)
+  [ "$flag" = --case ] && base=()
+  expect_exit 2 "simulate $flag $value" -- limit "$bin" simulate "${base[@]}" "$flag" "$value" --out "$tmp/sim.h5" </dev/null
+  expect_in "$tmp/err" "$flag: $expected" "simulate $flag $value names the flag and the problem"
+  expect_absent "$tmp/sim.h5" "simulate $flag $value writes nothing"
+done <<'FLAGS'
+--contact-mu inf must be a finite number in [0, 10], got inf
+--contact-mu -1 must be a finite number in [0, 10], got -1
+--mu nan must be a finite number in (0, 10], got nan
+--mu 1e300 must be a finite number in (0, 10], got 1e+300
+--seed -1 must be a whole number from 0 to 18446744073709551615, got '-1'
+--seed 99999999999999999999999 must be a whole number from 0 to 18446744073709551615
+--speed 1e300 must be a push speed in (0, 2] m/s, got 1e+300
+--acceleration -1 must be a push acceleration in (0, 50] m/s^2, got -1
+--side -1 must be a whole number from 0 to 999, got '-1'
+--side 9 contact side 9 does not exist: this outline has sides 0..3
+--position nan must be a place along the side in [0, 1], got nan
+--angle inf must be within (-pi/2, pi/2) rad
+--length 1e300 must be a push length in (0, 1] m, got 1e+300
+--gap nan must be a gap in [-0.001, 0.05] m
+--noise-scale 1e300 must be in [0, 100], got 1e+300
+--jitter-scale -1 must be in [0, 10], got -1
+--case 7 must be a whole number from 1 to 6, got '7'
+--case nan must be a whole number from 1 to 6, got 'nan'
+--effect force_offset=1e300 effect force_offset=1e+300: a sensor bias beyond 20 N
+--effect viscous_friction=1e300 effect viscous_friction=1e+300: viscous friction must be in [0, 1e4] 1/s
+--effect stribeck_friction=nan effect 'stribeck_friction=nan': amount must be finite
+--effect inertia_mismatch=1e-300 effect inertia_mismatch=1e-300: the mass and inertia factor must be in [0.1, 10]
+FLAGS
 expect_exit 2 "simulate with a folder as --config" -- limit "$bin" simulate --config "$bad" --out "$tmp/sim.h5"
 expect_in "$tmp/err" "$bad: is a folder, not a scenario file" "the folder is named"
 expect_absent "$tmp/sim.h5" "nothing simulated from a folder"

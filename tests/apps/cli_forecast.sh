@@ -83,6 +83,31 @@ expect_in "$tmp/err" "--name goes with an outline of one's own" "the lone --name
 expect_exit 2 "an empty --out" -- "$bin" learn $hex --out ""
 expect_in "$tmp/err" "--out: empty path" "the empty --out is named"
 for f in e3 foo; do expect_absent "$tmp/$f.json" "no object file ($f)"; done
+# An own outline, mass and inertia no pushed tabletop object has, and a name that is not letters and digits, are
+# refused naming the flag (reading/physical_bounds.hpp): before any push is read, nothing written.
+printf 'x_m,y_m\n-50,-50\n50,-50\n50,50\n-50,50\n' >"$tmp/huge.csv"
+while IFS='|' read -r what args expected; do
+  # shellcheck disable=SC2086
+  expect_exit 2 "learn with $what" -- "$bin" learn $hex $args --out "$tmp/absurd.json" </dev/null
+  expect_in "$tmp/err" "$expected" "learn with $what: the flag and the problem are named"
+  expect_absent "$tmp/absurd.json" "no object file from $what"
+done <<ABSURD
+a_100_m_polygon|--outline=$tmp/huge.csv --mass=1 --inertia=0.001|--outline $tmp/huge.csv: the outline is 141 m across, more than the 2 m
+a_1e9_m_circle|--circle=1e9 --mass=1 --inertia=0.001|--circle: the outline is 2e+09 m across, more than the 2 m
+a_100_m_ellipse|--ellipse=50,30 --mass=1 --inertia=0.001|--ellipse: the outline is 100 m across
+a_0.2_mm_sliver|--ellipse=0.05,0.0001 --mass=1 --inertia=0.001|--ellipse: the outline is 0.2 mm wide at its narrowest, less than the 1 mm
+a_1e9_kg_disc|--circle=0.05 --mass=1e9 --inertia=0.001|--mass: 1e+09 kg is 1.27e+11 kg per m^2
+a_1e-9_kg_disc|--circle=0.05 --mass=1e-9 --inertia=1e-12|--mass: 1e-09 kg is 1.27e-07 kg per m^2
+an_inertia_beyond_the_outline|--circle=0.05 --mass=1 --inertia=1e6|--inertia: 1e+06 kg m^2 with a mass of 1 kg gives a radius of gyration
+an_inertia_of_a_point|--circle=0.05 --mass=1 --inertia=1e-12|--inertia: 1e-12 kg m^2 with a mass of 1 kg
+ABSURD
+for name in "my box" "a/b" "it's" "hex_2"; do
+  # shellcheck disable=SC2086
+  expect_exit 2 "learn --name '$name'" -- "$bin" learn $hex --circle 0.05 --mass 1 --inertia 0.001 --name "$name" \
+    --out "$tmp/named.json"
+  expect_in "$tmp/err" "--name: '$name' is not a name an object may have: letters and digits only" "'$name' is refused"
+  expect_absent "$tmp/named.json" "no object file named '$name'"
+done
 
 # One's own outline: the hexagon given as a polygon file with its mass and inertia learns what the shape table's does.
 python3 -c "
@@ -172,6 +197,24 @@ printf 't_s,x_mm,y_mm\n0,-66,10\n0.001,1e6,10\n' >"$tmp/fastpath.csv"
 expect_exit 2 "a path at 1e6 m/s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --path "$tmp/fastpath.csv" --out "$tmp/f17"
 expect_in "$tmp/err" "$tmp/fastpath.csv: tip path moves the tip at 1e+06 m/s, faster than the 2 m/s" "the fast path"
+# A start or a tip beyond the 10 m within which a recording's positions lie, a yaw beyond a turn, a direction
+# beyond a turn (1e300 deg) or not a number: each flag named, nothing written. A yaw of 1e300 deg gave a forecast that
+# was not finite, blamed on the object model.
+printf 't_s,x_mm,y_mm\n0,-66,10\n100,1e5,10\n' >"$tmp/farpath.csv"
+while IFS='|' read -r what args expected; do
+  # shellcheck disable=SC2086
+  expect_exit 2 "forecast with $what" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" $args --out "$tmp/f30" \
+    </dev/null
+  expect_in "$tmp/err" "$expected" "forecast with $what: the flag and the problem are named"
+  expect_absent "$tmp/f30" "no forecast with $what"
+done <<FAR
+a yaw of 1e300 deg|--object-pose=0,0,1e300 --tip=-66,10 --direction=10 --speed=50|--object-pose: yaw of 1e+300 deg is beyond a turn (360 deg)
+an object 20 m away|--object-pose=20000,0,0 --tip=-66,10 --direction=10 --speed=50|--object-pose: x of 20 m is beyond the plausible 10 m from the robot
+a tip 1e297 m away|--object-pose=0,0,0 --tip=-66,1e300 --direction=10 --speed=50|--tip: y of 1e+297 m is beyond the plausible 10 m from the robot
+a direction of 1e300 deg|--object-pose=0,0,0 --tip=-66,10 --direction=1e300 --speed=50|--direction: must be a finite number in [-360, 360], got '1e300'
+a direction of inf|--object-pose=0,0,0 --tip=-66,10 --direction=inf --speed=50|--direction: must be a finite number in [-360, 360], got 'inf'
+a path 100 m long|--object-pose=0,0,0 --path=$tmp/farpath.csv|$tmp/farpath.csv: tip path: row 2: x of 100 m is beyond the plausible 10 m
+FAR
 expect_exit 2 "an output step of 1e-9 s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --tip -66,10 --direction 10 --speed 50 --step 1e-9 --out "$tmp/f18"
 expect_in "$tmp/err" "forecast: an output step of 1e-09 s over" "the step is named"
@@ -197,6 +240,21 @@ expect_exit 2 "a model whose support friction is 1e300" -- "$bin" forecast --mod
   --object-pose 0,0,0 --tip -66,10 --direction 10 --speed 50 --out "$tmp/f21"
 expect_in "$tmp/err" "support_friction of 1e+300 is above 10" "the parameter and its bound are named"
 expect_in "$tmp/err" "$tmp/huge_mu.json" "the model is named"
+# An object file's own outline, mass and name get learn's checks (reading/physical_bounds.hpp).
+for change in "o['outline'] = {'kind': 'circle', 'radius_m': 50}|outline: the outline is 100 m across" \
+  "o['mass_kg'] = 1e9|mass: 1e+09 kg is" "o['name'] = 'my box'|forecast object 'my box': a name is letters and digits"; do
+  python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+o = d['object']
+${change%%|*}
+json.dump(d, open(sys.argv[2], 'w'))" "$tmp/hex.json" "$tmp/absurd_object.json"
+  expect_exit 2 "a model with ${change%%|*}" -- "$bin" forecast --model "$tmp/absurd_object.json" --object-pose 0,0,0 \
+    --tip -66,10 --direction 10 --speed 50 --out "$tmp/f31"
+  expect_in "$tmp/err" "$tmp/absurd_object.json: " "the model is named"
+  expect_in "$tmp/err" "${change#*|}" "the problem is named (${change%%|*})"
+  expect_absent "$tmp/f31" "no forecast from ${change%%|*}"
+done
 for d in f6 f7 f8 f9 f10 f11 f12 f13 f14 f15 f16 f17 f18 f19 f20 f21; do
   expect_absent "$tmp/$d" "no output for bad input ($d)"
 done

@@ -21,7 +21,7 @@ expect_in "$tmp/out" "--intervals INT:INT in [2 - 100]=4" "the default schedule 
 expect_in "$tmp/out" "--rate FLOAT:POSITIVE=250" "the default rate is shown"
 expect_in "$tmp/out" "--estimator TEXT=rls" "the default estimator is shown"
 expect_exit 0 "fit-pid --help" -- "$bin" fit-pid --help
-expect_in "$tmp/out" "--lambda FLOAT=1" "fit-pid's default lambda is shown"
+expect_in "$tmp/out" "--lambda FLOAT:POSITIVE=1" "fit-pid's default lambda is shown"
 expect_exit 0 "observe --help" -- "$bin" observe --help
 expect_in "$tmp/out" "--wn FLOAT:POSITIVE=300" "the observer's default frequency is shown"
 

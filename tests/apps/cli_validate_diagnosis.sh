@@ -65,4 +65,18 @@ for spread in -0.1 nan; do
     "the error names flag and value ($spread)"
   expect_absent "$tmp/bad6" "output written for a sensor-zero spread of $spread"
 done
+# A seed is a whole number from 0 (a negative one wrapped around to 2^64 - 1); the pushes per trial and the spreads of
+# the sensor zeros are bounded (a spread of 1e300 N failed every trial), each error naming its flag.
+while read -r flag value expected; do
+  expect_exit 2 "validate-diagnosis $flag $value" -- "$bin" validate-diagnosis --trials 1 "$flag" "$value" \
+    --out "$tmp/bad7" </dev/null
+  expect_in "$tmp/err" "$expected" "validate-diagnosis $flag $value names the flag and the problem"
+  expect_absent "$tmp/bad7" "output written for $flag $value"
+done <<'FLAGS'
+--seed -1 --seed: must be a whole number from 0 to 18446744073709551615, got '-1'
+--seed 99999999999999999999999 --seed: must be a whole number from 0 to 18446744073709551615
+--min-pushes -1 --min-pushes must be at least 2 (got -1)
+--sensor-offset-spread 1e300 --sensor-offset-spread must be at most 2 N (got 1e+300)
+--sensor-zero-spread 1e300 --sensor-zero-spread: must be a finite number in [0, 20], got '1e300'
+FLAGS
 finish

@@ -225,6 +225,11 @@ int main(int argc, char** argv) {
     write_h5(file("truncated", ".h5"), good);
     const fs::path cut = file("truncated", ".h5");
     fs::resize_file(cut, fs::file_size(cut) / 2);
+    // Cut after its signature, and inside its superblock: too short for libhdf5 to say more than an internal detail.
+    write_h5(file("signature_only", ".h5"), good);
+    fs::resize_file(file("signature_only", ".h5"), 8);
+    write_h5(file("cut_in_header", ".h5"), good);
+    fs::resize_file(file("cut_in_header", ".h5"), 40);
   }
   // Files a user has, written by other tools: HDF5 behind a user block; arrays as 32-bit floats with time stamps
   // from the push's start (read, converted, said) or as Unix time (refused: 32-bit floats keep 128 s of it).

@@ -78,7 +78,7 @@ def test_hostile_inputs_are_input_errors_naming_the_problem(hex_file, tmp_path):
     cut = tmp_path / "motion_surface=abs_shape=hex_a=0_v=50_i=4.000_s=0.700_t=0.000.h5"
     whole = open(hex_file, "rb").read()
     cut.write_bytes(whole[: len(whole) // 2])
-    with pytest.raises(pushpred.InputError, match=f"{cut.name}: cannot open HDF5 file: the file is truncated"):
+    with pytest.raises(pushpred.InputError, match=f"{cut.name}: not a complete HDF5 file: it holds"):
         pushpred.load_push(str(cut))
     with pytest.raises(pushpred.InputError, match="resampling rate of 1e\\+09 Hz is above the 2500 Hz"):
         pushpred.load_push(hex_file, rate_hz=1e9)

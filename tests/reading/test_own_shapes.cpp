@@ -2,9 +2,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
 #include "pushpred/reading/shape_table.hpp"
 #include "test_support.hpp"
 
@@ -23,6 +25,85 @@ const std::string kHeader = "shape,mass_kg,inertia_kgm2,centroid_x_m,centroid_y_
 }  // namespace
 
 BOOST_AUTO_TEST_SUITE(own_shapes)
+
+BOOST_AUTO_TEST_CASE(an_outline_is_measured_by_its_extent_narrowest_width_and_area) {
+  const Eigen::Vector2d a(0, 0), b(0.1, 0), c(0.1, 0.1), d(0, 0.1);
+  const OutlineSize square = polygon_size({a, b, c, d});
+  BOOST_TEST(square.extent_m == 0.1 * std::sqrt(2.0), boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(square.width_m == 0.1, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(square.area_m2 == 0.01, boost::test_tools::tolerance(1e-12));
+  // An L: its convex hull's narrowest width (across the cut corner, 0.12 / sqrt(2) m), not a leg's; a long thin
+  // sliver: its thickness.
+  const OutlineSize l = polygon_size({{0, 0}, {0.1, 0}, {0.1, 0.02}, {0.02, 0.02}, {0.02, 0.1}, {0, 0.1}});
+  BOOST_TEST(l.width_m == 0.12 / std::sqrt(2.0), boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(l.area_m2 == 0.0036, boost::test_tools::tolerance(1e-12));
+  const OutlineSize sliver = polygon_size({{0, 0}, {1, 0}, {1, 0.0005}, {0, 0.0005}});
+  BOOST_TEST(sliver.width_m == 0.0005, boost::test_tools::tolerance(1e-9));
+  const OutlineSize ellipse = ellipse_size(0.05, 0.03);
+  BOOST_TEST(ellipse.extent_m == 0.1);
+  BOOST_TEST(ellipse.width_m == 0.06);
+}
+
+BOOST_AUTO_TEST_CASE(an_object_no_tabletop_push_could_move_is_refused_with_the_reason) {
+  const auto error_of = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const OutlineSize disc = ellipse_size(0.05, 0.05);
+  BOOST_TEST(error_of([&] { check_outline_size(disc, "--circle"); }) == "no error");
+  BOOST_TEST(error_of([&] { check_mass_and_inertia(disc, 1, 1e-3, "--mass", "--inertia"); }) == "no error");
+  BOOST_TEST(error_of([] { check_outline_size(ellipse_size(1e9, 1e9), "--circle"); }) ==
+             "--circle: the outline is 2e+09 m across, more than the 2 m a pushed tabletop object may be");
+  BOOST_TEST(error_of([] { check_outline_size(ellipse_size(0.05, 1e-4), "--ellipse"); }) ==
+             "--ellipse: the outline is 0.2 mm wide at its narrowest, less than the 1 mm a pushed tabletop object "
+             "must be");
+  BOOST_TEST(error_of([] { check_outline_size(ellipse_size(1e300, 1e300), "x"); }) ==
+             "x: the outline's size is not finite");
+  BOOST_TEST(error_of([&] {
+               check_mass_and_inertia(disc, 1e9, 1e-3, "--mass", "--inertia");
+             }).rfind("--mass: 1e+09 kg", 0) == 0u);
+  BOOST_TEST(error_of([&] {
+               check_mass_and_inertia(disc, 1e-9, 1e-12, "--mass", "--inertia");
+             }).rfind("--mass: 1e-09 kg", 0) == 0u);
+  BOOST_TEST(error_of([&] {
+               check_mass_and_inertia(disc, 1, 1e6, "--mass", "--inertia");
+             }).find("the mass would lie outside the outline") != std::string::npos);
+  BOOST_TEST(error_of([&] {
+               check_mass_and_inertia(disc, 1, 1e-12, "--mass", "--inertia");
+             }).rfind("--inertia: 1e-12", 0) == 0u);
+  BOOST_TEST(error_of([&] {
+               check_mass_and_inertia(disc, std::nan(""), 1e-3, "--mass", "--inertia");
+             }).rfind("--mass: must be a positive finite number", 0) == 0u);
+  // Every object of the dataset lies well inside every bound.
+  for (const ShapeInfo& s : ShapeTable::published().shapes()) {
+    if (!s.has_outline()) continue;
+    const OutlineSize size =
+        s.geometry == Geometry::Ellipse ? ellipse_size(s.dim1_m, s.dim2_m) : polygon_size(outline_polygon(s));
+    BOOST_TEST(error_of([&] { check_outline_size(size, s.name); }) == "no error");
+    BOOST_TEST(error_of([&] { check_mass_and_inertia(size, s.mass_kg, s.inertia_kgm2, s.name, s.name); }) ==
+               "no error");
+    const double share = std::sqrt(s.inertia_kgm2 / s.mass_kg) / size.extent_m;
+    BOOST_TEST_MESSAGE(s.name << ": " << size.extent_m << " m across, " << s.mass_kg / size.area_m2
+                              << " kg/m^2, radius of gyration " << share << " of the extent");
+  }
+  // A shape file's object gets the same checks, named by the file and the shape.
+  ShapeInfo huge;
+  huge.name = "huge";
+  huge.mass_kg = 1;
+  huge.inertia_kgm2 = 1e-3;
+  huge.geometry = Geometry::Rectangle;
+  huge.dim1_m = 100;
+  huge.dim2_m = 100;
+  BOOST_TEST(error_of([&] {
+               validate_shape(huge, "s.json");
+             }).find("s.json: shape 'huge': outline: the outline is 141 m across") != std::string::npos);
+  BOOST_TEST(is_shape_name("puck2"));
+  for (const char* bad : {"", "my box", "a_b", "a/b", "it's", "caf\xC3\xA9"}) BOOST_TEST(!is_shape_name(bad));
+}
 
 BOOST_AUTO_TEST_CASE(a_json_rectangle_is_the_dataset_rectangle) {
   const ShapeTable t = ShapeTable::from_json_text(

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <limits>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/jobs/inspection_job.hpp"
@@ -211,13 +212,41 @@ BOOST_AUTO_TEST_CASE(bad_scenarios_are_input_errors_that_name_the_problem) {
   BOOST_TEST(error_of({{"shape", "rect9"}}).find("unknown shape 'rect9'") != std::string::npos);
   BOOST_TEST(error_of({{"shape", "butter"}}).find("no outline") != std::string::npos);
   BOOST_TEST(error_of({{"effects", {{"wind", 1.0}}}}).find("unknown effect 'wind'") != std::string::npos);
-  BOOST_TEST(error_of({{"effects", {{"inertia_mismatch", -1.0}}}}).find("positive") != std::string::npos);
-  BOOST_TEST(error_of({{"contact_side", 5}}).find("side 5") != std::string::npos);
-  BOOST_TEST(error_of({{"friction_patch_radius_m", -0.01}}).find("friction patch radius") != std::string::npos);
+  BOOST_TEST(error_of({{"effects", {{"inertia_mismatch", -1.0}}}}).find("must be in [0.1, 10]") != std::string::npos);
+  BOOST_TEST(error_of({{"contact_side", 5}}).find("contact_side: contact side 5") != std::string::npos);
+  BOOST_TEST(error_of({{"friction_patch_radius_m", -0.01}})
+                 .find("bad.json: friction_patch_radius_m: must be in (0, 1] m, got -0.01") != std::string::npos);
+  // Each field is named by its key in the file, and a friction coefficient or an effect is bounded (1e300 made CVODE
+  // give up, exit 1).
+  BOOST_TEST(error_of({{"contact_friction", -1.0}})
+                 .find("bad.json: contact_friction: must be a finite number in [0, 10], got -1") != std::string::npos);
+  BOOST_TEST(error_of({{"surface_friction", 1e300}})
+                 .find("surface_friction: must be a finite number in (0, 10], got 1e+300") != std::string::npos);
+  BOOST_TEST(error_of({{"sensors", {{"noise_scale", 1e300}}}}).find("sensors.noise_scale: must be in [0, 100]") !=
+             std::string::npos);
+  for (const char* effect :
+       {"force_offset", "viscous_friction", "stribeck_friction", "position_friction", "inertia_mismatch"})
+    BOOST_TEST(error_of({{"effects", {{effect, 1e300}}}}).find(std::string("effect ") + effect + "=1e+300: ") !=
+               std::string::npos);
   BOOST_TEST(error_of({{"speed_m_s", "fast"}}).find("must be a number") != std::string::npos);
   BOOST_TEST(error_of({{"speed_m_s", 0.01}, {"acceleration_m_s2", 1.0}}).find("not both") != std::string::npos);
-  BOOST_TEST(error_of({{"push_angle_rad", 2.0}}).find("push angle") != std::string::npos);
+  BOOST_TEST(error_of({{"push_angle_rad", 2.0}}).find("push_angle_rad: must be within (-pi/2, pi/2) rad") !=
+             std::string::npos);
   BOOST_TEST(error_of({{"shape", "rect2"}}).find("bad.json") == std::string::npos);  // a good one passes
+  // Names given by the caller (simulate's flags) replace the keys.
+  PushScenario flagged;
+  flagged.contact_friction = std::numeric_limits<double>::infinity();
+  try {
+    flagged.validate({{"contact_friction", "--contact-mu"}});
+    BOOST_FAIL("an infinite contact friction passed");
+  } catch (const InputError& e) {
+    BOOST_TEST(std::string(e.what()) == "--contact-mu: must be a finite number in [0, 10], got inf");
+  }
+  // A seed is a whole number from 0 to 2^64 - 1: no sign (a negative seed wrapped around), no overflow, no exponent.
+  BOOST_TEST(parse_seed("0") == 0u);
+  BOOST_TEST(parse_seed("18446744073709551615") == std::numeric_limits<std::uint64_t>::max());
+  for (const char* bad : {"-1", "18446744073709551616", "1e3", "", " 1", "+1", "0x10"})
+    BOOST_CHECK_THROW(parse_seed(bad), InputError);
   BOOST_CHECK_THROW(parse_effect_assignment("time_offset"), InputError);
   BOOST_CHECK_THROW(parse_effect_assignment("time_offset=soon"), InputError);
   BOOST_CHECK_THROW(parse_effect_assignment("gravity=2"), InputError);

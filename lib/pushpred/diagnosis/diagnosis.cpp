@@ -1,9 +1,11 @@
 #include "pushpred/diagnosis/diagnosis.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/diagnosis/diagnosis_pipeline.hpp"
+#include "pushpred/simulation/scenario.hpp"
 
 namespace pushpred {
 
@@ -22,6 +24,14 @@ void DiagnosisOptions::validate() const {
   if (study.correction) throw InputError("diagnosis: the study options must not carry a correction of their own");
   if (!(sensor_zero_spread_N >= 0) || !std::isfinite(sensor_zero_spread_N))
     throw InputError("diagnosis: the sensor zero's spread must be a non-negative number of newtons");
+  if (sensor_zero_spread_N > kMaxForceOffset_N) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "diagnosis: the sensor zero's spread of %g N is above %g N, the largest zero error a force sensor "
+                  "is taken to have (the rig's spread: 0.1 N)",
+                  sensor_zero_spread_N, kMaxForceOffset_N);
+    throw InputError(text);
+  }
 }
 
 ErrorSummary summarise_errors(const std::vector<StudyPhase>& phases, const std::string& method) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <random>
@@ -50,8 +51,11 @@ double push_speed(const PusherMotion& m) {
 
 void ValidationOptions::validate() const {
   if (trials_per_kind < 1) throw InputError("validation: at least one trial per kind");
-  if (min_pushes < 2 || max_pushes < min_pushes)
-    throw InputError("validation: pushes per trial must be at least 2, and the maximum not below the minimum");
+  if (min_pushes < 2)
+    throw InputError("validation: --min-pushes must be at least 2 (got " + std::to_string(min_pushes) + ")");
+  if (max_pushes < min_pushes)
+    throw InputError("validation: --max-pushes must not be below --min-pushes (got " + std::to_string(max_pushes) +
+                     " and " + std::to_string(min_pushes) + ")");
   if (max_pushes > kMaxValidationPushes)
     throw InputError("validation: --max-pushes must be at most " + std::to_string(kMaxValidationPushes) +
                      " (got " + std::to_string(max_pushes) + ")");
@@ -60,6 +64,14 @@ void ValidationOptions::validate() const {
   if (jobs < 1) throw InputError("validation: --jobs must be at least 1");
   if (!(sensor_offset_spread_N >= 0) || !std::isfinite(sensor_offset_spread_N))
     throw InputError("validation: --sensor-offset-spread must be a finite number of newtons, at least 0");
+  if (sensor_offset_spread_N > kMaxSensorOffsetSpread_N) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "validation: --sensor-offset-spread must be at most %g N (got %g): the sensor zeros drawn must stay "
+                  "within the simulator's %g N bound on a zero error",
+                  kMaxSensorOffsetSpread_N, sensor_offset_spread_N, kMaxForceOffset_N);
+    throw InputError(text);
+  }
   for (const auto& k : kinds)
     if (k != "none") effect_info(k);  // throws for an unknown kind, naming the known ones
   for (const auto& k : hide) {

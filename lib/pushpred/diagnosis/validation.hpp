@@ -53,6 +53,11 @@ inline constexpr double kSimulatedSensorZeroSpread_N = 0.06;
 /// 100 already takes minutes; a larger --max-pushes is a typing error, not a study.
 inline constexpr int kMaxValidationPushes = 100;
 
+/// The largest push-to-push spread of the drawn sensor zeros [N]: a tenth of the simulator's bound on a sensor's zero
+/// error (kMaxForceOffset_N, 20 N), so that a draw beyond that bound is 10 standard deviations out (never, in
+/// practice), and 20 times the real rig's spread; 1e300 made every trial fail.
+inline constexpr double kMaxSensorOffsetSpread_N = kMaxForceOffset_N / 10;
+
 struct ValidationOptions {
   int trials_per_kind = 20;
   std::uint64_t seed = 1;  ///< trial k of the whole run uses seed + k: any trial can be re-run alone

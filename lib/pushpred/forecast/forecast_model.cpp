@@ -59,6 +59,7 @@ ForecastOutline ForecastOutline::polygon(std::vector<Eigen::Vector2d> vertices, 
     o.normals_[i] = Eigen::Vector2d(edge.y(), -edge.x()).normalized();  // outward for counter-clockwise
   }
   o.description_ = std::move(description);
+  o.size_ = polygon_size(o.vertices_);
   ShapeInfo shape;
   shape.name = "polygon";
   shape.geometry = Geometry::Polygon;
@@ -74,6 +75,7 @@ ForecastOutline ForecastOutline::ellipse(double a, double b) {
   o.ellipse_ = true;
   o.a_ = a;
   o.b_ = b;
+  o.size_ = ellipse_size(a, b);
   ShapeInfo shape;
   shape.name = "ellipse";
   shape.geometry = Geometry::Ellipse;
@@ -255,8 +257,17 @@ void ForecastObject::validate() const {
     throw std::logic_error("forecast object '" + name +
                            "': its outline limit surface is not about its centre of friction or of its rim weight (use "
                            "set_centre_of_friction or set_pressure_shape)");
-  require_positive_finite(mass_kg, "forecast object '" + name + "': mass");
-  require_positive_finite(inertia_kgm2, "forecast object '" + name + "': inertia");
+  if (!name.empty() && !is_shape_name(name))
+    throw InputError("forecast object '" + plain_text(name) +
+                     "': a name is letters and digits only, as a shape's name (the dataset's file names carry it as "
+                     "shape=NAME)");
+  // Labels short enough for the small-string buffer: validate runs in every forecast, which must not allocate.
+  try {
+    check_outline_size(outline->size(), "outline");
+    check_mass_and_inertia(outline->size(), mass_kg, inertia_kgm2, "mass", "inertia");
+  } catch (const InputError& e) {
+    throw InputError("forecast object '" + name + "': " + e.what());
+  }
   if (!centre_of_friction_m.allFinite())
     throw InputError("forecast object '" + name + "': centre of friction must be finite");
 }
@@ -304,9 +315,32 @@ void check_plan_bounds(double end_s, double peak_speed_m_s, const char* what) {
 
 }  // namespace
 
+void check_plausible_position(const Eigen::Vector2d& position_m, const std::string& label) {
+  const PlausibilityLimits limits;
+  char text[200];
+  for (int i = 0; i < 2; ++i)
+    if (!(std::abs(position_m(i)) <= limits.max_position_m)) {
+      std::snprintf(text, sizeof text, "%s: %c of %.3g m is beyond the plausible %.3g m from the robot", label.c_str(),
+                    i == 0 ? 'x' : 'y', position_m(i), limits.max_position_m);
+      throw InputError(text);
+    }
+}
+
+void check_plausible_pose(const Eigen::Vector3d& pose, const std::string& label) {
+  check_plausible_position(pose.head<2>(), label);
+  const PlausibilityLimits limits;
+  if (!(std::abs(pose(2)) <= limits.max_yaw_rad)) {
+    char text[200];
+    std::snprintf(text, sizeof text, "%s: yaw of %.3g deg is beyond a turn (%.3g deg)", label.c_str(),
+                  pose(2) * 180 / M_PI, limits.max_yaw_rad * 180 / M_PI);
+    throw InputError(text);
+  }
+}
+
 TipPlan TipPlan::straight(const Eigen::Vector2d& start, const Eigen::Vector2d& direction, double speed, double length,
                           double ramp) {
   if (!start.allFinite()) throw InputError("tip plan: start must be finite");
+  check_plausible_position(start, "tip plan: start");
   if (!direction.allFinite() || !(direction.norm() > 0))
     throw InputError("tip plan: direction must be a non-zero vector");
   require_positive_finite(speed, "tip plan: speed");
@@ -351,6 +385,8 @@ TipPlan TipPlan::waypoints(const Eigen::VectorXd& times, const Eigen::MatrixX2d&
   for (Eigen::Index k = 1; k < times.size(); ++k) p.length_ += (positions.row(k) - positions.row(k - 1)).norm();
   p.speed_ = p.length_ / p.end_s_;
   check_plan_bounds(p.end_s_, p.peak_speed_, "tip path");
+  for (Eigen::Index k = 0; k < positions.rows(); ++k)
+    check_plausible_position(positions.row(k).transpose(), "tip path: row " + std::to_string(k + 1));
   return p;
 }
 
@@ -564,6 +600,7 @@ Eigen::MatrixX3d forecast_poses(const ForecastObject& object, const ForecastPara
   object.validate();
   parameters.validate();
   if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
+  check_plausible_pose(pose0, "forecast: start pose");
   for (Eigen::Index k = 1; k < output_times_s.size(); ++k)
     if (!(output_times_s(k) >= output_times_s(k - 1))) throw InputError("forecast: output times must not decrease");
   Eigen::MatrixX3d poses(output_times_s.size(), 3);

@@ -29,6 +29,7 @@
 #include "pushpred/mechanics/gravity.hpp"
 #include "pushpred/mechanics/outline.hpp"
 #include "pushpred/mechanics/pressure_limit_surface.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
 #include "pushpred/reading/shape_table.hpp"
 
 namespace pushpred {
@@ -63,6 +64,8 @@ class ForecastOutline {
   /// The ratio c = max torque / max force of the support under uniform pressure about `centre_m` [m].
   double uniform_pressure_torque_ratio_m(const Eigen::Vector2d& centre_m) const;
   Eigen::Vector2d area_centroid_m() const;
+  /// Its extent, narrowest width and area (reading/physical_bounds.hpp), computed once when it is made.
+  const OutlineSize& size() const { return size_; }
   /// The footprint's area elements (mechanics/outline.hpp's grid of 20 x 20 cells), for the pressure's limit surface.
   const Footprint& footprint() const { return *footprint_; }
 
@@ -71,6 +74,7 @@ class ForecastOutline {
   double a_ = 0, b_ = 0;
   std::vector<Eigen::Vector2d> vertices_, normals_;
   std::string description_;
+  OutlineSize size_;
   std::shared_ptr<const Outline> exact_;  ///< the ellipse
   std::shared_ptr<const Footprint> footprint_;
 };
@@ -96,8 +100,9 @@ struct ForecastObject {
   /// With LimitSurfaceKind::Outline: the pressure's limit surface about centre_of_friction_m with pressure_rim_weight
   /// (set_centre_of_friction, set_pressure_shape and use_limit_surface keep it so).
   std::shared_ptr<const PolynomialLimitSurface> pressure_surface;
-  /// Throws InputError for no outline or a non-positive mass or inertia; std::logic_error for an outline limit
-  /// surface about another centre or of another rim weight than the object's.
+  /// Throws InputError for no outline, a name (when given) that is not letters and digits (is_shape_name), an
+  /// outline, mass or inertia no pushed tabletop object has (check_outline_size, check_mass_and_inertia:
+  /// reading/physical_bounds.hpp); std::logic_error for an outline limit surface about another centre or of another rim weight than the object's.
   void validate() const;
 };
 
@@ -123,7 +128,7 @@ struct ForecastParameters {
   /// above kMaxFrictionCoefficient, a torque ratio above kMaxTorqueRatio_m (an object file of absurd numbers would
   /// otherwise give absurd forecasts).
   void validate() const;
-  static constexpr double kMaxFrictionCoefficient = 10;  ///< far above any dry friction (rubber on rubber: about 2)
+  static constexpr double kMaxFrictionCoefficient = pushpred::kMaxFrictionCoefficient;  ///< reading/physical_bounds.hpp
   static constexpr double kMaxTorqueRatio_m = 10;        ///< c is about a third of an object's size
 };
 
@@ -138,6 +143,12 @@ struct ForecastSettings {
   double max_slide_s = 2.0;       ///< the slide to rest is cut off after this
   double gravity_m_s2 = kGravity_m_s2;
 };
+
+/// InputError "LABEL: x of 1e+03 m is beyond the plausible 10 m from the robot" for a position farther than a
+/// recording's may be (PlausibilityLimits::max_position_m); the pose also for a yaw beyond a turn (max_yaw_rad). A
+/// forecast's start pose, a plan's tip positions.
+void check_plausible_position(const Eigen::Vector2d& position_m, const std::string& label);
+void check_plausible_pose(const Eigen::Vector3d& pose_m_rad, const std::string& label);
 
 /// The planned tip path: a straight push (start, direction, cruise speed, length, with the rig's raised-cosine speed
 /// ramps of `ramp_s` at both ends, as simulation/pusher_path.hpp) or a time-stamped polyline (held between points).

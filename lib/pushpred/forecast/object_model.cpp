@@ -1943,6 +1943,7 @@ ForecastDistribution forecast_distribution(const ObjectModel& model, const TipPl
   model.object.validate();
   model.parameters.validate();
   if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
+  check_plausible_pose(pose0, "forecast: start pose");
   for (Eigen::Index k = 1; k < times.size(); ++k)
     if (!(times(k) >= times(k - 1))) throw InputError("forecast: output times must not decrease");
   ForecastDistribution d;
@@ -1962,6 +1963,7 @@ BatchForecast forecast_batch(const ObjectModel& model, const std::vector<TipPlan
                              const Eigen::Vector3d& pose0) {
   model.object.validate();
   if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
+  check_plausible_pose(pose0, "forecast: start pose");
   BatchForecast b;
   const Eigen::Index n = static_cast<Eigen::Index>(plans.size());
   b.final_pose.resize(n, 3);

@@ -6,6 +6,7 @@
 
 #include "pushpred/jobs/inspection_job.hpp"
 #include "pushpred/preprocessing/synchronised_push.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
 #include "pushpred/simulation/sensor_model.hpp"
 
 namespace pushpred {
@@ -25,6 +26,9 @@ double final_force(const SynchronisedPush& p) {
 
 Batch<RealComparison> compare_with_real(const std::vector<std::string>& inputs, double surface_friction,
                                         double contact_friction) {
+  // Checked once, before any file is read: a coefficient out of range would fail every push alike.
+  check_friction_coefficient(surface_friction, "surface_friction", false);
+  check_friction_coefficient(contact_friction, "contact_friction", true);
   return run_batch(expand_inputs(inputs), [&](const std::filesystem::path& path) {
     RealComparison c;
     c.source = path.string();

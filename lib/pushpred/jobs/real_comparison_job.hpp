@@ -12,7 +12,8 @@
 namespace pushpred {
 
 /// Simulates a clean copy of each real recording (see scenario_like_recording) and inspects both the same way
-/// `pushpred inspect` does.
+/// `pushpred inspect` does. InputError before any file is read for a friction coefficient out of range
+/// (check_friction_coefficient).
 Batch<RealComparison> compare_with_real(const std::vector<std::string>& inputs, double surface_friction,
                                         double contact_friction = RodContact().friction);
 

@@ -33,8 +33,10 @@ Prepared prepare(const QFilterObserver& observer, const SynchronisedPush& push, 
   p.input = SampledSignal(push.t_s.segment(p.span.first, n), std::move(values), o.hold);
 
   InitialMotion motion;
-  if (o.start == QFilterObserverOptions::Start::Steady) motion = initial_motion(push, p.span, o.velocity_window_s);
-  else motion.input = p.input.values().row(0).tail<3>();
+  if (o.start == QFilterObserverOptions::Start::Steady)
+    motion = initial_motion(push, p.span, o.velocity_window_s);
+  else
+    motion.input = p.input.values().row(0).tail<3>();
   const double lag_s = 2 * o.zeta / o.wn_rad_s, curvature_s2 = (4 * o.zeta * o.zeta - 1) / (o.wn_rad_s * o.wn_rad_s);
   p.x0 = Eigen::VectorXd::Zero(12);
   for (int c = 0; c < 3; ++c) {
@@ -113,6 +115,20 @@ QFilterObserverOptions::Output parse_observer_output(const std::string& name) {
 void QFilterObserverOptions::validate() const {
   require_positive_finite(zeta, "disturbance observer: zeta");
   require_positive_finite(wn_rad_s, "disturbance observer: wn [rad/s]");
+  char text[200];
+  if (zeta > kMaxObserverDamping) {
+    std::snprintf(text, sizeof text,
+                  "disturbance observer: zeta of %g is above %g, where more damping only slows the filter", zeta,
+                  kMaxObserverDamping);
+    throw InputError(text);
+  }
+  if (wn_rad_s > kMaxObserverFrequency_rad_s) {
+    std::snprintf(text, sizeof text,
+                  "disturbance observer: wn of %g rad/s is above the %g rad/s Nyquist frequency of the fastest stream "
+                  "a recording may have (2500 Hz)",
+                  wn_rad_s, kMaxObserverFrequency_rad_s);
+    throw InputError(text);
+  }
   require_nominal_inertia_choice(mass_kg, inertia_kgm2, "disturbance observer");
   require_positive_finite(velocity_window_s, "disturbance observer: initial-velocity window [s]");
   integrator.validate();

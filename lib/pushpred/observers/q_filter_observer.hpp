@@ -45,6 +45,13 @@
 
 namespace pushpred {
 
+/// The Q-filter's highest natural frequency [rad/s]: the Nyquist frequency of the fastest stream a recording may have
+/// (pi x 2500 Hz, PlausibilityLimits::max_rate_hz); a faster filter passes nothing the samples hold but their noise.
+inline constexpr double kMaxObserverFrequency_rad_s = 7854;
+/// The Q-filter's largest damping ratio: at 10 its slow pole lies at about wn / 20, and more damping only slows the
+/// filter further, what a lower wn says directly.
+inline constexpr double kMaxObserverDamping = 10;
+
 struct QFilterObserverOptions {
   double zeta = 1.0 / std::sqrt(2.0);  ///< damping of Q
   double wn_rad_s = 300.0;             ///< natural frequency of Q [rad/s]
@@ -65,7 +72,8 @@ struct QFilterObserverOptions {
   /// more mid-push starts outside their noise band (docs/observer.md).
   double velocity_window_s = 0.03;
   IntegratorOptions integrator;
-  /// Throws InputError naming the first bad value (negative mass, zeta <= 0, wn <= 0, bad tolerance, ...).
+  /// Throws InputError naming the first bad value (negative mass, zeta <= 0 or above kMaxObserverDamping, wn <= 0
+  /// or above kMaxObserverFrequency_rad_s, bad tolerance, ...).
   void validate() const;
 };
 

@@ -6,6 +6,7 @@
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/observers/q_filter_observer.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
 
 namespace pushpred {
 namespace {
@@ -132,6 +133,8 @@ PushStudy run_prediction_study(const SynchronisedPush& push, const StudyOptions&
   // A nan here would fail every "< 0" test and silently mean "from the surface".
   if (!std::isfinite(o.friction_coefficient))
     throw InputError("friction coefficient of the simple baseline must be finite (negative: from the surface)");
+  if (o.friction_coefficient > kMaxFrictionCoefficient)
+    check_friction_coefficient(o.friction_coefficient, "friction coefficient of the simple baseline");
   const auto observer = study_observer(o.observer, o.observer_options);
   const auto estimator = make_relation_estimator(o.estimator);
 

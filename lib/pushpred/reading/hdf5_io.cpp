@@ -2,12 +2,14 @@
 // error return leaks a file, dataset or dataspace.
 #include <hdf5.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <random>
 
 #include "pushpred/core/error.hpp"
@@ -64,19 +66,69 @@ std::string hdf5_failure_reason() {
   unsigned long long held = 0, declared = 0, base = 0;
   if (std::sscanf(innermost.c_str(), "truncated file: eof = %llu, sblock->base_addr = %llu, stored_eof = %llu", &held,
                   &base, &declared) == 3)
-    return "the file is truncated: it holds " + std::to_string(held) + " bytes of the " + std::to_string(declared) +
-           " its header declares";
+    return "not a complete HDF5 file: it holds " + std::to_string(held) + " bytes of the " + std::to_string(declared) +
+           " its header declares (cut short, as by an interrupted copy)";
   return innermost;
+}
+
+/// For a file that ends inside its HDF5 superblock (the header after the signature, which declares the file's length;
+/// a file cut after a few bytes), "not a complete HDF5 file: it holds 16 bytes, fewer than the 96 of its header
+/// (superblock)"; empty
+/// otherwise. libhdf5's own reason for such a file names an internal detail ("bad byte number in an address").
+/// Superblock lengths from the HDF5 file format specification: versions 0 and 1 hold 24 (28) bytes of fields, four
+/// addresses and the root group's symbol table entry (two addresses and 24 bytes); versions 2 and 3 hold 4 bytes of
+/// fields, four addresses and a 4-byte checksum. Addresses are "size of offsets" bytes.
+std::string incomplete_superblock(const std::string& source) {
+  std::ifstream in(source, std::ios::binary);
+  if (!in) return {};
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  // Where libhdf5 looks for the signature: 0, 512, 1024, 2048, ...
+  std::streamoff at = 0;
+  for (;; at = at == 0 ? 512 : 2 * at) {
+    if (at + 8 > size) return {};
+    char head[8] = {};
+    in.clear();
+    in.seekg(at);
+    if (!in.read(head, sizeof head)) return {};
+    if (std::equal(head, head + 8, kSignature)) break;
+  }
+  const std::string held = "not a complete HDF5 file: it holds " + std::to_string(size) + " bytes";
+  unsigned char fields[16] = {};
+  in.clear();
+  in.seekg(at + 8);
+  in.read(reinterpret_cast<char*>(fields), sizeof fields);
+  const std::streamoff got = in.gcount();
+  if (got < 1) return held + " and ends inside its header (the superblock at byte " + std::to_string(at) + ")";
+  const int version = fields[0];
+  const std::streamoff offsets_at = version <= 1 ? 5 : 1;  // "size of offsets", counted from the version byte
+  if (version > 3 || got <= offsets_at)
+    return size - at < 8 + 16 ? held + " and ends inside its header (the superblock at byte " + std::to_string(at) + ")"
+                              : std::string();
+  const std::streamoff offset_size = fields[offsets_at];
+  if (offset_size != 2 && offset_size != 4 && offset_size != 8 && offset_size != 16 && offset_size != 32)
+    return {};  // not a superblock's field: libhdf5's own reason stands
+  const std::streamoff length = version == 0   ? 8 + 16 + 4 * offset_size + 2 * offset_size + 24
+                                : version == 1 ? 8 + 20 + 4 * offset_size + 2 * offset_size + 24
+                                               : 8 + 4 + 4 * offset_size + 4;
+  if (size - at >= length) return {};
+  return held + ", fewer than the " + std::to_string(at + length) + " of its header (superblock)";
 }
 
 std::string type_description(hid_t type) {
   const size_t bits = 8 * H5Tget_size(type);
   switch (H5Tget_class(type)) {
-    case H5T_INTEGER: return std::to_string(bits) + "-bit integers";
-    case H5T_FLOAT: return std::to_string(bits) + "-bit floats";
-    case H5T_STRING: return "strings";
-    case H5T_COMPOUND: return "compound records";
-    default: return "non-numeric data";
+    case H5T_INTEGER:
+      return std::to_string(bits) + "-bit integers";
+    case H5T_FLOAT:
+      return std::to_string(bits) + "-bit floats";
+    case H5T_STRING:
+      return "strings";
+    case H5T_COMPOUND:
+      return "compound records";
+    default:
+      return "non-numeric data";
   }
 }
 
@@ -104,18 +156,18 @@ Eigen::MatrixXd read_rows(hid_t file, const std::string& source, const char* nam
   // hold poses and forces well, and time stamps only where they are small (checked after decoding).
   const std::size_t bytes = type.valid() ? H5Tget_size(type.get()) : 0;
   if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT || (bytes != 8 && bytes != 4))
-    throw InputError(about(source, where + " holds " + (type.valid() ? type_description(type.get()) : "unreadable data") +
+    throw InputError(about(source, where + " holds " +
+                                       (type.valid() ? type_description(type.get()) : "unreadable data") +
                                        "; the format stores 64-bit floats"));
   stored_bits = static_cast<std::int64_t>(8 * bytes);
   Handle space(H5Dget_space(dataset.get()), H5Sclose);
   const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
-  if (rank != 2)
-    throw InputError(about(source, where + " has rank " + std::to_string(rank) + ", expected n x 4"));
+  if (rank != 2) throw InputError(about(source, where + " has rank " + std::to_string(rank) + ", expected n x 4"));
   hsize_t dims[2] = {0, 0};
   H5Sget_simple_extent_dims(space.get(), dims, nullptr);
   if (dims[1] != 4)
-    throw InputError(about(source, where + " has shape (" + std::to_string(dims[0]) + ", " +
-                                       std::to_string(dims[1]) + "), expected (n, 4)"));
+    throw InputError(about(source, where + " has shape (" + std::to_string(dims[0]) + ", " + std::to_string(dims[1]) +
+                                       "), expected (n, 4)"));
   // Checked before allocating: a file may declare far more rows than it holds.
   if (dims[0] > static_cast<hsize_t>(max_rows))
     throw InputError(about(source, where + " declares " + std::to_string(dims[0]) + " rows, more than the " +
@@ -151,10 +203,8 @@ void write_rows(hid_t file, const std::string& target, const char* name, const T
   buffer.rightCols<3>() = s.values;
   const hsize_t dims[2] = {static_cast<hsize_t>(s.size()), 4};
   Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
-  Handle dataset(H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 H5Dclose);
-  if (!dataset.valid() ||
-      H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
+  Handle dataset(H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  if (!dataset.valid() || H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
     throw InputError(about(target, std::string("cannot write array '") + name + "'"));
 }
 
@@ -173,7 +223,10 @@ StoredArrays read_arrays(const std::string& source, long long max_rows, double m
   if (H5Fis_hdf5(source.c_str()) <= 0) throw InputError(about(source, "not an HDF5 file"));
   Handle file(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) {
+    const std::string incomplete = incomplete_superblock(source);
+    if (!incomplete.empty()) throw InputError(about(source, incomplete));
     const std::string reason = hdf5_failure_reason();
+    if (reason.rfind("not a complete HDF5 file", 0) == 0) throw InputError(about(source, reason));
     throw InputError(about(source, "cannot open HDF5 file" + (reason.empty() ? "" : ": " + plain_text(reason))));
   }
   StoredArrays arrays;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
 #include "pushpred/reading/shape_table.hpp"
 #include "pushpred/reading/text_files.hpp"
 
@@ -223,7 +224,7 @@ void validate_shape(const ShapeInfo& s, const std::string& where) {
   if (s.name.empty()) throw InputError(about(where, "a shape needs a name"));
   const std::string at = about(where, "shape '" + plain_text(s.name) + "'");
   // The dataset's file names carry the shape (motion_surface=S_shape=NAME_...): letters and digits only.
-  if (!std::all_of(s.name.begin(), s.name.end(), [](unsigned char c) { return std::isalnum(c) != 0; }))
+  if (!is_shape_name(s.name))
     throw InputError(about(at, "a shape name is letters and digits only (it goes into file names)"));
   auto positive = [&](double v, const char* what) {
     if (!(v > 0 && std::isfinite(v)))
@@ -248,6 +249,18 @@ void validate_shape(const ShapeInfo& s, const std::string& where) {
     case Geometry::Unlisted:
       break;
   }
+  // A size, mass and inertia a pushed tabletop object can have (physical_bounds.hpp).
+  if (s.has_outline()) {
+    const OutlineSize size =
+        s.geometry == Geometry::Ellipse ? ellipse_size(s.dim1_m, s.dim2_m) : polygon_size(outline_polygon(s));
+    check_outline_size(size, about(at, "outline"));
+    check_mass_and_inertia(size, s.mass_kg, s.inertia_kgm2, about(at, "mass_kg"), about(at, "inertia_kgm2"));
+  }
+}
+
+bool is_shape_name(const std::string& name) {
+  return !name.empty() &&
+         std::all_of(name.begin(), name.end(), [](unsigned char c) { return c < 128 && std::isalnum(c) != 0; });
 }
 
 ShapeInfo shape_from_json_text(const std::string& text, const std::string& where) {

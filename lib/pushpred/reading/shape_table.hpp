@@ -39,8 +39,15 @@ double signed_distance_to_outline(const ShapeInfo& shape, const Eigen::Vector2d&
 /// Throws InputError "WHERE: shape 'x': PROBLEM" unless the shape can be used: a name of letters and digits (as
 /// the dataset's file names carry it), positive finite mass and
 /// inertia, a finite mass centre, positive dimensions for its geometry, and for a polygon at least 3 finite vertices,
-/// counter-clockwise, no side of zero length and no two sides crossing or touching (a simple polygon).
+/// counter-clockwise, no side of zero length and no two sides crossing or touching (a simple polygon); an outline,
+/// mass and inertia a pushed tabletop object can have (check_outline_size, check_mass_and_inertia:
+/// physical_bounds.hpp).
 void validate_shape(const ShapeInfo& shape, const std::string& where);
+
+/// A name an object may have: ASCII letters and digits only, not empty. The dataset's file names carry the shape
+/// (motion_surface=S_shape=NAME_..., fields separated by '_'), so a space, an underscore, a slash or a quote would
+/// break them; a learned object's name (learn --name) follows the same rule.
+bool is_shape_name(const std::string& name);
 
 /// One shape from its JSON form (docs/own-objects.md): {"name", "mass_kg", "inertia_kgm2", "centroid_m": [x, y]
 /// (optional; default: the outline's area centroid), "outline": {"kind": "polygon", "vertices_m": [[x, y], ...]} or

@@ -1,13 +1,16 @@
 #include "pushpred/simulation/scenario.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "pushpred/core/error.hpp"
-#include "pushpred/reading/shape_table.hpp"
 #include "pushpred/mechanics/outline.hpp"
+#include "pushpred/reading/physical_bounds.hpp"
+#include "pushpred/reading/shape_table.hpp"
 
 namespace pushpred {
 namespace detail {
@@ -86,21 +89,35 @@ void Effects::set(const std::string& name, double amount) {
     require(std::abs(amount) <= 1.0, where + "a time offset beyond 1 s is not a plausible sensor delay");
     time_offset_s = amount;
   } else if (name == "force_offset") {
+    require(std::abs(amount) <= kMaxForceOffset_N,
+            where + "a sensor bias beyond 20 N is not a force sensor's zero error (the rig's spread: 0.1 N)");
     force_offset_N = amount;
   } else if (name == "viscous_friction") {
-    require(amount >= 0, where + "viscous friction must not be negative");
+    require(amount >= 0 && amount <= kMaxViscousFriction_1_s,
+            where +
+                "viscous friction must be in [0, 1e4] 1/s (1e4: a drag of 10 N per kg at 1 mm/s, the support "
+                "friction of a friction coefficient of 1)");
     viscous_per_kg = amount;
   } else if (name == "stribeck_friction") {
-    require(amount >= 0, where + "the static excess of Stribeck friction must not be negative");
+    require(amount >= 0 && amount <= kMaxFrictionCoefficient,
+            where +
+                "the static excess of Stribeck friction must be in [0, 10] (friction at rest at most 11 times "
+                "the sliding friction)");
     stribeck_excess = amount;
   } else if (name == "position_friction") {
-    require(amount > -1, where + "the patch's friction change must be above -1 (friction stays positive)");
+    require(amount > -1 && amount <= kMaxFrictionCoefficient,
+            where +
+                "the patch's friction change must be in (-1, 10] (friction stays positive, at most 11 times the "
+                "support's)");
     position_friction_excess = amount;
   } else if (name == "com_offset") {
     require(std::abs(amount) < 0.05, where + "a mass-centre offset of 5 cm or more leaves the object's footprint");
     com_offset_m = amount;
   } else if (name == "inertia_mismatch") {
-    require(amount > 0, where + "the mass and inertia factor must be positive");
+    require(amount >= 0.1 && amount <= 10,
+            where +
+                "the mass and inertia factor must be in [0.1, 10] (an object a tenth to ten times as heavy as "
+                "its table entry)");
     inertia_factor = amount;
   } else if (name == "support_tilt") {
     require(amount >= 0 && amount <= 20, where +
@@ -155,42 +172,90 @@ PushParameters PushScenario::push_parameters() const {
   return p;
 }
 
-void PushScenario::validate() const {
-  const ShapeInfo& s = ShapeTable::known().find(shape);
-  require(s.has_outline(), "shape '" + shape + "' has no outline in the shape table and cannot be simulated");
+void PushScenario::validate(const ScenarioFieldNames& names) const {
+  // Each problem is named by the field's JSON key, or by what the caller says set it (a flag: "--contact-mu").
+  const auto label = [&](const std::string& field) {
+    const auto it = names.find(field);
+    return it != names.end() ? it->second : field;
+  };
+  const auto in_range = [&](const std::string& field, double value, bool ok, const std::string& range) {
+    if (!ok || !std::isfinite(value))
+      throw InputError(label(field) + ": must be " + range + ", got " + number_text(value));
+  };
+  const ShapeInfo& s = [&]() -> const ShapeInfo& {
+    try {
+      return ShapeTable::known().find(shape);
+    } catch (const InputError& e) {
+      throw InputError(label("shape") + ": " + e.what());
+    }
+  }();
+  require(s.has_outline(),
+          label("shape") + ": shape '" + shape + "' has no outline in the shape table and cannot be simulated");
   require(
       !surface.empty() && surface.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789") ==
                               std::string::npos,
-      "surface name '" + surface + "' must be letters and digits (it goes into the file name)");
-  require(surface_friction > 0 && std::isfinite(surface_friction), "surface friction must be positive");
-  require(contact_friction >= 0 && std::isfinite(contact_friction), "contact friction must not be negative");
-  require(contact_stiffness_N_m >= 1e3 && contact_stiffness_N_m <= 1e6, "contact stiffness must be in [1e3, 1e6] N/m");
-  require(pressure_rim_weight >= -0.5 && pressure_rim_weight <= 1, "pressure rim weight must be in [-0.5, 1]");
+      label("surface") + ": surface name '" + surface + "' must be letters and digits (it goes into the file name)");
+  check_friction_coefficient(surface_friction, label("surface_friction"), false);
+  check_friction_coefficient(contact_friction, label("contact_friction"), true);
+  in_range("contact_stiffness_N_m", contact_stiffness_N_m, contact_stiffness_N_m >= 1e3 && contact_stiffness_N_m <= 1e6,
+           "in [1e3, 1e6] N/m");
+  in_range("pressure_rim_weight", pressure_rim_weight, pressure_rim_weight >= -0.5 && pressure_rim_weight <= 1,
+           "in [-0.5, 1]");
   if (motion.profile == PusherMotion::Profile::ConstantSpeed)
-    require(motion.speed_m_s > 0 && motion.speed_m_s <= 2.0, "push speed must be in (0, 2] m/s");
+    in_range("speed_m_s", motion.speed_m_s, motion.speed_m_s > 0 && motion.speed_m_s <= 2.0,
+             "a push speed in (0, 2] m/s");
   else
-    require(motion.acceleration_m_s2 > 0 && motion.acceleration_m_s2 <= 50.0,
-            "push acceleration must be in (0, 50] m/s^2");
-  require(motion.length_m > 0 && motion.length_m <= 1.0, "push length must be in (0, 1] m");
-  require(motion.ramp_s > 0 && motion.ramp_s <= 2.0, "speed ramp must be in (0, 2] s");
-  Outline(s).point_on_side(contact_side, contact_position);  // throws for a side or position out of range
-  require(std::abs(push_angle_rad) < M_PI / 2,
-          "push angle must be within (-pi/2, pi/2) of the inward normal, or the rod moves away from the object");
-  require(approach_gap_m >= -0.001 && approach_gap_m <= 0.05,
-          "approach gap must be in [-0.001, 0.05] m (negative: a preload, at most 1 mm deep)");
+    in_range("acceleration_m_s2", motion.acceleration_m_s2,
+             motion.acceleration_m_s2 > 0 && motion.acceleration_m_s2 <= 50.0, "a push acceleration in (0, 50] m/s^2");
+  in_range("push_length_m", motion.length_m, motion.length_m > 0 && motion.length_m <= 1.0,
+           "a push length in (0, 1] m");
+  in_range("ramp_s", motion.ramp_s, motion.ramp_s > 0 && motion.ramp_s <= 2.0, "a speed ramp in (0, 2] s");
+  in_range("contact_position", contact_position, contact_position >= 0 && contact_position <= 1,
+           "a place along the side in [0, 1]");
+  try {
+    Outline(s).point_on_side(contact_side, contact_position);  // throws for a side out of range
+  } catch (const InputError& e) {
+    throw InputError(label("contact_side") + ": " + e.what());
+  }
+  in_range("push_angle_rad", push_angle_rad, std::abs(push_angle_rad) < M_PI / 2,
+           "within (-pi/2, pi/2) rad of the inward normal, or the rod moves away from the object");
+  in_range("approach_gap_m", approach_gap_m, approach_gap_m >= -0.001 && approach_gap_m <= 0.05,
+           "a gap in [-0.001, 0.05] m (negative: a preload, at most 1 mm deep)");
   require(std::isfinite(initial_x_m) && std::isfinite(initial_y_m) && std::isfinite(initial_yaw_rad),
-          "initial pose must be finite");
-  require(rest_before_s >= 0.02 && rest_before_s <= 10, "rest before the push must be in [0.02, 10] s");
-  require(rest_after_s >= 0.02 && rest_after_s <= 10, "rest after the push must be in [0.02, 10] s");
-  require(start_unix_s >= 0 && std::isfinite(start_unix_s), "start time must be a non-negative Unix time");
-  require(sensors.noise_scale >= 0 && std::isfinite(sensors.noise_scale), "noise scale must not be negative");
-  require(sensors.jitter_scale >= 0 && sensors.jitter_scale <= 10, "jitter scale must be in [0, 10]");
-  require(sensors.push_offset_N.allFinite() && sensors.push_offset_N.cwiseAbs().maxCoeff() <= 20,
-          "the force sensor's push offset must be finite and within 20 N on each axis");
-  require(std::isfinite(support_tilt_direction_rad), "support tilt direction must be finite");
-  require(friction_patch_radius_m > 0 && friction_patch_radius_m <= 1.0, "friction patch radius must be in (0, 1] m");
-  require(std::abs(friction_patch_ahead_m) <= 1.0, "friction patch distance ahead must be within 1 m");
-  for (const auto& [name, amount] : effects.active()) Effects().set(name, amount);  // the range checks
+          label("initial_pose") + ": must be finite");
+  in_range("rest_before_s", rest_before_s, rest_before_s >= 0.02 && rest_before_s <= 10, "in [0.02, 10] s");
+  in_range("rest_after_s", rest_after_s, rest_after_s >= 0.02 && rest_after_s <= 10, "in [0.02, 10] s");
+  in_range("start_unix_s", start_unix_s, start_unix_s >= 0, "a non-negative Unix time");
+  in_range("sensors.noise_scale", sensors.noise_scale,
+           sensors.noise_scale >= 0 && sensors.noise_scale <= kMaxSensorNoiseScale, "in [0, 100]");
+  in_range("sensors.jitter_scale", sensors.jitter_scale, sensors.jitter_scale >= 0 && sensors.jitter_scale <= 10,
+           "in [0, 10]");
+  require(
+      sensors.push_offset_N.allFinite() && sensors.push_offset_N.cwiseAbs().maxCoeff() <= kMaxForceOffset_N,
+      label("sensors.push_offset_N") + ": the force sensor's push offset must be finite and within 20 N on each axis");
+  in_range("support_tilt_direction_rad", support_tilt_direction_rad, true, "finite");
+  in_range("friction_patch_radius_m", friction_patch_radius_m,
+           friction_patch_radius_m > 0 && friction_patch_radius_m <= 1.0, "in (0, 1] m");
+  in_range("friction_patch_ahead_m", friction_patch_ahead_m, std::abs(friction_patch_ahead_m) <= 1.0, "within 1 m");
+  for (const auto& [name, amount] : effects.active()) {  // the range checks
+    try {
+      Effects().set(name, amount);
+    } catch (const InputError& e) {
+      throw InputError(label("effects") == "effects" ? std::string(e.what()) : label("effects") + ": " + e.what());
+    }
+  }
+}
+
+std::uint64_t parse_seed(const std::string& text) {
+  static const std::string kRange = "must be a whole number from 0 to 18446744073709551615";
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits) throw InputError(kRange + ", got '" + plain_text(text) + "'");
+  errno = 0;
+  char* end = nullptr;
+  const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+  if (errno == ERANGE || end != text.c_str() + text.size())
+    throw InputError(kRange + ", got '" + plain_text(text) + "'");
+  return static_cast<std::uint64_t>(value);
 }
 
 PushScenario scenario_from_json(const nlohmann::json& j, const std::string& source) {

@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -38,6 +39,23 @@ namespace pushpred {
 /// the object's leading point at the start [m] (PushScenario::friction_patch_radius_m, friction_patch_ahead_m).
 inline constexpr double kFrictionPatchRadius_m = 0.02;
 inline constexpr double kFrictionPatchAhead_m = 0.025;
+
+/// How a scenario's fields are named in its errors, by JSON key ("contact_friction", "sensors.noise_scale",
+/// "effects"): a command line names them by the flags that set them.
+using ScenarioFieldNames = std::map<std::string, std::string>;
+
+/// The largest sensor bias of the effect force_offset and of a push's own sensor zero error [N]: 200 times the
+/// rig's push-to-push spread of the zero (0.1 N).
+inline constexpr double kMaxForceOffset_N = 20;
+/// The largest viscous drag of the effect viscous_friction [1/s]: 10 N per kg at 1 mm/s, the Coulomb friction of a
+/// friction coefficient of 1 on an object crawling at a tenth of the dataset's slowest push (10 mm/s).
+inline constexpr double kMaxViscousFriction_1_s = 1e4;
+/// The largest scale on the rig's measured sensor noise: a hundred times (0.1 mm of pose noise becomes 1 cm).
+inline constexpr double kMaxSensorNoiseScale = 100;
+
+/// A random seed from its decimal text: a whole number from 0 to 2^64 - 1; InputError "must be a whole number from
+/// 0 to 18446744073709551615, got '-1'" otherwise (no sign, no wrap-around, no exponent).
+std::uint64_t parse_seed(const std::string& text);
 
 struct EffectInfo {
   std::string name;
@@ -94,7 +112,7 @@ struct PushScenario {
   /// slightly concave base), w < 0 the middle (a convex one): p ~ 1 + w (|r - c|^2 / <|r - c|^2> - 1). Range
   /// [-0.5, 1]. It changes the friction torque for a given force, which real objects show.
   double pressure_rim_weight = 0;
-  PusherMotion motion;             ///< speed or acceleration, length, ramp
+  PusherMotion motion;  ///< speed or acceleration, length, ramp
   int contact_side = 0;
   double contact_position = 0.5;  ///< 0..1 along the side
   double push_angle_rad = 0;      ///< push direction = inward normal rotated counter-clockwise by this
@@ -117,8 +135,10 @@ struct PushScenario {
 
   /// The dataset's push parameters (speed -0.001 m/s for an acceleration push, as in the dataset).
   PushParameters push_parameters() const;
-  /// Throws InputError naming the first field out of range (shape unknown or without outline, side, ...).
-  void validate() const;
+  /// Throws InputError naming the first field out of range (shape unknown or without outline, side, ...): by its
+  /// JSON key ("contact_friction: must be a finite number in [0, 10], got inf"), or by what `names` says set it
+  /// (simulate's flags: {"contact_friction", "--contact-mu"}).
+  void validate(const ScenarioFieldNames& names = {}) const;
 };
 
 /// A scenario from JSON; unknown keys, wrong types and bad values are InputError prefixed by `source`.
