@@ -204,9 +204,11 @@ struct MotionConfirmation {
 MotionConfirmation motion_confirmation(const DiagnosisContext& context, const ModelState& model,
                                        const BaseStructure& structure, const FloorContext& floors);
 
-// 5c. Where the corrected model leaves a force residual the adequacy test calls unexplained, a found force law
-// stays found only if it still passes its test beside the residual's leading generic signature; the ones that
-// do not stand in for physics the catalogue lacks, and the rest is re-fitted without them.
+// 5c. Where the corrected model leaves a force residual the adequacy test calls unexplained, a found force law or
+// delay stays found only if it still passes its test beside the residual's leading generic signature; where the clear
+// rests share a force no found effect takes out, a found force law stays found only if it passes with that force
+// taken out of the data. The ones that do not stand in for physics the catalogue lacks, and the rest is re-fitted
+// without them.
 MotionConfirmation stand_in_check(const DiagnosisContext& context, const MotionConfirmation& confirmed,
                                   const FloorContext& floors);
 
