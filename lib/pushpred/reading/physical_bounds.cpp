@@ -2,19 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "pushpred/core/error.hpp"
 
 namespace pushpred {
 namespace {
-
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", v);
-  return text;
-}
 
 double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
@@ -81,47 +74,52 @@ void check_outline_size(const OutlineSize& size, const std::string& label) {
   if (!std::isfinite(size.extent_m) || !std::isfinite(size.width_m) || !std::isfinite(size.area_m2))
     throw InputError(label + ": the outline's size is not finite");
   if (size.extent_m > kMaxObjectExtent_m)
-    throw InputError(label + ": the outline is " + number(size.extent_m) + " m across, more than the " +
-                     number(kMaxObjectExtent_m) + " m a pushed tabletop object may be");
+    throw InputError(label + ": the outline is " + three_significant_digits(size.extent_m) +
+                     " m across, more than the " + three_significant_digits(kMaxObjectExtent_m) +
+                     " m a pushed tabletop object may be");
   if (!(size.width_m >= kMinObjectWidth_m))
-    throw InputError(label + ": the outline is " + number(1e3 * size.width_m) +
-                     " mm wide at its narrowest, less than the " + number(1e3 * kMinObjectWidth_m) +
+    throw InputError(label + ": the outline is " + three_significant_digits(1e3 * size.width_m) +
+                     " mm wide at its narrowest, less than the " + three_significant_digits(1e3 * kMinObjectWidth_m) +
                      " mm a pushed tabletop object must be");
 }
 
 void check_mass_and_inertia(const OutlineSize& size, double mass_kg, double inertia_kgm2, const std::string& mass_label,
                             const std::string& inertia_label) {
   if (!(mass_kg > 0) || !std::isfinite(mass_kg))
-    throw InputError(mass_label + ": must be a positive finite number [kg], got " + number(mass_kg));
+    throw InputError(mass_label + ": must be a positive finite number [kg], got " + three_significant_digits(mass_kg));
   if (!(inertia_kgm2 > 0) || !std::isfinite(inertia_kgm2))
-    throw InputError(inertia_label + ": must be a positive finite number [kg m^2], got " + number(inertia_kgm2));
+    throw InputError(inertia_label + ": must be a positive finite number [kg m^2], got " +
+                     three_significant_digits(inertia_kgm2));
   const double density = mass_kg / size.area_m2;
   if (density > kMaxArealDensity_kg_m2)
-    throw InputError(mass_label + ": " + number(mass_kg) + " kg is " + number(density) +
-                     " kg per m^2 of the outline's " + number(size.area_m2) + " m^2, more than the " +
-                     number(kMaxArealDensity_kg_m2) + " kg/m^2 of the densest metal 2 m high");
+    throw InputError(mass_label + ": " + three_significant_digits(mass_kg) + " kg is " +
+                     three_significant_digits(density) + " kg per m^2 of the outline's " +
+                     three_significant_digits(size.area_m2) + " m^2, more than the " +
+                     three_significant_digits(kMaxArealDensity_kg_m2) + " kg/m^2 of the densest metal 2 m high");
   if (density < kMinArealDensity_kg_m2)
-    throw InputError(mass_label + ": " + number(mass_kg) + " kg is " + number(density) +
-                     " kg per m^2 of the outline's " + number(size.area_m2) + " m^2, less than the " +
-                     number(kMinArealDensity_kg_m2) + " kg/m^2 of the thinnest tissue paper");
+    throw InputError(mass_label + ": " + three_significant_digits(mass_kg) + " kg is " +
+                     three_significant_digits(density) + " kg per m^2 of the outline's " +
+                     three_significant_digits(size.area_m2) + " m^2, less than the " +
+                     three_significant_digits(kMinArealDensity_kg_m2) + " kg/m^2 of the thinnest tissue paper");
   const double gyration = std::sqrt(inertia_kgm2 / mass_kg);
   if (gyration > kMaxGyrationShareOfExtent * size.extent_m)
-    throw InputError(inertia_label + ": " + number(inertia_kgm2) + " kg m^2 with a mass of " + number(mass_kg) +
-                     " kg gives a radius of gyration sqrt(I / m) of " + number(1e3 * gyration) +
-                     " mm, more than the outline's extent of " + number(1e3 * size.extent_m) +
-                     " mm: the mass would lie outside the outline");
+    throw InputError(inertia_label + ": " + three_significant_digits(inertia_kgm2) + " kg m^2 with a mass of " +
+                     three_significant_digits(mass_kg) + " kg gives a radius of gyration sqrt(I / m) of " +
+                     three_significant_digits(1e3 * gyration) + " mm, more than the outline's extent of " +
+                     three_significant_digits(1e3 * size.extent_m) + " mm: the mass would lie outside the outline");
   if (gyration < kMinGyrationShareOfExtent * size.extent_m)
-    throw InputError(inertia_label + ": " + number(inertia_kgm2) + " kg m^2 with a mass of " + number(mass_kg) +
-                     " kg gives a radius of gyration sqrt(I / m) of " + number(1e3 * gyration) +
-                     " mm, less than a hundredth of the outline's extent of " + number(1e3 * size.extent_m) +
-                     " mm (uniform plates have a quarter to a third)");
+    throw InputError(inertia_label + ": " + three_significant_digits(inertia_kgm2) + " kg m^2 with a mass of " +
+                     three_significant_digits(mass_kg) + " kg gives a radius of gyration sqrt(I / m) of " +
+                     three_significant_digits(1e3 * gyration) +
+                     " mm, less than a hundredth of the outline's extent of " +
+                     three_significant_digits(1e3 * size.extent_m) + " mm (uniform plates have a quarter to a third)");
 }
 
 void check_friction_coefficient(double mu, const std::string& label, bool zero_allowed) {
   const bool ok = std::isfinite(mu) && (zero_allowed ? mu >= 0 : mu > 0) && mu <= kMaxFrictionCoefficient;
   if (!ok)
     throw InputError(label + ": must be a finite number in " + (zero_allowed ? "[0, " : "(0, ") +
-                     number(kMaxFrictionCoefficient) + "], got " + number(mu));
+                     three_significant_digits(kMaxFrictionCoefficient) + "], got " + three_significant_digits(mu));
 }
 
 }  // namespace pushpred
