@@ -10,6 +10,7 @@
 #include <map>
 #include <mutex>
 #include <string_view>
+#include <utility>
 
 #include "pushpred/core/error.hpp"
 #include "pushpred/core/robust_statistics.hpp"
@@ -309,22 +310,24 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
         if (!used[p][k]) y.row(k).setZero();
       return y;
     };
-    // Beside nuisance columns: the weighted least squares of the force channels on [Coulomb, drag, nuisance...].
-    const auto rss_beside = [&](double tau) {
-      const Eigen::Index width = 1 + (with_drag ? 1 : 0) + static_cast<Eigen::Index>(nuisance->size());
+    // Weighted least squares of `target` (per push, n x 3) on the force channels of the samples the law uses, against
+    // the nuisance columns and, `with_law`, the Coulomb (and drag) columns before them: {y'y, the part the fit
+    // explains}.
+    const auto nuisance_fit = [&](bool with_law, const auto& target) {
+      const Eigen::Index law = with_law ? 1 + (with_drag ? 1 : 0) : 0;
+      const Eigen::Index width = law + static_cast<Eigen::Index>(nuisance->size());
       Eigen::MatrixXd xx = Eigen::MatrixXd::Zero(width, width);
-      Eigen::VectorXd xy = Eigen::VectorXd::Zero(width);
+      Eigen::VectorXd xy = Eigen::VectorXd::Zero(width), x(width);
       double yy = 0;
-      Eigen::VectorXd x(width);
       for (std::size_t p = 0; p < pushes.size(); ++p) {
-        const Eigen::MatrixX3d y = observed(p, tau);
+        const Eigen::MatrixX3d y = target(p);
         for (int ch = 0; ch < 2; ++ch) {
           const double w = 1 / (scale(ch) * scale(ch));
           for (Eigen::Index k = 0; k < pushes[p].rows(); ++k) {
             if (!used[p][k]) continue;
             Eigen::Index j = 0;
-            x(j++) = coulomb[p](k, ch);
-            if (with_drag) x(j++) = drag[p](k, ch);
+            if (with_law) x(j++) = coulomb[p](k, ch);
+            if (with_law && with_drag) x(j++) = drag[p](k, ch);
             for (const auto& column : *nuisance) x(j++) = column[p](k, ch);
             xx.noalias() += w * x * x.transpose();
             xy += w * x * y(k, ch);
@@ -332,9 +335,12 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
           }
         }
       }
-      const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xx);
-      const Eigen::VectorXd b = qr.solve(xy);
-      return std::max(yy - b.dot(xy), 0.0);
+      const Eigen::VectorXd b = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(xx).solve(xy);
+      return std::pair<double, double>{yy, b.dot(xy)};
+    };
+    const auto rss_beside = [&](double tau) {
+      const auto [total, explained] = nuisance_fit(true, [&](std::size_t p) { return observed(p, tau); });
+      return std::max(total - explained, 0.0);
     };
     const auto rss = [&](double tau) {
       if (nuisance) return rss_beside(tau);
@@ -387,27 +393,9 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
     }
     double spanned_share = 0;
     if (nuisance && !nuisance->empty()) {
-      const Eigen::Index width = static_cast<Eigen::Index>(nuisance->size());
-      Eigen::MatrixXd xx = Eigen::MatrixXd::Zero(width, width);
-      Eigen::VectorXd xy = Eigen::VectorXd::Zero(width), x(width);
-      double total = 0;
-      for (std::size_t p = 0; p < pushes.size(); ++p) {
-        const Eigen::MatrixX3d change = observed(p, own_tau_s) - observed(p, 0.0);
-        for (int ch = 0; ch < 2; ++ch) {
-          const double w = 1 / (scale(ch) * scale(ch));
-          for (Eigen::Index k = 0; k < pushes[p].rows(); ++k) {
-            if (!used[p][k]) continue;
-            for (Eigen::Index j = 0; j < width; ++j) x(j) = (*nuisance)[static_cast<std::size_t>(j)][p](k, ch);
-            xx.noalias() += w * x * x.transpose();
-            xy += w * x * change(k, ch);
-            total += w * change(k, ch) * change(k, ch);
-          }
-        }
-      }
-      if (total > 0) {
-        const Eigen::VectorXd b = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(xx).solve(xy);
-        spanned_share = std::clamp(b.dot(xy) / total, 0.0, 1.0);
-      }
+      const auto [total, explained] = nuisance_fit(
+          false, [&](std::size_t p) -> Eigen::MatrixX3d { return observed(p, own_tau_s) - observed(p, 0.0); });
+      if (total > 0) spanned_share = std::clamp(explained / total, 0.0, 1.0);
     }
     double tau = own_tau_s;
     const double step = 0.0005;

@@ -23,6 +23,10 @@ std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& contex
 std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& context, const ModelState& model,
                                                   const FloorContext& floors, ModelAdequacy& adequacy);
 
+/// Every push as `model`'s data corrections leave it: the fit pushes of its data, then the held-out pushes corrected
+/// the same way (none when one push is fitted and tested). The adequacy test's rest, contact and force parts read them.
+std::vector<SynchronisedPush> every_corrected_push(const DiagnosisContext& context, const ModelState& model);
+
 /// printf-style formatting of up to three numbers, for log lines and notes.
 std::string diagnosis_format(const char* fmt, double a, double b = 0, double c = 0);
 

@@ -100,6 +100,7 @@ void test_rest_force(const std::vector<SynchronisedPush>& pushes, const Eigen::V
     return;
   }
   const Eigen::Vector2d b = fit.theta.head<2>();
+  adequacy.rest_bias_N = b;
   adequacy.rest_force_N = b.norm();
   // The magnitude's standard error along the bias (delta method).
   adequacy.rest_force_N_std = adequacy.rest_force_N > 0

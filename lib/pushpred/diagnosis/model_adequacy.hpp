@@ -105,6 +105,7 @@ struct ModelAdequacy {
   bool rest_tested = false;  ///< two or more fit pushes rest clear of the object
   int rest_pushes = 0;
   double rest_force_N = 0, rest_force_N_std = 0;  ///< |mean recorded force at rest| and its standard error [N]
+  Eigen::Vector2d rest_bias_N = Eigen::Vector2d::Zero();  ///< the sensor bias those rests show (x, y) [N]
   double rest_score = 0;                          ///< Wald statistic less 2 ln N_eff
   double rest_threshold = 0;                      ///< the BIC threshold it must pass
   bool rest_unexplained = false;

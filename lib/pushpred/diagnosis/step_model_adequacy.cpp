@@ -32,6 +32,15 @@ std::vector<ResidualHint> test_corrected_residual(const DiagnosisContext& contex
   return test_corrected_residual(context, model.terms, model.data, floors, adequacy_options(context.options), adequacy);
 }
 
+std::vector<SynchronisedPush> every_corrected_push(const DiagnosisContext& context, const ModelState& model) {
+  std::vector<SynchronisedPush> all;
+  for (const auto& d : model.data) all.push_back(d.push);
+  if (context.single_push) return all;
+  const ModelCorrection data_correction = context.correction_of(model.terms, false);
+  for (const auto& push : context.test_pushes) all.push_back(apply_data_correction(push, data_correction));
+  return all;
+}
+
 AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState& model, const FloorContext& floors,
                                const std::vector<PhaseBias>& fit_phase_biases) {
   AdequacyOptions options = adequacy_options(context.options);
@@ -43,11 +52,7 @@ AdequacyOutcome model_adequacy(const DiagnosisContext& context, const ModelState
   // missing effect little power. The rest part needs them most: a bias shows only on clear rests, and half the pushes
   // often start pressed. One push (fitted on its first intervals, tested on its last) is read once. The motion part
   // reads the fit phases only: the held-out phases are what the corrected model is scored on.
-  std::vector<SynchronisedPush> all;
-  const ModelCorrection data_correction = context.correction_of(model.terms, false);
-  for (const auto& d : model.data) all.push_back(d.push);
-  if (!context.single_push)
-    for (const auto& push : context.test_pushes) all.push_back(apply_data_correction(push, data_correction));
+  const std::vector<SynchronisedPush> all = every_corrected_push(context, model);
   const Eigen::Vector2d shared_rest = shared_rest_force_N(all);
   std::vector<DiagnosisPush> data = model.data;
   for (auto& d : data) d.shared_rest_force_N = shared_rest;

@@ -25,7 +25,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pushpred/diagnosis/builtin_effects.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
@@ -161,22 +160,14 @@ std::vector<SelectionDecision> rest_force_stand_ins(const DiagnosisContext& cont
                                                     const FloorContext& floors, const CheckedTerms& checked) {
   if (checked.physical.empty()) return {};
   // Every push's rests, as the adequacy test's rest part reads them.
-  const ModelCorrection data_correction = context.correction_of(model.terms, false);
-  std::vector<SynchronisedPush> all;
-  for (const auto& d : model.data) all.push_back(d.push);
-  if (!context.single_push)
-    for (const auto& push : context.test_pushes) all.push_back(apply_data_correction(push, data_correction));
-  const Eigen::Vector2d shared_rest = shared_rest_force_N(all);
-  const AdequacyOptions options = adequacy_options(context.options);
+  const std::vector<SynchronisedPush> all = every_corrected_push(context, model);
   ModelAdequacy adequacy;
-  test_rest_force(all, shared_rest, floors, context.options.bic_threshold, options, adequacy);
+  test_rest_force(all, shared_rest_force_N(all), floors, context.options.bic_threshold,
+                  adequacy_options(context.options), adequacy);
   if (!adequacy.rest_unexplained) return {};
-  std::vector<const SynchronisedPush*> recorded;
-  for (const auto& push : all) recorded.push_back(&push);
-  const DirectFit rest = rest_force_fit(recorded, shared_rest, options.sensor_zero_spread_N);
 
-  ModelCorrection without_bias = data_correction;
-  without_bias.sensor_bias_N += rest.theta.head<2>();
+  ModelCorrection without_bias = context.correction_of(model.terms, false);
+  without_bias.sensor_bias_N += adequacy.rest_bias_N;
   const std::vector<DiagnosisPush> data = context.corrected_data(without_bias);
   const GroupColumns group = group_columns(context, model.terms, data);
   std::vector<const EffectColumns*> pointers;
