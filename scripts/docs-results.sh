@@ -160,6 +160,10 @@ if wanted observer-conventions; then
     result observer-conventions "The observer's sign and frame conventions on real pushes" "" - -- \
         bash scripts/observer-conventions.sh "$bin" "$abs"
 fi
+strict=1
+result compliance-below-floor "A compliant contact below the contact part's floor" \
+    "Six simulated rect2 pushes, diagnosed at growing pusher compliances and contact softnesses." - -- \
+    bash scripts/compliance-below-floor.sh "$build"
 # The blind validation of the diagnosis. Seeds: 220000-220159 and 221000-221099 (report) and 302000, 303000 (few pushes), 260000
 # and 264000 (honesty); the tuning ranges are in docs/diagnosis.md.
 result validation-blind "Blind validation of the diagnosis, seeds 220000-220159" \
