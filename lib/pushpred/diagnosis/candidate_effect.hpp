@@ -132,12 +132,6 @@ struct ModelCorrection {
   /// The mass centre's offset from the shape table's (body frame) [m]: the com_offset effect's delta. The relation
   /// model reads it through com_offset's force law; the pushing model moves its centre of friction by it.
   Eigen::Vector2d mass_centre_offset_m = Eigen::Vector2d::Zero();
-  /// The pushing model's prior on its limit surface's torque ratio c, as a fraction of c's physical default (the
-  /// uniform-pressure value about the centre of friction); 0: the identification's own
-  /// (QuasiStaticIdentificationOptions::prior_torque_ratio_fraction). A tight prior holds c near the default, so that
-  /// a per-push fit of c does not take up what a moved centre of friction changes in the rotation (the motion
-  /// confirmation, step_motion_confirmation.cpp).
-  double pushing_model_torque_ratio_prior = 0;
 
   bool empty() const;
   /// One line per change, for reports.

@@ -98,13 +98,6 @@ SynchronisedPush CorrectedPrediction::corrected_push(const SynchronisedPush& pus
   return apply_data_correction(push, correction_);
 }
 
-QuasiStaticIdentificationOptions CorrectedPrediction::pushing_model_identification() const {
-  QuasiStaticIdentificationOptions out;
-  if (correction_.pushing_model_torque_ratio_prior > 0)
-    out.prior_torque_ratio_fraction = correction_.pushing_model_torque_ratio_prior;
-  return out;
-}
-
 SynchronisedPush CorrectedPrediction::pushing_model_push(const SynchronisedPush& push) const {
   SynchronisedPush out = corrected_push(push);
   out.shape.centroid_m += correction_.mass_centre_offset_m;

@@ -109,8 +109,6 @@ class CorrectedPrediction final : public PredictionCorrection {
   bool predicts_with_pushing_model() const override { return correction_.pushing_model; }
   /// corrected_push with the shape's mass centre moved by ModelCorrection::mass_centre_offset_m.
   SynchronisedPush pushing_model_push(const SynchronisedPush& push) const override;
-  /// The identification's defaults, with ModelCorrection::pushing_model_torque_ratio_prior where it is set.
-  QuasiStaticIdentificationOptions pushing_model_identification() const override;
   /// Every force law of the correction (the friction law of the base model and the laws found with it) as the
   /// pushing model's friction while not pushed; none without force laws (the pushing model's own identified Coulomb
   /// friction).

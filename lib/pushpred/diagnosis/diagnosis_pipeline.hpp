@@ -195,10 +195,6 @@ BaseStructure base_structure(const DiagnosisContext& context, const ModelState& 
 /// The share of the fit pushes' mean normalised prediction error an effect of the motion must remove to be
 /// confirmed: like a floor, what it must change in the prediction to matter.
 constexpr double kMotionConfirmationGain = 0.1;
-/// The pushing model's prior on its torque ratio c while the motion confirmation predicts, as a fraction of c's
-/// physical default (ModelCorrection::pushing_model_torque_ratio_prior): the identification's own prior (30 %) lets a
-/// per-push fit of c take up most of what a moved centre of friction changes in the rotation over a phase.
-constexpr double kMotionConfirmationTorqueRatioPrior = 0.03;
 struct MotionConfirmation {
   ModelState model;
   BaseStructure structure;  ///< the structure of `model` (its decisions, when chosen anew, are in `trace`)

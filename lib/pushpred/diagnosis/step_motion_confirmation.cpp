@@ -4,14 +4,6 @@
 // pushes' phases with the effect and without it; the effect stays found only if its mean normalised error (position
 // over `hold`'s plus yaw over `hold`'s, as the base settings are scored) is lower with it by kMotionConfirmationGain
 // or more. How many fit pushes it predicts better is reported, not required.
-// - The pushing model predicts both with its limit surface's torque ratio c held near its physical default (the
-//   uniform-pressure value about the centre of friction; kMotionConfirmationTorqueRatioPrior), not fitted freely on
-//   each push: a per-push c takes up most of what a moved centre of friction changes in the rotation over a phase, and
-//   even an offset fitted within 0.7 mm of the truth then predicted the fit phases 45 % worse (a test,
-//   the_motion_confirmation_holds_the_limit_surface_so_that_a_true_offset_shows). On the tuning seeds 376840-376989
-//   (the offset alone), 378400-378439 (each kind hidden) and 378600-378749 (clean), of the offsets reaching this step
-//   the held c confirms 81 of the 96 true ones at twice the floor or more (the free c 78) and 17 of the 80 that are
-//   not there (the free c 20). The prior's width (3 %) was set before those runs, not chosen on them.
 // - Where the catalogue lacks the physics (a bias, a tilted support, friction depending on the direction, a compliant
 //   pusher), an offset takes up part of its torque and predicts the fit pushes a few per cent better: by less than
 //   10 % in 13 of 21 such names on the tuning seeds 367000-368999, where a true offset at twice its floor or more
@@ -53,12 +45,9 @@ void confirm(const DiagnosisContext& context, const FloorContext& floors, Motion
     std::vector<Selection> without = with;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
     SelectionDecision d = decision_about(i, Verdict::ConfirmedByMotion, SearchStage::MotionConfirmation);
-    ModelCorrection correction_with = context.correction_of(with, true);
-    ModelCorrection correction_without = context.correction_of(without, true);
-    correction_with.pushing_model_torque_ratio_prior = kMotionConfirmationTorqueRatioPrior;
-    correction_without.pushing_model_torque_ratio_prior = kMotionConfirmationTorqueRatioPrior;
-    const DiagnosisContext::FitPhaseErrors errors_with = context.fit_phase_errors(correction_with);
-    const DiagnosisContext::FitPhaseErrors errors_without = context.fit_phase_errors(correction_without);
+    const DiagnosisContext::FitPhaseErrors errors_with = context.fit_phase_errors(context.correction_of(with, true));
+    const DiagnosisContext::FitPhaseErrors errors_without =
+        context.fit_phase_errors(context.correction_of(without, true));
     d.error_with = errors_with.mean;
     d.error_without = errors_without.mean;
     d.pushes = static_cast<int>(errors_with.per_push.size());

@@ -88,7 +88,6 @@ void CorrectionPredictor::start_push(const SynchronisedPush& push, const StudyOp
   if (pushing_model_) {
     pushing_push_ = correction_->pushing_model_push(push);
     require_same_grid_and_pose(pushing_push_, push);
-    pushing_estimator_ = QuasiStaticEstimator(correction_->pushing_model_identification());
     pushing_estimator_.reset(pushing_push_);
   }
 }

@@ -85,8 +85,6 @@ class PredictionCorrection {
   virtual bool predicts_with_pushing_model() const { return false; }
   /// The push the pushing model reads. Default: corrected_push (e.g. a correction may also move the mass centre).
   virtual SynchronisedPush pushing_model_push(const SynchronisedPush& push) const { return corrected_push(push); }
-  /// How the pushing model identifies its parameters on each push. Default: QuasiStaticIdentificationOptions{}.
-  virtual QuasiStaticIdentificationOptions pushing_model_identification() const { return {}; }
   /// The pushing model's friction while the object is not pushed, for a phase starting at `start_pose`
   /// (QuasiStaticObject::free_slide_terms). Default: none (the identified Coulomb friction).
   virtual std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms(
