@@ -63,8 +63,9 @@ std::unique_ptr<DataCorrectionEffect> make_force_offset_effect();
 /// samples_without_contact with `shared_rest_force_N`): theta the bias b = -mean recorded f_C [N, world frame], its
 /// covariance, the score (Wald statistic less 2 ln N_eff; -inf with fewer than two such pushes, which cannot tell a
 /// shared bias from one push's own zero) and the pushes that rest clear. The mean's variance per axis is at least
-/// sensor_zero_spread_N^2 / P over P clear rests (the rig's known zero spread, DiagnosisOptions). force_offset's test,
-/// and the adequacy test's rest part.
+/// sensor_zero_spread_N^2 / P over P clear rests (the rig's known zero spread, DiagnosisOptions); where the rests'
+/// means spread beyond what that spread and their noise allow, the Wald statistic is replaced by the chi^2_2 statistic
+/// of the same tail probability under F(2, 2 (P - 1)). force_offset's test, and the adequacy test's rest part.
 DirectFit rest_force_fit(const std::vector<const SynchronisedPush*>& pushes, const Eigen::Vector2d& shared_rest_force_N,
                          double sensor_zero_spread_N = 0);
 std::unique_ptr<ForceLawEffect> make_viscous_friction_effect();
