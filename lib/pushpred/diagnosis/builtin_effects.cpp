@@ -3,7 +3,6 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <atomic>
-#include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -431,6 +430,16 @@ class TimeOffsetEffect final : public DataCorrectionEffect {
 namespace {
 /// The rests' spread is taken as beyond the rig's setting (rest_force_fit) when the setting leaves it this unlikely.
 constexpr double kZeroSpreadExceededAlpha = 0.01;
+/// P(X > x) for X ~ chi^2 on 2 k degrees of freedom: exp(-x / 2) sum_{i < k} (x / 2)^i / i!.
+double chi_squared_even_survival(double x, std::size_t k) {
+  const double h = 0.5 * x;
+  double term = 1, sum = 0;
+  for (std::size_t i = 0; i < k; ++i) {
+    sum += term;
+    term *= h / static_cast<double>(i + 1);
+  }
+  return std::exp(-h) * sum;
+}
 }  // namespace
 
 // The bias is shared by all pushes. Its variance combines the within-push long-run variance (Newey-West over
@@ -511,9 +520,7 @@ DirectFit rest_force_fit(const std::vector<const SynchronisedPush*>& pushes, con
       const double expected = sensor_zero_spread_N * sensor_zero_spread_N + P * within(c);
       q += expected > 0 ? between(c) / expected : 0.0;
     }
-    const double limit =
-        boost::math::quantile(boost::math::complement(boost::math::chi_squared(d), kZeroSpreadExceededAlpha));
-    if (q > limit) wald = d * std::log1p(wald / d);
+    if (chi_squared_even_survival(q, blocks.size() - 1) < kZeroSpreadExceededAlpha) wald = d * std::log1p(wald / d);
   }
   fit.score = wald - 2 * std::log(fit.effective_samples);
   if (one_push) {
