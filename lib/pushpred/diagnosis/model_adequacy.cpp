@@ -522,10 +522,7 @@ std::vector<ResidualHint> test_residual_structure(const std::vector<DiagnosisPus
       se(a) = std::sqrt(zero_mean_std(a) * zero_mean_std(a) + noise_var);
     }
     const double F = se.minCoeff() > 0 ? 0.5 * c.cwiseQuotient(se).squaredNorm() : 0.0;
-    // F(2, d) exceeds F with probability (1 + 2 F / d)^(-d / 2) (chi^2_2 / 2 is exponential; its tail at F times a
-    // chi^2_d / d is that variable's moment-generating function at -F).
-    const double dof = 2.0 * (measured - 1);
-    const double p = std::pow(1 + 2 * F / dof, -dof / 2);
+    const double p = std::exp(log_f2_tail(F, 2.0 * (measured - 1)));
     adequacy.shared_force_N = c.norm();
     adequacy.shared_force_N_std = c.norm() > 0 ? std::sqrt(c.cwiseAbs2().dot(se.cwiseAbs2())) / c.norm() : se.norm();
     adequacy.shared_force_p_value = p;

@@ -63,6 +63,8 @@ double effective_sample_count(const Eigen::Ref<const Eigen::VectorXd>& r) {
   return static_cast<double>(r.size()) * (1 - rho) / (1 + rho);
 }
 
+double log_f2_tail(double f, double d) { return -0.5 * d * std::log1p(2 * f / d); }
+
 double long_run_variance(const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Index lag) {
   const Eigen::Index n = r.size();
   if (n == 0) return 0.0;

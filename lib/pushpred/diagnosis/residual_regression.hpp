@@ -188,5 +188,9 @@ double effective_sample_count(const Eigen::Ref<const Eigen::VectorXd>& r);
 /// Newey-West long-run variance of the mean of `r` (Bartlett weights up to `lag`): the variance of the
 /// sample mean of an autocorrelated series, times n.
 double long_run_variance(const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Index lag);
+/// ln P(X > f) for X ~ F(2, d): -(d / 2) ln(1 + 2 f / d) (chi^2_2 / 2 is exponential; its tail at f times a
+/// chi^2_d / d is that variable's moment-generating function at -f). The test of a force shared by pushes whose zeros'
+/// spread is estimated from them, on d = 2 (pushes - 1) degrees of freedom.
+double log_f2_tail(double f, double d);
 
 }  // namespace pushpred
