@@ -22,7 +22,7 @@ struct DiagnoseArgs {
   StudyArguments study;
   double bic_threshold = 10.0, rate_hz = 250.0;
   std::vector<std::string> exclude;
-  bool per_object = false, no_plots = false, quick_base = false;
+  bool per_object = false, no_plots = false, quick_base = false, measured_contact_compliance = false;
   double relevance_fraction = 0.05, floor_margin_std = 1.0, sensor_zero_spread_N = kSensorZeroSpread_N;
   int jobs = default_jobs();
 };
@@ -35,6 +35,7 @@ int run_diagnose(const DiagnoseArgs& a) {
   run.options.relevance_fraction = a.relevance_fraction;
   run.options.floor_margin_std = a.floor_margin_std;
   run.options.sensor_zero_spread_N = a.sensor_zero_spread_N;
+  run.options.measured_contact_compliance = a.measured_contact_compliance;
   run.options.fit_base_settings = !a.quick_base;
   run.exclude = a.exclude;
   run.preprocess.rate_hz = a.rate_hz;
@@ -66,6 +67,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(CLI::Range(1e-6, 0.999999));
   add_floor_margin(*sub, a->floor_margin_std);
   add_sensor_zero_spread(*sub, a->sensor_zero_spread_N);
+  add_measured_contact_compliance(*sub, a->measured_contact_compliance);
   sub->add_flag("--quick-base", a->quick_base,
                 "Do not fit the base model's settings (quasi-static stop fraction) on the fit phases: faster");
   sub->add_flag("--no-plots", a->no_plots, "Do not draw plots");

@@ -63,6 +63,7 @@ const CommandRegistration reg([](CLI::App& app, Runner& run) {
       ->check(kNonNegativeNumber);
   add_floor_margin(*sub, a->options.diagnosis.floor_margin_std);
   add_sensor_zero_spread(*sub, a->options.diagnosis.sensor_zero_spread_N);
+  add_measured_contact_compliance(*sub, a->options.diagnosis.measured_contact_compliance);
   add_jobs(*sub, a->options.jobs, "Trials run in parallel (default: all cores)");
   sub->add_flag("--quick-base", [a](std::int64_t) { a->options.diagnosis.fit_base_settings = false; },
                 "Do not fit the base model's settings on the fit phases: faster");

@@ -159,6 +159,14 @@ inline CLI::Option* add_sensor_zero_spread(CLI::App& sub, double& spread_N) {
       ->check(finite_number_in(0, kMaxForceOffset_N));
 }
 
+/// `--measured-contact-compliance`: the base model's rod gives way as the fit pushes' contact does
+/// (DiagnosisOptions::measured_contact_compliance).
+inline CLI::Option* add_measured_contact_compliance(CLI::App& sub, bool& on) {
+  return sub.add_flag("--measured-contact-compliance", on,
+                      "The base model's pushing model sinks its rod by the fit pushes' measured contact compliance "
+                      "times the normal force (default: a rigid rod)");
+}
+
 /// `--shard I/N` where a subcommand can split its work; `help` says what is shared out. The spec is parsed when the
 /// subcommand runs (parse_shard_spec), so that a bad one is refused like the subcommand's other input errors.
 inline CLI::Option* add_shard(CLI::App& sub, std::string& spec, const std::string& help) {

@@ -138,7 +138,8 @@ const std::vector<std::pair<const char*, double DiagnosisOptions::*>>& number_op
 }
 const std::vector<std::pair<const char*, bool DiagnosisOptions::*>>& flag_options() {
   static const std::vector<std::pair<const char*, bool DiagnosisOptions::*>> options{
-      {"fit_base_settings", &DiagnosisOptions::fit_base_settings}};
+      {"fit_base_settings", &DiagnosisOptions::fit_base_settings},
+      {"measured_contact_compliance", &DiagnosisOptions::measured_contact_compliance}};
   return options;
 }
 

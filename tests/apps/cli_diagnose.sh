@@ -51,6 +51,18 @@ except ValueError as e: print(e)' "$tmp/hex/diagnosis.json")
 if [ -z "$nulls" ]; then passed=$((passed + 1)); else failed=$((failed + 1))
   echo "FAIL: non-finite numbers in diagnosis.json: $nulls" | cut -c1-300; fi
 expect_in "$tmp/hex/report.md" "## Prediction error on the held-out phases" "report.md has the before/after table"
+expect_in "$tmp/hex/diagnosis.json" '"contact_compliance_m_N": 0.0' "the base model's rod is rigid by default"
+# shellcheck disable=SC2086
+expect_exit 0 "diagnose with the measured contact compliance" -- "$bin" diagnose $hex --measured-contact-compliance \
+  --no-plots --out "$tmp/hex_compliant"
+compliance=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["contact_compliance_m_N"])' \
+  "$tmp/hex_compliant/diagnosis.json")
+if python3 -c 'import sys; c = float(sys.argv[1]); sys.exit(0 if 1e-5 < c < 1e-3 else 1)' "$compliance"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: --measured-contact-compliance gives a rig's compliance (0.01-1 mm/N): $compliance"
+fi
+expect_in "$tmp/hex_compliant/report.md" "rod sinks" "the report's corrected model says how far its rod sinks"
 expect_in "$tmp/hex/report.md" "## Candidate effects" "report.md lists every candidate"
 expect_in "$tmp/hex/report.md" "plots/residuals.png" "report.md shows the residual plot"
 expect_in "$tmp/hex/test_phase_errors.csv" "push,phase,t_s,dob_x_mm" "the errors over time are written"

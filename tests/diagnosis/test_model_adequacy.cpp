@@ -202,6 +202,32 @@ BOOST_AUTO_TEST_CASE(clean_pushes_are_explained) {
   BOOST_TEST(hints_json(r).empty());
 }
 
+BOOST_AUTO_TEST_CASE(the_corrected_models_rod_gives_way_as_the_fit_pushes_contact_does) {
+  // Clean pushes on a soft contact (4 kN/m, 0.25 mm/N): with measured_contact_compliance the base model's pushing
+  // model takes the fit pushes' median contact slope as its compliance, which the contact part measures on all pushes,
+  // and the report says so; without it the rod stays rigid.
+  std::mt19937_64 rng(230015);
+  auto scenarios = draw_scenarios(rng, 6, {});
+  for (auto& s : scenarios) s.contact_stiffness_N_m = 4000;
+  DiagnosisOptions options = fast_options();
+  options.measured_contact_compliance = true;
+  const DiagnosisResult r = diagnose(simulate_all(scenarios), EffectLibrary::standard(), options);
+  log_result(r);
+  BOOST_TEST_REQUIRE(r.correction.pushing_model);
+  BOOST_TEST_REQUIRE(r.adequacy.contact_tested);
+  BOOST_TEST_MESSAGE("compliance: corrected model " << 1e3 * r.correction.contact_compliance_m_N
+                                                    << " mm/N, contact part " << 1e3 * r.adequacy.contact_compliance_m_N
+                                                    << " mm/N, simulated 0.25 mm/N");
+  BOOST_TEST(r.correction.contact_compliance_m_N == 1.0 / 4000, boost::test_tools::tolerance(0.4));
+  BOOST_TEST(r.correction.contact_compliance_m_N == r.adequacy.contact_compliance_m_N,
+             boost::test_tools::tolerance(0.25));
+  bool described = false;
+  for (const auto& line : r.correction.describe()) described |= line.find("rod sinks") != std::string::npos;
+  BOOST_TEST(described);
+  const DiagnosisResult rigid = diagnose(simulate_all(scenarios), EffectLibrary::standard(), fast_options());
+  BOOST_TEST(rigid.correction.contact_compliance_m_N == 0.0);
+}
+
 BOOST_AUTO_TEST_CASE(a_kind_missing_from_the_catalogue_gives_unexplained_residual) {
   // Drag well above its floor (the floor is about 5 1/s on these speeds), diagnosed by a catalogue without it.
   std::mt19937_64 rng(230020);

@@ -68,6 +68,11 @@ std::vector<std::string> ModelCorrection::describe() const {
   if (pushing_model)
     out.emplace_back("the quasi-static pushing model predicts, identified online on each push (the relation model "
                      "below only where it cannot)");
+  if (pushing_model && contact_compliance_m_N > 0) {
+    std::snprintf(line, sizeof line, "the pushing model's rod sinks %.3f mm per N of normal force (fit pushes)",
+                  1e3 * contact_compliance_m_N);
+    out.emplace_back(line);
+  }
   if (!mass_centre_offset_m.isZero()) {
     std::snprintf(line, sizeof line, "mass centre moved by (%.2f, %.2f) mm (body frame)", 1e3 * mass_centre_offset_m(0),
                   1e3 * mass_centre_offset_m(1));

@@ -132,6 +132,9 @@ struct ModelCorrection {
   /// The mass centre's offset from the shape table's (body frame) [m]: the com_offset effect's delta. The relation
   /// model reads it through com_offset's force law; the pushing model moves its centre of friction by it.
   Eigen::Vector2d mass_centre_offset_m = Eigen::Vector2d::Zero();
+  /// The pushing model's contact compliance [m/N] (QuasiStaticParameters::contact_compliance_m_N): how far the rod
+  /// sinks into the outline per newton of normal force, measured on the fit pushes (DiagnosisContext).
+  double contact_compliance_m_N = 0;
 
   bool empty() const;
   /// One line per change, for reports.

@@ -109,6 +109,7 @@ class CorrectedPrediction final : public PredictionCorrection {
   bool predicts_with_pushing_model() const override { return correction_.pushing_model; }
   /// corrected_push with the shape's mass centre moved by ModelCorrection::mass_centre_offset_m.
   SynchronisedPush pushing_model_push(const SynchronisedPush& push) const override;
+  double contact_compliance_m_N() const override { return correction_.contact_compliance_m_N; }
   /// Every force law of the correction (the friction law of the base model and the laws found with it) as the
   /// pushing model's friction while not pushed; none without force laws (the pushing model's own identified Coulomb
   /// friction).

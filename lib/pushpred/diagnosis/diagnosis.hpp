@@ -81,6 +81,11 @@ struct DiagnosisOptions {
   /// never given a standard error below spread / sqrt(pushes). Two to four clear rests alone often spread by chance
   /// much less than the zeros do, and a chance mean then reads as a bias. 0: the pushes' own spread alone.
   double sensor_zero_spread_N = kSensorZeroSpread_N;
+  /// The base model's pushing model gives way at its contact by the fit pushes' measured compliance
+  /// (DiagnosisContext::contact_compliance_m_N); off: a rigid rod. Off by default: on the reporting seeds it lowers
+  /// the held-out error, most where a compliant pusher is hidden, but its lower errors let the motion confirmation's
+  /// relative gain pass more mass-centre offsets that stand in for a hidden kind (docs/diagnosis.md).
+  bool measured_contact_compliance = false;
   void validate() const;
 };
 

@@ -179,6 +179,7 @@ ModelCorrection DiagnosisContext::correction_of(const std::vector<Selection>& se
     if (!for_prediction && e->test() == EffectTest::Prediction) continue;
     e->apply(s.total, s.setting, e, c);
   }
+  if (for_prediction) c.contact_compliance_m_N = contact_compliance_m_N;
   return c;
 }
 

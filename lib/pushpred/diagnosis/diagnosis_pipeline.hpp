@@ -67,6 +67,10 @@ struct DiagnosisContext {
   std::vector<double> fit_end_s;
   double hold_position_mm = 1, hold_yaw_deg = 1;  ///< normalisers: `hold`'s mean errors on the fit phases
   double log_effective_samples = 0;               ///< ln N_eff of the paper's residual: the BIC penalty per parameter
+  /// The pushing model's contact compliance [m/N] with DiagnosisOptions::measured_contact_compliance: the median of the
+  /// fit pushes' slopes of the rod's penetration on the normal force (contact_compliance_m_N in model_adequacy.hpp), 0
+  /// where none resolves one or it is negative; 0 without the option.
+  double contact_compliance_m_N = 0;
 
   const CandidateEffect& effect(std::size_t candidate) const { return *library.effects()[candidate]; }
   bool is_base(std::size_t candidate) const { return effect(candidate).in_base_model(); }

@@ -1,7 +1,9 @@
 // Step 1: the paper's method on every push, as it is, and the disturbance residual it leaves on the fit pushes.
+#include <algorithm>
 #include <cmath>
 
 #include "pushpred/core/error.hpp"
+#include "pushpred/core/robust_statistics.hpp"
 #include "pushpred/diagnosis/diagnosis_steps_internal.hpp"
 
 namespace pushpred {
@@ -44,6 +46,12 @@ PaperMethodOutcome paper_method(const DiagnosisInput& input) {
   const ErrorSummary hold = summarise_errors(c.fit_phases(fit_studies), "hold");
   c.hold_position_mm = hold.pos_mm_mean > 1e-3 ? hold.pos_mm_mean : 1e-3;
   c.hold_yaw_deg = hold.theta_deg_mean > 1e-3 ? hold.theta_deg_mean : 1e-3;
+  if (c.options.measured_contact_compliance) {
+    std::vector<double> slopes;
+    for (const auto& push : c.fit_pushes)
+      if (const auto slope = contact_compliance_m_N(push)) slopes.push_back(*slope);
+    if (!slopes.empty()) c.contact_compliance_m_N = std::max(0.0, median(slopes));
+  }
 
   out.model.data = c.corrected_data(ModelCorrection{});
   const ResidualRegression base(out.model.data, Relation::Linear);

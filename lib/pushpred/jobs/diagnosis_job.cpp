@@ -40,6 +40,7 @@ nlohmann::json options_json(const DiagnoseRun& run, std::size_t pushes_read, con
             {"relevance_fraction", num(o.relevance_fraction)},
             {"floor_margin_std", num(o.floor_margin_std)},
             {"sensor_zero_spread_N", num(o.sensor_zero_spread_N)},
+            {"measured_contact_compliance", o.measured_contact_compliance},
             {"fit_base_settings", o.fit_base_settings},
             {"max_refits", o.max_refits},
             {"exclude", run.exclude},

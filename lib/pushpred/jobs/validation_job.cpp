@@ -32,6 +32,7 @@ nlohmann::json options_json(const ValidationOptions& o) {
           {"bic_threshold", exact_number_json(o.diagnosis.bic_threshold)},
           {"floor_margin_std", exact_number_json(o.diagnosis.floor_margin_std)},
           {"sensor_zero_spread_N", exact_number_json(o.diagnosis.sensor_zero_spread_N)},
+          {"measured_contact_compliance", o.diagnosis.measured_contact_compliance},
           {"fit_base_settings", o.diagnosis.fit_base_settings},
           {"hide", o.hide},
           {"draw_preloads", o.draw_preloads},
@@ -53,6 +54,7 @@ ValidationOptions options_from(const nlohmann::json& j) {
     o.diagnosis.bic_threshold = exact_number(j.at("bic_threshold"));
     o.diagnosis.floor_margin_std = exact_number(j.at("floor_margin_std"));
     o.diagnosis.sensor_zero_spread_N = exact_number(j.at("sensor_zero_spread_N"));
+    o.diagnosis.measured_contact_compliance = j.at("measured_contact_compliance").get<bool>();
     o.diagnosis.fit_base_settings = j.at("fit_base_settings").get<bool>();
     o.hide = j.at("hide").get<std::vector<std::string>>();
     o.draw_preloads = j.at("draw_preloads").get<bool>();

@@ -107,7 +107,8 @@ PhasePrediction CorrectionPredictor::predict(const PhaseContext& c) {
     try {
       return as_phase_prediction(predict_quasi_static_phase(
           pushing_push_, c.identified, c.phase, c.plan_rate_hz, velocity0_, c.t_s, c.options.pushing_model_integrator,
-          &pushing_estimator_, correction_->free_slide_terms(pushing_push_, c.pose0)));
+          &pushing_estimator_, correction_->free_slide_terms(pushing_push_, c.pose0),
+          correction_->contact_compliance_m_N()));
     } catch (const std::exception& e) {
       // e.g. CVODE failing on a contact the outline cannot resolve: the relation model predicts this phase instead.
       fallback_note = std::string("the pushing model failed (") + e.what() + "): the relation model predicted";

@@ -85,6 +85,8 @@ class PredictionCorrection {
   virtual bool predicts_with_pushing_model() const { return false; }
   /// The push the pushing model reads. Default: corrected_push (e.g. a correction may also move the mass centre).
   virtual SynchronisedPush pushing_model_push(const SynchronisedPush& push) const { return corrected_push(push); }
+  /// The pushing model's contact compliance [m/N] (QuasiStaticParameters::contact_compliance_m_N). Default: 0, rigid.
+  virtual double contact_compliance_m_N() const { return 0; }
   /// The pushing model's friction while the object is not pushed, for a phase starting at `start_pose`
   /// (QuasiStaticObject::free_slide_terms). Default: none (the identified Coulomb friction).
   virtual std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms(

@@ -145,11 +145,14 @@ struct QuasiStaticPhase {
 /// yaw rate; e.g. the observer's estimate) to `output_times_s`. This is what the `quasi_static` predictor does; a
 /// caller that already holds a QuasiStaticEstimator fed with those intervals passes it to skip the refeeding.
 /// `free_slide_terms`: QuasiStaticObject::free_slide_terms (empty: the identified Coulomb friction of mu_s).
-QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
-                                            const TimeInterval& phase, double plan_rate_hz,
-                                            const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
-                                            const IntegratorOptions& integrator = quasi_static_integrator_options(),
-                                            const QuasiStaticEstimator* fed_estimator = nullptr,
-                                            std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms = {});
+/// `contact_compliance_m_N`: QuasiStaticParameters::contact_compliance_m_N; where the rod touches at the phase's start,
+/// the contact offset then adds the compliance times the normal force measured there, so that the model's rod starts
+/// as deep as that force presses it.
+QuasiStaticPhase predict_quasi_static_phase(
+    const SynchronisedPush& push, const std::vector<TimeInterval>& identified, const TimeInterval& phase,
+    double plan_rate_hz, const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
+    const IntegratorOptions& integrator = quasi_static_integrator_options(),
+    const QuasiStaticEstimator* fed_estimator = nullptr,
+    std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms = {}, double contact_compliance_m_N = 0);
 
 }  // namespace pushpred

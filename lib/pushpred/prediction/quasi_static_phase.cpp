@@ -2,6 +2,8 @@
 
 #include "pushpred/prediction/quasi_static_contact.hpp"
 
+#include <Eigen/Geometry>
+
 namespace pushpred {
 
 QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const std::vector<TimeInterval>& identified,
@@ -9,7 +11,8 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
                                             const Eigen::Vector3d& velocity0, const Eigen::VectorXd& output_times_s,
                                             const IntegratorOptions& integrator,
                                             const QuasiStaticEstimator* fed_estimator,
-                                            std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms) {
+                                            std::vector<std::shared_ptr<const GeneralizedForceTerm>> free_slide_terms,
+                                            double contact_compliance_m_N) {
   QuasiStaticEstimator own;
   if (!fed_estimator) {
     own.reset(push);
@@ -26,9 +29,15 @@ QuasiStaticPhase predict_quasi_static_phase(const SynchronisedPush& push, const 
   // Start in contact exactly when the data do: the rod-outline distance measured at the phase's start.
   QuasiStaticParameters& p = out.identification.parameters;
   const Eigen::Vector3d pose0 = push.pose.row(i0).transpose();
+  p.contact_compliance_m_N = contact_compliance_m_N;
   if (push.in_contact[static_cast<size_t>(i0)]) {
     const Outline::Closest c = outline->closest(body_frame_tip(push, i0));
     p.contact_offset_m = c.signed_distance_m - p.rod_radius_m + p.contact_band_m;
+    if (p.contact_compliance_m_N > 0) {
+      // The rod sits compliance x f_n deeper than a rigid contact under the force measured at the start.
+      const Eigen::Vector2d inward = -(Eigen::Rotation2Dd(pose0(2)) * c.normal);
+      p.contact_offset_m += p.contact_compliance_m_N * std::max(0.0, inward.dot(push.force_N.row(i0).transpose()));
+    }
     out.identification.sources[3] = "measured at the phase's start (in contact)";
     // A rod centre deeper inside the tracked outline than half its radius is a tracking or outline error, not a
     // contact: the model's rod keeps at least half its radius, as out of contact below.

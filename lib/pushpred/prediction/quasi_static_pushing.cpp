@@ -24,6 +24,8 @@ void QuasiStaticParameters::validate() const {
   require_positive_finite(relaxation_s, "quasi-static model: relaxation time");
   require_positive_finite(contact_band_m, "quasi-static model: contact band");
   require_positive_finite(gap_time_s, "quasi-static model: gap time");
+  if (!(contact_compliance_m_N >= 0 && std::isfinite(contact_compliance_m_N)))
+    throw InputError("quasi-static model: contact compliance must be finite and not negative");
   require_positive_finite(creep_speed_m_s, "quasi-static model: creep speed");
   if (!std::isfinite(contact_offset_m) || !(rod_radius_m + contact_offset_m > 0))
     throw InputError("quasi-static model: contact offset must be finite and keep the rod radius positive");
@@ -176,6 +178,20 @@ QuasiStaticPushSystem::Push QuasiStaticPushSystem::push_within(double t, double 
   const Eigen::Vector2d vp = tip_velocity + n * ((push.penetration_m - p_.contact_band_m) / p_.gap_time_s);
   push.motion = quasi_static_motion(contact_from_cof, n, vp, p_.pusher_friction, p_.torque_ratio_m);
   if (push.motion.mode == ContactMode::None) return push;
+  if (p_.contact_compliance_m_N > 0) {
+    // The support's friction wrench lies on the ellipsoid along the twist (v, c^2 omega): its force's normal part
+    // is F (v . n) / sqrt(|v|^2 + c^2 omega^2), whatever the twist's size.
+    const Eigen::Vector2d& v = push.motion.velocity_m_s;
+    const double c = p_.torque_ratio_m;
+    const double size = std::sqrt(v.squaredNorm() + c * c * push.motion.omega_rad_s * push.motion.omega_rad_s);
+    const double F = p_.support_friction * object_.mass_kg * p_.gravity_m_s2;
+    const double normal_force = size > 0 ? std::max(0.0, F * v.dot(n) / size) : 0.0;
+    const Eigen::Vector2d vp_compliant =
+        tip_velocity +
+        n * ((push.penetration_m - p_.contact_band_m - p_.contact_compliance_m_N * normal_force) / p_.gap_time_s);
+    push.motion = quasi_static_motion(contact_from_cof, n, vp_compliant, p_.pusher_friction, p_.torque_ratio_m);
+    if (push.motion.mode == ContactMode::None) return push;
+  }
   const double s = std::min(1.0, push.penetration_m / p_.contact_band_m);
   push.weight = s * s * (3 - 2 * s);
   return push;

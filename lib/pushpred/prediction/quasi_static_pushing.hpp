@@ -25,18 +25,20 @@
 //   v = k f_e, omega = k rp . f_e / c^2 with k = (n . v_p) / (n . A f_e), so the normal velocities agree.
 //   No push when n . v_p <= 0 (the pusher leaves the surface).
 // - The pusher velocity at the contact is the planned tip velocity plus a gap keeper that holds the
-//   penetration at `contact_band_m`: v_p = v_tip + n (pen - contact_band) / gap_time.
+//   penetration at `contact_band_m` plus the contact's give s_c f_n (s_c = `contact_compliance_m_N`, f_n the normal
+//   part of the force on the limit surface, F (v . n) / sqrt(|v|^2 + c^2 omega^2) for the pushed twist): v_p = v_tip +
+//   n (pen - contact_band - s_c f_n) / gap_time.
 // - Dynamics: with w in [0, 1] the push's weight (0 when the tip is out of contact, the planned tip speed is below
 //   `stop_speed_m_s`, or n . v_p <= 0; a smooth step of pen over [0, contact_band] otherwise):
 //     v' = w (v_qs - v) / tau + (1 - w) f_s / m,   omega' = w (omega_qs - omega) / tau + (1 - w) m_s / I,
-//   tau = `relaxation_s` (the quasi-static motion is approached with this time constant), and (f_s, m_s) the limit surface's
-//   friction opposing the twist: f_s = -F v / s, m_s = -F c^2 omega / s, s = sqrt(|v|^2 + c^2 omega^2 + eps^2).
-//   Free, a translating object slides to rest in v^2 / (2 mu_s g).
+//   tau = `relaxation_s` (the quasi-static motion is approached with this time constant), and (f_s, m_s) the limit
+//   surface's friction opposing the twist: f_s = -F v / s, m_s = -F c^2 omega / s, s = sqrt(|v|^2 + c^2 omega^2 +
+//   eps^2). Free, a translating object slides to rest in v^2 / (2 mu_s g).
 //
 // Assumptions (docs/prediction.md says where they fail): a flat support with uniform-ish pressure (the limit
 // surface an ellipsoid), quasi-static pushing (inertia only in the slide to rest), point contact with Coulomb
-// friction, a rigid pusher that follows its plan, the object's outline known (or one of
-// the local outlines of quasi_static_identification.hpp where the shape table lists none).
+// friction, a pusher that follows its plan (rigid, or giving way along the contact's normal by s_c f_n), the object's
+// outline known (or one of the local outlines of quasi_static_identification.hpp where the shape table lists none).
 #include <Eigen/Core>
 #include <cmath>
 #include <memory>
@@ -71,6 +73,10 @@ struct QuasiStaticParameters {
   /// no faster than the rig changes speed (docs/prediction.md, "Fit half and held-out half").
   double relaxation_s = 0.025;
   double contact_band_m = 2e-4;    ///< the push's weight rises over this penetration
+  /// The contact's compliance [m/N]: the rod sinks into the outline by this times the normal force (arm, sensor
+  /// and contact giving way), so the gap keeper holds the penetration at contact_band + compliance f_n, f_n the
+  /// normal part of the force the limit surface carries. 0: a rigid contact.
+  double contact_compliance_m_N = 0;
   double gap_time_s = 0.05;        ///< the gap keeper's time constant
   double creep_speed_m_s = 1e-4;   ///< eps of the friction's regularisation
   /// Throws InputError naming the parameter that is not positive and finite (contact_offset_m may be negative).
