@@ -140,11 +140,16 @@ std::optional<double> contact_compliance_m_N(const SynchronisedPush& push) {
   return slope;
 }
 
-void test_contact_compliance(const std::vector<SynchronisedPush>& pushes, const FloorContext& context,
-                             const AdequacyOptions& options, ModelAdequacy& adequacy) {
+std::vector<double> contact_compliance_slopes_m_N(const std::vector<SynchronisedPush>& pushes) {
   std::vector<double> slopes;
   for (const auto& push : pushes)
     if (const auto slope = contact_compliance_m_N(push)) slopes.push_back(*slope);
+  return slopes;
+}
+
+void test_contact_compliance(const std::vector<SynchronisedPush>& pushes, const FloorContext& context,
+                             const AdequacyOptions& options, ModelAdequacy& adequacy) {
+  const std::vector<double> slopes = contact_compliance_slopes_m_N(pushes);
   adequacy.contact_pushes = static_cast<int>(slopes.size());
   adequacy.contact_floor_mm = 1e3 * context.relevance_fraction * context.travel_m;
   adequacy.contact_tested = adequacy.contact_pushes >= kMinContactPushes;

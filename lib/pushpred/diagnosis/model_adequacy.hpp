@@ -200,6 +200,8 @@ inline constexpr int kMinContactPushes = 3;
 /// on the force's component into the object (see above); empty without an outline or without kMinContactSamples
 /// samples in contact spanning kMinContactForceSpread_N.
 std::optional<double> contact_compliance_m_N(const SynchronisedPush& push);
+/// The slopes of contact_compliance_m_N of those of `pushes` that resolve one, in their order [m/N].
+std::vector<double> contact_compliance_slopes_m_N(const std::vector<SynchronisedPush>& pushes);
 
 /// The contact part: fills the contact fields of `adequacy` from `pushes` against kappa x context.travel_m.
 void test_contact_compliance(const std::vector<SynchronisedPush>& pushes, const FloorContext& context,

@@ -47,9 +47,7 @@ PaperMethodOutcome paper_method(const DiagnosisInput& input) {
   c.hold_position_mm = hold.pos_mm_mean > 1e-3 ? hold.pos_mm_mean : 1e-3;
   c.hold_yaw_deg = hold.theta_deg_mean > 1e-3 ? hold.theta_deg_mean : 1e-3;
   if (c.options.measured_contact_compliance) {
-    std::vector<double> slopes;
-    for (const auto& push : c.fit_pushes)
-      if (const auto slope = contact_compliance_m_N(push)) slopes.push_back(*slope);
+    const std::vector<double> slopes = contact_compliance_slopes_m_N(c.fit_pushes);
     if (!slopes.empty()) c.contact_compliance_m_N = std::max(0.0, median(slopes));
   }
 

@@ -24,8 +24,7 @@ void QuasiStaticParameters::validate() const {
   require_positive_finite(relaxation_s, "quasi-static model: relaxation time");
   require_positive_finite(contact_band_m, "quasi-static model: contact band");
   require_positive_finite(gap_time_s, "quasi-static model: gap time");
-  if (!(contact_compliance_m_N >= 0 && std::isfinite(contact_compliance_m_N)))
-    throw InputError("quasi-static model: contact compliance must be finite and not negative");
+  require_not_negative_finite(contact_compliance_m_N, "quasi-static model: contact compliance");
   require_positive_finite(creep_speed_m_s, "quasi-static model: creep speed");
   if (!std::isfinite(contact_offset_m) || !(rod_radius_m + contact_offset_m > 0))
     throw InputError("quasi-static model: contact offset must be finite and keep the rod radius positive");
@@ -175,21 +174,23 @@ QuasiStaticPushSystem::Push QuasiStaticPushSystem::push_within(double t, double 
   if (push.penetration_m <= 0 || tip_velocity.norm() < p_.stop_speed_m_s) return push;
   const Eigen::Vector2d n = -(R * c.normal);
   const Eigen::Vector2d contact_from_cof = R * (c.point_m - object_.centre_of_friction_m);
-  const Eigen::Vector2d vp = tip_velocity + n * ((push.penetration_m - p_.contact_band_m) / p_.gap_time_s);
-  push.motion = quasi_static_motion(contact_from_cof, n, vp, p_.pusher_friction, p_.torque_ratio_m);
+  // The gap keeper's pusher velocity, holding the penetration at the contact band plus `give_m`.
+  const auto pusher_velocity = [&](double give_m) -> Eigen::Vector2d {
+    return tip_velocity + n * ((push.penetration_m - p_.contact_band_m - give_m) / p_.gap_time_s);
+  };
+  push.motion = quasi_static_motion(contact_from_cof, n, pusher_velocity(0), p_.pusher_friction, p_.torque_ratio_m);
   if (push.motion.mode == ContactMode::None) return push;
   if (p_.contact_compliance_m_N > 0) {
-    // The support's friction wrench lies on the ellipsoid along the twist (v, c^2 omega): its force's normal part
-    // is F (v . n) / sqrt(|v|^2 + c^2 omega^2), whatever the twist's size.
+    // The pusher balances the support's friction wrench, which lies on the ellipsoid along the pushed twist whatever
+    // the twist's size: its normal force is that wrench's force along -n.
     const Eigen::Vector2d& v = push.motion.velocity_m_s;
-    const double c = p_.torque_ratio_m;
-    const double size = std::sqrt(v.squaredNorm() + c * c * push.motion.omega_rad_s * push.motion.omega_rad_s);
-    const double F = p_.support_friction * object_.mass_kg * p_.gravity_m_s2;
-    const double normal_force = size > 0 ? std::max(0.0, F * v.dot(n) / size) : 0.0;
-    const Eigen::Vector2d vp_compliant =
-        tip_velocity +
-        n * ((push.penetration_m - p_.contact_band_m - p_.contact_compliance_m_N * normal_force) / p_.gap_time_s);
-    push.motion = quasi_static_motion(contact_from_cof, n, vp_compliant, p_.pusher_friction, p_.torque_ratio_m);
+    const double omega = push.motion.omega_rad_s, c = p_.torque_ratio_m;
+    const double normal_force =
+        limit_surface_sliding_speed(v, omega, c, 0.0) > 0
+            ? std::max(0.0, -ellipsoidal_limit_surface_wrench(v, omega, sliding_force_N(), c, 0.0).head<2>().dot(n))
+            : 0.0;
+    push.motion = quasi_static_motion(contact_from_cof, n, pusher_velocity(p_.contact_compliance_m_N * normal_force),
+                                      p_.pusher_friction, p_.torque_ratio_m);
     if (push.motion.mode == ContactMode::None) return push;
   }
   const double s = std::min(1.0, push.penetration_m / p_.contact_band_m);
@@ -204,7 +205,7 @@ void QuasiStaticPushSystem::derivative(const IntegrationInterval& interval, doub
   const Eigen::Vector2d v = x.segment<2>(3);
   const double omega = x(5);
   const double c = p_.torque_ratio_m;
-  const double F = p_.support_friction * object_.mass_kg * p_.gravity_m_s2;
+  const double F = sliding_force_N();
   const Eigen::Vector3d friction = ellipsoidal_limit_surface_wrench(v, omega, F, c, p_.creep_speed_m_s);
   Eigen::Vector2d free_acceleration = friction.head<2>() / object_.mass_kg;
   double free_angular = friction(2) / object_.inertia_kgm2;

@@ -210,6 +210,8 @@ class QuasiStaticPushSystem final : public ContinuousSystem {
 
  private:
   Push push_within(double t, double lo, double hi, const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// F = mu_s m g [N], the limit surface's largest friction force.
+  double sliding_force_N() const { return p_.support_friction * object_.mass_kg * p_.gravity_m_s2; }
 
   QuasiStaticObject object_;
   QuasiStaticParameters p_;
