@@ -215,6 +215,13 @@ a direction of 1e300 deg|--object-pose=0,0,0 --tip=-66,10 --direction=1e300 --sp
 a direction of inf|--object-pose=0,0,0 --tip=-66,10 --direction=inf --speed=50|--direction: must be a finite number in [-360, 360], got 'inf'
 a path 100 m long|--object-pose=0,0,0 --path=$tmp/farpath.csv|$tmp/farpath.csv: tip path: row 2: x of 100 m is beyond the plausible 10 m
 FAR
+# A tip that starts inside the object (a start pose on top of it) is refused, nothing written: it threw the object
+# metres away.
+expect_exit 2 "a tip inside the object" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
+  --tip 0,0 --direction 10 --speed 50 --out "$tmp/f31"
+expect_in "$tmp/err" "forecast: the tip starts" "the tip inside is named"
+expect_in "$tmp/err" "mm inside the object's outline" "the tip inside is named with its depth"
+expect_absent "$tmp/f31" "no forecast from a tip inside the object"
 expect_exit 2 "an output step of 1e-9 s" -- timeout 30 "$bin" forecast --model "$tmp/hex.json" --object-pose 0,0,0 \
   --tip -66,10 --direction 10 --speed 50 --step 1e-9 --out "$tmp/f18"
 expect_in "$tmp/err" "forecast: an output step of 1e-09 s over" "the step is named"

@@ -143,6 +143,32 @@ BOOST_AUTO_TEST_CASE(bad_outlines_and_plans_are_refused_by_name) {
   BOOST_CHECK_THROW(TipPlan::waypoints(Eigen::Vector3d(0, 1, 1), Eigen::MatrixX2d::Zero(3, 2)), InputError);
 }
 
+BOOST_AUTO_TEST_CASE(a_plan_whose_tip_starts_inside_the_object_is_refused_with_its_depth) {
+  const ForecastObject o = rect1();
+  // Outside (1 mm off the side) and touching are pushes; rect1's centre is 45 mm deep, and a turned object moves its
+  // outline under a tip that was outside.
+  BOOST_CHECK_NO_THROW(check_tip_starts_outside(o, push_on_side2(0.5, 0.0), Eigen::Vector3d::Zero(), "forecast"));
+  BOOST_CHECK_NO_THROW(check_tip_starts_outside(o, TipPlan::straight({0, -0.045}, {0, 1}, 0.05, 0.05),
+                                                Eigen::Vector3d::Zero(), "forecast"));
+  const TipPlan centre = TipPlan::straight({0, 0}, {0, 1}, 0.05, 0.05);
+  try {
+    check_tip_starts_outside(o, centre, Eigen::Vector3d::Zero(), "forecast", 3);
+    BOOST_FAIL("a tip at the centre is refused");
+  } catch (const InputError& e) {
+    BOOST_TEST(std::string(e.what()) ==
+               "forecast: plan 3: the tip starts 45.0 mm inside the object's outline; a push starts with the tip "
+               "outside it");
+  }
+  // The object 0.2 m away leaves the same tip outside; turned by 45 degrees, its corner comes under a tip 2 mm off
+  // its side (11.8 mm deep in the body frame: 45 mm - 47 mm / sqrt 2).
+  BOOST_CHECK_NO_THROW(check_tip_starts_outside(o, centre, Eigen::Vector3d(0.2, 0, 0), "forecast"));
+  const TipPlan off_side = TipPlan::straight({0, -0.047}, {0, 1}, 0.05, 0.05);
+  BOOST_CHECK_NO_THROW(check_tip_starts_outside(o, off_side, Eigen::Vector3d::Zero(), "forecast"));
+  BOOST_CHECK_EXCEPTION(
+      check_tip_starts_outside(o, off_side, Eigen::Vector3d(0, 0, M_PI / 4), "forecast"), InputError,
+      [](const InputError& e) { return std::string(e.what()).find("11.8 mm inside") != std::string::npos; });
+}
+
 BOOST_AUTO_TEST_CASE(the_straight_plan_covers_its_length_with_the_rigs_ramps) {
   const TipPlan plan = TipPlan::straight({0, 0}, {0, 1}, 0.1, 0.05);
   Eigen::Vector2d p, v;

@@ -594,6 +594,24 @@ ForecastRun forecast_into(const ForecastObject& object, const ForecastParameters
   return run;
 }
 
+void check_tip_starts_outside(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0,
+                              const char* label, long plan_index) {
+  if (!object.outline) throw InputError("forecast object '" + object.name + "': no outline");
+  const Eigen::Vector2d tip_body =
+      Eigen::Rotation2Dd(pose0(2)).toRotationMatrix().transpose() * (plan.start_m() - pose0.head<2>());
+  int hint = -1;
+  const Outline::Closest c = object.outline->closest(tip_body, hint);
+  if (c.signed_distance_m < 0) {
+    char plan_name[40] = "";
+    if (plan_index >= 0) std::snprintf(plan_name, sizeof plan_name, ": plan %ld", plan_index);
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "%s%s: the tip starts %.1f mm inside the object's outline; a push starts with the tip outside it",
+                  label, plan_name, -1e3 * c.signed_distance_m);
+    throw InputError(text);
+  }
+}
+
 Eigen::MatrixX3d forecast_poses(const ForecastObject& object, const ForecastParameters& parameters, const TipPlan& plan,
                                 const Eigen::Vector3d& pose0, const Eigen::VectorXd& output_times_s,
                                 const ForecastSettings& settings, ForecastRun* run) {

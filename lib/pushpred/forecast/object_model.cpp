@@ -1944,6 +1944,7 @@ ForecastDistribution forecast_distribution(const ObjectModel& model, const TipPl
   model.parameters.validate();
   if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
   check_plausible_pose(pose0, "forecast: start pose");
+  check_tip_starts_outside(model.object, plan, pose0, "forecast");
   for (Eigen::Index k = 1; k < times.size(); ++k)
     if (!(times(k) >= times(k - 1))) throw InputError("forecast: output times must not decrease");
   ForecastDistribution d;
@@ -1964,6 +1965,8 @@ BatchForecast forecast_batch(const ObjectModel& model, const std::vector<TipPlan
   model.object.validate();
   if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
   check_plausible_pose(pose0, "forecast: start pose");
+  for (std::size_t i = 0; i < plans.size(); ++i)
+    check_tip_starts_outside(model.object, plans[i], pose0, "forecast", static_cast<long>(i));
   BatchForecast b;
   const Eigen::Index n = static_cast<Eigen::Index>(plans.size());
   b.final_pose.resize(n, 3);
