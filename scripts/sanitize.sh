@@ -12,8 +12,8 @@ export LDFLAGS="-fsanitize=address,undefined"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=0"
 export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-# Boost test cases labelled slow (leave-one-out studies, minutes each at -O1 with the sanitizers) are left out: the
-# other cases run every path they take. Their ctest entries carry the label slow (tests/CMakeLists.txt).
+# Boost test cases labelled slow (studies over many simulated pushes, minutes each at -O1 with the sanitizers) are
+# left out: the other cases run every path they take. Their ctest entries carry the label slow (tests/CMakeLists.txt).
 export BOOST_TEST_RUN_FILTERS='!@slow'
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi

@@ -294,7 +294,8 @@ RimWeightEstimate learn_rim_weight(const ShapeInfo& shape, double rim, std::uint
 }  // namespace
 
 // A study (four objects learned from twelve simulated pushes each): a minute in Release, left out under the sanitizers.
-BOOST_AUTO_TEST_CASE(the_learned_rim_weight_recovers_the_simulated_pressures_shape, *boost::unit_test::label("slow") * boost::unit_test::label("rim_weight_study")) {
+BOOST_AUTO_TEST_CASE(the_learned_rim_weight_recovers_the_simulated_pressures_shape,
+                     *boost::unit_test::label("slow") * boost::unit_test::label("rim_weight_study")) {
   // The simulator loads its footprint with a known rim weight (rect1 loaded at the rim, w = +0.6; ellip3 in the
   // middle, w = -0.4), the same for all pushes of an object, from every side (seeds 346000-346011 and
   // 346100-346111; a push the simulator refuses is left out), and the same pushes with a uniform pressure (w = 0, the

@@ -466,7 +466,8 @@ BOOST_AUTO_TEST_CASE(butters_outline_comes_from_the_data_folder) {
 
 // Labelled slow (a leave-one-out study over simulated pushes): the sanitizer build leaves it out, as every path it
 // takes is run by the cases above.
-BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_pushes_they_were_chosen_on, *boost::unit_test::label("slow") * boost::unit_test::label("trend_study")) {
+BOOST_AUTO_TEST_CASE(the_fits_prior_and_the_ensemble_mean_help_on_the_simulated_pushes_they_were_chosen_on,
+                     *boost::unit_test::label("slow") * boost::unit_test::label("trend_study")) {
   // The tuning set of FitOptions::prior_width_log and of the central forecast (seeds 271000-271015): rect1, ellip2 and
   // hex pushed 16 times each with friction and pressure varying from push to push, forecast leaving one out with and
   // without the prior, and with the prior by the median parameters' forecast instead of the ensemble's mean.
@@ -1234,7 +1235,8 @@ BOOST_AUTO_TEST_CASE(a_measured_rod_friction_is_what_the_simulated_contact_slide
 }
 
 // Labelled slow (leave-one-out studies over 628 simulated pushes, two rod frictions each; a few minutes).
-BOOST_AUTO_TEST_CASE(the_pusher_frictions_default_is_decided_on_simulated_objects, *boost::unit_test::label("slow") * boost::unit_test::label("pusher_friction_study")) {
+BOOST_AUTO_TEST_CASE(the_pusher_frictions_default_is_decided_on_simulated_objects,
+                     *boost::unit_test::label("slow") * boost::unit_test::label("pusher_friction_study")) {
   // The decision on --pusher-friction's default (docs/forecast.md, "Where the yaw error comes from"), on fresh seeds:
   // the twelve kinds of set of the_residual_corrections_default_is_decided_on_simulated_objects_of_the_datasets_design
   // in three replicates, kind k (0-11) of replicate r (0-2) from seed 400000 + 2000 r + 100 k (seeds

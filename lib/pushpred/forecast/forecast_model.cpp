@@ -596,9 +596,7 @@ ForecastRun forecast_into(const ForecastObject& object, const ForecastParameters
 
 void check_tip_starts_outside(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0,
                               const char* label, long plan_index) {
-  if (!object.outline) throw InputError("forecast object '" + object.name + "': no outline");
-  const Eigen::Vector2d tip_body =
-      Eigen::Rotation2Dd(pose0(2)).toRotationMatrix().transpose() * (plan.start_m() - pose0.head<2>());
+  const Eigen::Vector2d tip_body = Eigen::Rotation2Dd(-pose0(2)) * (plan.start_m() - pose0.head<2>());
   int hint = -1;
   const Outline::Closest c = object.outline->closest(tip_body, hint);
   if (c.signed_distance_m < 0) {

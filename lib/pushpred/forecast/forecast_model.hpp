@@ -211,9 +211,10 @@ ForecastRun forecast_into(const ForecastObject& object, const ForecastParameters
                           Eigen::Ref<Eigen::MatrixX3d> poses, const ForecastSettings& settings = {});
 
 /// InputError "LABEL: the tip starts 12.3 mm inside the object's outline ..." (with "plan N" after the label when
-/// `plan_index` >= 0) where the plan's first tip position lies inside the object's outline at `pose0`: no push starts
-/// with the rod inside the object (the gap keeper would throw the object off). A forecast of a plan checks it; fits
-/// of recorded pushes do not (their tracking may put the rod a little inside). Allocates nothing unless it throws.
+/// `plan_index` >= 0) where the plan's first tip position lies inside the outline of `object` (validated: it has one)
+/// at `pose0`: no push starts with the rod inside the object (the gap keeper would throw the object off). A forecast of
+/// a plan checks it; fits of recorded pushes do not (their tracking may put the rod a little inside). Allocates nothing
+/// unless it throws.
 void check_tip_starts_outside(const ForecastObject& object, const TipPlan& plan, const Eigen::Vector3d& pose0_m_rad,
                               const char* label, long plan_index = -1);
 

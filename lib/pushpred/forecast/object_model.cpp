@@ -1965,8 +1965,6 @@ BatchForecast forecast_batch(const ObjectModel& model, const std::vector<TipPlan
   model.object.validate();
   if (!pose0.allFinite()) throw InputError("forecast: start pose must be finite");
   check_plausible_pose(pose0, "forecast: start pose");
-  for (std::size_t i = 0; i < plans.size(); ++i)
-    check_tip_starts_outside(model.object, plans[i], pose0, "forecast", static_cast<long>(i));
   BatchForecast b;
   const Eigen::Index n = static_cast<Eigen::Index>(plans.size());
   b.final_pose.resize(n, 3);
@@ -1977,7 +1975,9 @@ BatchForecast forecast_batch(const ObjectModel& model, const std::vector<TipPlan
   ForecastDistribution d;
   ForecastWorkspace work;
   for (Eigen::Index i = 0; i < n; ++i) {
-    forecast_distribution_into(model, plans[static_cast<std::size_t>(i)], pose0, final_time, d, work);
+    const TipPlan& plan = plans[static_cast<std::size_t>(i)];
+    check_tip_starts_outside(model.object, plan, pose0, "forecast", static_cast<long>(i));
+    forecast_distribution_into(model, plan, pose0, final_time, d, work);
     b.final_pose.row(i) = d.mean.row(0);
     b.final_position_radius_m(i) = d.position_radius_m(0);
     b.final_yaw_halfwidth_rad(i) = d.yaw_halfwidth_rad(0);
